@@ -1,0 +1,49 @@
+# microbrdf: the two commands a newcomer needs are `make demo` and `make test`.
+# Every target installs the Debian dependencies first (fast when already there).
+
+JOBS ?= $(shell nproc)
+FUZZ_SECONDS ?= 60
+DEMO_OUT ?= demo-out
+BIN := build/bin/microbrdf
+
+.PHONY: deps build test test-slow demo bench asan fuzz fuzz-build format clean
+
+deps:
+	@scripts/install-deps.sh
+
+build: deps
+	@cmake --preset release >/dev/null
+	@cmake --build --preset release -j $(JOBS)
+
+test: build
+	ctest --preset release -j $(JOBS)
+
+# Long-running physics checks (larger surfaces, more seeds).
+test-slow: build
+	ctest --test-dir build -L slow --output-on-failure -j $(JOBS)
+
+demo: build
+	@scripts/demo.sh $(BIN) $(DEMO_OUT)
+
+bench: build
+	build/bin/microbrdf_bench --benchmark_counters_tabular=true
+
+asan: deps
+	@cmake --preset asan >/dev/null
+	@cmake --build --preset asan -j $(JOBS)
+	ctest --preset asan -j $(JOBS)
+
+# libFuzzer: every binary reader for FUZZ_SECONDS seconds each (clang, ASan + UBSan).
+fuzz-build: deps
+	@cmake --preset fuzz >/dev/null
+	@cmake --build --preset fuzz -j $(JOBS)
+
+fuzz: fuzz-build
+	@cmake -S . -B build-fuzz -DFUZZ_SECONDS=$(FUZZ_SECONDS) >/dev/null
+	ctest --test-dir build-fuzz -L fuzz --output-on-failure
+
+format:
+	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
+
+clean:
+	rm -rf build build-debug build-asan build-fuzz $(DEMO_OUT)

@@ -1,0 +1,19 @@
+#pragma once
+// Registration of the CLI subcommands. Each cmd_*.cpp defines one register_* function; the
+// subcommand's callback runs the work and records the exit code (0 ok, 1 failure, 2 usage).
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace microbrdf::cli {
+
+void register_all(CLI::App& app);
+void register_info(CLI::App& app);
+void register_convert(CLI::App& app);
+void register_generate(CLI::App& app);
+
+/// Runs `body`, turning microbrdf errors into "microbrdf <cmd>: error: <message>" on stderr and
+/// a non-zero exit code.
+void run_guarded(const char* command, const std::function<void()>& body);
+int exit_code();
+
+}  // namespace microbrdf::cli

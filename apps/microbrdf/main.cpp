@@ -1,0 +1,21 @@
+// microbrdf command line: one subcommand per file (cmd_*.cpp); this file only wires them up.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "microbrdf: predicts how a surface reflects light from its measured microgeometry.\n"
+      "Lengths take units (110nm, 1um); angles are degrees unless marked (0.05rad)."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "microbrdf 0.1.0");
+  microbrdf::cli::register_all(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  return microbrdf::cli::exit_code();
+}

@@ -1,0 +1,35 @@
+#include <cstdio>
+#include <exception>
+
+#include "commands.hpp"
+#include "microbrdf/error.hpp"
+
+namespace microbrdf::cli {
+namespace {
+int g_exit = 0;
+}
+
+void register_all(CLI::App& app) {
+  register_info(app);
+  register_convert(app);
+  register_generate(app);
+}
+
+void run_guarded(const char* command, const std::function<void()>& body) {
+  try {
+    body();
+  } catch (const FileError& e) {
+    std::fprintf(stderr, "microbrdf %s: error: %s\n", command, e.what());
+    g_exit = 1;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "microbrdf %s: error: %s\n", command, e.what());
+    g_exit = 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "microbrdf %s: internal error: %s\n", command, e.what());
+    g_exit = 1;
+  }
+}
+
+int exit_code() { return g_exit; }
+
+}  // namespace microbrdf::cli

@@ -1,0 +1,29 @@
+#pragma once
+// Error types. Every message a user sees names the file (when there is one) and what is wrong.
+
+#include <stdexcept>
+#include <string>
+
+namespace microbrdf {
+
+/// Bad user input that is not a file: a malformed unit, an out-of-range parameter.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A file that cannot be read or written, or whose content is corrupt, truncated or hostile.
+/// what() is "<path>: <problem>".
+class FileError : public std::runtime_error {
+ public:
+  FileError(const std::string& path, const std::string& problem)
+      : std::runtime_error(path + ": " + problem), path_(path), problem_(problem) {}
+  const std::string& path() const { return path_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string path_;
+  std::string problem_;
+};
+
+}  // namespace microbrdf

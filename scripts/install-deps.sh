@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs the Debian packages microbrdf builds and tests with. Idempotent: when every package
+# is already installed it returns in well under a second and touches nothing; `apt-get update`
+# runs only when something is missing. Needs root (or sudo) only in that case.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev clang-format
+  libeigen3-dev        # linear algebra
+  libfftw3-dev         # FFTs (ACF, PSD, generators)
+  libopenexr-dev       # float EXR height images
+  libtiff-dev          # 32-bit float TIFF height images
+  libpng-dev           # previews
+  libzip-dev           # x3p container
+  libpugixml-dev       # x3p main.xml
+  libssl-dev           # MD5 of x3p members (OpenSSL EVP)
+  libhdf5-dev          # Zygo .datx
+  libcli11-dev         # command line
+  nlohmann-json3-dev   # JSON output and sidecars
+  libfmt-dev           # formatting
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null; then SUDO="sudo"; else
+    echo "install-deps: missing packages (${missing[*]}) and not root; install them as root" >&2
+    exit 1
+  fi
+fi
+echo "install-deps: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done" >&2

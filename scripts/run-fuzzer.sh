@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Runs one libFuzzer binary for a bounded time on a scratch copy of its seed corpus.
+# Usage: run-fuzzer.sh FUZZER SEED_DIR SECONDS. Non-zero exit on a crash, leak, hang (>10 s per
+# input) or memory blow-up (> 2 GB), with the reproducer left in the scratch directory.
+set -euo pipefail
+fuzzer=$1 seeds=$2 secs=$3
+work=$(mktemp -d "${TMPDIR:-/tmp}/microbrdf-fuzz.XXXXXX")
+mkdir -p "$work/corpus"
+[ -d "$seeds" ] && cp -r "$seeds"/. "$work/corpus/" 2>/dev/null || true
+cd "$work"
+echo "fuzzing $(basename "$fuzzer") for ${secs}s (scratch: $work)"
+"$fuzzer" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+  -print_final_stats=1 corpus 2>fuzz.log || { tail -n 60 fuzz.log; echo "FUZZ FAILURE: reproducer in $work"; exit 1; }
+grep -E "stat::number_of_executed_units|stat::peak_rss_mb" fuzz.log || true
+rm -rf "$work"
