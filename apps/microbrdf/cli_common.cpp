@@ -1,0 +1,79 @@
+#include "cli_common.hpp"
+
+#include <cstdio>
+#include <iostream>
+
+#include "microbrdf/units.hpp"
+
+namespace microbrdf::cli {
+
+void add_read_flags(CLI::App* cmd, ReadFlags& flags, const std::string& default_level) {
+  flags.level = default_level;
+  cmd->add_option("--spacing", flags.spacing,
+                  "Sample spacing, overriding or supplying what the file lacks: 110nm, or 110x130nm "
+                  "for dx x dy (needed for .exr/.tif and .npy without a JSON sidecar)");
+  cmd->add_option("--level", flags.level,
+                  "Levelling before anything else: none | plane (least-squares plane) | poly2..poly6 "
+                  "(2-D polynomial of that total degree)")
+      ->capture_default_str();
+}
+
+ReadOptions read_options(const ReadFlags& flags) {
+  ReadOptions o;
+  if (!flags.spacing.empty()) {
+    if (flags.spacing.find('x') != std::string::npos) {
+      auto p = parse_length_pair(flags.spacing);
+      o.dx = p.x;
+      o.dy = p.y;
+    } else {
+      o.dx = o.dy = parse_length(flags.spacing);
+    }
+  }
+  return o;
+}
+
+Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* report) {
+  auto spec = LevelingSpec::parse(flags.level);  // validate before the (maybe long) read
+  Surface s = read_surface(path, read_options(flags));
+  auto r = level_surface(s, spec);
+  if (report) *report = r.description;
+  return s;
+}
+
+nlohmann::json stats_json(const std::string& path, const Surface& s, const SurfaceStats& st) {
+  return {{"path", path},
+          {"format", s.meta.format},
+          {"nx", st.nx},
+          {"ny", st.ny},
+          {"dx_m", st.dx},
+          {"dy_m", st.dy},
+          {"valid_count", st.valid_count},
+          {"invalid_count", s.size() - st.valid_count},
+          {"valid_fraction", st.valid_fraction},
+          {"leveling", s.meta.leveling},
+          {"z0_m", s.z0},
+          {"mean_m", st.mean},
+          {"min_m", st.min},
+          {"max_m", st.max},
+          {"sq_m", st.sq},
+          {"sa_m", st.sa},
+          {"skewness", st.skewness},
+          {"kurtosis", st.kurtosis},
+          {"slope_rms_x", st.slope_rms_x},
+          {"slope_rms_y", st.slope_rms_y},
+          {"corr_length_x_m", st.corr_length_x},
+          {"corr_length_y_m", st.corr_length_y},
+          {"corr_length_m", st.corr_length},
+          {"instrument", s.meta.instrument},
+          {"date", s.meta.date},
+          {"z_unit_in_file", s.meta.z_unit_in_file}};
+}
+
+void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
+
+void progress(const char* command, std::size_t index, std::size_t total, const std::string& what) {
+  if (total <= 1) return;
+  std::fprintf(stderr, "microbrdf %s: [%zu/%zu] %s\n", command, index + 1, total, what.c_str());
+}
+
+}  // namespace microbrdf::cli

@@ -1,0 +1,113 @@
+#pragma once
+// Synthetic surfaces with known statistics, reproducible from a seed (same seed, same build ->
+// same heights). All lengths in metres, angles in radians.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "microbrdf/surface.hpp"
+
+namespace microbrdf {
+
+/// Gaussian random surface with autocorrelation sigma^2 exp(-(u/tau_x)^2 - (v/tau_y)^2), where
+/// u is along `angle` (from the x axis) and v across it. Made by filtering white noise in the
+/// Fourier domain with the square root of the Gaussian PSD (periodic), then shifted and scaled
+/// so the realisation has mean 0 and rms exactly sigma. Isotropic when tau_y == tau_x.
+///
+/// Two kinds of noise:
+///  - exact_spectrum = true (default): every Fourier coefficient of the noise gets modulus 1 and
+///    a random phase, so each realisation's periodogram IS the target PSD and its (circular)
+///    ACF is exactly the target: tau and rms slopes come out right on every realisation, even
+///    when tau is a sizeable fraction of the grid. Heights are Gaussian by the central limit
+///    theorem (a sum of many random-phase cosines).
+///  - exact_spectrum = false: complex Gaussian white noise, a true Gaussian process. Sample
+///    statistics then scatter between realisations (at tau = 50 samples on 1024^2, tau and rms
+///    slope scatter by ~10%), as with a real measurement.
+struct GaussianSurfaceParams {
+  std::size_t nx = 1024, ny = 1024;
+  double dx = 110e-9, dy = 110e-9;
+  double sigma = 0.1e-6;
+  double tau_x = 2e-6;
+  double tau_y = 2e-6;
+  double angle = 0;
+  std::uint64_t seed = 1;
+  bool exact_spectrum = true;
+};
+Surface generate_gaussian(const GaussianSurfaceParams& p);
+
+/// Sun 2002 section 4: independent 1-D Gaussian profiles by a moving average of white noise
+/// with weights exp(-2 x^2 / tau^2) (truncated at 3 tau), which gives the autocorrelation
+/// sigma^2 exp(-x^2/tau^2). Each profile is one row (ny = rows). sigma is the process value
+/// (not renormalised per realisation, so the sample statistics fluctuate as Sun's did).
+struct ProfileParams {
+  std::size_t n = 65536;
+  std::size_t rows = 1;
+  double dx = 0.01e-6;
+  double sigma = 0.1e-6;
+  double tau = 1e-6;
+  std::uint64_t seed = 1;
+};
+Surface generate_profiles(const ProfileParams& p);
+
+/// Brushed metal: an anisotropic Gaussian base (long correlation along the brushing
+/// direction, short across) plus random scratches: grooves with Gaussian cross-section running
+/// along the brushing direction over the whole length.
+struct BrushedParams {
+  std::size_t nx = 2048, ny = 1024;
+  double dx = 110e-9, dy = 110e-9;
+  double angle = 0;             ///< brushing direction from the x axis, rad
+  double sigma = 0.2e-6;        ///< rms height of the base, m
+  double tau_along = 50e-6;     ///< base correlation length along the brushing, m
+  double tau_across = 2e-6;     ///< base correlation length across, m
+  double scratch_density = 0;   ///< scratches per metre across the brushing
+  double scratch_depth = 0;     ///< mean depth (exponentially distributed), m
+  double scratch_width = 0;     ///< mean Gaussian sigma of the cross-section, m
+  std::uint64_t seed = 1;
+  bool exact_spectrum = true;   ///< for the base, see GaussianSurfaceParams
+};
+Surface generate_brushed(const BrushedParams& p);
+
+/// A named brushed preset: "stainless4" or "aluminium4" (Dong 2015 Fig. 12 widths). The base
+/// statistics are solved so the Gaussian-filtered (filter sigma 1 um, Dong section 5.1)
+/// Beckmann widths alpha = sqrt(2 <slope^2>) are about 0.007 along / 0.14 across (stainless #4)
+/// or 0.02 / 0.47 (aluminium #4); the scratches add a little across. Throws InputError for an
+/// unknown name.
+BrushedParams brushed_preset(const std::string& name);
+std::vector<std::string> brushed_preset_names();
+
+/// Base parameters that give the filtered widths alpha_along, alpha_across for a Gaussian
+/// filter of standard deviation `filter_sigma`, keeping tau_across fixed. Uses
+/// <b_u^2> = tau_u tau_v sigma^2 / (8 a_u^{3/2} a_v^{1/2}), a = s^2 + tau^2/4 (theory notes 3.4,
+/// anisotropic form). Throws InputError when no solution exists.
+void solve_brushed_base(BrushedParams& p, double alpha_along, double alpha_across, double filter_sigma);
+
+/// Predicted Gaussian-filtered Beckmann width along the u axis of an anisotropic Gaussian
+/// surface (filter_sigma = 0 gives the unfiltered 2 sigma / tau_u).
+double predicted_filtered_alpha(double sigma, double tau_u, double tau_v, double filter_sigma);
+
+/// Parallel cylinders (or grooves cut into a plane when `grooves`): axes along `angle`, spaced
+/// `pitch` apart, each axis shifted by a uniform random amount in [-jitter, jitter] * pitch.
+struct CylindersParams {
+  std::size_t nx = 1024, ny = 1024;
+  double dx = 110e-9, dy = 110e-9;
+  double radius = 5e-6;
+  double pitch = 12e-6;
+  double angle = 0;
+  double jitter = 0;
+  bool grooves = false;
+  std::uint64_t seed = 1;
+};
+Surface generate_cylinders(const CylindersParams& p);
+
+/// Sinusoidal grating z = A sin(2 pi u / P), u = x cos(angle) + y sin(angle).
+struct GratingParams {
+  std::size_t nx = 1024, ny = 1024;
+  double dx = 110e-9, dy = 110e-9;
+  double amplitude = 0.1e-6;
+  double period = 5e-6;
+  double angle = 0;
+};
+Surface generate_grating(const GratingParams& p);
+
+}  // namespace microbrdf

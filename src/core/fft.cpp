@@ -1,0 +1,84 @@
+#include "core/fft.hpp"
+
+#include <fftw3.h>
+#include <omp.h>
+
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+
+namespace microbrdf::detail {
+namespace {
+
+// FFTW's planner is not thread-safe; plans are made under this lock.
+std::mutex g_plan_mutex;
+
+void init_threads_once() {
+  static bool done = [] {
+    fftw_init_threads();
+    return true;
+  }();
+  (void)done;
+}
+
+struct Plan {
+  fftw_plan p = nullptr;
+  ~Plan() {
+    if (p) {
+      std::lock_guard<std::mutex> lock(g_plan_mutex);
+      fftw_destroy_plan(p);
+    }
+  }
+};
+
+}  // namespace
+
+std::vector<std::complex<double>> fft2_r2c(std::size_t nx, std::size_t ny, const std::vector<double>& in) {
+  if (in.size() != nx * ny) throw std::invalid_argument("fft2_r2c: size mismatch");
+  std::vector<double> work(in);  // FFTW_ESTIMATE does not overwrite, but r2c may use the input
+  std::vector<std::complex<double>> out(ny * (nx / 2 + 1));
+  Plan plan;
+  {
+    std::lock_guard<std::mutex> lock(g_plan_mutex);
+    init_threads_once();
+    fftw_plan_with_nthreads(omp_get_max_threads());
+    plan.p = fftw_plan_dft_r2c_2d(static_cast<int>(ny), static_cast<int>(nx), work.data(),
+                                  reinterpret_cast<fftw_complex*>(out.data()), FFTW_ESTIMATE);
+  }
+  if (!plan.p) throw std::runtime_error("FFTW could not plan a transform");
+  fftw_execute(plan.p);
+  return out;
+}
+
+std::vector<double> fft2_c2r(std::size_t nx, std::size_t ny, std::vector<std::complex<double>> in) {
+  if (in.size() != ny * (nx / 2 + 1)) throw std::invalid_argument("fft2_c2r: size mismatch");
+  std::vector<double> out(nx * ny);
+  Plan plan;
+  {
+    std::lock_guard<std::mutex> lock(g_plan_mutex);
+    init_threads_once();
+    fftw_plan_with_nthreads(omp_get_max_threads());
+    plan.p = fftw_plan_dft_c2r_2d(static_cast<int>(ny), static_cast<int>(nx),
+                                  reinterpret_cast<fftw_complex*>(in.data()), out.data(), FFTW_ESTIMATE);
+  }
+  if (!plan.p) throw std::runtime_error("FFTW could not plan a transform");
+  fftw_execute(plan.p);
+  return out;
+}
+
+double fft_freq(std::size_t i, std::size_t n) {
+  double k = (i <= n / 2) ? static_cast<double>(i) : static_cast<double>(i) - static_cast<double>(n);
+  if (n % 2 == 0 && i == n / 2) k = -static_cast<double>(n) / 2;
+  return 2.0 * M_PI * k / static_cast<double>(n);
+}
+
+std::size_t fft_good_size(std::size_t n) {
+  for (std::size_t m = std::max<std::size_t>(n, 1);; ++m) {
+    std::size_t r = m;
+    for (std::size_t p : {2, 3, 5, 7})
+      while (r % p == 0) r /= p;
+    if (r == 1) return m;
+  }
+}
+
+}  // namespace microbrdf::detail

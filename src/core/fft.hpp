@@ -1,0 +1,26 @@
+#pragma once
+// Thin RAII layer over FFTW for the 2-D real transforms microbrdf needs (ACF, PSD, generators).
+// Threads: FFTW's own (fftw_plan_with_nthreads), initialised once. Planning uses FFTW_ESTIMATE
+// so results are deterministic and planning costs nothing.
+
+#include <complex>
+#include <cstddef>
+#include <vector>
+
+namespace microbrdf::detail {
+
+/// Forward 2-D real-to-complex FFT of an ny x nx row-major array. Output has ny x (nx/2+1)
+/// complex values (FFTW's half-spectrum layout). Unnormalised.
+std::vector<std::complex<double>> fft2_r2c(std::size_t nx, std::size_t ny, const std::vector<double>& in);
+
+/// Inverse of fft2_r2c: ny x (nx/2+1) half spectrum -> ny x nx real. Unnormalised (the result is
+/// nx*ny times the input of the forward transform).
+std::vector<double> fft2_c2r(std::size_t nx, std::size_t ny, std::vector<std::complex<double>> in);
+
+/// Angular frequency (rad per sample) of FFT bin i of n: 2*pi*i/n folded to [-pi, pi).
+double fft_freq(std::size_t i, std::size_t n);
+
+/// A size >= n that FFTW transforms fast (product of 2, 3, 5, 7).
+std::size_t fft_good_size(std::size_t n);
+
+}  // namespace microbrdf::detail

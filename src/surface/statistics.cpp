@@ -1,0 +1,251 @@
+#include "microbrdf/statistics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/fft.hpp"
+
+namespace microbrdf {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double valid_mean(const Surface& s) {
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (s.valid[i]) {
+      sum += s.z[i];
+      ++n;
+    }
+  return n ? sum / static_cast<double>(n) : kNaN;
+}
+
+// |FFT(a)|^2 -> inverse: the (linear, via zero padding) autocorrelation sums of `a`.
+std::vector<double> correlation_sums(const std::vector<double>& a, std::size_t px, std::size_t py) {
+  auto spec = detail::fft2_r2c(px, py, a);
+  for (auto& c : spec) c = std::norm(c);
+  auto out = detail::fft2_c2r(px, py, std::move(spec));
+  const double scale = 1.0 / static_cast<double>(px * py);
+  for (auto& v : out) v *= scale;
+  return out;
+}
+
+}  // namespace
+
+Autocorrelation autocorrelation(const Surface& s, std::size_t min_overlap) {
+  Autocorrelation acf;
+  acf.nx = s.nx;
+  acf.ny = s.ny;
+  acf.dx = s.dx;
+  acf.dy = s.dy;
+  const double mean = valid_mean(s);
+  // Pad to >= 2n-1 so circular correlation equals linear correlation.
+  const std::size_t px = detail::fft_good_size(2 * s.nx - 1);
+  const std::size_t py = detail::fft_good_size(2 * s.ny - 1);
+  std::vector<double> h(px * py, 0.0), v(px * py, 0.0);
+  for (std::size_t iy = 0; iy < s.ny; ++iy)
+    for (std::size_t ix = 0; ix < s.nx; ++ix) {
+      std::size_t i = iy * s.nx + ix;
+      if (!s.valid[i]) continue;
+      h[iy * px + ix] = s.z[i] - mean;
+      v[iy * px + ix] = 1.0;
+    }
+  auto chh = correlation_sums(h, px, py);
+  auto cvv = correlation_sums(v, px, py);
+  const std::size_t lx_n = 2 * s.nx - 1, ly_n = 2 * s.ny - 1;
+  acf.value.assign(lx_n * ly_n, kNaN);
+  for (long ly = -static_cast<long>(s.ny) + 1; ly < static_cast<long>(s.ny); ++ly) {
+    std::size_t row = static_cast<std::size_t>((ly + static_cast<long>(py)) % static_cast<long>(py));
+    for (long lx = -static_cast<long>(s.nx) + 1; lx < static_cast<long>(s.nx); ++lx) {
+      std::size_t col = static_cast<std::size_t>((lx + static_cast<long>(px)) % static_cast<long>(px));
+      double pairs = cvv[row * px + col];
+      double val = pairs >= static_cast<double>(min_overlap) - 0.5 ? chh[row * px + col] / pairs : kNaN;
+      acf.value[static_cast<std::size_t>(ly + static_cast<long>(s.ny) - 1) * lx_n +
+                static_cast<std::size_t>(lx + static_cast<long>(s.nx) - 1)] = val;
+    }
+  }
+  const double c0 = acf.at(0, 0);
+  for (auto& x : acf.value) x = c0 > 0 ? x / c0 : kNaN;
+  return acf;
+}
+
+double autocorrelation_direct(const Surface& s, long lx, long ly) {
+  const double mean = valid_mean(s);
+  auto sums = [&](long ax, long ay) {
+    double sum = 0;
+    std::size_t n = 0;
+    for (long iy = 0; iy < static_cast<long>(s.ny); ++iy) {
+      long jy = iy + ay;
+      if (jy < 0 || jy >= static_cast<long>(s.ny)) continue;
+      for (long ix = 0; ix < static_cast<long>(s.nx); ++ix) {
+        long jx = ix + ax;
+        if (jx < 0 || jx >= static_cast<long>(s.nx)) continue;
+        std::size_t a = static_cast<std::size_t>(iy) * s.nx + static_cast<std::size_t>(ix);
+        std::size_t b = static_cast<std::size_t>(jy) * s.nx + static_cast<std::size_t>(jx);
+        if (!s.valid[a] || !s.valid[b]) continue;
+        sum += (s.z[a] - mean) * (s.z[b] - mean);
+        ++n;
+      }
+    }
+    return n ? sum / static_cast<double>(n) : kNaN;
+  };
+  return sums(lx, ly) / sums(0, 0);
+}
+
+RadialProfile radial_average(const Autocorrelation& acf) {
+  const double dr = std::min(acf.dx, acf.dy);
+  const double rmax = std::min(static_cast<double>(acf.nx - 1) * acf.dx,
+                               static_cast<double>(acf.ny - 1) * acf.dy);
+  const std::size_t nbins = static_cast<std::size_t>(rmax / dr) + 1;
+  std::vector<double> sum(nbins, 0.0), cnt(nbins, 0.0);
+  for (long ly = -static_cast<long>(acf.ny) + 1; ly < static_cast<long>(acf.ny); ++ly)
+    for (long lx = -static_cast<long>(acf.nx) + 1; lx < static_cast<long>(acf.nx); ++lx) {
+      double v = acf.at(lx, ly);
+      if (!std::isfinite(v)) continue;
+      double r = std::hypot(static_cast<double>(lx) * acf.dx, static_cast<double>(ly) * acf.dy);
+      auto b = static_cast<std::size_t>(std::lround(r / dr));
+      if (b >= nbins) continue;
+      sum[b] += v;
+      cnt[b] += 1;
+    }
+  RadialProfile p;
+  for (std::size_t b = 0; b < nbins; ++b) {
+    if (cnt[b] == 0) continue;
+    p.r.push_back(static_cast<double>(b) * dr);
+    p.value.push_back(sum[b] / cnt[b]);
+  }
+  return p;
+}
+
+double correlation_length(const std::vector<double>& r, const std::vector<double>& acf) {
+  const double target = std::exp(-1.0);
+  for (std::size_t i = 1; i < r.size() && i < acf.size(); ++i) {
+    if (!std::isfinite(acf[i]) || !std::isfinite(acf[i - 1])) return kNaN;
+    if (acf[i] <= target) {
+      double t = (acf[i - 1] - target) / (acf[i - 1] - acf[i]);
+      return r[i - 1] + t * (r[i] - r[i - 1]);
+    }
+  }
+  return kNaN;
+}
+
+Psd power_spectrum(const Surface& s) {
+  const double mean = valid_mean(s);
+  std::vector<double> h(s.size(), 0.0);
+  std::size_t nvalid = 0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (s.valid[i]) {
+      h[i] = s.z[i] - mean;
+      ++nvalid;
+    }
+  auto spec = detail::fft2_r2c(s.nx, s.ny, h);
+  const std::size_t hx = s.nx / 2 + 1;
+  const double dk = 2 * M_PI / std::max(static_cast<double>(s.nx) * s.dx, static_cast<double>(s.ny) * s.dy);
+  const std::size_t nbins = std::min(s.nx, s.ny) / 2 + 1;
+  std::vector<double> sum(nbins, 0.0), cnt(nbins, 0.0);
+  const double norm = s.dx * s.dy / static_cast<double>(nvalid);
+  for (std::size_t iy = 0; iy < s.ny; ++iy) {
+    double ky = detail::fft_freq(iy, s.ny) / s.dy;
+    for (std::size_t ix = 0; ix < hx; ++ix) {
+      double kx = detail::fft_freq(ix, s.nx) / s.dx;
+      auto b = static_cast<std::size_t>(std::lround(std::hypot(kx, ky) / dk));
+      if (b >= nbins) continue;
+      // The half spectrum stands for its mirror image too (except the self-conjugate columns).
+      double w = (ix == 0 || (s.nx % 2 == 0 && ix == s.nx / 2)) ? 1.0 : 2.0;
+      sum[b] += w * std::norm(spec[iy * hx + ix]) * norm;
+      cnt[b] += w;
+    }
+  }
+  Psd p;
+  for (std::size_t b = 1; b < nbins; ++b) {
+    if (cnt[b] == 0) continue;
+    p.k.push_back(static_cast<double>(b) * dk);
+    p.s.push_back(sum[b] / cnt[b]);
+  }
+  return p;
+}
+
+SurfaceStats compute_stats(const Surface& s) {
+  SurfaceStats st;
+  st.nx = s.nx;
+  st.ny = s.ny;
+  st.dx = s.dx;
+  st.dy = s.dy;
+  st.valid_count = s.valid_count();
+  st.valid_fraction = s.valid_fraction();
+  st.mean = valid_mean(s);
+  st.min = std::numeric_limits<double>::infinity();
+  st.max = -st.min;
+  double m2 = 0, m3 = 0, m4 = 0, ma = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (!s.valid[i]) continue;
+    double d = s.z[i] - st.mean;
+    st.min = std::min(st.min, s.z[i]);
+    st.max = std::max(st.max, s.z[i]);
+    m2 += d * d;
+    m3 += d * d * d;
+    m4 += d * d * d * d;
+    ma += std::fabs(d);
+  }
+  const double n = static_cast<double>(st.valid_count);
+  st.sq = std::sqrt(m2 / n);
+  st.sa = ma / n;
+  st.skewness = st.sq > 0 ? (m3 / n) / (st.sq * st.sq * st.sq) : 0;
+  st.kurtosis = st.sq > 0 ? (m4 / n) / (st.sq * st.sq * st.sq * st.sq) : 0;
+
+  // Central-difference slopes where both neighbours are valid.
+  double sx = 0, sy = 0;
+  std::size_t nxs = 0, nys = 0;
+  for (std::size_t iy = 0; iy < s.ny; ++iy)
+    for (std::size_t ix = 0; ix < s.nx; ++ix) {
+      if (ix >= 1 && ix + 1 < s.nx && s.valid[iy * s.nx + ix - 1] && s.valid[iy * s.nx + ix + 1]) {
+        double g = (s.z[iy * s.nx + ix + 1] - s.z[iy * s.nx + ix - 1]) / (2 * s.dx);
+        sx += g * g;
+        ++nxs;
+      }
+      if (iy >= 1 && iy + 1 < s.ny && s.valid[(iy - 1) * s.nx + ix] && s.valid[(iy + 1) * s.nx + ix]) {
+        double g = (s.z[(iy + 1) * s.nx + ix] - s.z[(iy - 1) * s.nx + ix]) / (2 * s.dy);
+        sy += g * g;
+        ++nys;
+      }
+    }
+  st.slope_rms_x = nxs ? std::sqrt(sx / static_cast<double>(nxs)) : kNaN;
+  st.slope_rms_y = nys ? std::sqrt(sy / static_cast<double>(nys)) : kNaN;
+  st.slope_samples_x = nxs;
+  st.slope_samples_y = nys;
+
+  // Correlation lengths from one ACF.
+  if (st.sq > 0 && s.nx > 1 && s.ny > 1) {
+    auto acf = autocorrelation(s);
+    std::vector<double> rx, ax, ry, ay;
+    for (long l = 0; l < static_cast<long>(s.nx); ++l) {
+      rx.push_back(static_cast<double>(l) * s.dx);
+      ax.push_back(acf.at(l, 0));
+    }
+    for (long l = 0; l < static_cast<long>(s.ny); ++l) {
+      ry.push_back(static_cast<double>(l) * s.dy);
+      ay.push_back(acf.at(0, l));
+    }
+    st.corr_length_x = correlation_length(rx, ax);
+    st.corr_length_y = correlation_length(ry, ay);
+    auto rad = radial_average(acf);
+    st.corr_length = correlation_length(rad.r, rad.value);
+  } else if (st.sq > 0 && s.ny == 1 && s.nx > 1) {
+    // A single profile: only the x lag exists.
+    auto acf = autocorrelation(s);
+    std::vector<double> rx, ax;
+    for (long l = 0; l < static_cast<long>(s.nx); ++l) {
+      rx.push_back(static_cast<double>(l) * s.dx);
+      ax.push_back(acf.at(l, 0));
+    }
+    st.corr_length_x = st.corr_length = correlation_length(rx, ax);
+    st.corr_length_y = kNaN;
+  } else {
+    st.corr_length_x = st.corr_length_y = st.corr_length = kNaN;
+  }
+  return st;
+}
+
+}  // namespace microbrdf
