@@ -238,24 +238,28 @@ void write_surface(const Surface& s, const std::string& path, SurfaceFormat form
                               " is not supported (writable: x3p gwy xyz txt npy)");
   s.check();
   AtomicFile out(path);
-  switch (format) {
-    case SurfaceFormat::X3p:
-      detail::write_x3p(s, out.temp_path());
-      break;
-    case SurfaceFormat::Gwy:
-      detail::write_gwy(s, out.temp_path());
-      break;
-    case SurfaceFormat::AsciiXyz:
-      detail::write_ascii_xyz(s, out.temp_path());
-      break;
-    case SurfaceFormat::AsciiGrid:
-      detail::write_ascii_grid(s, out.temp_path());
-      break;
-    case SurfaceFormat::Npy:
-      detail::write_npy(s, out.temp_path());
-      break;
-    default:
-      throw FileError(path, "writing this format is not supported");
+  try {
+    switch (format) {
+      case SurfaceFormat::X3p:
+        detail::write_x3p(s, out.temp_path());
+        break;
+      case SurfaceFormat::Gwy:
+        detail::write_gwy(s, out.temp_path());
+        break;
+      case SurfaceFormat::AsciiXyz:
+        detail::write_ascii_xyz(s, out.temp_path());
+        break;
+      case SurfaceFormat::AsciiGrid:
+        detail::write_ascii_grid(s, out.temp_path());
+        break;
+      case SurfaceFormat::Npy:
+        detail::write_npy(s, out.temp_path());
+        break;
+      default:
+        throw FileError(path, "writing this format is not supported");
+    }
+  } catch (const FileError& e) {
+    throw FileError(path, e.problem());  // name the user's path, not the temporary
   }
   if (format == SurfaceFormat::Npy) write_npy_sidecar(s, path);
   out.commit();
