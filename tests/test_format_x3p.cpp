@@ -165,7 +165,7 @@ void expect_file_error(const std::string& path, const std::string& needle) {
 
 // ------------------------------------------------------------------ real fixtures
 
-TEST(X3p, SampleLandMatchesReference) {
+TEST(x3p, SampleLandMatchesReference) {
   check_fixture(kData + "/sample-land.x3p",
                 {918, 256, 2.58e-6, 2.58e-6, 25292, -7.94735e-05, 5.24986e-05, -5.35207e-07,
                  3.43343e-05, -5.421108e-05},
@@ -180,7 +180,7 @@ TEST(X3p, SampleLandMatchesReference) {
   EXPECT_EQ(s.y0, 0.0);
 }
 
-TEST(X3p, MountainsMapX3p2MatchesReference) {
+TEST(x3p, MountainsMapX3p2MatchesReference) {
   std::string path = kShared + "x3p-2.x3p";
   if (!fs::exists(path)) GTEST_SKIP() << "shared data absent: " << path;
   check_fixture(path,
@@ -193,7 +193,7 @@ TEST(X3p, MountainsMapX3p2MatchesReference) {
   EXPECT_EQ(s.meta.get("instrument_manufacturer"), "DIGITAL SURF");
 }
 
-TEST(X3p, AliconaSkiInfiniteMarksInfInvalid) {
+TEST(x3p, AliconaSkiInfiniteMarksInfInvalid) {
   std::string path = kShared + "SkiInfiniteFocus.x3p";
   if (!fs::exists(path)) GTEST_SKIP() << "shared data absent: " << path;
   check_fixture(path,
@@ -202,7 +202,7 @@ TEST(X3p, AliconaSkiInfiniteMarksInfInvalid) {
                 1e-11);
 }
 
-TEST(X3p, Sample1BinMatchesReferenceAndValidBitOrder) {
+TEST(x3p, Sample1BinMatchesReferenceAndValidBitOrder) {
   check_fixture(kData + "/ISO5436-sample1_bin.x3p",
                 {4, 4, 0.016016, 0.016016, 1, -0.808369, 1.0476, 0.291926, 0.610509, 0.486219},
                 1e-6);
@@ -212,7 +212,7 @@ TEST(X3p, Sample1BinMatchesReferenceAndValidBitOrder) {
   EXPECT_EQ(s.meta.get("instrument_manufacturer"), "NanoFocus AG");
 }
 
-TEST(X3p, Sample4SignedInt16Scaling) {
+TEST(x3p, Sample4SignedInt16Scaling) {
   check_fixture(kData + "/ISO5436-sample4_bin.x3p",
                 {4, 4, 0.016016, 0.016016, 1, -0.808, 1.048, 0.292, 0.610538, 0.486}, 1e-6);
   Surface s4 = read_surface(kData + "/ISO5436-sample4_bin.x3p");
@@ -234,7 +234,7 @@ TEST(X3p, Sample4SignedInt16Scaling) {
 
 // ------------------------------------------------------------------ writer
 
-TEST(X3p, RoundTripIsBitExact) {
+TEST(x3p, RoundTripIsBitExact) {
   std::mt19937_64 rng(42);
   std::normal_distribution<double> g(0, 1e-6);
   Surface s(37, 23, 1.234567890123e-7, 3.1415926535897e-7);
@@ -272,7 +272,7 @@ TEST(X3p, RoundTripIsBitExact) {
   EXPECT_EQ(r.meta.get("md5_warning"), "");  // the writer's checksums are right
 }
 
-TEST(X3p, WriterLayoutIsStandard) {
+TEST(x3p, WriterLayoutIsStandard) {
   Surface s(8, 6, 1e-6, 1e-6);
   s.invalidate(3);
   std::string path = temp_path("layout.x3p");
@@ -305,7 +305,7 @@ TEST(X3p, WriterLayoutIsStandard) {
   EXPECT_NE(xml.find("<ChecksumFile>md5checksum.hex</ChecksumFile>"), std::string::npos);
 }
 
-TEST(X3p, RoundTripSampleLand) {
+TEST(x3p, RoundTripSampleLand) {
   Surface a = read_surface(kData + "/sample-land.x3p");
   std::string path = temp_path("land.x3p");
   write_surface(a, path);
@@ -327,7 +327,7 @@ TEST(X3p, RoundTripSampleLand) {
 
 // ------------------------------------------------------------------ hostile input
 
-TEST(X3p, TruncatedArchivesThrowFileError) {
+TEST(x3p, TruncatedArchivesThrowFileError) {
   auto bytes = slurp(kData + "/ISO5436-sample1_bin.x3p");
   ASSERT_GT(bytes.size(), 1000u);
   std::size_t errors = 0;
@@ -352,7 +352,7 @@ TEST(X3p, TruncatedArchivesThrowFileError) {
   }
 }
 
-TEST(X3p, CorruptedDataBinBytesThrowFileError) {
+TEST(x3p, CorruptedDataBinBytesThrowFileError) {
   // Flip bytes inside the compressed stream of a real file: libzip's CRC or inflate must catch
   // it, and whatever it reports comes back as FileError.
   auto land = slurp(kData + "/sample-land.x3p");
@@ -363,7 +363,7 @@ TEST(X3p, CorruptedDataBinBytesThrowFileError) {
   }
 }
 
-TEST(X3p, DataSizeMismatchNamesFile) {
+TEST(x3p, DataSizeMismatchNamesFile) {
   std::string path =
       make_zip("mismatch.x3p", {{"main.xml", main_xml(dims("4", "3"), "D", kLink)},
                                 {"bindata/data.bin", doubles(11)}});  // 11 of 12 points
@@ -372,7 +372,7 @@ TEST(X3p, DataSizeMismatchNamesFile) {
   fs::remove(path);
 }
 
-TEST(X3p, DataSizeMismatchForDataTypeNamesFile) {
+TEST(x3p, DataSizeMismatchForDataTypeNamesFile) {
   // Right count for float64, but the header says int16.
   std::string path = make_zip(
       "mismatch-type.x3p",
@@ -381,7 +381,7 @@ TEST(X3p, DataSizeMismatchForDataTypeNamesFile) {
   fs::remove(path);
 }
 
-TEST(X3p, AbsurdSizeXNamesFile) {
+TEST(x3p, AbsurdSizeXNamesFile) {
   std::string path =
       make_zip("absurd.x3p", {{"main.xml", main_xml(dims("4000000000", "3"), "D", kLink)},
                               {"bindata/data.bin", doubles(12)}});
@@ -397,13 +397,13 @@ TEST(X3p, AbsurdSizeXNamesFile) {
   fs::remove(path);
 }
 
-TEST(X3p, MissingDataMemberNamesFile) {
+TEST(x3p, MissingDataMemberNamesFile) {
   std::string path = make_zip("nodata.x3p", {{"main.xml", main_xml(dims("4", "3"), "D", kLink)}});
   expect_file_error(path, "not in the archive");
   fs::remove(path);
 }
 
-TEST(X3p, MissingMainXmlAndBadXml) {
+TEST(x3p, MissingMainXmlAndBadXml) {
   std::string path = make_zip("nomain.x3p", {{"bindata/data.bin", doubles(12)}});
   expect_file_error(path, "no main.xml");
   fs::remove(path);
@@ -416,7 +416,7 @@ TEST(X3p, MissingMainXmlAndBadXml) {
   fs::remove(path);
 }
 
-TEST(X3p, UnsupportedVariantsAreClear) {
+TEST(x3p, UnsupportedVariantsAreClear) {
   std::string xml = main_xml(dims("4", "3"), "D", kLink);
   std::string pcl = xml;
   pcl.replace(pcl.find("SUR"), 3, "PCL");
@@ -435,7 +435,7 @@ TEST(X3p, UnsupportedVariantsAreClear) {
   fs::remove(path);
 }
 
-TEST(X3p, ValidBinSizeMismatch) {
+TEST(x3p, ValidBinSizeMismatch) {
   std::string link =
       "<DataLink><PointDataLink>bindata/data.bin</PointDataLink>"
       "<ValidPointsLink>bindata/valid.bin</ValidPointsLink></DataLink>";
@@ -456,7 +456,7 @@ TEST(X3p, ValidBinSizeMismatch) {
   EXPECT_EQ(s.dy, 2e-6);
 }
 
-TEST(X3p, InlineDataList) {
+TEST(x3p, InlineDataList) {
   std::string list = "<DataList>";
   for (int i = 0; i < 6; ++i)
     list += i == 4 ? "<Datum/>" : "<Datum>" + std::to_string(i) + "e-6</Datum>";
@@ -474,7 +474,7 @@ TEST(X3p, InlineDataList) {
   fs::remove(path);
 }
 
-TEST(X3p, Md5MismatchIsAWarningNotAnError) {
+TEST(x3p, Md5MismatchIsAWarningNotAnError) {
   std::string link =
       "<DataLink><PointDataLink>bindata/data.bin</PointDataLink>"
       "<MD5ChecksumPointData>00112233445566778899AABBCCDDEEFF</MD5ChecksumPointData>"
@@ -486,7 +486,7 @@ TEST(X3p, Md5MismatchIsAWarningNotAnError) {
   EXPECT_NE(s.meta.get("md5_warning").find("bindata/data.bin"), std::string::npos);
 }
 
-TEST(X3p, ZipBombIsRefusedBeforeReading) {
+TEST(x3p, ZipBombIsRefusedBeforeReading) {
   // 64 MiB of zeros deflate to ~64 KB: plausible for deflate, so it is read only if the grid
   // asks for exactly that many bytes. Here the grid asks for 12 doubles.
   std::string zeros(std::size_t{64} << 20, '\0');
@@ -504,7 +504,7 @@ TEST(X3p, ZipBombIsRefusedBeforeReading) {
   fs::remove(path);
 }
 
-TEST(X3p, ForgedHugeMemberSizeIsRefusedBeforeAllocating) {
+TEST(x3p, ForgedHugeMemberSizeIsRefusedBeforeAllocating) {
   // A stored data.bin whose central-directory entry is patched to claim 2 GiB, with a grid that
   // asks for exactly 2 GiB: the claim is implausible for a tiny archive and must be refused
   // without allocating or inflating anything.
