@@ -556,7 +556,6 @@ Surface read_x3p(Bytes data, const std::string& name) {
         auto v = parse_double(t);
         if (!v)
           r.fail("x3p: DataList Datum " + std::to_string(i) + " " + quote(t) + " is not a number");
-        if (ztype == ZType::F32) v = static_cast<double>(static_cast<float>(*v));
         s.z[i] = to_z(*v);
       }
       ++i;
