@@ -3,7 +3,7 @@
 # Usage: run-fuzzer.sh FUZZER SEED_DIR SECONDS. Non-zero exit on a crash, leak, hang (>10 s per
 # input) or memory blow-up (> 2 GB), with the reproducer left in the scratch directory.
 set -euo pipefail
-fuzzer=$1 seeds=$2 secs=$3
+fuzzer=$(realpath "$1") seeds=$(realpath -m "$2") secs=$3
 work=$(mktemp -d "${TMPDIR:-/tmp}/microbrdf-fuzz.XXXXXX")
 mkdir -p "$work/corpus"
 [ -d "$seeds" ] && cp -r "$seeds"/. "$work/corpus/" 2>/dev/null || true
