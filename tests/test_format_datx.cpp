@@ -200,3 +200,17 @@ TEST(format_datx, NotHdf5) {
   std::vector<std::uint8_t> junk(1000, 0x42);
   EXPECT_THROW(read_surface_bytes(junk, SurfaceFormat::Datx, "junk.datx"), FileError);
 }
+
+TEST(format_datx, CorruptGlobalHeapIsRejected) {
+  // A variable-length string object whose size runs past its global heap collection made
+  // libhdf5 1.10 (H5HG_read) copy ~160 MB past a heap buffer (found by fuzz_datx).
+  auto b = load(kFile);
+  const std::size_t gcol = find_bytes(b, {'G', 'C', 'O', 'L'});
+  ASSERT_NE(gcol, std::string::npos);
+  const std::size_t first_object = gcol + 16;  // 16-byte collection header
+  const std::uint64_t huge = 0x0A000006;
+  for (int i = 0; i < 8; ++i)
+    b[first_object + 8 + i] = static_cast<std::uint8_t>(huge >> (8 * i));
+  TempDir dir;
+  expect_file_error(dir.write("heap.datx", b), "global heap");
+}

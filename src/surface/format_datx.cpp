@@ -288,6 +288,53 @@ std::string iso_utc(long long t) {
 
 std::mutex g_hdf5_mutex;
 
+/// Checks every HDF5 global heap collection ("GCOL") in the image before libhdf5 sees it.
+/// Variable-length strings and sequences live in these heaps, and libhdf5 1.10 trusts the
+/// object sizes stored there: an object running past its collection makes H5HG_read copy
+/// beyond the heap buffer, and a zero-sized free-space object makes the collection loader
+/// loop forever. Any collection that is inconsistent makes the file corrupt. (The signature is
+/// looked for at every offset, since the heap addresses are only known to libhdf5.)
+void check_global_heaps(const ByteReader& r) {
+  const auto d = r.data();
+  const std::size_t n = d.size();
+  // Size of "lengths" from the superblock (byte 14 for versions 0/1, byte 10 for 2/3).
+  const unsigned L = d[8] <= 1 ? d[14] : d[10];
+  if (L != 2 && L != 4 && L != 8)
+    r.fail("corrupt HDF5 superblock (size of lengths " + std::to_string(L) + ")");
+  auto len_at = [&](std::size_t off) {
+    std::uint64_t v = 0;
+    for (unsigned i = 0; i < L; ++i) v |= std::uint64_t{d[off + i]} << (8 * i);
+    return v;
+  };
+  auto align8 = [](std::uint64_t v) { return (v + 7) & ~std::uint64_t{7}; };
+  const std::uint64_t hdr = align8(8 + L), objhdr = align8(8 + L);
+  for (std::size_t p = 0; p + 4 <= n; ++p) {
+    if (d[p] != 'G' || d[p + 1] != 'C' || d[p + 2] != 'O' || d[p + 3] != 'L') continue;
+    if (hdr > n - p)
+      r.fail("corrupt HDF5 global heap at offset " + std::to_string(p) + ": truncated");
+    const std::uint64_t size = len_at(p + 8);
+    if (size < hdr || size > n - p)
+      r.fail("corrupt HDF5 global heap at offset " + std::to_string(p) + ": collection size " +
+             std::to_string(size) + " does not fit the file");
+    const std::uint64_t end = p + size;
+    std::uint64_t q = p + hdr;
+    while (q < end && objhdr <= end - q) {
+      const unsigned idx = d[q] | (d[q + 1] << 8);
+      const std::uint64_t osize = len_at(q + 8);
+      const std::uint64_t room = end - q;
+      if (osize > room)
+        r.fail("corrupt HDF5 global heap at offset " + std::to_string(p) + ": object " +
+               std::to_string(idx) + " of " + std::to_string(osize) +
+               " bytes runs past its collection");
+      const std::uint64_t need = idx > 0 ? objhdr + align8(osize) : osize;
+      if (need > room || need < objhdr)
+        r.fail("corrupt HDF5 global heap at offset " + std::to_string(p) + ": bad object " +
+               std::to_string(idx) + " size " + std::to_string(osize));
+      q += need;
+    }
+  }
+}
+
 Surface read_datx_locked(const ByteReader& r) {
   const auto data = r.data();
   static const std::uint8_t kMagic[8] = {0x89, 'H', 'D', 'F', 0x0D, 0x0A, 0x1A, 0x0A};
@@ -297,6 +344,7 @@ Surface read_datx_locked(const ByteReader& r) {
   if (r.size() < 48)
     r.fail("truncated: " + std::to_string(r.size()) + " bytes, no HDF5 superblock");
   if (data[8] > 3) r.fail("corrupt HDF5 superblock (version " + std::to_string(data[8]) + ")");
+  check_global_heaps(r);
 
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   H5Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
