@@ -177,6 +177,25 @@ std::optional<Converter> attr_converter(hid_t obj, const char* name) {
   if (member_class("Category") != H5T_STRING || member_class("BaseUnit") != H5T_STRING ||
       member_class("Parameters") != H5T_VLEN)
     return std::nullopt;
+  // Member layout must be sane (offset + size inside the compound): libhdf5 1.10 converts
+  // whatever the header claims and can crash on a corrupt layout.
+  {
+    const std::size_t total = H5Tget_size(ftype.get());
+    const int nm = H5Tget_nmembers(ftype.get());
+    if (total == 0 || total > 4096 || nm <= 0 || nm > 16) return std::nullopt;
+    for (int i = 0; i < nm; ++i) {
+      H5Id mt(H5Tget_member_type(ftype.get(), static_cast<unsigned>(i)), H5Tclose);
+      if (!mt.ok()) return std::nullopt;
+      const std::size_t off = H5Tget_member_offset(ftype.get(), static_cast<unsigned>(i));
+      const std::size_t sz = H5Tget_size(mt.get());
+      if (sz == 0 || off > total || sz > total - off) return std::nullopt;
+      const H5T_class_t mc = H5Tget_class(mt.get());
+      // The type as opened describes the in-memory layout of vlen members.
+      if (mc == H5T_VLEN && sz != sizeof(hvl_t)) return std::nullopt;
+      if (mc == H5T_STRING && H5Tis_variable_str(mt.get()) > 0 && sz != sizeof(char*))
+        return std::nullopt;
+    }
+  }
   {
     int i = H5Tget_member_index(ftype.get(), "Parameters");
     H5Id vt(H5Tget_member_type(ftype.get(), static_cast<unsigned>(i)), H5Tclose);
@@ -189,40 +208,42 @@ std::optional<Converter> attr_converter(hid_t obj, const char* name) {
       if (!st.ok() || H5Tis_variable_str(st.get()) <= 0) return std::nullopt;
     }
   }
-  struct Mem {
-    char* category;
-    char* base_unit;
-    hvl_t parameters;
-  };
-  H5Id str(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Id vlen(H5Tvlen_create(H5T_NATIVE_DOUBLE), H5Tclose);
-  H5Id mem(H5Tcreate(H5T_COMPOUND, sizeof(Mem)), H5Tclose);
-  if (!str.ok() || !vlen.ok() || !mem.ok() || H5Tset_size(str.get(), H5T_VARIABLE) < 0 ||
-      H5Tinsert(mem.get(), "Category", offsetof(Mem, category), str.get()) < 0 ||
-      H5Tinsert(mem.get(), "BaseUnit", offsetof(Mem, base_unit), str.get()) < 0 ||
-      H5Tinsert(mem.get(), "Parameters", offsetof(Mem, parameters), vlen.get()) < 0)
-    return std::nullopt;
+  // Each member is read on its own (a one-member compound memory type): when HDF5 fails half
+  // way through a multi-member vlen conversion it leaks what it had already converted.
   H5Id space(H5Aget_space(a.get()), H5Sclose);
   if (!space.ok()) return std::nullopt;
-  Mem buf{};
-  const herr_t rc = H5Aread(a.get(), mem.get(), &buf);
-  Converter c;
-  if (rc >= 0) {
-    if (buf.category != nullptr) c.category = std::string(buf.category, strnlen(buf.category, 256));
-    if (buf.base_unit != nullptr)
-      c.base_unit = std::string(buf.base_unit, strnlen(buf.base_unit, 256));
-    if (buf.parameters.p != nullptr && buf.parameters.len <= 64) {
-      const double* p = static_cast<const double*>(buf.parameters.p);
-      c.parameters.assign(p, p + buf.parameters.len);
-    }
-  }
-  // Frees what HDF5 allocated; safe on members left zeroed by a failed read.
+  auto read_member = [&](const char* member, hid_t member_type, void* out) {
+    H5Id mem(H5Tcreate(H5T_COMPOUND, H5Tget_size(member_type)), H5Tclose);
+    if (!mem.ok() || H5Tinsert(mem.get(), member, 0, member_type) < 0) return false;
+    if (H5Aread(a.get(), mem.get(), out) < 0) return false;
+    return true;
+  };
+  auto reclaim = [&](hid_t member_type, void* buf) {
 #if H5_VERSION_GE(1, 12, 0)
-  H5Treclaim(mem.get(), space.get(), H5P_DEFAULT, &buf);
+    H5Treclaim(member_type, space.get(), H5P_DEFAULT, buf);
 #else
-  H5Dvlen_reclaim(mem.get(), space.get(), H5P_DEFAULT, &buf);
+    H5Dvlen_reclaim(member_type, space.get(), H5P_DEFAULT, buf);
 #endif
-  if (rc < 0) return std::nullopt;
+  };
+  H5Id str(H5Tcopy(H5T_C_S1), H5Tclose);
+  if (!str.ok() || H5Tset_size(str.get(), H5T_VARIABLE) < 0) return std::nullopt;
+  Converter c;
+  for (auto [member, out] :
+       {std::pair{"Category", &c.category}, std::pair{"BaseUnit", &c.base_unit}}) {
+    char* p = nullptr;
+    if (!read_member(member, str.get(), &p)) return std::nullopt;
+    if (p != nullptr) *out = std::string(p, strnlen(p, 256));
+    reclaim(str.get(), &p);
+  }
+  H5Id vlen(H5Tvlen_create(H5T_NATIVE_DOUBLE), H5Tclose);
+  if (!vlen.ok()) return std::nullopt;
+  hvl_t params{};
+  if (!read_member("Parameters", vlen.get(), &params)) return std::nullopt;
+  if (params.p != nullptr && params.len <= 64) {
+    const double* p = static_cast<const double*>(params.p);
+    c.parameters.assign(p, p + params.len);
+  }
+  reclaim(vlen.get(), &params);
   return c;
 }
 
