@@ -209,8 +209,7 @@ TEST(format_datx, CorruptGlobalHeapIsRejected) {
   ASSERT_NE(gcol, std::string::npos);
   const std::size_t first_object = gcol + 16;  // 16-byte collection header
   const std::uint64_t huge = 0x0A000006;
-  for (int i = 0; i < 8; ++i)
-    b[first_object + 8 + i] = static_cast<std::uint8_t>(huge >> (8 * i));
+  for (int i = 0; i < 8; ++i) b[first_object + 8 + i] = static_cast<std::uint8_t>(huge >> (8 * i));
   TempDir dir;
   expect_file_error(dir.write("heap.datx", b), "global heap");
 }
