@@ -1,0 +1,208 @@
+// Sensofar .plu reader: reference values from tests/data/README.md, hostile inputs.
+// plu-1.plu (3 MB) is read from the shared data folder; the tests skip when it is absent.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "microbrdf/error.hpp"
+#include "microbrdf/io.hpp"
+
+using namespace microbrdf;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kFile = std::string(MICROBRDF_SHARED_DATA) + "/surfaces/plu-1.plu";
+
+struct Stats {
+  std::size_t invalid = 0;
+  double min = INFINITY, max = -INFINITY, mean = 0, sq = 0;
+};
+
+Stats stats(const Surface& s) {
+  Stats st;
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (!s.is_valid(i)) {
+      ++st.invalid;
+      continue;
+    }
+    st.min = std::min(st.min, s.z[i]);
+    st.max = std::max(st.max, s.z[i]);
+    sum += s.z[i];
+    ++n;
+  }
+  st.mean = sum / static_cast<double>(n);
+  double ss = 0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (s.is_valid(i)) ss += (s.z[i] - st.mean) * (s.z[i] - st.mean);
+  st.sq = std::sqrt(ss / static_cast<double>(n));
+  return st;
+}
+
+std::vector<std::uint8_t> load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+class TempDir {
+ public:
+  TempDir() {
+    path_ = fs::temp_directory_path() /
+            ("microbrdf-plu-" + std::to_string(::getpid()) + "-" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  std::string write(const std::string& name, const std::vector<std::uint8_t>& bytes) const {
+    std::string p = (path_ / name).string();
+    std::ofstream out(p, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
+    return p;
+  }
+
+ private:
+  fs::path path_;
+};
+
+void put_le32(std::vector<std::uint8_t>& b, std::size_t off, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) b[off + i] = static_cast<std::uint8_t>(v >> (8 * i));
+}
+void put_f32(std::vector<std::uint8_t>& b, std::size_t off, float f) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &f, 4);
+  put_le32(b, off, bits);
+}
+
+// Expects read_surface(path) to throw a FileError naming the path (and `needle` if given).
+void expect_file_error(const std::string& path, const std::string& needle = "") {
+  try {
+    read_surface(path);
+    ADD_FAILURE() << "no error for " << path;
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    if (!needle.empty()) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  }
+}
+
+constexpr std::size_t kData = 508;
+
+#define REQUIRE_PLU()                                              \
+  if (!fs::exists(kFile)) GTEST_SKIP() << kFile << " not present"; \
+  static_assert(true)
+
+}  // namespace
+
+TEST(format_plu, ReferenceValues) {
+  REQUIRE_PLU();
+  Surface s = read_surface(kFile);
+  EXPECT_EQ(s.nx, 768u);
+  EXPECT_EQ(s.ny, 576u);
+  EXPECT_NEAR(s.dx, 1.66e-6, 1.66e-6 * 1e-6);
+  EXPECT_NEAR(s.dy, 1.66e-6, 1.66e-6 * 1e-6);
+  Stats st = stats(s);
+  EXPECT_EQ(st.invalid, 0u);
+  // Reference table is in um.
+  EXPECT_NEAR(st.min, -111.23e-6, 111.23e-6 * 1e-5);
+  EXPECT_NEAR(st.max, -101.215e-6, 101.215e-6 * 1e-5);
+  EXPECT_NEAR(st.mean, -106.238e-6, 106.238e-6 * 1e-5);
+  EXPECT_NEAR(st.sq, 2.83439e-6, 2.83439e-6 * 1e-5);
+  EXPECT_NEAR(s.at(0, 0), -111.2266e-6, 111.2266e-6 * 1e-6);
+  s.check();
+}
+
+TEST(format_plu, Metadata) {
+  REQUIRE_PLU();
+  Surface s = read_surface(kFile);
+  EXPECT_EQ(s.meta.format, "plu");
+  EXPECT_EQ(s.meta.instrument, "Sensofar");
+  EXPECT_EQ(s.meta.date, "2023-03-10T16:35:59");
+  EXPECT_EQ(s.meta.z_unit_in_file, "um");
+  EXPECT_EQ(s.meta.get("objective_index"), "14");
+  EXPECT_EQ(s.meta.get("z_planes"), "23");
+  EXPECT_EQ(s.meta.get("layers_in_file"), "1");
+}
+
+TEST(format_plu, UndefinedPoints) {
+  REQUIRE_PLU();
+  auto b = load(kFile);
+  put_f32(b, kData, 1000001.0f);
+  put_f32(b, kData + 4 * 769, 1000001.0f);
+  put_f32(b, kData + 8, std::numeric_limits<float>::quiet_NaN());
+  TempDir dir;
+  Surface s = read_surface(dir.write("undef.plu", b));
+  EXPECT_EQ(stats(s).invalid, 3u);
+  EXPECT_FALSE(s.is_valid(s.index(1, 1)));
+  EXPECT_TRUE(s.is_valid(s.index(1, 0)));
+  EXPECT_EQ(s.meta.get("undefined_points"), "2");
+}
+
+TEST(format_plu, TruncatedFilesAreErrors) {
+  REQUIRE_PLU();
+  auto b = load(kFile);
+  TempDir dir;
+  const std::size_t layer_end = kData + 768 * 576 * 4;
+  for (std::size_t len : {std::size_t{0}, std::size_t{10}, std::size_t{400}, std::size_t{507},
+                          std::size_t{600}, layer_end / 2, layer_end - 1}) {
+    std::vector<std::uint8_t> cut(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(len));
+    expect_file_error(dir.write("cut" + std::to_string(len) + ".plu", cut));
+  }
+  std::vector<std::uint8_t> cut(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(layer_end - 1));
+  expect_file_error(dir.write("last.plu", cut), "768 x 576 float32");
+  // Cutting after the height layer (min/max, camera image) still reads.
+  std::vector<std::uint8_t> ok(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(layer_end));
+  EXPECT_EQ(read_surface(dir.write("layer-only.plu", ok)).nx, 768u);
+}
+
+TEST(format_plu, HostileHeaders) {
+  REQUIRE_PLU();
+  // Only the first 600 bytes are needed to hit every header check.
+  auto full = load(kFile);
+  const std::vector<std::uint8_t> b(full.begin(), full.begin() + 600);
+  TempDir dir;
+  auto patched = [&](const char* file, auto&& patch, const std::string& needle) {
+    auto h = b;
+    patch(h);
+    expect_file_error(dir.write(file, h), needle);
+  };
+  patched(
+      "huge.plu",
+      [](auto& h) {
+        put_le32(h, 500, 0xFFFFFFFF);
+        put_le32(h, 504, 0xFFFFFFFF);
+      },
+      "absurdly large");
+  patched(
+      "big.plu", [](auto& h) { put_le32(h, 500, 1000); }, "truncated");
+  patched(
+      "zero.plu", [](auto& h) { put_le32(h, 504, 0); }, "empty grid");
+  patched(
+      "type.plu", [](auto& h) { put_le32(h, 428, 1); }, "measurement type");
+  patched(
+      "layers.plu", [](auto& h) { h[489] = 0; }, "no data layer");
+  patched(
+      "pixel.plu", [](auto& h) { put_f32(h, 404, -1.0f); }, "pixel size");
+}
+
+TEST(format_plu, ZeroPixelSizeNeedsSpacing) {
+  REQUIRE_PLU();
+  auto b = load(kFile);
+  put_f32(b, 404, 0.0f);
+  TempDir dir;
+  expect_file_error(dir.write("nopix.plu", b), "--spacing");
+}
