@@ -213,3 +213,22 @@ TEST(format_datx, CorruptGlobalHeapIsRejected) {
   TempDir dir;
   expect_file_error(dir.write("heap.datx", b), "global heap");
 }
+
+// Files that crash, leak or blow up libhdf5 1.10 in-process (fuzz/repro/) end as a FileError
+// naming the file: the decoder runs in a child process.
+TEST(format_datx, LibraryFailuresAreContained) {
+  const std::string dir = std::string(MICROBRDF_TEST_DATA) + "/../../fuzz/repro";
+  int seen = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (e.path().extension() != ".datx") continue;
+    ++seen;
+    try {
+      microbrdf::read_surface(e.path().string());
+      ADD_FAILURE() << e.path() << " was accepted";
+    } catch (const microbrdf::FileError& err) {
+      EXPECT_NE(std::string(err.what()).find(e.path().filename().string()), std::string::npos)
+          << err.what();
+    }
+  }
+  EXPECT_GE(seen, 5);
+}

@@ -28,6 +28,7 @@
 #include "core/byte_reader.hpp"
 #include "microbrdf/error.hpp"
 #include "surface/formats.hpp"
+#include "surface/isolated_reader.hpp"
 
 namespace microbrdf::detail {
 namespace {
@@ -564,8 +565,12 @@ Surface read_datx_locked(const ByteReader& r) {
 
 Surface read_datx(Bytes data, const std::string& name) {
   ByteReader r(data, name);
-  std::lock_guard<std::mutex> lock(g_hdf5_mutex);
-  return read_datx_locked(r);
+  // libhdf5 1.10 can leak, crash or ask for absurd allocations on corrupt files even after the
+  // checks above (fuzz/repro/), so it decodes in a child process (surface/isolated_reader.hpp).
+  return read_isolated(name, "libhdf5", [&] {
+    std::lock_guard<std::mutex> lock(g_hdf5_mutex);
+    return read_datx_locked(r);
+  });
 }
 
 }  // namespace microbrdf::detail
