@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
+#include "surface/isolated_reader.hpp"
 
 using namespace microbrdf;
 namespace fs = std::filesystem;
@@ -214,8 +216,9 @@ TEST(format_datx, CorruptGlobalHeapIsRejected) {
   expect_file_error(dir.write("heap.datx", b), "global heap");
 }
 
-// Files that crash, leak or blow up libhdf5 1.10 in-process (fuzz/repro/) end as a FileError
-// naming the file: the decoder runs in a child process.
+// Files that crash, leak or blow up libhdf5 1.10 in-process (fuzz/repro/) never take the caller
+// down: each ends as a consistent Surface (the guards made it readable) or a FileError naming
+// the file (the decoder runs in a child process).
 TEST(format_datx, LibraryFailuresAreContained) {
   const std::string dir = std::string(MICROBRDF_TEST_DATA) + "/../../fuzz/repro";
   int seen = 0;
@@ -223,12 +226,38 @@ TEST(format_datx, LibraryFailuresAreContained) {
     if (e.path().extension() != ".datx") continue;
     ++seen;
     try {
-      microbrdf::read_surface(e.path().string());
-      ADD_FAILURE() << e.path() << " was accepted";
+      auto s = microbrdf::read_surface(e.path().string());
+      EXPECT_NO_THROW(s.check()) << e.path();
     } catch (const microbrdf::FileError& err) {
       EXPECT_NE(std::string(err.what()).find(e.path().filename().string()), std::string::npos)
           << err.what();
     }
   }
   EXPECT_GE(seen, 5);
+}
+
+// A decoder that crashes in the child becomes a FileError in the caller.
+TEST(format_datx, CrashInDecoderBecomesFileError) {
+  try {
+    microbrdf::detail::read_isolated("crash.datx", "testlib", []() -> microbrdf::Surface {
+      std::raise(SIGSEGV);
+      return {};
+    });
+    ADD_FAILURE() << "no error";
+  } catch (const microbrdf::FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("crash.datx: testlib crashed"), std::string::npos)
+        << e.what();
+  }
+  try {
+    microbrdf::detail::read_isolated(
+        "slow.datx", "testlib",
+        []() -> microbrdf::Surface {
+          ::sleep(5);
+          return {};
+        },
+        1);
+    ADD_FAILURE() << "no error";
+  } catch (const microbrdf::FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("did not finish"), std::string::npos) << e.what();
+  }
 }
