@@ -1,0 +1,97 @@
+#pragma once
+// TabulatedNdf: a normal distribution function tabulated on the projected unit disk
+// (Dong 2015 section 5.1; theory notes section 2; ARCHITECTURE.md).
+//
+//  - N x N nodes (default 1025), node-centred: m_x = -1 + 2 ix/(N-1), m_y = -1 + 2 iy/(N-1),
+//    row iy; value D(m) per steradian; 0 outside the unit disk.
+//  - Orthographic map m = (m_x, m_y, sqrt(1 - m_x^2 - m_y^2)); dw = dm_x dm_y / m_z, so
+//    D(m)(m.n) dw = D dm_x dm_y: the table IS the density of (m_x, m_y) of the projected-area
+//    weighted normal, and the normalisation  integral D(m)(m.n) dw = 1  reads
+//    sum_ij D_ij Delta^2 = 1 with Delta = 2/(N-1) (node-centred, bilinear "tent" cells).
+//  - Evaluation: bilinear interpolation of the nodes, 0 outside the disk.
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace microbrdf {
+
+/// Where an NDF came from; travels into .npy sidecars / EXR attributes / JSON.
+struct NdfMetadata {
+  std::string method;                 ///< "naive", "filtered", "kirchhoff", "beckmann", ...
+  double filter_sigma_m = 0;          ///< Gaussian filter std (filtered method), m
+  double wavelength_m = 0;            ///< lambda_q (Kirchhoff), m
+  std::vector<std::string> sources;   ///< input files
+  std::size_t samples_used = 0;       ///< elements (triangles / points) accumulated
+  std::size_t samples_skipped = 0;    ///< elements rejected (invalid samples, thin support)
+  double projected_area_m2 = 0;       ///< total projected area accumulated, m^2
+  std::string leveling;               ///< levelling applied to the inputs
+  std::string parameterisation = "orthographic-disk node-centred";
+  std::string notes;
+};
+
+/// A 1-D cut through the table along an in-plane direction.
+struct NdfSlice {
+  std::vector<double> t;       ///< signed disk coordinate along the direction (m_x cos phi + m_y sin phi)
+  std::vector<double> theta;   ///< signed polar angle of m, rad
+  std::vector<double> value;   ///< D(m), 1/sr
+};
+
+class TabulatedNdf {
+ public:
+  explicit TabulatedNdf(std::size_t resolution = 1025);
+
+  std::size_t resolution() const { return n_; }
+  /// Node spacing Delta = 2/(N-1) in disk coordinates.
+  double spacing() const { return 2.0 / static_cast<double>(n_ - 1); }
+  double node_x(std::size_t ix) const { return -1.0 + spacing() * static_cast<double>(ix); }
+  double node_y(std::size_t iy) const { return node_x(iy); }
+  double& at(std::size_t ix, std::size_t iy) { return d_[iy * n_ + ix]; }
+  double at(std::size_t ix, std::size_t iy) const { return d_[iy * n_ + ix]; }
+  std::vector<double>& values() { return d_; }
+  const std::vector<double>& values() const { return d_; }
+
+  /// D(m) per steradian by bilinear interpolation; 0 for m_z <= 0 or outside the disk.
+  /// `m` need not be normalised.
+  double eval(const Eigen::Vector3d& m) const;
+  double eval_disk(double mx, double my) const;
+
+  /// sum D_ij Delta^2 = integral D(m)(m.n) dw (1 for a normalised table).
+  double integral() const;
+  /// Scales to integral 1. Throws std::domain_error if the table is empty.
+  void normalise();
+  /// Zeroes nodes outside the unit disk (keeps the integral by renormalising if it was 1).
+  void clear_outside_disk();
+
+  /// Mean normal: the unit vector along integral m D(m)(m.n) dw.
+  Eigen::Vector3d mean_normal() const;
+  /// Covariance of the slopes (-m_x/m_z, -m_y/m_z) under D(m)(m.n) dw (about their mean).
+  Eigen::Matrix2d slope_covariance() const;
+  /// rms slope along the in-plane direction at azimuth phi (rad), about the mean:
+  /// sqrt(u^T C u). For Beckmann this is alpha / sqrt(2).
+  double rms_slope(double phi) const;
+  /// The node with the largest value, as a unit vector.
+  Eigen::Vector3d peak() const;
+  /// Values along the line through the disk centre at azimuth phi, `samples` points over
+  /// [-1, 1] (bilinear).
+  NdfSlice slice(double phi, std::size_t samples = 1025) const;
+
+  /// Adds `weight` at disk point (mx, my) spread bilinearly over the four surrounding nodes
+  /// (weights sum to `weight`; points outside the square are ignored). Histogram estimators call
+  /// this with the element's projected area and then finish with normalise().
+  void splat(double mx, double my, double weight);
+  /// this += w * other (same resolution; throws std::invalid_argument otherwise).
+  void add(const TabulatedNdf& other, double w = 1.0);
+
+  /// Bilinear resampling to another resolution (normalised again).
+  TabulatedNdf resampled(std::size_t resolution) const;
+
+  NdfMetadata meta;
+
+ private:
+  std::size_t n_;
+  std::vector<double> d_;
+};
+
+}  // namespace microbrdf
