@@ -56,8 +56,8 @@ static void write_exr(const std::string& path, int w, int h, const char* chan, I
 }
 
 static void write_tiff(const std::string& path, int w, int h, int fmt, int bits, int spp,
-                       int comp, bool tiled, const char* desc) {
-  TIFF* t = TIFFOpen(path.c_str(), "w");
+                       int comp, bool tiled, const char* desc, const char* mode = "w") {
+  TIFF* t = TIFFOpen(path.c_str(), mode);
   TIFFSetField(t, TIFFTAG_IMAGEWIDTH, w);
   TIFFSetField(t, TIFFTAG_IMAGELENGTH, h);
   TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, bits);
@@ -70,9 +70,17 @@ static void write_tiff(const std::string& path, int w, int h, int fmt, int bits,
   const int bps = bits / 8 * spp;
   auto value = [&](int x, int y, std::uint8_t* p) {
     for (int s = 0; s < spp; ++s, p += bits / 8) {
-      if (fmt == SAMPLEFORMAT_IEEEFP) {
+      if (fmt == SAMPLEFORMAT_IEEEFP && bits == 64) {
+        double v = expected_height(x, y);
+        memcpy(p, &v, 8);
+      } else if (fmt == SAMPLEFORMAT_IEEEFP) {
         float v = static_cast<float>(expected_height(x, y));
         memcpy(p, &v, 4);
+      } else if (bits == 32) {
+        std::int32_t v = -5000 + 7 * x + 300 * y;
+        memcpy(p, &v, 4);
+      } else if (bits == 8) {
+        *p = static_cast<std::uint8_t>(x + 10 * y);
       } else {
         std::uint16_t v = static_cast<std::uint16_t>(1000 + 7 * x + 300 * y);
         memcpy(p, &v, 2);
@@ -114,5 +122,22 @@ int main(int argc, char** argv) {
              "z_unit = nm");
   write_tiff(d + "/height_rgb16.tif", 4, 3, SAMPLEFORMAT_UINT, 16, 3, COMPRESSION_NONE, false,
              nullptr);
+  // fuzz seeds (second argument: a directory holding exr/ and tiff/)
+  if (argc > 2) {
+    std::string f = argv[2];
+    write_exr(f + "/exr/z_float_zip.exr", 20, 12, "Z", Imf::FLOAT, nullptr, Imf::ZIP_COMPRESSION, 5, -3);
+    write_exr(f + "/exr/rgb_half_um.exr", 10, 6, "RGB", Imf::HALF, "um", Imf::NO_COMPRESSION, 0, 0);
+    write_exr(f + "/exr/z_float_piz.exr", 8, 8, "Z", Imf::FLOAT, nullptr, Imf::PIZ_COMPRESSION, 0, 0);
+    write_exr(f + "/exr/z_float_pxr24.exr", 8, 8, "Z", Imf::FLOAT, nullptr, Imf::PXR24_COMPRESSION, 0, 0);
+    write_exr(f + "/exr/z_float_rle.exr", 8, 8, "Z", Imf::FLOAT, nullptr, Imf::RLE_COMPRESSION, 0, 0);
+    write_exr(f + "/exr/y_half_b44.exr", 8, 8, "Y", Imf::HALF, nullptr, Imf::B44_COMPRESSION, 0, 0);
+    write_exr(f + "/exr/y_half_dwaa.exr", 8, 8, "Y", Imf::HALF, nullptr, Imf::DWAA_COMPRESSION, 0, 0);
+    write_tiff(f + "/tiff/f32_deflate.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1, COMPRESSION_ADOBE_DEFLATE, false, "seed");
+    write_tiff(f + "/tiff/f32_tiled.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1, COMPRESSION_NONE, true, nullptr);
+    write_tiff(f + "/tiff/u16_lzw_nm.tif", 20, 12, SAMPLEFORMAT_UINT, 16, 1, COMPRESSION_LZW, false, "z_unit = nm");
+    write_tiff(f + "/tiff/f64_packbits.tif", 6, 5, SAMPLEFORMAT_IEEEFP, 64, 1, COMPRESSION_PACKBITS, false, nullptr);
+    write_tiff(f + "/tiff/i32_bigendian.tif", 6, 5, SAMPLEFORMAT_INT, 32, 1, COMPRESSION_NONE, false, nullptr, "wb");
+    write_tiff(f + "/tiff/u8.tif", 6, 5, SAMPLEFORMAT_UINT, 8, 1, COMPRESSION_NONE, false, nullptr);
+  }
   return 0;
 }
