@@ -129,6 +129,32 @@ TEST(format_images, ExrNeedsSpacingAndRejectsCorruption) {
   hammer(kData + "/height_rgb_half_um.exr", ".exr");
 }
 
+TEST(format_images, ExrHostileHeaderSizesAreRefusedBeforeOpenExrAllocates) {
+  // OpenEXR 3.1 allocates a string attribute's declared size, and loses its place when a
+  // fixed-size attribute declares another size; both were found by fuzz_exr.
+  const auto good = slurp(kData + "/height_z_float.exr");
+  auto patch = [&](const std::string& key, std::uint32_t size) {
+    auto b = good;
+    std::string text(b.begin(), b.end());
+    auto at = text.find(key);
+    EXPECT_NE(at, std::string::npos) << key;
+    at += key.size();
+    for (int i = 0; i < 4; ++i) b[at + i] = static_cast<std::uint8_t>(size >> (8 * i));
+    return b;
+  };
+  auto opt = spacing(1e-6, 1e-6);
+  for (const auto& b : {patch(std::string("comments\0string\0", 16), 0x7C7C7C7Cu),
+                        patch(std::string("displayWindow\0box2i\0", 20), 0u),
+                        patch(std::string("channels\0chlist\0", 16), 3u)}) {
+    try {
+      read_surface_bytes(b, SurfaceFormat::Exr, "hostile.exr", opt);
+      ADD_FAILURE() << "accepted";
+    } catch (const FileError& e) {
+      EXPECT_NE(std::string(e.what()).find("corrupt"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(format_images, TiffFloatStripsAndTiles) {
   for (const char* f : {"/height_f32.tif", "/height_f32_tiled.tif"}) {
     SCOPED_TRACE(f);

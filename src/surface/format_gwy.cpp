@@ -424,7 +424,8 @@ class Writer {
 }  // namespace
 
 void write_gwy(const Surface& s, const std::string& path) {
-  if (s.nx > 0x7FFFFFFF || s.ny > 0x7FFFFFFF || s.size() > (0xFFFFFFF0u / 8))
+  // data + mask (8 bytes each) must fit in the container's 32-bit size field.
+  if (s.nx > 0x7FFFFFFF || s.ny > 0x7FFFFFFF || s.size() > (0xFFFFFFFFu - 65536) / 16)
     throw FileError(path, "surface too large for a Gwyddion file (4 GiB object limit)");
   double sum = 0;
   std::size_t n = 0;
