@@ -200,6 +200,13 @@ TEST(format_ascii, MatrixNeedsSpacingUnlessHeader) {
   EXPECT_DOUBLE_EQ(s.dx, 1e-6);
   EXPECT_DOUBLE_EQ(s.dy, 1e-6);
   EXPECT_DOUBLE_EQ(s.at(2, 1), 6e-9);
+  // Semicolon-separated lines use a decimal comma.
+  spit(p, "# dx_m = 1e-6\n1,5;2,25;-3\n4;5,5;6e-1\n");
+  s = read_surface(p.string());
+  EXPECT_DOUBLE_EQ(s.at(0, 0), 1.5);
+  EXPECT_DOUBLE_EQ(s.at(1, 0), 2.25);
+  EXPECT_DOUBLE_EQ(s.at(1, 1), 5.5);
+  EXPECT_DOUBLE_EQ(s.at(2, 1), 0.6);
 }
 
 TEST(format_ascii, ThreeColumnMatrixIsNotMistakenForXyz) {

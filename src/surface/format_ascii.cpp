@@ -2,7 +2,8 @@
 //
 // Lexical rules (both forms):
 //  - values are separated by whitespace, ',' or ';' (runs of separators count as one, so an
-//    empty CSV field is not a value); a leading '+' is allowed;
+//    empty CSV field is not a value); a leading '+' is allowed; in a line that contains ';',
+//    ',' is a decimal comma ("1,5;2,5" = 1.5 and 2.5);
 //  - "nan" (any case, also "-nan"), "inf", "-", "--", "*", "***", "NA", "N/A" mark an invalid
 //    point;
 //  - lines whose first non-blank character is '#' or '%' are comments; a comment of the form
@@ -67,9 +68,10 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-bool is_sep(char ch) {
-  return ch == ' ' || ch == '\t' || ch == ',' || ch == ';' || ch == '\r' || ch == '\v' ||
-         ch == '\f';
+// In a line that contains ';', ',' is a decimal comma ("1,5;2,5"), not a separator.
+bool is_sep(char ch, bool decimal_comma) {
+  return ch == ' ' || ch == '\t' || (ch == ',' && !decimal_comma) || ch == ';' || ch == '\r' ||
+         ch == '\v' || ch == '\f';
 }
 
 // A value token -> number (NaN for invalid markers); nullopt when it is not a number at all.
@@ -123,25 +125,32 @@ Text tokenize(const ByteReader& r) {
     if (line.find('\0') != std::string_view::npos)
       r.fail("line " + std::to_string(line_no) + ": binary data (NUL byte) in a text file");
     toks.clear();
+    const bool decimal_comma = line.find(';') != std::string_view::npos;
     std::size_t i = 0;
     while (i < line.size()) {
-      while (i < line.size() && is_sep(line[i])) ++i;
+      while (i < line.size() && is_sep(line[i], decimal_comma)) ++i;
       std::size_t j = i;
-      while (j < line.size() && !is_sep(line[j])) ++j;
+      while (j < line.size() && !is_sep(line[j], decimal_comma)) ++j;
       if (j > i) toks.push_back(line.substr(i, j - i));
       i = j;
     }
     if (toks.empty()) continue;
     const std::size_t before = t.values.size();
     bool all_words = true;
-    std::string_view bad;
+    std::string bad;
+    std::string comma_fixed;
     for (auto tok : toks) {
+      if (decimal_comma && tok.find(',') != std::string_view::npos) {
+        comma_fixed.assign(tok);
+        std::replace(comma_fixed.begin(), comma_fixed.end(), ',', '.');
+        tok = comma_fixed;
+      }
       auto v = parse_value(tok);
       if (v) {
         all_words = false;
         t.values.push_back(*v);
       } else if (bad.empty()) {
-        bad = tok;
+        bad = std::string(tok.substr(0, 40));
       }
     }
     if (!bad.empty()) {
@@ -150,8 +159,7 @@ Text tokenize(const ByteReader& r) {
         t.values.resize(before);
         continue;
       }
-      std::string shown(bad.substr(0, 40));
-      r.fail("line " + std::to_string(line_no) + ": cannot read '" + shown + "' as a number");
+      r.fail("line " + std::to_string(line_no) + ": cannot read '" + bad + "' as a number");
     }
     const std::size_t n = t.values.size() - before;
     if (t.rows == 0) {

@@ -180,7 +180,9 @@ std::optional<std::uint64_t> channel_number(const std::string& key, const std::s
   if (key.size() < 2 + suffix.size() || key[0] != '/') return std::nullopt;
   if (key.compare(key.size() - suffix.size(), suffix.size(), suffix) != 0) return std::nullopt;
   std::string digits = key.substr(1, key.size() - 1 - suffix.size());
-  if (digits.empty() || digits.size() > 18) return std::nullopt;
+  // Canonical decimal only ("/01/data" is not a channel), so "/" + to_string(n) rebuilds the key.
+  if (digits.empty() || digits.size() > 18 || (digits.size() > 1 && digits[0] == '0'))
+    return std::nullopt;
   for (char ch : digits)
     if (ch < '0' || ch > '9') return std::nullopt;
   std::uint64_t n = 0;
