@@ -103,6 +103,11 @@ TEST(format_images, ExrFloatZChannel) {
   EXPECT_EQ(s.meta.z_unit_in_file, "m");
 }
 
+TEST(format_images, ExrTiled) {
+  Surface s = read_surface(kData + "/height_z_tiled.exr", spacing(1e-6, 1e-6));
+  expect_formula(s);
+}
+
 TEST(format_images, ExrHalfRgbPicksRAndScalesUnit) {
   Surface s = read_surface(kData + "/height_rgb_half_um.exr", spacing(1e-6, 1e-6));
   ASSERT_EQ(s.nx, 10u);
@@ -127,6 +132,7 @@ TEST(format_images, ExrNeedsSpacingAndRejectsCorruption) {
                FileError);
   hammer(kData + "/height_z_float.exr", ".exr");
   hammer(kData + "/height_rgb_half_um.exr", ".exr");
+  hammer(kData + "/height_z_tiled.exr", ".exr");
 }
 
 TEST(format_images, ExrHostileHeaderSizesAreRefusedBeforeOpenExrAllocates) {

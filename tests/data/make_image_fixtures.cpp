@@ -8,6 +8,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfTiledOutputFile.h>
 #include <tiffio.h>
 
 #include <cmath>
@@ -53,6 +54,22 @@ static void write_exr(const std::string& path, int w, int h, const char* chan, I
   Imf::OutputFile out(path.c_str(), hdr);
   out.setFrameBuffer(fb);
   out.writePixels(h);
+}
+
+static void write_exr_tiled(const std::string& path, int w, int h) {
+  Imf::Header hdr(w, h);
+  hdr.compression() = Imf::ZIP_COMPRESSION;
+  hdr.channels().insert("Z", Imf::Channel(Imf::FLOAT));
+  hdr.setTileDescription(Imf::TileDescription(8, 8, Imf::ONE_LEVEL));
+  std::vector<float> f(w * h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) f[y * w + x] = static_cast<float>(expected_height(x, y));
+  Imf::FrameBuffer fb;
+  fb.insert("Z", Imf::Slice::Make(Imf::FLOAT, f.data(), hdr.dataWindow(), sizeof(float),
+                                  w * sizeof(float)));
+  Imf::TiledOutputFile out(path.c_str(), hdr);
+  out.setFrameBuffer(fb);
+  out.writeTiles(0, out.numXTiles() - 1, 0, out.numYTiles() - 1);
 }
 
 static void write_tiff(const std::string& path, int w, int h, int fmt, int bits, int spp,
@@ -114,6 +131,7 @@ int main(int argc, char** argv) {
   // test fixtures
   write_exr(d + "/height_z_float.exr", 20, 12, "Z", Imf::FLOAT, nullptr, Imf::ZIP_COMPRESSION, 5, -3);
   write_exr(d + "/height_rgb_half_um.exr", 10, 6, "RGB", Imf::HALF, "um", Imf::NO_COMPRESSION, 0, 0);
+  write_exr_tiled(d + "/height_z_tiled.exr", 20, 12);
   write_tiff(d + "/height_f32.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1, COMPRESSION_ADOBE_DEFLATE,
              false, "microbrdf test fixture");
   write_tiff(d + "/height_f32_tiled.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1, COMPRESSION_NONE,
@@ -132,6 +150,7 @@ int main(int argc, char** argv) {
     write_exr(f + "/exr/z_float_rle.exr", 8, 8, "Z", Imf::FLOAT, nullptr, Imf::RLE_COMPRESSION, 0, 0);
     write_exr(f + "/exr/y_half_b44.exr", 8, 8, "Y", Imf::HALF, nullptr, Imf::B44_COMPRESSION, 0, 0);
     write_exr(f + "/exr/y_half_dwaa.exr", 8, 8, "Y", Imf::HALF, nullptr, Imf::DWAA_COMPRESSION, 0, 0);
+    write_exr_tiled(f + "/exr/z_float_tiled_zip.exr", 20, 12);
     write_tiff(f + "/tiff/f32_deflate.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1, COMPRESSION_ADOBE_DEFLATE, false, "seed");
     write_tiff(f + "/tiff/f32_tiled.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1, COMPRESSION_NONE, true, nullptr);
     write_tiff(f + "/tiff/u16_lzw_nm.tif", 20, 12, SAMPLEFORMAT_UINT, 16, 1, COMPRESSION_LZW, false, "z_unit = nm");
