@@ -52,8 +52,8 @@ const FormatInfo& info(SurfaceFormat f) {
   throw InputError("no such surface format");
 }
 
-// Spacing for a .npy from its JSON sidecar (scan.npy + scan.json), if present.
-void read_npy_sidecar(const std::string& path, ReadOptions& opt) {
+// Spacing (and origin) for a .npy from its JSON sidecar (scan.npy + scan.json), if present.
+void read_npy_sidecar(const std::string& path, ReadOptions& opt, double& x0, double& y0) {
   fs::path side = fs::path(path).replace_extension(".json");
   if (!fs::exists(side)) return;
   nlohmann::json j;
@@ -72,6 +72,11 @@ void read_npy_sidecar(const std::string& path, ReadOptions& opt) {
   };
   if (!opt.dx) opt.dx = get("dx_m");
   if (!opt.dy) opt.dy = get("dy_m");
+  for (auto [key, out] : {std::pair{"x0_m", &x0}, std::pair{"y0_m", &y0}}) {
+    if (!j.contains(key)) continue;
+    if (!j[key].is_number()) throw FileError(side.string(), std::string("'") + key + "' must be a number (metres)");
+    *out = j[key].get<double>();
+  }
   if (opt.dx && !opt.dy) opt.dy = opt.dx;
 }
 
@@ -219,12 +224,18 @@ Surface read_surface(const std::string& path, const ReadOptions& options, Surfac
   if (format == SurfaceFormat::Auto) format = format_from_magic(data);
   if (format == SurfaceFormat::Auto) format = format_from_extension(path);
   ReadOptions opt = options;
-  if (format == SurfaceFormat::Npy) read_npy_sidecar(path, opt);
+  double x0 = 0, y0 = 0;
+  if (format == SurfaceFormat::Npy) read_npy_sidecar(path, opt, x0, y0);
   if (format_needs_spacing(format) && format != SurfaceFormat::AsciiGrid && (!opt.dx || !opt.dy))
     throw FileError(path, "the " + format_name(format) +
                               " format stores no sample spacing: pass --spacing (e.g. 110nm)" +
                               (format == SurfaceFormat::Npy ? " or add a JSON sidecar" : ""));
-  return read_surface_bytes(data, format, path, opt);
+  Surface s = read_surface_bytes(data, format, path, opt);
+  if (format == SurfaceFormat::Npy) {
+    s.x0 = x0;
+    s.y0 = y0;
+  }
+  return s;
 }
 
 void write_surface(const Surface& s, const std::string& path, SurfaceFormat format) {
