@@ -582,6 +582,7 @@ Surface read_x3p(Bytes data, const std::string& name) {
           std::pair{"Model", "instrument_model"}, std::pair{"Serial", "instrument_serial"},
           std::pair{"Version", "instrument_version"}}) {
       std::string v = text(child(inst, el));
+      if (v == "not available") v.clear();  // the placeholder our writer (and others) use
       keep(key, v);
       if (!v.empty()) joined += (joined.empty() ? "" : " ") + v;
     }
@@ -647,7 +648,7 @@ void write_x3p(const Surface& s, const std::string& path) {
   const std::size_t n = s.nx * s.ny;
   if (n == 0 || s.z.size() != n || s.valid.size() != n)
     throw FileError(path, "x3p: cannot write an empty or inconsistent surface");
-  for (double v : {s.dx, s.dy, s.x0, s.y0, s.z0})
+  for (double v : {s.dx, s.dy, s.x0, s.y0})
     if (!std::isfinite(v)) throw FileError(path, "x3p: spacing and offsets must be finite");
 
   // Heights: float64 little-endian, NaN where invalid; validity bits (LSB first, 1 = valid).
@@ -689,10 +690,8 @@ void write_x3p(const Surface& s, const std::string& path) {
   auto cz = axes.append_child("CZ");
   add_text(cz, "AxisType", "A");
   add_text(cz, "DataType", "D");
-  if (s.z0 != 0) {  // levelled surface: the file stores absolute heights z + z0
-    add_text(cz, "Increment", "1");
-    add_text(cz, "Offset", format_double(s.z0));
-  }
+  // The heights are written as they are in the Surface: a levelled surface stays levelled
+  // (the removed offset z0 is not folded back in), so what `info` showed is what the file holds.
 
   const SurfaceMetadata& m = s.meta;
   auto rec2 = root.append_child("Record2");

@@ -27,8 +27,8 @@ constexpr std::uint16_t kGlyphs[] = {
     0x0002,                                                                            // .
     0x01C0,                                                                            // -
     0x0000,                                                                            // space
-    0x5AED, 0x5BED,                                                                    // n (approx), m
-    0x5B6F,                                                                            // u (mu)
+    0x0D6D, 0x0FED,                                                                    // n, m
+    0x0B6F,                                                                            // u (mu)
 };
 
 int glyph_index(char ch) {
