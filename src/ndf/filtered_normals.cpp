@@ -156,7 +156,9 @@ bool filtered_normal_direct(const Surface& s, std::size_t ix, std::size_t iy, do
   check_args(s, sigma, truncate);
   if (!s.valid[iy * s.nx + ix]) return false;
   const Kernel kx = make_kernel(s.dx, sigma, truncate), ky = make_kernel(s.dy, sigma, truncate);
-  const double mean = valid_mean(s);
+  // Heights relative to the centre sample (slopes do not depend on the offset; it only keeps
+  // the sums well conditioned) so the reference costs just its window.
+  const double mean = s.z[iy * s.nx + ix];
   double m00 = 0, m10 = 0, m01 = 0, m20 = 0, m11 = 0, m02 = 0, b00 = 0, b10 = 0, b01 = 0;
   for (long l = -ky.half; l <= ky.half; ++l) {
     long y = static_cast<long>(iy) + l;
