@@ -41,8 +41,9 @@ class MicrofacetDistribution {
   double G1(const Vec3& v) const;
   /// G1(v, m) with the sidedness test chi+((v.m)/(v.n)).
   double G1(const Vec3& v, const Vec3& m) const;
-  /// Height-correlated Smith G2 = 1/(1 + Lambda(wi) + Lambda(wo)), clamped to [0, 1], with the
-  /// sidedness tests; `separable` gives G1(wi, m) G1(wo, m) (Dong eq. 13) instead.
+  /// Height-correlated Smith G2 = 1/(1 + Lambda(wi) + Lambda(wo)) with the sidedness tests, Lambda
+  /// clamped to >= 0 (only the skewed ellipsoid has Lambda < 0, i.e. G1 > 1 before eq. 14's clamp);
+  /// `separable` gives G1(wi, m) G1(wo, m) (Dong eq. 13) instead.
   double G2(const Vec3& wi, const Vec3& wo, const Vec3& m, bool separable = false) const;
   /// D_v(m) per steradian, the density of sample_visible.
   double pdf_visible(const Vec3& v, const Vec3& m) const;

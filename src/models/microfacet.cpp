@@ -59,7 +59,6 @@ double sample_visible_slope(double mu, double u) {
   const double target = u * (flat ? 1.0 : cdf(mu));
   double lo = -9, hi = flat ? 9 : std::min(mu, 9.0);
   double x = std::clamp(erfinv_guess(2 * u - 1), lo, hi);
-  if (!flat) x = std::min(x, 0.5 * (x + hi));
   for (int it = 0; it < 100; ++it) {
     const double f = cdf(x) - target;
     if (f > 0) hi = x;
@@ -107,9 +106,12 @@ double MicrofacetDistribution::G1(const Vec3& v, const Vec3& m) const {
 
 double MicrofacetDistribution::G2(const Vec3& wi, const Vec3& wo, const Vec3& m, bool separable) const {
   if (wi.dot(m) * wi.z() <= 0 || wo.dot(m) * wo.z() <= 0 || wi.z() <= 0 || wo.z() <= 0) return 0;
-  if (separable) return G1(wi) * G1(wo);
-  const double d = 1.0 + lambda(wi) + lambda(wo);
-  return d <= 1.0 ? 1.0 : 1.0 / d;
+  const double gi = G1(wi), go = G1(wo);
+  if (separable) return gi * go;
+  // Height-correlated 1/(1 + Lambda_i + Lambda_o) written with the clamped G1s, i.e. with Lambda
+  // clamped to >= 0: identical for Beckmann/GGX (Lambda >= 0), and for a skewed ellipsoid it
+  // keeps G2 <= min(G1_i, G1_o) so that the sampling weight F G2 (1 + Lambda_i) stays <= F.
+  return 1.0 / (1.0 / gi + 1.0 / go - 1.0);
 }
 
 double MicrofacetDistribution::pdf_visible(const Vec3& v, const Vec3& m) const {
