@@ -61,8 +61,22 @@ inline Eigen::Matrix3d lobe_stretch(double ax, double ay, double phi) {
   return microbrdf::rotation_z(phi) * Eigen::DiagonalMatrix<double, 3>(1.7 * ax, 0.6 * ay, 1.0).toDenseMatrix();
 }
 
-inline double wilson_hilferty_99(double dof) {
-  const double z = 2.3263478740408408;  // 99% quantile of N(0,1)
+/// Upper quantile z of N(0,1): P(Z > z) = alpha.
+inline double normal_upper_quantile(double alpha) {
+  double z = 0;
+  for (int it = 0; it < 100; ++it) {  // Newton on 0.5 erfc(z / sqrt 2) = alpha
+    double f = 0.5 * std::erfc(z / std::sqrt(2.0)) - alpha;
+    double d = -std::exp(-0.5 * z * z) / std::sqrt(2 * kPi);
+    double dz = f / d;
+    z -= dz;
+    if (std::abs(dz) < 1e-12) break;
+  }
+  return z;
+}
+
+/// Chi-square critical value at significance alpha (Wilson-Hilferty; fine for dof > 30).
+inline double chi2_critical(double dof, double alpha) {
+  const double z = normal_upper_quantile(alpha);
   const double a = 2.0 / (9.0 * dof);
   return dof * std::pow(1 - a + z * std::sqrt(a), 3);
 }
@@ -74,9 +88,11 @@ struct ChiSquare {
 
 /// Bins samples (unit vectors with z > 0) on the chart's upper hemisphere, nu x nphi equal-area
 /// bins, against N times the integral of `pdf` (per steradian of m) over each bin (6 x 6 Gauss
-/// points per bin). Bins expecting fewer than 5 are pooled.
+/// points per bin). Bins expecting fewer than 5 are pooled. `alpha` is the significance of this
+/// one test: a family of k tests at overall 1% uses alpha = 0.01 / k (Bonferroni).
 inline ChiSquare chi_square(const Chart& chart, const std::vector<Vec3>& samples,
-                            const std::function<double(const Vec3&)>& pdf, int nu = 24, int nphi = 48) {
+                            const std::function<double(const Vec3&)>& pdf, double alpha = 0.01, int nu = 24,
+                            int nphi = 48) {
   std::vector<double> observed(static_cast<std::size_t>(nu * nphi), 0), expected(observed.size(), 0);
   auto bin_of = [&](const Vec3& m) {
     Vec3 t = chart.t_of(m);
@@ -121,7 +137,7 @@ inline ChiSquare chi_square(const Chart& chart, const std::vector<Vec3>& samples
     r.chi2 += 1e9;  // samples where the pdf says (almost) none should be
   }
   r.dof -= 1;
-  r.critical = wilson_hilferty_99(r.dof);
+  r.critical = chi2_critical(r.dof, alpha);
   r.total_expected /= n;
   return r;
 }
