@@ -191,3 +191,15 @@ TEST(microfacet, BadParameters) {
   EXPECT_THROW(make_distribution(NdfSpec{"ggx", 0.1, 0.1, 0, 0.1}), InputError);
   EXPECT_THROW(make_distribution(NdfSpec{"ellipsoid", 0.1, 0.1, 0.3}), InputError);
 }
+
+TEST(microfacet, TabulateOnTheDisk) {
+  GgxDistribution g(0.3, 0.2, 0.4);
+  auto t = tabulate(g, "ggx", 257);
+  EXPECT_NEAR(t.integral(), 1.0, 1e-12);
+  // Well-resolved lobe: the raw node sum was already ~1, so the values are D(m) itself.
+  Vec3 m = direction(10, 30);
+  EXPECT_NEAR(t.eval(m) / g.D(m), 1.0, 2e-3);
+  EllipsoidDistribution e({0.1, 0.1, 0.2, 0, 0});
+  auto te = tabulate(e, "ellipsoid", 513);
+  EXPECT_LT((te.peak() - e.peak()).norm(), 2 * te.spacing());
+}

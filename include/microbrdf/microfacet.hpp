@@ -18,6 +18,8 @@
 #include <memory>
 #include <string>
 
+#include "microbrdf/tabulated_ndf.hpp"
+
 namespace microbrdf {
 
 using Vec3 = Eigen::Vector3d;
@@ -138,6 +140,12 @@ struct NdfSpec {
 /// Builds the distribution; throws InputError for an unknown model, alphas outside (0, 10],
 /// rotation angles given to a model that has none, or phi given to the ellipsoid (use theta_z).
 std::shared_ptr<MicrofacetDistribution> make_distribution(const NdfSpec& spec);
+
+/// D(m) at every node of an N x N TabulatedNdf (orthographic disk, node-centred; 0 on and outside
+/// the rim), then normalised to sum D Delta^2 = 1. meta.method = the model name, meta.notes = the
+/// parameters and the sum before normalising (far from 1 when the lobe is narrower than a few
+/// nodes: alpha <~ 3 Delta = 6/(N-1)).
+TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model, std::size_t resolution = 1025);
 
 /// Rotation matrices (active, right-handed).
 Eigen::Matrix3d rotation_x(double t);

@@ -262,6 +262,23 @@ std::string EllipsoidDistribution::describe() const {
 }
 
 // ---------------------------------------------------------------------------------------------
+TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model, std::size_t resolution) {
+  if (resolution < 3) throw InputError("NDF table resolution must be at least 3");
+  TabulatedNdf t(resolution);
+  for (std::size_t iy = 0; iy < resolution; ++iy)
+    for (std::size_t ix = 0; ix < resolution; ++ix) {
+      const double x = t.node_x(ix), y = t.node_y(iy), r2 = x * x + y * y;
+      t.at(ix, iy) = r2 < 1 ? d.D(Vec3(x, y, std::sqrt(1 - r2))) : 0.0;
+    }
+  const double raw = t.integral();
+  t.normalise();
+  t.meta.method = model;
+  char b[64];
+  std::snprintf(b, sizeof b, "; node sum before normalising %.9g", raw);
+  t.meta.notes = d.describe() + b;
+  return t;
+}
+
 std::shared_ptr<MicrofacetDistribution> make_distribution(const NdfSpec& s) {
   std::string m = s.model;
   std::transform(m.begin(), m.end(), m.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
