@@ -9,8 +9,12 @@ using mtest::direction;
 namespace {
 
 std::vector<NdfSpec> specs() {
-  return {NdfSpec{"beckmann", 0.2, 0.2}, NdfSpec{"ggx", 0.3, 0.1, 0.4}, NdfSpec{"ellipsoid", 0.25, 0.4, 0, 0.2, -0.1, 0.5},
-          NdfSpec{"ggx", 0.05, 0.05}, NdfSpec{"beckmann", 1.0, 0.6, 1.0}, NdfSpec{"ellipsoid", 0.8, 0.5, 0, 0.4, 0.3, 1.0}};
+  return {NdfSpec{"beckmann", 0.2, 0.2},
+          NdfSpec{"ggx", 0.3, 0.1, 0.4},
+          NdfSpec{"ellipsoid", 0.25, 0.4, 0, 0.2, -0.1, 0.5},
+          NdfSpec{"ggx", 0.05, 0.05},
+          NdfSpec{"beckmann", 1.0, 0.6, 1.0},
+          NdfSpec{"ellipsoid", 0.8, 0.5, 0, 0.4, 0.3, 1.0}};
 }
 
 MicrofacetBrdf make(const NdfSpec& s, std::shared_ptr<const Fresnel> f, bool separable = false) {
@@ -53,8 +57,10 @@ TEST(brdf, AlbedoAtMostOne) {
           if (!sep) {
             EXPECT_LE(directional_albedo_sampled(g, wi, 550e-9, 128), a + 1e-9);
           }
-          if (s.alpha_x >= 0.2 && s.alpha_y >= 0.2 && th <= 70) {  // quadrature resolves these lobes
-            EXPECT_NEAR(directional_albedo(b, wi, 550e-9, 64, 128), a, 2e-3) << b.describe() << " theta_i " << th;
+          if (s.alpha_x >= 0.2 && s.alpha_y >= 0.2 &&
+              th <= 70) {  // quadrature resolves these lobes
+            EXPECT_NEAR(directional_albedo(b, wi, 550e-9, 64, 128), a, 2e-3)
+                << b.describe() << " theta_i " << th;
           }
         }
       }
@@ -77,7 +83,8 @@ TEST(brdf, SampleWeightAndPdfConsistentWithEval) {
       if (!smp) continue;
       double f = b.eval(wi, smp->wo, 600e-9), p = b.pdf(wi, smp->wo);
       EXPECT_NEAR(smp->pdf, p, 1e-9 * p) << b.describe();
-      EXPECT_NEAR(smp->weight, f * smp->wo.z() / p, 1e-9 * std::max(1.0, smp->weight)) << b.describe();
+      EXPECT_NEAR(smp->weight, f * smp->wo.z() / p, 1e-9 * std::max(1.0, smp->weight))
+          << b.describe();
     }
   }
 }
@@ -97,13 +104,16 @@ TEST(brdf, SampledDirectionsFollowPdf) {
     int absorbed = 0;
     while (s.size() + static_cast<std::size_t>(absorbed) < 200000) {
       auto smp = b.sample(wi, u(rng), u(rng), 550e-9);
-      if (smp) s.push_back(smp->wo);
-      else ++absorbed;
+      if (smp)
+        s.push_back(smp->wo);
+      else
+        ++absorbed;
     }
     // The pdf integrates to the fraction of samples that are not absorbed.
     double kept = static_cast<double>(s.size()) / 200000;
     mtest::Chart plain(Eigen::Matrix3d::Identity());
-    auto r = mtest::chi_square(plain, s, [&](const Vec3& wo) { return b.pdf(wi, wo) / kept; }, 0.01 / 5);
+    auto r = mtest::chi_square(
+        plain, s, [&](const Vec3& wo) { return b.pdf(wi, wo) / kept; }, 0.01 / 5);
     EXPECT_LT(r.chi2, r.critical) << b.describe();
     EXPECT_NEAR(r.total_expected, 1.0, 5e-3) << b.describe();
   }
@@ -121,7 +131,8 @@ TEST(brdf, SpecularPeakInSlices) {
   const auto& d = b.distribution();
   Vec3 wi(-0.5, 0, std::sqrt(0.75)), wo(0.5, 0, std::sqrt(0.75));
   double g2 = 1 / (1 + 2 * d.lambda(wi));
-  double expect = fresnel_conductor(std::sqrt(0.75), metal("Cu").at(555e-9)) * d.D(Vec3(0, 0, 1)) * g2 / (4 * 0.75);
+  double expect = fresnel_conductor(std::sqrt(0.75), metal("Cu").at(555e-9)) * d.D(Vec3(0, 0, 1)) *
+                  g2 / (4 * 0.75);
   EXPECT_NEAR(b.eval(wi, wo, 555e-9), expect, 1e-12 * expect);
   EXPECT_NEAR(d.D(Vec3(0, 0, 1)), 1 / (mtest::kPi * 0.01), 1e-9);
 }

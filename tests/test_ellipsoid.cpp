@@ -12,7 +12,8 @@ namespace {
 // Chart stretch for an ellipsoid: A^T = R^T S, made deliberately imperfect (factors 1.7, 0.6).
 Eigen::Matrix3d ellipsoid_stretch(const EllipsoidDistribution& e) {
   const auto& p = e.params();
-  return e.R().transpose() * Eigen::DiagonalMatrix<double, 3>(1.7 * p.alpha_x, 0.6 * p.alpha_y, 1.0).toDenseMatrix();
+  return e.R().transpose() *
+         Eigen::DiagonalMatrix<double, 3>(1.7 * p.alpha_x, 0.6 * p.alpha_y, 1.0).toDenseMatrix();
 }
 
 std::vector<EllipsoidParams> random_params(int n, unsigned seed, double max_tilt_deg = 40) {
@@ -21,8 +22,8 @@ std::vector<EllipsoidParams> random_params(int n, unsigned seed, double max_tilt
   std::vector<EllipsoidParams> v;
   const double t = max_tilt_deg * mtest::kPi / 180;
   for (int k = 0; k < n; ++k) {
-    v.push_back({0.005 * std::pow(200.0, u(rng)), 0.005 * std::pow(200.0, u(rng)), t * (2 * u(rng) - 1),
-                 t * (2 * u(rng) - 1), 2 * mtest::kPi * u(rng)});
+    v.push_back({0.005 * std::pow(200.0, u(rng)), 0.005 * std::pow(200.0, u(rng)),
+                 t * (2 * u(rng) - 1), t * (2 * u(rng) - 1), 2 * mtest::kPi * u(rng)});
   }
   return v;
 }
@@ -56,7 +57,8 @@ TEST(ellipsoid, ReducesToGgxAnisoWhenRIsIdentity) {
   // Isotropic: GGX with a single alpha.
   EllipsoidDistribution e({0.25, 0.25, 0, 0, 0});
   GgxDistribution g(0.25);
-  for (double th : {0.0, 10.0, 45.0, 80.0}) EXPECT_NEAR(e.D(direction(th, 17)), g.D(direction(th, 17)), 1e-12 * g.D(direction(th, 17)));
+  for (double th : {0.0, 10.0, 45.0, 80.0})
+    EXPECT_NEAR(e.D(direction(th, 17)), g.D(direction(th, 17)), 1e-12 * g.D(direction(th, 17)));
 }
 
 TEST(ellipsoid, ThetaZRotatesAxesByMinusThetaZ) {
@@ -88,16 +90,19 @@ TEST(ellipsoid, IntegratesToOneRandomRotations) {
               c.integrate([&](const Vec3& m) { return e.D(m) * m.z(); }));
     EXPECT_NEAR((mean - e.mean_normal()).norm(), 0, 1e-4) << e.describe();
   }
-  std::printf("max |integral D(m)(m.n) dw - 1| over %zu ellipsoids (alpha 0.005..1, random R): %.2e\n", ps.size(),
-              worst);
+  std::printf(
+      "max |integral D(m)(m.n) dw - 1| over %zu ellipsoids (alpha 0.005..1, random R): %.2e\n",
+      ps.size(), worst);
 }
 
 TEST(ellipsoid, IntegratesToOnePlainSphericalGrid) {
   // Chart-independent check for moderate alphas: plain Gauss-Legendre x midpoint on the hemisphere.
-  for (const EllipsoidParams& p : {EllipsoidParams{0.4, 0.3, 0.3, -0.2, 0.5}, EllipsoidParams{1.0, 0.6, 0.5, 0.4, 2.0}}) {
+  for (const EllipsoidParams& p :
+       {EllipsoidParams{0.4, 0.3, 0.3, -0.2, 0.5}, EllipsoidParams{1.0, 0.6, 0.5, 0.4, 2.0}}) {
     EllipsoidDistribution e(p);
     Chart plain(Eigen::Matrix3d::Identity());
-    EXPECT_NEAR(plain.integrate([&](const Vec3& m) { return e.D(m) * m.z(); }, 1024, 512), 1.0, 1e-4);
+    EXPECT_NEAR(plain.integrate([&](const Vec3& m) { return e.D(m) * m.z(); }, 1024, 512), 1.0,
+                1e-4);
   }
 }
 
@@ -174,7 +179,8 @@ TEST(ellipsoid, WeakWhiteFurnace) {
       EXPECT_NEAR(gu * i / v.z(), 1.0, 1e-3) << e.describe() << " theta_v " << th;
       worst = std::max(worst, std::abs(gu * i / v.z() - 1));
       if (gu <= 1) {
-        double ic = c.integrate([&](const Vec3& m) { return e.G1(v, m) * e.D(m) * std::max(0.0, v.dot(m)); });
+        double ic = c.integrate(
+            [&](const Vec3& m) { return e.G1(v, m) * e.D(m) * std::max(0.0, v.dot(m)); });
         EXPECT_NEAR(ic / v.z(), 1.0, 1e-3);
       }
     }
@@ -185,13 +191,16 @@ TEST(ellipsoid, WeakWhiteFurnace) {
 TEST(ellipsoid, VisibleNormalSamplingChiSquare) {
   std::mt19937_64 rng(777);
   std::uniform_real_distribution<double> u(0, 1);
-  std::vector<EllipsoidParams> ps = {{0.3, 0.3, 0.3, 0.0, 0.0}, {0.1, 0.5, 0.2, -0.3, 0.8}, {0.02, 0.05, -0.25, 0.2, 2.0},
+  std::vector<EllipsoidParams> ps = {{0.3, 0.3, 0.3, 0.0, 0.0},
+                                     {0.1, 0.5, 0.2, -0.3, 0.8},
+                                     {0.02, 0.05, -0.25, 0.2, 2.0},
                                      {0.6, 0.2, 0.5, 0.4, -0.5}};
   int negative_vz = 0;
   for (const auto& p : ps) {
     EllipsoidDistribution e(p);
     Chart chart(ellipsoid_stretch(e));
-    for (auto [th, ph] : {std::pair{0.0, 0.0}, {45.0, 30.0}, {80.0, 200.0}, {87.0, 90.0}, {87.0, 270.0}}) {
+    for (auto [th, ph] :
+         {std::pair{0.0, 0.0}, {45.0, 30.0}, {80.0, 200.0}, {87.0, 90.0}, {87.0, 270.0}}) {
       Vec3 v = direction(th, ph);
       Vec3 av = e.A() * v, an = e.A() * Vec3(0, 0, 1);
       if (av.normalized().dot(an.normalized()) < 0) ++negative_vz;
@@ -202,12 +211,14 @@ TEST(ellipsoid, VisibleNormalSamplingChiSquare) {
         ASSERT_GE(v.dot(m), -1e-12);
       }
       // 20 cases tested together at 1% overall significance (Bonferroni: 0.01/20 each).
-      auto r = mtest::chi_square(chart, s, [&](const Vec3& m) { return e.pdf_visible(v, m); }, 0.01 / 20);
+      auto r = mtest::chi_square(
+          chart, s, [&](const Vec3& m) { return e.pdf_visible(v, m); }, 0.01 / 20);
       EXPECT_NEAR(r.total_expected, 1.0, 1e-3) << e.describe() << " view " << th << "," << ph;
-      EXPECT_LT(r.chi2, r.critical) << e.describe() << " view " << th << "," << ph << " dof " << r.dof;
+      EXPECT_LT(r.chi2, r.critical)
+          << e.describe() << " view " << th << "," << ph << " dof " << r.dof;
       if (th == 87.0)
-        std::printf("%-58s view (%2.0f,%3.0f): chi2 %.1f, dof %d, critical %.1f\n", e.describe().c_str(), th, ph,
-                    r.chi2, r.dof, r.critical);
+        std::printf("%-58s view (%2.0f,%3.0f): chi2 %.1f, dof %d, critical %.1f\n",
+                    e.describe().c_str(), th, ph, r.chi2, r.dof, r.critical);
     }
   }
   std::printf("views with (Av).(An) < 0 (the skewed case of theory 1.5): %d\n", negative_vz);
@@ -220,6 +231,7 @@ TEST(ellipsoid, NdfSamplingMatchesDcos) {
   EllipsoidDistribution e({0.2, 0.5, 0.3, 0.2, 0.7});
   std::vector<Vec3> s(200000);
   for (auto& m : s) m = e.sample(u(rng), u(rng));
-  auto r = mtest::chi_square(Chart(ellipsoid_stretch(e)), s, [&](const Vec3& m) { return e.pdf(m); });
+  auto r =
+      mtest::chi_square(Chart(ellipsoid_stretch(e)), s, [&](const Vec3& m) { return e.pdf(m); });
   EXPECT_LT(r.chi2, r.critical);
 }

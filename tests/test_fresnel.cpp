@@ -49,7 +49,8 @@ TEST(fresnel, ComplexAndSiegelFormsAgree) {
     for (double k : {0.0, 0.01, 0.5, 2.0, 3.8, 7.0})
       for (int i = 0; i <= 90; ++i) {
         double c = std::cos(deg(i));
-        worst = std::max(worst, std::abs(fresnel_conductor(c, {n, k}) - fresnel_conductor_siegel(c, n, k)));
+        worst = std::max(
+            worst, std::abs(fresnel_conductor(c, {n, k}) - fresnel_conductor_siegel(c, n, k)));
       }
   EXPECT_LT(worst, 1e-12);
 }
@@ -57,7 +58,9 @@ TEST(fresnel, ComplexAndSiegelFormsAgree) {
 TEST(fresnel, SunAsPrintedDiffersFromExact) {
   // Theory 5.3: eq. 5.7/5.8 as printed are wrong off normal incidence.
   double c75 = std::cos(deg(75));
-  EXPECT_GT(std::abs(fresnel_conductor_sun_as_printed(c75, 1.0, 2.0) - fresnel_conductor(c75, {1.0, 2.0})), 0.02);
+  EXPECT_GT(std::abs(fresnel_conductor_sun_as_printed(c75, 1.0, 2.0) -
+                     fresnel_conductor(c75, {1.0, 2.0})),
+            0.02);
 }
 
 TEST(fresnel, DielectricLimitsAndTotalInternalReflection) {
@@ -74,7 +77,8 @@ TEST(fresnel, DielectricLimitsAndTotalInternalReflection) {
   EXPECT_NEAR(fresnel_dielectric(-1, 1.5), 0.04, 1e-15);
   // The dielectric equals the conductor formula with kappa = 0.
   for (int i = 0; i <= 90; i += 5)
-    EXPECT_NEAR(fresnel_dielectric(std::cos(deg(i)), 1.7), fresnel_conductor(std::cos(deg(i)), {1.7, 0}), 1e-14);
+    EXPECT_NEAR(fresnel_dielectric(std::cos(deg(i)), 1.7),
+                fresnel_conductor(std::cos(deg(i)), {1.7, 0}), 1e-14);
 }
 
 TEST(fresnel, Schlick) {
@@ -107,7 +111,8 @@ TEST(fresnel, BuiltInMetals) {
     }
   }
   // data/optical/README.md quick-check table, at the tabulated point nearest 550 nm.
-  EXPECT_NEAR(normal_reflectance(metal("Ag").n.at_nm(548.6), metal("Ag").k.at_nm(548.6)), 0.983, 1.5e-3);
+  EXPECT_NEAR(normal_reflectance(metal("Ag").n.at_nm(548.6), metal("Ag").k.at_nm(548.6)), 0.983,
+              1.5e-3);
   EXPECT_NEAR(metal("Cu").k.at_nm(548.6), 2.577, 1e-12);  // JC Cu at 548.6 nm (table row)
   EXPECT_EQ(metal("au").name, "Au");
   EXPECT_EQ(metal("Au_JohnsonChristy1972").name, "Au");

@@ -44,17 +44,19 @@ TEST(microfacet, NdfIntegratesToOne) {
     EXPECT_NEAR(i, 1.0, 1e-4) << d->describe();
     worst = std::max(worst, std::abs(i - 1));
   }
-  std::printf("max |integral D(m)(m.n) dw - 1| over %zu Beckmann/GGX cases: %.2e\n", normalisation_cases().size(),
-              worst);
+  std::printf("max |integral D(m)(m.n) dw - 1| over %zu Beckmann/GGX cases: %.2e\n",
+              normalisation_cases().size(), worst);
 }
 
 TEST(microfacet, NdfIntegratesToOnePlainSphericalGrid) {
-  // Independent of the chart: plain Gauss-Legendre in cos(theta) x midpoint phi, for moderate alphas.
-  for (const Case& c : {Case{"beckmann", 0.3, 0.3, 0}, Case{"ggx", 0.3, 0.15, 0.4}, Case{"ggx", 1.0, 1.0, 0},
-                        Case{"beckmann", 0.8, 0.4, 1.0}}) {
+  // Independent of the chart: plain Gauss-Legendre in cos(theta) x midpoint phi, for moderate
+  // alphas.
+  for (const Case& c : {Case{"beckmann", 0.3, 0.3, 0}, Case{"ggx", 0.3, 0.15, 0.4},
+                        Case{"ggx", 1.0, 1.0, 0}, Case{"beckmann", 0.8, 0.4, 1.0}}) {
     auto d = make(c);
     Chart plain(Eigen::Matrix3d::Identity());
-    EXPECT_NEAR(plain.integrate([&](const Vec3& m) { return d->D(m) * m.z(); }, 1024, 512), 1.0, 1e-4)
+    EXPECT_NEAR(plain.integrate([&](const Vec3& m) { return d->D(m) * m.z(); }, 1024, 512), 1.0,
+                1e-4)
         << d->describe();
   }
 }
@@ -76,15 +78,17 @@ TEST(microfacet, ReferenceValuesTheory7) {
 
 TEST(microfacet, SmithG1MatchesProjectedAreaQuadrature) {
   // G1(v) = (v.n) / integral D <v.m>+ dw (Heitz 2014), for anisotropic rotated lobes.
-  for (const Case& c : {Case{"beckmann", 0.2, 0.5, 0.3}, Case{"ggx", 0.2, 0.5, 0.3}, Case{"ggx", 0.02, 0.6, -1.1},
-                        Case{"beckmann", 0.7, 0.05, 2.0}}) {
+  for (const Case& c : {Case{"beckmann", 0.2, 0.5, 0.3}, Case{"ggx", 0.2, 0.5, 0.3},
+                        Case{"ggx", 0.02, 0.6, -1.1}, Case{"beckmann", 0.7, 0.05, 2.0}}) {
     auto d = make(c);
     Chart chart(mtest::lobe_stretch(c.ax, c.ay, c.phi));
     for (double th : {0.0, 30.0, 60.0, 80.0, 88.0})
       for (double ph : {0.0, 50.0, 135.0}) {
         Vec3 v = direction(th, ph);
-        double sigma = chart.integrate([&](const Vec3& m) { return d->D(m) * std::max(0.0, v.dot(m)); }, 384, 384);
-        EXPECT_NEAR(d->projected_area(v) / sigma, 1.0, 2e-5) << d->describe() << " view " << th << "," << ph;
+        double sigma = chart.integrate(
+            [&](const Vec3& m) { return d->D(m) * std::max(0.0, v.dot(m)); }, 384, 384);
+        EXPECT_NEAR(d->projected_area(v) / sigma, 1.0, 2e-5)
+            << d->describe() << " view " << th << "," << ph;
       }
   }
 }
@@ -104,13 +108,14 @@ TEST(microfacet, G1Bounds) {
 
 TEST(microfacet, WeakWhiteFurnace) {
   // integral G1(v) D(m) <v.m>+ dw / (v.n) = 1 (Heitz 2014).
-  for (const Case& c : {Case{"beckmann", 0.3, 0.3, 0}, Case{"ggx", 0.3, 0.1, 0.7}, Case{"ggx", 0.01, 0.01, 0},
-                        Case{"beckmann", 1.0, 0.5, 0.2}}) {
+  for (const Case& c : {Case{"beckmann", 0.3, 0.3, 0}, Case{"ggx", 0.3, 0.1, 0.7},
+                        Case{"ggx", 0.01, 0.01, 0}, Case{"beckmann", 1.0, 0.5, 0.2}}) {
     auto d = make(c);
     Chart chart(mtest::lobe_stretch(c.ax, c.ay, c.phi));
     for (double th : {0.0, 45.0, 75.0, 89.0}) {
       Vec3 v = direction(th, 30);
-      double i = chart.integrate([&](const Vec3& m) { return d->G1(v, m) * d->D(m) * std::max(0.0, v.dot(m)); });
+      double i = chart.integrate(
+          [&](const Vec3& m) { return d->G1(v, m) * d->D(m) * std::max(0.0, v.dot(m)); });
       EXPECT_NEAR(i / v.z(), 1.0, 1e-3) << d->describe() << " theta_v " << th;
     }
   }
@@ -120,8 +125,9 @@ TEST(microfacet, VisibleNormalSamplingChiSquare) {
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> u(0, 1);
   int cases = 0;
-  for (const Case& c : {Case{"beckmann", 0.3, 0.3, 0}, Case{"beckmann", 0.1, 0.4, 0.6}, Case{"beckmann", 0.01, 0.01, 0},
-                        Case{"ggx", 0.3, 0.3, 0}, Case{"ggx", 0.5, 0.1, -0.9}, Case{"ggx", 0.01, 0.02, 0.3}}) {
+  for (const Case& c : {Case{"beckmann", 0.3, 0.3, 0}, Case{"beckmann", 0.1, 0.4, 0.6},
+                        Case{"beckmann", 0.01, 0.01, 0}, Case{"ggx", 0.3, 0.3, 0},
+                        Case{"ggx", 0.5, 0.1, -0.9}, Case{"ggx", 0.01, 0.02, 0.3}}) {
     auto d = make(c);
     Chart chart(mtest::lobe_stretch(c.ax, c.ay, c.phi));
     for (auto [th, ph] : {std::pair{0.0, 0.0}, {40.0, 20.0}, {75.0, 200.0}, {89.0, 100.0}}) {
@@ -134,12 +140,13 @@ TEST(microfacet, VisibleNormalSamplingChiSquare) {
         ASSERT_GE(v.dot(m), -1e-12);
       }
       // 24 cases tested together at 1% overall significance (Bonferroni: 0.01/24 each).
-      auto r = mtest::chi_square(chart, s, [&](const Vec3& m) { return d->pdf_visible(v, m); }, 0.01 / 24);
+      auto r = mtest::chi_square(
+          chart, s, [&](const Vec3& m) { return d->pdf_visible(v, m); }, 0.01 / 24);
       EXPECT_NEAR(r.total_expected, 1.0, 1e-3) << d->describe();
       EXPECT_LT(r.chi2, r.critical) << d->describe() << " view " << th << "; dof " << r.dof;
       if (th == 89.0)
-        std::printf("%-42s view %4.0f deg: chi2 %.1f, dof %d, critical %.1f\n", d->describe().c_str(), th, r.chi2,
-                    r.dof, r.critical);
+        std::printf("%-42s view %4.0f deg: chi2 %.1f, dof %d, critical %.1f\n",
+                    d->describe().c_str(), th, r.chi2, r.dof, r.critical);
       ++cases;
     }
   }
@@ -167,7 +174,8 @@ TEST(microfacet, NdfSamplingMatchesDcos) {
     auto d = make({m, 0.2, 0.6, 0.3});
     std::vector<Vec3> s(200000);
     for (auto& x : s) x = d->sample(u(rng), u(rng));
-    auto r = mtest::chi_square(Chart(mtest::lobe_stretch(0.2, 0.6, 0.3)), s, [&](const Vec3& x) { return d->pdf(x); });
+    auto r = mtest::chi_square(Chart(mtest::lobe_stretch(0.2, 0.6, 0.3)), s,
+                               [&](const Vec3& x) { return d->pdf(x); });
     EXPECT_LT(r.chi2, r.critical) << m;
   }
 }

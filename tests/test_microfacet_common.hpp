@@ -38,7 +38,8 @@ struct Chart {
   }
   Vec3 t_of(const Vec3& m) const { return b.lu().solve(m).normalized(); }
   // Integral over m.z > 0 of f(m) dw_m: Gauss-Legendre in t.z, midpoint in phi.
-  double integrate(const std::function<double(const Vec3&)>& f, int nu = 256, int nphi = 256) const {
+  double integrate(const std::function<double(const Vec3&)>& f, int nu = 256,
+                   int nphi = 256) const {
     std::vector<double> x, w;
     microbrdf::gauss_legendre(nu, x, w);
     double sum = 0;
@@ -58,7 +59,8 @@ struct Chart {
 /// Stretch matching a Beckmann/GGX lobe, deliberately off by factors 1.7 and 0.6 so that the
 /// integrand in chart space is not trivially constant.
 inline Eigen::Matrix3d lobe_stretch(double ax, double ay, double phi) {
-  return microbrdf::rotation_z(phi) * Eigen::DiagonalMatrix<double, 3>(1.7 * ax, 0.6 * ay, 1.0).toDenseMatrix();
+  return microbrdf::rotation_z(phi) *
+         Eigen::DiagonalMatrix<double, 3>(1.7 * ax, 0.6 * ay, 1.0).toDenseMatrix();
 }
 
 /// Upper quantile z of N(0,1): P(Z > z) = alpha.
@@ -91,9 +93,10 @@ struct ChiSquare {
 /// points per bin). Bins expecting fewer than 5 are pooled. `alpha` is the significance of this
 /// one test: a family of k tests at overall 1% uses alpha = 0.01 / k (Bonferroni).
 inline ChiSquare chi_square(const Chart& chart, const std::vector<Vec3>& samples,
-                            const std::function<double(const Vec3&)>& pdf, double alpha = 0.01, int nu = 24,
-                            int nphi = 48) {
-  std::vector<double> observed(static_cast<std::size_t>(nu * nphi), 0), expected(observed.size(), 0);
+                            const std::function<double(const Vec3&)>& pdf, double alpha = 0.01,
+                            int nu = 24, int nphi = 48) {
+  std::vector<double> observed(static_cast<std::size_t>(nu * nphi), 0),
+      expected(observed.size(), 0);
   auto bin_of = [&](const Vec3& m) {
     Vec3 t = chart.t_of(m);
     int iu = std::clamp(static_cast<int>(t.z() * nu), 0, nu - 1);

@@ -62,8 +62,8 @@ TEST(spectrum, SrgbMatrixAndTransfer) {
 }
 
 TEST(spectrum, SmoothSpectrumRoundTrip) {
-  for (auto c : {Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d(0.9, 0.6, 0.15), Eigen::Vector3d(0.2, 0.4, 0.7),
-                 Eigen::Vector3d(0.95, 0.93, 0.88)}) {
+  for (auto c : {Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d(0.9, 0.6, 0.15),
+                 Eigen::Vector3d(0.2, 0.4, 0.7), Eigen::Vector3d(0.95, 0.93, 0.88)}) {
     auto s = smooth_reflectance_from_linear_srgb(c);
     auto back = xyz_to_linear_srgb(reflectance_to_xyz(s));
     EXPECT_NEAR((back - c).norm(), 0, 1e-6);
@@ -84,10 +84,12 @@ TEST(spectrum, MetalColours) {
   for (const auto& name : metal_names()) {
     auto rgb = xyz_to_linear_srgb(reflectance_to_xyz(metal(name).normal_reflectance_spectrum()));
     auto c8 = linear_srgb_to_srgb8(rgb);
-    std::printf("%-14s linear sRGB %.4f %.4f %.4f   sRGB8 %3d %3d %3d  %s\n", name.c_str(), rgb[0], rgb[1], rgb[2],
-                c8[0], c8[1], c8[2], srgb8_hex(c8).c_str());
+    std::printf("%-14s linear sRGB %.4f %.4f %.4f   sRGB8 %3d %3d %3d  %s\n", name.c_str(), rgb[0],
+                rgb[1], rgb[2], c8[0], c8[1], c8[2], srgb8_hex(c8).c_str());
   }
-  auto col = [](const char* m) { return xyz_to_linear_srgb(reflectance_to_xyz(metal(m).normal_reflectance_spectrum())); };
+  auto col = [](const char* m) {
+    return xyz_to_linear_srgb(reflectance_to_xyz(metal(m).normal_reflectance_spectrum()));
+  };
   auto au = col("Au"), cu = col("Cu"), ag = col("Ag"), al = col("Al");
   // Gold: yellow (R > G >> B); copper: orange-red (R > G > B, R/G larger than gold's? no: lower G).
   EXPECT_GT(au[0], au[1]);

@@ -5,7 +5,8 @@
 // (viewer) both point away from the surface; f(wi, wo) in 1/sr; wavelength in metres.
 //
 // Slices (tabulate_slice): wi = (-sin theta_i, 0, cos theta_i), i.e. the light at azimuth 180 deg.
-//  - in-plane:  wo(t) = (sin t, 0, cos t), t in [-90, 90] deg; the mirror direction is t = +theta_i;
+//  - in-plane:  wo(t) = (sin t, 0, cos t), t in [-90, 90] deg; the mirror direction is t =
+//  +theta_i;
 //  - out-of-plane: wo(t) = cos t r + sin t y with r = (sin theta_i, 0, cos theta_i) the mirror
 //    direction, t in [-90, 90] deg (the great circle through r perpendicular to the plane of
 //    incidence).
@@ -33,7 +34,8 @@ class Brdf {
   /// f(wi, wo) in 1/sr (0 when either direction is below the horizon).
   virtual double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const = 0;
   /// Draws wo for the light direction wi; nothing when the sample is absorbed/invalid.
-  virtual std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2, double wavelength_m) const = 0;
+  virtual std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
+                                           double wavelength_m) const = 0;
   /// Density of sample() per steradian of wo.
   virtual double pdf(const Vec3& wi, const Vec3& wo) const = 0;
   virtual std::string describe() const = 0;
@@ -48,7 +50,8 @@ class MicrofacetBrdf final : public Brdf {
   MicrofacetBrdf(std::shared_ptr<const MicrofacetDistribution> d, std::shared_ptr<const Fresnel> f,
                  bool separable_g = false);
   double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
-  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2, double wavelength_m) const override;
+  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
+                                   double wavelength_m) const override;
   double pdf(const Vec3& wi, const Vec3& wo) const override;
   std::string describe() const override;
   const MicrofacetDistribution& distribution() const { return *d_; }
@@ -63,9 +66,11 @@ class MicrofacetBrdf final : public Brdf {
 /// Directional albedo a(wi) = integral f(wi, wo) cos(theta_o) dwo by product quadrature:
 /// Gauss-Legendre in cos(theta_o) (n_theta nodes) times the midpoint rule in phi_o (n_phi).
 /// Accurate for lobes wider than a few grid steps (alpha >~ 0.05 at the defaults).
-double directional_albedo(const Brdf& brdf, const Vec3& wi, double wavelength_m, int n_theta = 128, int n_phi = 256);
+double directional_albedo(const Brdf& brdf, const Vec3& wi, double wavelength_m, int n_theta = 128,
+                          int n_phi = 256);
 /// The same estimated with the BRDF's own sampler on an n x n stratified grid (any lobe width).
-double directional_albedo_sampled(const Brdf& brdf, const Vec3& wi, double wavelength_m, int n = 512);
+double directional_albedo_sampled(const Brdf& brdf, const Vec3& wi, double wavelength_m,
+                                  int n = 512);
 
 enum class SlicePlane { in, out };
 struct BrdfSlice {

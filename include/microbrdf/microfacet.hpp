@@ -126,7 +126,7 @@ class EllipsoidDistribution final : public MicrofacetDistribution {
  private:
   EllipsoidParams p_;
   Eigen::Matrix3d r_, a_, ainvt_;
-  Vec3 an_;       // A n
+  Vec3 an_;  // A n
   double an_norm_, det_;
 };
 
@@ -145,7 +145,8 @@ std::shared_ptr<MicrofacetDistribution> make_distribution(const NdfSpec& spec);
 /// the rim), then normalised to sum D Delta^2 = 1. meta.method = the model name, meta.notes = the
 /// parameters and the sum before normalising (far from 1 when the lobe is narrower than a few
 /// nodes: alpha <~ 3 Delta = 6/(N-1)).
-TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model, std::size_t resolution = 1025);
+TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model,
+                      std::size_t resolution = 1025);
 
 /// Rotation matrices (active, right-handed).
 Eigen::Matrix3d rotation_x(double t);

@@ -75,7 +75,8 @@ std::array<std::uint8_t, 3> linear_srgb_to_srgb8(const Eigen::Vector3d& rgb);
 std::string srgb8_hex(const std::array<std::uint8_t, 3>& c);
 
 /// A smooth reflectance spectrum with a given colour (Jakob & Hanika 2019 style):
-///   R(lambda) = 1/2 + x / (2 sqrt(1 + x^2)),  x = c0 t^2 + c1 t + c2,  t = (lambda - 595 nm)/235 nm,
+///   R(lambda) = 1/2 + x / (2 sqrt(1 + x^2)),  x = c0 t^2 + c1 t + c2,  t = (lambda - 595 nm)/235
+///   nm,
 /// bounded in (0, 1) and smooth, with (c0, c1, c2) found by damped Gauss-Newton so that the
 /// linear sRGB of R under D65 equals `linear_rgb`. Throws InputError if the colour is outside
 /// what a reflectance can give (a component outside (0, 1) after the fit's tolerance 1e-6).

@@ -9,10 +9,11 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }
 
-MicrofacetBrdf::MicrofacetBrdf(std::shared_ptr<const MicrofacetDistribution> d, std::shared_ptr<const Fresnel> f,
-                               bool separable_g)
+MicrofacetBrdf::MicrofacetBrdf(std::shared_ptr<const MicrofacetDistribution> d,
+                               std::shared_ptr<const Fresnel> f, bool separable_g)
     : d_(std::move(d)), f_(std::move(f)), separable_(separable_g) {
-  if (!d_ || !f_) throw std::invalid_argument("MicrofacetBrdf needs a distribution and a Fresnel term");
+  if (!d_ || !f_)
+    throw std::invalid_argument("MicrofacetBrdf needs a distribution and a Fresnel term");
 }
 
 double MicrofacetBrdf::eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const {
@@ -26,7 +27,8 @@ double MicrofacetBrdf::eval(const Vec3& wi, const Vec3& wo, double wavelength_m)
   return f_->eval(wi.dot(h), wavelength_m) * d_->D(h) * g / (4 * wi.z() * wo.z());
 }
 
-std::optional<BrdfSample> MicrofacetBrdf::sample(const Vec3& wi, double u1, double u2, double wavelength_m) const {
+std::optional<BrdfSample> MicrofacetBrdf::sample(const Vec3& wi, double u1, double u2,
+                                                 double wavelength_m) const {
   if (wi.z() <= 0) return std::nullopt;
   const Vec3 m = d_->sample_visible(wi, u1, u2);
   const double im = wi.dot(m);
@@ -83,7 +85,8 @@ void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
   }
 }
 
-double directional_albedo(const Brdf& brdf, const Vec3& wi, double wavelength_m, int n_theta, int n_phi) {
+double directional_albedo(const Brdf& brdf, const Vec3& wi, double wavelength_m, int n_theta,
+                          int n_phi) {
   std::vector<double> x, w;
   gauss_legendre(n_theta, x, w);
   double sum = 0;

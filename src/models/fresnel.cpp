@@ -24,7 +24,8 @@ double fresnel_conductor_siegel(double cos_i, double eta, double kappa) {
   const double a2b2 = std::sqrt(t * t + 4 * eta * eta * kappa * kappa);
   const double a = std::sqrt(std::max(0.0, 0.5 * (a2b2 + t)));
   const double rs = (a2b2 - 2 * a * c + c2) / (a2b2 + 2 * a * c + c2);
-  const double rp = rs * (a2b2 * c2 - 2 * a * c * s2 + s2 * s2) / (a2b2 * c2 + 2 * a * c * s2 + s2 * s2);
+  const double rp =
+      rs * (a2b2 * c2 - 2 * a * c * s2 + s2 * s2) / (a2b2 * c2 + 2 * a * c * s2 + s2 * s2);
   return 0.5 * (rs + rp);
 }
 
@@ -37,7 +38,8 @@ double fresnel_conductor_sun_as_printed(double cos_i, double eta, double kappa) 
   const double b2 = 0.5 * (root - t * t);
   const double a = std::sqrt(std::max(0.0, a2));
   const double e = eta * eta + kappa * kappa;
-  const double rpar = (e * e * c * c - 2 * a * e * c + (a2 + b2)) / (e * e * c * c + 2 * a * e * c + (a2 + b2));
+  const double rpar =
+      (e * e * c * c - 2 * a * e * c + (a2 + b2)) / (e * e * c * c + 2 * a * e * c + (a2 + b2));
   const double rperp = (c * c - 2 * a * c + (a2 + b2)) / (c * c + 2 * a * c + (a2 + b2));
   return 0.5 * (rpar + rperp);
 }
@@ -67,12 +69,14 @@ double normal_reflectance(double eta, double kappa) {
 }
 
 double kappa_from_normal_reflectance(double r0, double eta) {
-  if (!(r0 >= 0 && r0 < 1)) throw InputError("normal-incidence reflectance must lie in [0, 1), got " + std::to_string(r0));
+  if (!(r0 >= 0 && r0 < 1))
+    throw InputError("normal-incidence reflectance must lie in [0, 1), got " + std::to_string(r0));
   if (!(eta > 0)) throw InputError("refractive index eta must be positive");
   const double k2 = (r0 * (eta + 1) * (eta + 1) - (eta - 1) * (eta - 1)) / (1 - r0);
   if (k2 < 0)
-    throw InputError("no absorbing index with eta = " + std::to_string(eta) + " gives normal reflectance " +
-                     std::to_string(r0) + " (it is below the dielectric value)");
+    throw InputError("no absorbing index with eta = " + std::to_string(eta) +
+                     " gives normal reflectance " + std::to_string(r0) +
+                     " (it is below the dielectric value)");
   return std::sqrt(k2);
 }
 
@@ -80,6 +84,8 @@ std::string ConductorFresnel::describe() const {
   return "conductor " + c_.name + (c_.source.empty() ? "" : " (" + c_.source + ")");
 }
 
-std::string DielectricFresnel::describe() const { return "dielectric, eta(550 nm) = " + std::to_string(eta_(550e-9)); }
+std::string DielectricFresnel::describe() const {
+  return "dielectric, eta(550 nm) = " + std::to_string(eta_(550e-9));
+}
 
 }  // namespace microbrdf

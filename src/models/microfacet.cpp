@@ -55,18 +55,23 @@ double sample_visible_slope(double mu, double u) {
   auto cdf = [&](double x) {
     return flat ? 0.5 * std::erfc(-x) : mu * 0.5 * kSqrtPi * std::erfc(-x) + 0.5 * std::exp(-x * x);
   };
-  auto pdf = [&](double x) { return flat ? std::exp(-x * x) / kSqrtPi : (mu - x) * std::exp(-x * x); };
+  auto pdf = [&](double x) {
+    return flat ? std::exp(-x * x) / kSqrtPi : (mu - x) * std::exp(-x * x);
+  };
   const double target = u * (flat ? 1.0 : cdf(mu));
   double lo = -9, hi = flat ? 9 : std::min(mu, 9.0);
   double x = std::clamp(erfinv_guess(2 * u - 1), lo, hi);
   for (int it = 0; it < 100; ++it) {
     const double f = cdf(x) - target;
-    if (f > 0) hi = x;
-    else lo = x;
+    if (f > 0)
+      hi = x;
+    else
+      lo = x;
     const double d = pdf(x);
     double xn = d > 0 ? x - f / d : 0.5 * (lo + hi);
     if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
-    if (std::abs(xn - x) <= 1e-14 * (1 + std::abs(x)) || hi - lo <= 1e-15 * (1 + std::abs(x))) return xn;
+    if (std::abs(xn - x) <= 1e-14 * (1 + std::abs(x)) || hi - lo <= 1e-15 * (1 + std::abs(x)))
+      return xn;
     x = xn;
   }
   return x;
@@ -104,7 +109,8 @@ double MicrofacetDistribution::G1(const Vec3& v, const Vec3& m) const {
   return G1(v);
 }
 
-double MicrofacetDistribution::G2(const Vec3& wi, const Vec3& wo, const Vec3& m, bool separable) const {
+double MicrofacetDistribution::G2(const Vec3& wi, const Vec3& wo, const Vec3& m,
+                                  bool separable) const {
   if (wi.dot(m) * wi.z() <= 0 || wo.dot(m) * wo.z() <= 0 || wi.z() <= 0 || wo.z() <= 0) return 0;
   const double gi = G1(wi), go = G1(wo);
   if (separable) return gi * go;
@@ -138,7 +144,8 @@ double BeckmannDistribution::D(const Vec3& m) const {
 
 double BeckmannDistribution::lambda(const Vec3& v) const {
   const double x = c_ * v.x() + s_ * v.y(), y = -s_ * v.x() + c_ * v.y(), z = v.z();
-  const double t2 = (p_.alpha_x * p_.alpha_x * x * x + p_.alpha_y * p_.alpha_y * y * y);  // alpha^2 tan^2 * z^2
+  const double t2 =
+      (p_.alpha_x * p_.alpha_x * x * x + p_.alpha_y * p_.alpha_y * y * y);  // alpha^2 tan^2 * z^2
   if (t2 <= 0) return 0;
   const double a = z / std::sqrt(t2);  // 1/(alpha tan theta)
   return -0.5 * std::erfc(a) + std::exp(-a * a) / (2 * a * kSqrtPi);
@@ -213,7 +220,8 @@ EllipsoidDistribution::EllipsoidDistribution(const EllipsoidParams& p) : p_(p) {
   r_ = rotation_x(p.theta_x) * rotation_y(p.theta_y) * rotation_z(p.theta_z);
   const Eigen::DiagonalMatrix<double, 3> s(p.alpha_x, p.alpha_y, 1.0);
   a_ = s * r_;
-  ainvt_ = Eigen::DiagonalMatrix<double, 3>(1 / p.alpha_x, 1 / p.alpha_y, 1.0) * r_;  // (S R)^-T = S^-1 R
+  ainvt_ = Eigen::DiagonalMatrix<double, 3>(1 / p.alpha_x, 1 / p.alpha_y, 1.0) *
+           r_;  // (S R)^-T = S^-1 R
   an_ = a_.col(2);
   an_norm_ = an_.norm();
   det_ = p.alpha_x * p.alpha_y;
@@ -252,17 +260,20 @@ Vec3 EllipsoidDistribution::peak() const {
   return m.z() < 0 ? Vec3(-m) : m;
 }
 
-Vec3 EllipsoidDistribution::mean_normal() const { return a_.transpose() * an_ / (an_norm_ * an_norm_); }
+Vec3 EllipsoidDistribution::mean_normal() const {
+  return a_.transpose() * an_ / (an_norm_ * an_norm_);
+}
 
 std::string EllipsoidDistribution::describe() const {
   char e[96];
-  std::snprintf(e, sizeof e, " theta=(%.6g, %.6g, %.6g) deg", p_.theta_x * 180 / kPi, p_.theta_y * 180 / kPi,
-                p_.theta_z * 180 / kPi);
+  std::snprintf(e, sizeof e, " theta=(%.6g, %.6g, %.6g) deg", p_.theta_x * 180 / kPi,
+                p_.theta_y * 180 / kPi, p_.theta_z * 180 / kPi);
   return fmt_params("ellipsoid", p_.alpha_x, p_.alpha_y, e);
 }
 
 // ---------------------------------------------------------------------------------------------
-TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model, std::size_t resolution) {
+TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model,
+                      std::size_t resolution) {
   if (resolution < 3) throw InputError("NDF table resolution must be at least 3");
   TabulatedNdf t(resolution);
   for (std::size_t iy = 0; iy < resolution; ++iy)
@@ -281,7 +292,8 @@ TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model,
 
 std::shared_ptr<MicrofacetDistribution> make_distribution(const NdfSpec& s) {
   std::string m = s.model;
-  std::transform(m.begin(), m.end(), m.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(m.begin(), m.end(), m.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (m == "beckmann" || m == "ggx" || m == "trowbridge-reitz" || m == "gtr2") {
     if (s.theta_x != 0 || s.theta_y != 0 || s.theta_z != 0)
       throw InputError("--theta-x/--theta-y/--theta-z belong to the ellipsoid model; " + m +
@@ -290,8 +302,10 @@ std::shared_ptr<MicrofacetDistribution> make_distribution(const NdfSpec& s) {
     return std::make_shared<GgxDistribution>(s.alpha_x, s.alpha_y, s.phi);
   }
   if (m == "ellipsoid") {
-    if (s.phi != 0) throw InputError("the ellipsoid model turns its axes with --theta-z, not --phi");
-    return std::make_shared<EllipsoidDistribution>(EllipsoidParams{s.alpha_x, s.alpha_y, s.theta_x, s.theta_y, s.theta_z});
+    if (s.phi != 0)
+      throw InputError("the ellipsoid model turns its axes with --theta-z, not --phi");
+    return std::make_shared<EllipsoidDistribution>(
+        EllipsoidParams{s.alpha_x, s.alpha_y, s.theta_x, s.theta_y, s.theta_z});
   }
   throw InputError("unknown NDF model '" + s.model + "' (known: beckmann, ggx, ellipsoid)");
 }

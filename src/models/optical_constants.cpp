@@ -29,8 +29,10 @@ constexpr Alias kAliases[] = {
     {"Ti", "Ti_JohnsonChristy1974", "Johnson & Christy 1974, Phys. Rev. B 9, 5056"},
     {"Pt", "Pt_RakicLD1998", "Rakic et al. 1998 Lorentz-Drude model, Appl. Opt. 37, 5271"},
     {"Pt-Tselin", "Pt_Tselin2024", "Tselin et al. 2024, Phys. Rev. B 110, 195130"},
-    {"SS-austenitic", "StainlessSteelAustenitic_Karlsson1982", "Karlsson & Ribbing 1982, J. Appl. Phys. 53, 6340"},
-    {"SS-ferritic", "StainlessSteelFerritic_Karlsson1982", "Karlsson & Ribbing 1982, J. Appl. Phys. 53, 6340"},
+    {"SS-austenitic", "StainlessSteelAustenitic_Karlsson1982",
+     "Karlsson & Ribbing 1982, J. Appl. Phys. 53, 6340"},
+    {"SS-ferritic", "StainlessSteelFerritic_Karlsson1982",
+     "Karlsson & Ribbing 1982, J. Appl. Phys. 53, 6340"},
 };
 
 std::string lower(std::string_view s) {
@@ -39,7 +41,8 @@ std::string lower(std::string_view s) {
   return r;
 }
 
-OpticalConstants from_table(const detail::OpticalTable& t, const std::string& name, const std::string& source) {
+OpticalConstants from_table(const detail::OpticalTable& t, const std::string& name,
+                            const std::string& source) {
   std::vector<double> nm(t.wavelength_nm, t.wavelength_nm + t.size);
   OpticalConstants c;
   c.name = name;
@@ -53,7 +56,8 @@ OpticalConstants from_table(const detail::OpticalTable& t, const std::string& na
 
 Spectrum OpticalConstants::normal_reflectance_spectrum() const {
   std::vector<double> lambda = colour_wavelengths(), r(lambda.size());
-  for (std::size_t i = 0; i < lambda.size(); ++i) r[i] = normal_reflectance(n(lambda[i]), k(lambda[i]));
+  for (std::size_t i = 0; i < lambda.size(); ++i)
+    r[i] = normal_reflectance(n(lambda[i]), k(lambda[i]));
   return Spectrum(std::move(lambda), std::move(r));
 }
 
@@ -106,20 +110,27 @@ OpticalConstants read_optical_constants_csv(const std::string& path) {
     if (first == std::string::npos || line[first] == '#') continue;
     if (scale == 0) {
       std::string h = lower(line);
-      h.erase(std::remove_if(h.begin(), h.end(), [](char c) { return c == ' ' || c == '\t'; }), h.end());
-      if (h == "wavelength_nm,n,k") scale = 1e-9;
-      else if (h == "wavelength_um,n,k") scale = 1e-6;
-      else throw FileError(path, "line " + std::to_string(lineno) + ": expected the header 'wavelength_nm,n,k'");
+      h.erase(std::remove_if(h.begin(), h.end(), [](char c) { return c == ' ' || c == '\t'; }),
+              h.end());
+      if (h == "wavelength_nm,n,k")
+        scale = 1e-9;
+      else if (h == "wavelength_um,n,k")
+        scale = 1e-6;
+      else
+        throw FileError(
+            path, "line " + std::to_string(lineno) + ": expected the header 'wavelength_nm,n,k'");
       continue;
     }
     std::istringstream ls(line);
     double v[3];
     char comma;
-    if (!(ls >> v[0] >> comma >> v[1] >> comma >> v[2]) || !std::isfinite(v[0]) || !std::isfinite(v[1]) ||
-        !std::isfinite(v[2]))
-      throw FileError(path, "line " + std::to_string(lineno) + ": expected three numbers 'wavelength,n,k'");
+    if (!(ls >> v[0] >> comma >> v[1] >> comma >> v[2]) || !std::isfinite(v[0]) ||
+        !std::isfinite(v[1]) || !std::isfinite(v[2]))
+      throw FileError(
+          path, "line " + std::to_string(lineno) + ": expected three numbers 'wavelength,n,k'");
     if (v[0] <= 0 || v[1] <= 0 || v[2] < 0)
-      throw FileError(path, "line " + std::to_string(lineno) + ": need wavelength > 0, n > 0, k >= 0");
+      throw FileError(path,
+                      "line " + std::to_string(lineno) + ": need wavelength > 0, n > 0, k >= 0");
     if (!wl.empty() && v[0] * scale <= wl.back())
       throw FileError(path, "line " + std::to_string(lineno) + ": wavelengths must increase");
     wl.push_back(v[0] * scale);
@@ -138,10 +149,12 @@ OpticalConstants read_optical_constants_csv(const std::string& path) {
 OpticalConstants from_normal_reflectance(const Spectrum& r0, double eta) {
   if (r0.empty()) throw InputError("empty reflectance spectrum");
   std::vector<double> kv(r0.size());
-  for (std::size_t i = 0; i < kv.size(); ++i) kv[i] = kappa_from_normal_reflectance(r0.values()[i], eta);
+  for (std::size_t i = 0; i < kv.size(); ++i)
+    kv[i] = kappa_from_normal_reflectance(r0.values()[i], eta);
   OpticalConstants c;
   c.name = "from R0";
-  c.source = "Sun 2002 section 5.2: eta = " + std::to_string(eta) + ", kappa from the normal reflectance";
+  c.source =
+      "Sun 2002 section 5.2: eta = " + std::to_string(eta) + ", kappa from the normal reflectance";
   c.n = Spectrum(r0.wavelengths(), std::vector<double>(r0.size(), eta));
   c.k = Spectrum(r0.wavelengths(), std::move(kv));
   return c;
@@ -151,10 +164,13 @@ OpticalConstants from_srgb(double r, double g, double b) {
   Eigen::Vector3d lin(srgb_decode(r), srgb_decode(g), srgb_decode(b));
   for (int i = 0; i < 3; ++i)
     if (!(lin[i] > 0 && lin[i] < 0.999))
-      throw InputError("sRGB colour components must lie strictly inside (0, 1) to be a metal's reflectance");
+      throw InputError(
+          "sRGB colour components must lie strictly inside (0, 1) to be a metal's reflectance");
   auto c = from_normal_reflectance(smooth_reflectance_from_linear_srgb(lin), 1.0);
   c.name = "from sRGB";
-  c.source = "smooth reflectance spectrum fitted to the sRGB colour, eta = 1, kappa from R0 (Sun 2002 sec. 5.2)";
+  c.source =
+      "smooth reflectance spectrum fitted to the sRGB colour, eta = 1, kappa from R0 (Sun 2002 "
+      "sec. 5.2)";
   return c;
 }
 

@@ -20,7 +20,8 @@ Spectrum::Spectrum(std::vector<double> wavelengths_m, std::vector<double> values
     if (!std::isfinite(lambda_[i]) || !std::isfinite(values_[i]))
       throw InputError("spectrum: non-finite wavelength or value at sample " + std::to_string(i));
     if (i > 0 && !(lambda_[i] > lambda_[i - 1]))
-      throw InputError("spectrum: wavelengths must increase strictly (sample " + std::to_string(i) + ")");
+      throw InputError("spectrum: wavelengths must increase strictly (sample " + std::to_string(i) +
+                       ")");
   }
 }
 
@@ -78,19 +79,23 @@ const ColourWeights& colour_weights() {
 }  // namespace
 
 const Spectrum& cie1931_x() {
-  static const Spectrum s = uniform_table(detail::kCmfStartNm, detail::kCmfEndNm, detail::kCmfBands, detail::kCmfX);
+  static const Spectrum s =
+      uniform_table(detail::kCmfStartNm, detail::kCmfEndNm, detail::kCmfBands, detail::kCmfX);
   return s;
 }
 const Spectrum& cie1931_y() {
-  static const Spectrum s = uniform_table(detail::kCmfStartNm, detail::kCmfEndNm, detail::kCmfBands, detail::kCmfY);
+  static const Spectrum s =
+      uniform_table(detail::kCmfStartNm, detail::kCmfEndNm, detail::kCmfBands, detail::kCmfY);
   return s;
 }
 const Spectrum& cie1931_z() {
-  static const Spectrum s = uniform_table(detail::kCmfStartNm, detail::kCmfEndNm, detail::kCmfBands, detail::kCmfZ);
+  static const Spectrum s =
+      uniform_table(detail::kCmfStartNm, detail::kCmfEndNm, detail::kCmfBands, detail::kCmfZ);
   return s;
 }
 const Spectrum& cie_d65() {
-  static const Spectrum s = uniform_table(detail::kD65StartNm, detail::kD65EndNm, detail::kD65Bands, detail::kD65);
+  static const Spectrum s =
+      uniform_table(detail::kD65StartNm, detail::kD65EndNm, detail::kD65Bands, detail::kD65);
   return s;
 }
 const std::vector<double>& colour_wavelengths() { return cie1931_x().wavelengths(); }
@@ -120,7 +125,9 @@ Eigen::Matrix3d xyz_to_linear_srgb_matrix() {
   return m;
 }
 
-Eigen::Vector3d xyz_to_linear_srgb(const Eigen::Vector3d& xyz) { return xyz_to_linear_srgb_matrix() * xyz; }
+Eigen::Vector3d xyz_to_linear_srgb(const Eigen::Vector3d& xyz) {
+  return xyz_to_linear_srgb_matrix() * xyz;
+}
 Eigen::Vector3d linear_srgb_to_xyz(const Eigen::Vector3d& rgb) {
   return xyz_to_linear_srgb_matrix().inverse() * rgb;
 }
@@ -137,7 +144,8 @@ double srgb_decode(double encoded) {
 
 std::array<std::uint8_t, 3> linear_srgb_to_srgb8(const Eigen::Vector3d& rgb) {
   std::array<std::uint8_t, 3> out{};
-  for (int i = 0; i < 3; ++i) out[i] = static_cast<std::uint8_t>(std::lround(255.0 * srgb_encode(rgb[i])));
+  for (int i = 0; i < 3; ++i)
+    out[i] = static_cast<std::uint8_t>(std::lround(255.0 * srgb_encode(rgb[i])));
   return out;
 }
 
@@ -161,7 +169,8 @@ Eigen::Vector3d smooth_rgb(const Eigen::Vector3d& c) {
 Spectrum smooth_reflectance_from_linear_srgb(const Eigen::Vector3d& linear_rgb) {
   for (int i = 0; i < 3; ++i)
     if (!(linear_rgb[i] > 0 && linear_rgb[i] < 1))
-      throw InputError("colour: linear sRGB components must lie strictly between 0 and 1 for a reflectance");
+      throw InputError(
+          "colour: linear sRGB components must lie strictly between 0 and 1 for a reflectance");
   // Start from a flat spectrum with the colour's luminance.
   double y = std::clamp(2 * linear_srgb_to_xyz(linear_rgb)[1] - 1, -0.999, 0.999);
   Eigen::Vector3d c(0, 0, y / std::sqrt(1 - y * y));
@@ -193,8 +202,9 @@ Spectrum smooth_reflectance_from_linear_srgb(const Eigen::Vector3d& linear_rgb) 
     if (mu > 1e12) break;
   }
   if (r.norm() > 1e-6)
-    throw InputError("colour: no smooth reflectance spectrum reproduces this sRGB colour (residual " +
-                     std::to_string(r.norm()) + "); it is too saturated for a reflectance");
+    throw InputError(
+        "colour: no smooth reflectance spectrum reproduces this sRGB colour (residual " +
+        std::to_string(r.norm()) + "); it is too saturated for a reflectance");
   std::vector<double> lambda = colour_wavelengths(), v(lambda.size());
   for (std::size_t i = 0; i < lambda.size(); ++i) {
     double t = poly_t(lambda[i]);
