@@ -18,6 +18,7 @@ PACKAGES=(
   libcli11-dev         # command line
   nlohmann-json3-dev   # JSON output and sidecars
   libfmt-dev           # formatting
+  colord-data          # CIE 1931 colour matching functions and D65 (tables generated at build time)
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -13,6 +13,7 @@ void register_all(CLI::App& app) {
   register_info(app);
   register_convert(app);
   register_generate(app);
+  register_brdf(app);
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {

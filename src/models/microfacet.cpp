@@ -1,0 +1,313 @@
+// Beckmann, GGX and ellipsoid microfacet distributions (include/microbrdf/microfacet.hpp).
+#include "microbrdf/microfacet.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "microbrdf/error.hpp"
+
+namespace microbrdf {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kSqrtPi = 1.77245385090551602730;
+
+void check_alpha(double ax, double ay) {
+  if (!(ax > 0 && ax <= 10 && ay > 0 && ay <= 10) || !std::isfinite(ax) || !std::isfinite(ay))
+    throw InputError("roughness alpha must lie in (0, 10]");
+}
+
+std::string fmt_params(const char* name, double ax, double ay, const char* extra) {
+  char b[160];
+  std::snprintf(b, sizeof b, "%s alpha=(%.6g, %.6g)%s", name, ax, ay, extra);
+  return b;
+}
+
+// Heitz 2018 step: a direction uniformly distributed in projected area, seen along the unit
+// view `v` (v.z may be negative down to -1 exclusive), on the upper unit hemisphere.
+Vec3 hemisphere_visible(const Vec3& v, double u1, double u2) {
+  const double lensq = v.x() * v.x() + v.y() * v.y();
+  const Vec3 t1 = lensq > 0 ? Vec3(-v.y(), v.x(), 0) / std::sqrt(lensq) : Vec3(1, 0, 0);
+  const Vec3 t2 = v.cross(t1);
+  const double r = std::sqrt(u1), phi = 2 * kPi * u2;
+  const double p1 = r * std::cos(phi);
+  double p2 = r * std::sin(phi);
+  const double s = 0.5 * (1 + v.z());
+  p2 = (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + s * p2;
+  return p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * v;
+}
+
+// Approximate inverse error function (Winitzki), refined by Newton in the caller.
+double erfinv_guess(double t) {
+  t = std::clamp(t, -1 + 1e-16, 1 - 1e-16);
+  const double a = 0.147;
+  const double l = std::log(1 - t * t);
+  const double b = 2 / (kPi * a) + 0.5 * l;
+  return std::copysign(std::sqrt(std::sqrt(b * b - l / a) - b), t);
+}
+
+// Draws x with density proportional to <mu - x>+ exp(-x^2) (mu = cot theta of the stretched
+// view; mu = +inf means exp(-x^2)). CDF: mu sqrt(pi)/2 erfc(-x) + exp(-x^2)/2 (x <= mu).
+double sample_visible_slope(double mu, double u) {
+  const bool flat = !(mu < 1e8);
+  auto cdf = [&](double x) {
+    return flat ? 0.5 * std::erfc(-x) : mu * 0.5 * kSqrtPi * std::erfc(-x) + 0.5 * std::exp(-x * x);
+  };
+  auto pdf = [&](double x) {
+    return flat ? std::exp(-x * x) / kSqrtPi : (mu - x) * std::exp(-x * x);
+  };
+  const double target = u * (flat ? 1.0 : cdf(mu));
+  double lo = -9, hi = flat ? 9 : std::min(mu, 9.0);
+  double x = std::clamp(erfinv_guess(2 * u - 1), lo, hi);
+  for (int it = 0; it < 100; ++it) {
+    const double f = cdf(x) - target;
+    if (f > 0)
+      hi = x;
+    else
+      lo = x;
+    const double d = pdf(x);
+    double xn = d > 0 ? x - f / d : 0.5 * (lo + hi);
+    if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
+    if (std::abs(xn - x) <= 1e-14 * (1 + std::abs(x)) || hi - lo <= 1e-15 * (1 + std::abs(x)))
+      return xn;
+    x = xn;
+  }
+  return x;
+}
+
+}  // namespace
+
+Eigen::Matrix3d rotation_x(double t) {
+  Eigen::Matrix3d r;
+  const double c = std::cos(t), s = std::sin(t);
+  r << 1, 0, 0, 0, c, -s, 0, s, c;
+  return r;
+}
+Eigen::Matrix3d rotation_y(double t) {
+  Eigen::Matrix3d r;
+  const double c = std::cos(t), s = std::sin(t);
+  r << c, 0, s, 0, 1, 0, -s, 0, c;
+  return r;
+}
+Eigen::Matrix3d rotation_z(double t) {
+  Eigen::Matrix3d r;
+  const double c = std::cos(t), s = std::sin(t);
+  r << c, -s, 0, s, c, 0, 0, 0, 1;
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+double MicrofacetDistribution::G1(const Vec3& v) const {
+  if (v.z() <= 0) return 0;
+  return std::min(1.0, 1.0 / (1.0 + lambda(v)));
+}
+
+double MicrofacetDistribution::G1(const Vec3& v, const Vec3& m) const {
+  if (v.dot(m) * v.z() <= 0) return 0;
+  return G1(v);
+}
+
+double MicrofacetDistribution::G2(const Vec3& wi, const Vec3& wo, const Vec3& m,
+                                  bool separable) const {
+  if (wi.dot(m) * wi.z() <= 0 || wo.dot(m) * wo.z() <= 0 || wi.z() <= 0 || wo.z() <= 0) return 0;
+  const double gi = G1(wi), go = G1(wo);
+  if (separable) return gi * go;
+  // Height-correlated 1/(1 + Lambda_i + Lambda_o) written with the clamped G1s, i.e. with Lambda
+  // clamped to >= 0: identical for Beckmann/GGX (Lambda >= 0), and for a skewed ellipsoid it
+  // keeps G2 <= min(G1_i, G1_o) so that the sampling weight F G2 (1 + Lambda_i) stays <= F.
+  return 1.0 / (1.0 / gi + 1.0 / go - 1.0);
+}
+
+double MicrofacetDistribution::pdf_visible(const Vec3& v, const Vec3& m) const {
+  if (v.z() <= 0) return 0;
+  const double vm = v.dot(m);
+  if (vm <= 0) return 0;
+  return vm * D(m) / projected_area(v);
+}
+
+// ---------------------------------------------------------------------------------------------
+BeckmannDistribution::BeckmannDistribution(double ax, double ay, double phi)
+    : p_{ax, ay, phi}, c_(std::cos(phi)), s_(std::sin(phi)) {
+  check_alpha(ax, ay);
+}
+
+double BeckmannDistribution::D(const Vec3& m) const {
+  const double z = m.z();
+  if (z <= 0) return 0;
+  const double x = c_ * m.x() + s_ * m.y(), y = -s_ * m.x() + c_ * m.y();
+  const double z2 = z * z;
+  const double e = (x * x / (p_.alpha_x * p_.alpha_x) + y * y / (p_.alpha_y * p_.alpha_y)) / z2;
+  return std::exp(-e) / (kPi * p_.alpha_x * p_.alpha_y * z2 * z2);
+}
+
+double BeckmannDistribution::lambda(const Vec3& v) const {
+  const double x = c_ * v.x() + s_ * v.y(), y = -s_ * v.x() + c_ * v.y(), z = v.z();
+  const double t2 =
+      (p_.alpha_x * p_.alpha_x * x * x + p_.alpha_y * p_.alpha_y * y * y);  // alpha^2 tan^2 * z^2
+  if (t2 <= 0) return 0;
+  const double a = z / std::sqrt(t2);  // 1/(alpha tan theta)
+  return -0.5 * std::erfc(a) + std::exp(-a * a) / (2 * a * kSqrtPi);
+}
+
+Vec3 BeckmannDistribution::sample_visible(const Vec3& v, double u1, double u2) const {
+  // Local (rotated) frame, then stretch to the unit-roughness configuration.
+  const double lx = c_ * v.x() + s_ * v.y(), ly = -s_ * v.x() + c_ * v.y();
+  Vec3 vs(p_.alpha_x * lx, p_.alpha_y * ly, v.z());
+  vs.normalize();
+  const double sin_t = std::hypot(vs.x(), vs.y());
+  const double mu = sin_t > 0 ? vs.z() / sin_t : std::numeric_limits<double>::infinity();
+  const double cp = sin_t > 0 ? vs.x() / sin_t : 1, sp = sin_t > 0 ? vs.y() / sin_t : 0;
+  // Slopes in the view-aligned unit configuration: x along the view azimuth.
+  const double sx1 = sample_visible_slope(mu, u1);
+  const double sy1 = sample_visible_slope(std::numeric_limits<double>::infinity(), u2);
+  // Rotate to the view azimuth and unstretch.
+  const double sx = p_.alpha_x * (cp * sx1 - sp * sy1);
+  const double sy = p_.alpha_y * (sp * sx1 + cp * sy1);
+  Vec3 ml(-sx, -sy, 1.0);
+  ml.normalize();
+  return Vec3(c_ * ml.x() - s_ * ml.y(), s_ * ml.x() + c_ * ml.y(), ml.z());
+}
+
+std::string BeckmannDistribution::describe() const {
+  char e[48];
+  std::snprintf(e, sizeof e, " phi=%.6g deg", p_.phi * 180 / kPi);
+  return fmt_params("beckmann", p_.alpha_x, p_.alpha_y, e);
+}
+
+// ---------------------------------------------------------------------------------------------
+GgxDistribution::GgxDistribution(double ax, double ay, double phi)
+    : p_{ax, ay, phi}, c_(std::cos(phi)), s_(std::sin(phi)) {
+  check_alpha(ax, ay);
+}
+
+double GgxDistribution::D(const Vec3& m) const {
+  const double z = m.z();
+  if (z <= 0) return 0;
+  const double x = c_ * m.x() + s_ * m.y(), y = -s_ * m.x() + c_ * m.y();
+  const double q = x * x / (p_.alpha_x * p_.alpha_x) + y * y / (p_.alpha_y * p_.alpha_y) + z * z;
+  return 1.0 / (kPi * p_.alpha_x * p_.alpha_y * q * q);
+}
+
+double GgxDistribution::lambda(const Vec3& v) const {
+  const double x = c_ * v.x() + s_ * v.y(), y = -s_ * v.x() + c_ * v.y(), z = v.z();
+  const double t2 = (p_.alpha_x * p_.alpha_x * x * x + p_.alpha_y * p_.alpha_y * y * y) / (z * z);
+  return 0.5 * (std::sqrt(1.0 + t2) - 1.0);
+}
+
+Vec3 GgxDistribution::sample_visible(const Vec3& v, double u1, double u2) const {
+  const double lx = c_ * v.x() + s_ * v.y(), ly = -s_ * v.x() + c_ * v.y();
+  Vec3 vh(p_.alpha_x * lx, p_.alpha_y * ly, v.z());
+  vh.normalize();
+  const Vec3 n = hemisphere_visible(vh, u1, u2);
+  Vec3 ml(p_.alpha_x * n.x(), p_.alpha_y * n.y(), std::max(0.0, n.z()));
+  ml.normalize();
+  return Vec3(c_ * ml.x() - s_ * ml.y(), s_ * ml.x() + c_ * ml.y(), ml.z());
+}
+
+std::string GgxDistribution::describe() const {
+  char e[48];
+  std::snprintf(e, sizeof e, " phi=%.6g deg", p_.phi * 180 / kPi);
+  return fmt_params("ggx", p_.alpha_x, p_.alpha_y, e);
+}
+
+// ---------------------------------------------------------------------------------------------
+EllipsoidDistribution::EllipsoidDistribution(const EllipsoidParams& p) : p_(p) {
+  check_alpha(p.alpha_x, p.alpha_y);
+  for (double t : {p.theta_x, p.theta_y, p.theta_z})
+    if (!std::isfinite(t)) throw InputError("ellipsoid rotation angles must be finite");
+  r_ = rotation_x(p.theta_x) * rotation_y(p.theta_y) * rotation_z(p.theta_z);
+  const Eigen::DiagonalMatrix<double, 3> s(p.alpha_x, p.alpha_y, 1.0);
+  a_ = s * r_;
+  ainvt_ = Eigen::DiagonalMatrix<double, 3>(1 / p.alpha_x, 1 / p.alpha_y, 1.0) *
+           r_;  // (S R)^-T = S^-1 R
+  an_ = a_.col(2);
+  an_norm_ = an_.norm();
+  det_ = p.alpha_x * p.alpha_y;
+}
+
+double EllipsoidDistribution::D(const Vec3& m) const {
+  if (m.z() <= 0) return 0;
+  const double q = (ainvt_ * m).squaredNorm();
+  return 1.0 / (kPi * det_ * an_norm_ * q * q);
+}
+
+double EllipsoidDistribution::lambda(const Vec3& v) const {
+  const Vec3 av = a_ * v;
+  const double sigma = av.norm() / (2 * an_norm_) + av.dot(an_) / (2 * an_norm_ * an_norm_);
+  return sigma / v.z() - 1.0;
+}
+
+Vec3 EllipsoidDistribution::sample_visible(const Vec3& v, double u1, double u2) const {
+  // Theory notes 1.5: map the ellipsoid to the unit sphere (points A^-1 s), where uniform
+  // projected area along v becomes uniform projected area along v' = Av/|Av|, and the cut
+  // m.n > 0 becomes s.n' > 0 with n' = An/|An|.
+  const Vec3 np = an_ / an_norm_;
+  const Vec3 vp = (a_ * v).normalized();
+  // Orthonormal frame (b1, b2, n').
+  const Vec3 helper = std::abs(np.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  const Vec3 b1 = (helper - helper.dot(np) * np).normalized();
+  const Vec3 b2 = np.cross(b1);
+  const Vec3 vl(vp.dot(b1), vp.dot(b2), vp.dot(np));
+  const Vec3 nl = hemisphere_visible(vl, u1, u2);
+  const Vec3 s = nl.x() * b1 + nl.y() * b2 + nl.z() * np;
+  return (a_.transpose() * s).normalized();
+}
+
+Vec3 EllipsoidDistribution::peak() const {
+  Vec3 m = r_.transpose() * Vec3(0, 0, 1);
+  return m.z() < 0 ? Vec3(-m) : m;
+}
+
+Vec3 EllipsoidDistribution::mean_normal() const {
+  return a_.transpose() * an_ / (an_norm_ * an_norm_);
+}
+
+std::string EllipsoidDistribution::describe() const {
+  char e[96];
+  std::snprintf(e, sizeof e, " theta=(%.6g, %.6g, %.6g) deg", p_.theta_x * 180 / kPi,
+                p_.theta_y * 180 / kPi, p_.theta_z * 180 / kPi);
+  return fmt_params("ellipsoid", p_.alpha_x, p_.alpha_y, e);
+}
+
+// ---------------------------------------------------------------------------------------------
+TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model,
+                      std::size_t resolution) {
+  if (resolution < 3) throw InputError("NDF table resolution must be at least 3");
+  TabulatedNdf t(resolution);
+  for (std::size_t iy = 0; iy < resolution; ++iy)
+    for (std::size_t ix = 0; ix < resolution; ++ix) {
+      const double x = t.node_x(ix), y = t.node_y(iy), r2 = x * x + y * y;
+      t.at(ix, iy) = r2 < 1 ? d.D(Vec3(x, y, std::sqrt(1 - r2))) : 0.0;
+    }
+  const double raw = t.integral();
+  t.normalise();
+  t.meta.method = model;
+  char b[64];
+  std::snprintf(b, sizeof b, "; node sum before normalising %.9g", raw);
+  t.meta.notes = d.describe() + b;
+  return t;
+}
+
+std::shared_ptr<MicrofacetDistribution> make_distribution(const NdfSpec& s) {
+  std::string m = s.model;
+  std::transform(m.begin(), m.end(), m.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (m == "beckmann" || m == "ggx" || m == "trowbridge-reitz" || m == "gtr2") {
+    if (s.theta_x != 0 || s.theta_y != 0 || s.theta_z != 0)
+      throw InputError("--theta-x/--theta-y/--theta-z belong to the ellipsoid model; " + m +
+                       " takes an in-plane rotation --phi");
+    if (m == "beckmann") return std::make_shared<BeckmannDistribution>(s.alpha_x, s.alpha_y, s.phi);
+    return std::make_shared<GgxDistribution>(s.alpha_x, s.alpha_y, s.phi);
+  }
+  if (m == "ellipsoid") {
+    if (s.phi != 0)
+      throw InputError("the ellipsoid model turns its axes with --theta-z, not --phi");
+    return std::make_shared<EllipsoidDistribution>(
+        EllipsoidParams{s.alpha_x, s.alpha_y, s.theta_x, s.theta_y, s.theta_z});
+  }
+  throw InputError("unknown NDF model '" + s.model + "' (known: beckmann, ggx, ellipsoid)");
+}
+
+}  // namespace microbrdf
