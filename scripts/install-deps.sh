@@ -18,6 +18,7 @@ PACKAGES=(
   libcli11-dev         # command line
   nlohmann-json3-dev   # JSON output and sidecars
   libfmt-dev           # formatting
+  libcairo2-dev        # plots (PNG and SVG)
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 
