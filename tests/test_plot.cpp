@@ -218,6 +218,9 @@ TEST(Plot, Ticks) {
   EXPECT_EQ(labelled, 6);  // 1e-3 .. 100
   EXPECT_EQ(detail::format_tick(1e-5, 1e-5), "1e-5");
   EXPECT_EQ(detail::format_tick(2.5, 0.5), "2.5");
+  EXPECT_EQ(detail::format_tick(-75, 25), "-75");
+  EXPECT_EQ(detail::format_tick(0.75, 0.25), "0.75");
+  EXPECT_EQ(detail::format_tick(0.2, 0.1), "0.2");
   auto narrow = detail::log_ticks(2, 3);
   EXPECT_GE(narrow.size(), 2u);
 }

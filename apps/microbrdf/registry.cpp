@@ -13,6 +13,7 @@ void register_all(CLI::App& app) {
   register_info(app);
   register_convert(app);
   register_generate(app);
+  register_sun(app);
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {

@@ -79,11 +79,12 @@ double published_over_standard(const Eigen::Vector3d& wi, const Eigen::Vector3d&
 
 /// Directional albedo for light from wi: integral of brdf(wi, wo) cos th_o over the outgoing
 /// hemisphere (by reciprocity the same as the albedo seen from wi), computed in half-vector
-/// space (wo = reflect(wi, h), d omega_o = 4 (wi.h) d omega_h) with an n_u x n_phi midpoint
-/// rule in tan(th_h) = 2u/s, u in [0, 7]. With weight_cos = false the cos th_o is left out
+/// space (wo = reflect(wi, h), d omega_o = 4 (wi.h) d omega_h): composite Gauss-Legendre
+/// with n_u nodes (rounded up to a multiple of 16) in u, tan(th_h) = 2u/s, u in [0, 7], and
+/// an n_phi-point midpoint rule in azimuth. With weight_cos = false the cos th_o is left out
 /// (Sun's eq. 5.1 integral).
 double albedo(double theta_i, double s, BrdfForm form, const FresnelFn& fresnel = {},
-              bool weight_cos = true, int n_u = 400, int n_phi = 256);
+              bool weight_cos = true, int n_u = 128, int n_phi = 128);
 
 // ---------------------------------------------------------------------------------------------
 // The numerical experiment of section 4

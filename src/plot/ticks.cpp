@@ -14,13 +14,14 @@ std::string format_tick(double v, double step) {
   if (v != 0 && (av >= 1e5 || av < 1e-4)) {
     std::snprintf(buf, sizeof buf, "%.6g", v);
   } else {
-    // Enough decimals to tell neighbouring ticks apart.
+    // Enough decimals to write the step exactly (0.25 -> 2, 25 -> 0, 0.5 -> 1).
     int dec = 0;
-    if (step > 0) {
-      dec = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
-      double mant = step / std::pow(10.0, std::floor(std::log10(step) + 1e-9));
-      if (std::abs(mant - 2.5) < 1e-6) ++dec;
-    }
+    if (step > 0)
+      while (dec < 12) {
+        const double scaled = step * std::pow(10.0, dec);
+        if (std::abs(scaled - std::round(scaled)) < 1e-6 * scaled) break;
+        ++dec;
+      }
     std::snprintf(buf, sizeof buf, "%.*f", std::min(dec, 12), v);
   }
   std::string s = buf;
