@@ -79,7 +79,7 @@ Plot sample_plot() {
 
 }  // namespace
 
-TEST(Plot, PngHasAskedSize) {
+TEST(plot, PngHasAskedSize) {
   auto d = temp_dir();
   auto p = sample_plot();
   p.write((d / "a.png").string(), 640, 480);
@@ -99,7 +99,7 @@ TEST(Plot, PngHasAskedSize) {
   fs::remove_all(d);
 }
 
-TEST(Plot, SvgHasSizeTitleAndLabels) {
+TEST(plot, SvgHasSizeTitleAndLabels) {
   auto d = temp_dir();
   auto p = sample_plot();
   p.write((d / "a.svg").string(), 700, 500);
@@ -114,7 +114,7 @@ TEST(Plot, SvgHasSizeTitleAndLabels) {
   fs::remove_all(d);
 }
 
-TEST(Plot, LogAxisDropsNonPositiveData) {
+TEST(plot, LogAxisDropsNonPositiveData) {
   auto d = temp_dir();
   Plot p;
   p.title = "log";
@@ -148,7 +148,7 @@ TEST(Plot, LogAxisDropsNonPositiveData) {
   fs::remove_all(d);
 }
 
-TEST(Plot, EmptyPlotIsAClearError) {
+TEST(plot, EmptyPlotIsAClearError) {
   auto d = temp_dir();
   Plot p;
   p.title = "empty";
@@ -168,7 +168,7 @@ TEST(Plot, EmptyPlotIsAClearError) {
   fs::remove_all(d);
 }
 
-TEST(Plot, BadInputsAndUnwritablePaths) {
+TEST(plot, BadInputsAndUnwritablePaths) {
   auto d = temp_dir();
   auto p = sample_plot();
   p.series[0].y.pop_back();
@@ -180,7 +180,7 @@ TEST(Plot, BadInputsAndUnwritablePaths) {
   fs::remove_all(d);
 }
 
-TEST(Plot, SinglePointAndConstantData) {
+TEST(plot, SinglePointAndConstantData) {
   auto d = temp_dir();
   Plot p;
   p.add({{1.0}, {2.0}, "one", PlotStyle::Markers});
@@ -188,7 +188,7 @@ TEST(Plot, SinglePointAndConstantData) {
   fs::remove_all(d);
 }
 
-TEST(Plot, GridOfPlots) {
+TEST(plot, GridOfPlots) {
   auto d = temp_dir();
   std::vector<Plot> plots(5, sample_plot());
   plots[1].y.scale = AxisScale::Log;
@@ -202,7 +202,7 @@ TEST(Plot, GridOfPlots) {
   fs::remove_all(d);
 }
 
-TEST(Plot, Ticks) {
+TEST(plot, Ticks) {
   auto t = detail::linear_ticks(0, 90, 9);
   ASSERT_FALSE(t.empty());
   EXPECT_EQ(t.front().label, "0");

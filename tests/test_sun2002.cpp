@@ -40,7 +40,7 @@ Eigen::Vector3d dir(double theta, double phi) {
 // ---------------------------------------------------------------------------------------------
 // Gamma_0 and Smith
 
-TEST(SunFtp, LimitsAndEndpoints) {
+TEST(sun2002, SunFtpLimitsAndEndpoints) {
   for (double s : {0.1, 0.5, 1.0, 5.0, 50.0}) {
     EXPECT_EQ(ftp(0, s), 1.0);
     EXPECT_EQ(ftp(M_PI / 2, s), 0.0);
@@ -71,7 +71,7 @@ TEST(SunFtp, LimitsAndEndpoints) {
   EXPECT_THROW(ftp(NAN, 1), InputError);
 }
 
-TEST(SunFtp, NotesValuesAndSmithForm) {
+TEST(sun2002, SunFtpNotesValuesAndSmithForm) {
   // Theory notes 5.2: Gamma_0 vs Smith-Beckmann G1 (alpha = 2/s).
   EXPECT_NEAR(ftp(60 * kDeg, 1), 0.530, 5e-4);
   EXPECT_NEAR(smith_g1(60 * kDeg, 1), 0.642, 5e-4);
@@ -96,7 +96,7 @@ TEST(SunFtp, NotesValuesAndSmithForm) {
   EXPECT_NEAR(ftp(50 * kDeg, 1, 0.5), std::sqrt(ftp(50 * kDeg, 1)), 1e-14);
 }
 
-TEST(SunFtp, SmithLambdaMatchesItsIntegral) {
+TEST(sun2002, SunFtpSmithLambdaMatchesItsIntegral) {
   // Lambda = (1/mu) int_mu^inf (q - mu) p(q) dq, p Gaussian with std sqrt(2)/s, mu = cot(theta).
   for (double s : {0.25, 1.0, 4.0})
     for (int d : {10, 40, 70, 85}) {
@@ -115,7 +115,7 @@ TEST(SunFtp, SmithLambdaMatchesItsIntegral) {
   EXPECT_EQ(smith_g1(M_PI / 2, 1), 0.0);
 }
 
-TEST(SunBrdf, BeckmannNdfIsNormalised) {
+TEST(sun2002, SunBrdfBeckmannNdfIsNormalised) {
   for (double s : {0.5, 2.0, 20.0}) {
     // In slope space D cos d(omega) = p(slope) d^2 slope; integrate over theta_h directly.
     const int n = 20000;
@@ -132,7 +132,7 @@ TEST(SunBrdf, BeckmannNdfIsNormalised) {
 // ---------------------------------------------------------------------------------------------
 // The BRDF
 
-TEST(SunBrdf, ExactConductorFresnelOfTheTest) {
+TEST(sun2002, SunBrdfExactConductorFresnelOfTheTest) {
   // Theory notes 5.4 values.
   const double v[] = {0.6127, 0.6113, 0.6055, 0.5887, 0.5683, 0.6826};
   const int a[] = {0, 30, 45, 60, 75, 85};
@@ -142,7 +142,7 @@ TEST(SunBrdf, ExactConductorFresnelOfTheTest) {
   EXPECT_NEAR(conductor_fresnel(1, 2.95, 2.93), 0.5121, 1e-4);
 }
 
-TEST(SunBrdf, Reciprocity) {
+TEST(sun2002, SunBrdfReciprocity) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0, 1);
   FresnelFn F = [](double c) { return conductor_fresnel(c, 1.02, 2.577); };
@@ -158,7 +158,7 @@ TEST(SunBrdf, Reciprocity) {
   }
 }
 
-TEST(SunBrdf, PublishedOverStandardRatio) {
+TEST(sun2002, SunBrdfPublishedOverStandardRatio) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
   FresnelFn F = [](double c) { return conductor_fresnel(c, 0.2, 3.0); };
@@ -181,7 +181,7 @@ TEST(SunBrdf, PublishedOverStandardRatio) {
   }
 }
 
-TEST(SunBrdf, FormulaDetailsAndHorizon) {
+TEST(sun2002, SunBrdfFormulaDetailsAndHorizon) {
   // At normal incidence and normal viewing: R s^2 / (16 pi) (eq. 3.5.3, theta = delta = 0),
   // and the standard form gives R D(n) / 4 = R s^2 / (16 pi) too.
   const Eigen::Vector3d z(0, 0, 1);
@@ -208,7 +208,7 @@ TEST(SunBrdf, FormulaDetailsAndHorizon) {
   EXPECT_THROW(brdf(wi, wo, 0, BrdfForm::Standard), InputError);
 }
 
-TEST(SunBrdf, EnergyBoundWithUnitFresnel) {
+TEST(sun2002, SunBrdfEnergyBoundWithUnitFresnel) {
   // R = 1 is the worst case. Sun's eq. 5.1 (integral of rho over the incident solid angle, no
   // cosine) <= 1, and the cosine-weighted albedo of both forms <= 1.
   for (double s : {0.5, 1.0, 2.0, 5.0, 10.0, 20.0})
@@ -253,7 +253,7 @@ FtpSimParams small_params(double s, std::size_t crossings, std::uint64_t seed) {
 
 }  // namespace
 
-TEST(SunSim, DeterministicAndBasicFacts) {
+TEST(sun2002, SunSimDeterministicAndBasicFacts) {
   const auto a = simulate_ftp(small_params(1, 3000, 5));
   const auto b = simulate_ftp(small_params(1, 3000, 5));
   const auto c = simulate_ftp(small_params(1, 3000, 6));
@@ -277,7 +277,7 @@ TEST(SunSim, DeterministicAndBasicFacts) {
   for (const auto& p : a.points) EXPECT_LE(p.gamma_any, p.gamma_leaving);
 }
 
-TEST(SunSim, FractionLeavingAboveFollowsRice) {
+TEST(sun2002, SunSimFractionLeavingAboveFollowsRice) {
   // At a zero crossing the slope density is proportional to |q| p(q) (Rice), so the fraction of
   // rays whose start slope q (along the ray) is below mu = cot(theta) is 1 - exp(-a^2) / 2,
   // a = mu s / 2. Checks the crossing detection and the "leaving above" test.
@@ -292,7 +292,7 @@ TEST(SunSim, FractionLeavingAboveFollowsRice) {
   }
 }
 
-TEST(SunSim, BruteForceOnTheSameKindOfProfiles) {
+TEST(sun2002, SunSimBruteForceOnTheSameKindOfProfiles) {
   // An independent, plain implementation (every sample ahead checked, no block skipping) on
   // profiles from generate_profiles, against simulate_ftp: statistically equal.
   const double s = 1, theta = 55 * kDeg, spt = 16;
@@ -343,7 +343,7 @@ TEST(SunSim, BruteForceOnTheSameKindOfProfiles) {
               4 * std::hypot(std::sqrt(g_any_bf * (1 - g_any_bf) / double(rays)) * 1.5, q.se_any));
 }
 
-TEST(SunSim, SmallRunAgreesWithTheLargeOne) {
+TEST(sun2002, SunSimSmallRunAgreesWithTheLargeOne) {
   // Reference: `microbrdf sun simulate-ftp --s 0.1,0.25,0.5,1,2,5 --samples 100000 --seed 1`
   // (docs/sun2002.md), rays leaving above / any crossing, with their standard errors.
   struct Ref {
@@ -365,7 +365,7 @@ TEST(SunSim, SmallRunAgreesWithTheLargeOne) {
   }
 }
 
-TEST(SunSim, BadParameters) {
+TEST(sun2002, SunSimBadParameters) {
   FtpSimParams p = small_params(1, 100, 1);
   p.s = 0;
   EXPECT_THROW(simulate_ftp(p), InputError);
@@ -383,7 +383,7 @@ TEST(SunSim, BadParameters) {
   EXPECT_THROW(simulate_ftp(p), InputError);
 }
 
-TEST(SunSim, SlowFullExperimentMatchesTheDocs) {
+TEST(sun2002, SunSimSlowFullExperimentMatchesTheDocs) {
   // The docs/sun2002.md agreement table: max |sim - Gamma_0| over theta (rays leaving above).
   struct Row {
     double s, max_diff;

@@ -1,5 +1,6 @@
 // `microbrdf sun ftp|simulate-ftp|slice`: Sun 2002's free travel probability (analytic and
 // simulated as in the paper's section 4, compared with Smith) and slices of its analytic BRDF.
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <complex>
@@ -20,6 +21,9 @@ namespace {
 
 namespace sun = microbrdf::sun2002;
 constexpr double kDeg = M_PI / 180;
+
+// Radians to degrees for printing, rounded to 1e-9 deg (29.999999999999996 -> 30).
+double deg(double rad) { return std::round(rad / kDeg * 1e9) / 1e9; }
 
 struct SunArgs {
   std::vector<double> s;
@@ -130,13 +134,23 @@ struct MaxDiff {
     }
   }
   nlohmann::json json() const {
-    return {{"max_abs_diff", std::abs(value)}, {"signed", value}, {"at_theta_deg", theta / kDeg}};
+    return {{"max_abs_diff", std::abs(value)}, {"signed", value}, {"at_theta_deg", deg(theta)}};
   }
 };
 
 // ---------------------------------------------------------------------------------------------
 
+// Plot names are checked before any work or output, so a typo costs nothing.
+void check_plot_name(const std::string& path) {
+  if (path.empty()) return;
+  auto dot = path.find_last_of('.');
+  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != "png" && ext != "svg") throw InputError(path + ": plots are written as .png or .svg");
+}
+
 void run_ftp(const SunArgs& a) {
+  check_plot_name(a.plot);
   check_s_list(a.s);
   const auto theta = theta_grid(a);
   std::ostringstream csv;
@@ -160,7 +174,7 @@ void run_ftp(const SunArgs& a) {
       csv << num(s) << ',' << num(t / kDeg) << ',' << num(g) << ',' << num(g1) << ',' << num(g0)
           << '\n';
       rows.push_back(
-          {{"theta_deg", t / kDeg}, {"gamma0_sun", g}, {"smith_g1", g1}, {"smith_mean_plane", g0}});
+          {{"theta_deg", deg(t)}, {"gamma0_sun", g}, {"smith_g1", g1}, {"smith_mean_plane", g0}});
       sunc.x.push_back(t / kDeg);
       sunc.y.push_back(g);
       smith.x.push_back(t / kDeg);
@@ -187,6 +201,8 @@ void run_ftp(const SunArgs& a) {
 // ---------------------------------------------------------------------------------------------
 
 void run_simulate(const SunArgs& a) {
+  check_plot_name(a.plot);
+  check_plot_name(a.plot_grid);
   check_s_list(a.s);
   const auto theta = theta_grid(a);
   std::ostringstream csv;
@@ -293,8 +309,20 @@ void run_simulate(const SunArgs& a) {
     analytic.label = s_label(s);
     fig.add(analytic);
     fig.add(smith);
-    fig.add(sim_l);
-    fig.add(sim_a);
+    {
+      // All s in one panel: markers about every 3 deg keep it legible.
+      const double step = theta.size() > 1 ? theta[1] - theta[0] : 1;
+      const std::size_t every =
+          std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(3 * kDeg / step)));
+      PlotSeries l = sim_l, an = sim_a;
+      l.x.clear(), l.y.clear(), l.y_err.clear(), an.x.clear(), an.y.clear(), an.y_err.clear();
+      for (std::size_t i = 0; i < sim_l.x.size(); i += every) {
+        l.x.push_back(sim_l.x[i]), l.y.push_back(sim_l.y[i]), l.y_err.push_back(sim_l.y_err[i]);
+        an.x.push_back(sim_a.x[i]), an.y.push_back(sim_a.y[i]), an.y_err.push_back(sim_a.y_err[i]);
+      }
+      fig.add(l);
+      fig.add(an);
+    }
 
     Plot panel;
     panel.title = s_label(s);
@@ -340,6 +368,7 @@ void run_simulate(const SunArgs& a) {
 // ---------------------------------------------------------------------------------------------
 
 void run_slice(const SunArgs& a) {
+  check_plot_name(a.plot);
   if (a.s.size() != 1) throw InputError("slice: give one --s value");
   const double s = a.s[0];
   check_s_list(a.s);
@@ -398,12 +427,12 @@ void run_slice(const SunArgs& a) {
     print_json(
         {{"command", "sun slice"},
          {"s", s},
-         {"theta_i_deg", ti / kDeg},
+         {"theta_i_deg", deg(ti)},
          {"fresnel", have_nk ? nlohmann::json{{"n", a.n}, {"k", a.k}} : nlohmann::json("R = 1")},
          {"albedo_as_published", sun::albedo(ti, s, sun::BrdfForm::AsPublished, F)},
          {"albedo_standard", sun::albedo(ti, s, sun::BrdfForm::Standard, F)},
-         {"peak_as_published", {{"value", peak_pub}, {"theta_o_deg", at_pub / kDeg}}},
-         {"peak_standard", {{"value", peak_std}, {"theta_o_deg", at_std / kDeg}}}});
+         {"peak_as_published", {{"value", peak_pub}, {"theta_o_deg", deg(at_pub)}}},
+         {"peak_standard", {{"value", peak_std}, {"theta_o_deg", deg(at_std)}}}});
   } else if (a.output.empty()) {
     emit_csv("-", csv.str());
   }
