@@ -19,6 +19,7 @@ PACKAGES=(
   nlohmann-json3-dev   # JSON output and sidecars
   libfmt-dev           # formatting
   colord-data          # CIE 1931 colour matching functions and D65 (tables generated at build time)
+  libcairo2-dev        # plots (PNG and SVG)
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

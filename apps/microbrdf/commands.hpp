@@ -11,6 +11,7 @@ void register_info(CLI::App& app);
 void register_convert(CLI::App& app);
 void register_generate(CLI::App& app);
 void register_brdf(CLI::App& app);
+void register_sun(CLI::App& app);
 
 /// Runs `body`, turning microbrdf errors into "microbrdf <cmd>: error: <message>" on stderr and
 /// a non-zero exit code.

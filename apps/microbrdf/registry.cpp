@@ -14,6 +14,7 @@ void register_all(CLI::App& app) {
   register_convert(app);
   register_generate(app);
   register_brdf(app);
+  register_sun(app);
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {

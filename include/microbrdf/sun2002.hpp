@@ -1,0 +1,139 @@
+#pragma once
+// Sun 2002, "Deriving Analytic BRDFs of Metallic Rough Surfaces" (Purdue CSD TR 02-006):
+// the free travel probability (FTP) Gamma_0, the analytic one-bounce BRDF (eq. 3.5.3) as
+// published and in the standard microfacet form, Smith's masking for the same surface, and the
+// numerical FTP experiment of the paper's section 4. See docs/sun2002.md for the derivations,
+// the paper's slips and what we do about them.
+//
+// Surface: Gaussian heights (rms sigma), correlation C(r) = exp(-r^2/tau^2), smoothness
+// s = tau/sigma (eq. 3.4.22). Slopes per axis are Gaussian with std sqrt(2) sigma/tau =
+// sqrt(2)/s (eq. 3.3.8), i.e. a Beckmann distribution of width alpha = 2/s.
+//
+// Conventions (ARCHITECTURE.md): macro normal n = +z; directions point away from the surface;
+// wi = towards the light (Sun's psi / l), wo = towards the viewer (Sun's v); angles in radians;
+// BRDF in 1/sr. Directions need not be normalised.
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace microbrdf::sun2002 {
+
+// ---------------------------------------------------------------------------------------------
+// Free travel probability and Smith masking
+
+/// Eq. 3.4.23, as published: Gamma_0(theta; s) = exp[-k_tau tan(theta) / (sqrt(2 pi) s)
+/// exp(-s^2 / (4 tan^2 theta))], the probability that a ray leaving the mean plane (height 0)
+/// at polar angle theta is not blocked by the surface. k_tau = k tau is Sun's constant of
+/// eq. 3.4.1, fixed to 1 (eq. 3.4.21) by a dimensional argument only: it is a heuristic, left
+/// as a parameter so it can be fitted to simulations. Gamma_0(0) = 1, Gamma_0(pi/2) = 0.
+/// theta outside [0, pi/2] is clamped; s must be > 0 (InputError otherwise).
+double ftp(double theta, double s, double k_tau = 1.0);
+
+/// Smith's Lambda for a 1-D Gaussian profile with slope std sqrt(2)/s (equivalently the
+/// isotropic Beckmann surface with alpha = 2/s): with a = s / (2 tan theta),
+/// Lambda = (exp(-a^2) / (a sqrt(pi)) - erfc(a)) / 2. Lambda(0) = 0, Lambda -> inf at pi/2.
+double smith_lambda(double theta, double s);
+
+/// Smith's masking averaged over the heights of the starting points: G1 = 1 / (1 + Lambda).
+double smith_g1(double theta, double s);
+
+/// Smith's masking of a point on the mean plane (height 0) that faces the ray:
+/// S(h = 0) = P(h < 0)^Lambda = 2^-Lambda (Smith 1967). This is what Gamma_0 and the
+/// simulation of simulate_ftp() (start = LeavingAbove) describe.
+double smith_at_mean_plane(double theta, double s);
+
+/// Beckmann distribution of micro-normals for the surface: D(h) = s^2 exp(-s^2 tan^2(th)/4) /
+/// (4 pi cos^4(th)), normalised so that the integral of D cos(th) over the hemisphere is 1.
+double beckmann_ndf(double cos_theta_h, double s);
+
+// ---------------------------------------------------------------------------------------------
+// The analytic BRDF (eq. 3.5.3)
+
+/// Unpolarised Fresnel reflectance of the metal as a function of the cosine of the angle of
+/// incidence on the micro-area (Sun's R-bar(delta/2) takes cos(delta/2) = wi . h). An empty
+/// function means R = 1 (a perfect mirror: the upper bound used for energy checks).
+// TODO(fresnel-interface): adapt to the shared Fresnel / Brdf interface (include/microbrdf/
+// fresnel.hpp, brdf.hpp) when it lands; until then the caller passes the reflectance in.
+using FresnelFn = std::function<double(double cos_theta_d)>;
+
+enum class BrdfForm {
+  /// Eq. 3.5.3 as printed: R Gamma_0(th_i) Gamma_0(th_o) s^2 exp(-s^2 tan^2 th_h / 4) /
+  /// (16 pi cos^3 th_h cos(delta/2)) = R G D(h) (h.n) / (4 (wi.h)).
+  AsPublished,
+  /// Standard microfacet form R D(h) G / (4 cos th_i cos th_o) with the same D (Beckmann,
+  /// alpha = 2/s) and G = Gamma_0(th_i) Gamma_0(th_o).
+  /// AsPublished / Standard = (h.n) cos th_i cos th_o / (wi.h) (theory notes 5.2).
+  Standard,
+};
+
+/// One evaluation. Returns 0 when either direction is at or below the horizon.
+double brdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wo, double s, BrdfForm form,
+            const FresnelFn& fresnel = {});
+
+/// The factor AsPublished / Standard = (h.n) cos th_i cos th_o / (wi.h) for a pair of
+/// directions above the horizon (0 otherwise).
+double published_over_standard(const Eigen::Vector3d& wi, const Eigen::Vector3d& wo);
+
+/// Directional albedo for light from wi: integral of brdf(wi, wo) cos th_o over the outgoing
+/// hemisphere (by reciprocity the same as the albedo seen from wi), computed in half-vector
+/// space (wo = reflect(wi, h), d omega_o = 4 (wi.h) d omega_h): composite Gauss-Legendre
+/// with n_u nodes (rounded up to a multiple of 16) in u, tan(th_h) = 2u/s, u in [0, 7], and
+/// an n_phi-point midpoint rule in azimuth. With weight_cos = false the cos th_o is left out
+/// (Sun's eq. 5.1 integral).
+double albedo(double theta_i, double s, BrdfForm form, const FresnelFn& fresnel = {},
+              bool weight_cos = true, int n_u = 128, int n_phi = 128);
+
+// ---------------------------------------------------------------------------------------------
+// The numerical experiment of section 4
+
+/// Which rays are counted. Sun starts a ray at "a point with z = 0 on the profile".
+enum class FtpStart {
+  /// Rays from zero crossings where the ray leaves above the profile (the profile's slope in
+  /// the direction of travel is below the ray's, cot theta): the micro-area faces the ray, as
+  /// it does for every micro-area that reflects into the ray in the BRDF. Default.
+  LeavingAbove,
+  /// Every zero crossing; rays that go straight into the profile count as blocked.
+  AnyCrossing,
+};
+
+struct FtpSimParams {
+  double s = 1;                        ///< smoothness tau / sigma (> 0)
+  std::vector<double> theta;           ///< polar angles of the rays, rad, each in [0, pi/2]
+  std::size_t crossings = 100000;      ///< at least this many zero crossings (each casts 2 rays)
+  double samples_per_tau = 16;         ///< profile spacing dx = tau / samples_per_tau
+  std::size_t profile_length = 65536;  ///< samples holding the crossings (plus margins)
+  std::uint64_t seed = 1;              ///< same seed, same result (any thread count)
+};
+
+struct FtpSimPoint {
+  double theta = 0;
+  // Rays to +x and -x from every crossing; "leaving" = those that leave above the profile.
+  std::size_t rays = 0, rays_leaving = 0, free = 0;
+  double gamma_leaving = 0, se_leaving = 0;  ///< free / rays_leaving and its standard error
+  double gamma_any = 0, se_any = 0;          ///< free / rays and its standard error
+};
+
+struct FtpSimResult {
+  FtpSimParams params;
+  std::size_t profiles = 0;   ///< profiles generated
+  std::size_t crossings = 0;  ///< zero crossings used (each cast a ray both ways)
+  std::size_t excluded = 0;   ///< crossings skipped for lack of margin (normally 0)
+  double slope_rms = 0;       ///< measured rms slope of the profiles (expected sqrt(2)/s)
+  std::vector<FtpSimPoint> points;
+};
+
+/// Sun's section 4 experiment, with many more rays: 1-D Gaussian profiles made by
+/// generate_profiles() (moving average, tau = 1, sigma = 1/s), rays from the zero crossings
+/// (linear interpolation between samples) at polar angle theta to both sides; a ray is
+/// blocked when a profile sample ahead lies above it (the profile is piecewise linear, so
+/// testing the samples is exact), free once it is above the profile's maximum. Crossings sit
+/// in the middle profile_length samples, with margins either side long enough for that.
+/// theta = pi/2 is not simulated (a horizontal ray from height 0 is always blocked: 0).
+/// Standard errors by batches of 4096 samples (about 256 tau: independent). Deterministic.
+/// OpenMP-parallel. Throws InputError for bad parameters.
+FtpSimResult simulate_ftp(const FtpSimParams& p);
+
+}  // namespace microbrdf::sun2002
