@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <random>
 #include <stdexcept>
@@ -122,6 +123,8 @@ Chi2 chi_square(const TabulatedNdf& t, const NdfSampler& s, double lo, double hi
   }
   r.dof = bins - 1;
   r.crit = chi2_crit_1pct(r.dof);
+  std::printf("[ measured ] chi2 = %.1f, dof = %d, 1%% critical value = %.1f\n", r.chi2, r.dof,
+              r.crit);
   return r;
 }
 
@@ -181,6 +184,7 @@ TEST(ndf_sampler, AnisotropicBlobChiSquare) {
 TEST(ndf_sampler, UniformDiskChiSquareWithRimRejection) {
   const TabulatedNdf t = uniform(65);
   const NdfSampler s(t);
+  std::printf("[ measured ] uniform table: Z - 1 = %.2e\n", s.normalisation() - 1);
   EXPECT_NEAR(s.normalisation(), 1.0, 1e-6);
   const Chi2 r = chi_square(t, s, -1, 1, 16, 1'000'000, 64, 7);
   EXPECT_LT(r.chi2, r.crit) << "dof " << r.dof << " chi2 " << r.chi2;
@@ -222,6 +226,7 @@ TEST(ndf_sampler, PdfIntegratesToOneOverTheHemisphere) {
         const double z = std::sqrt(1 - r2);
         sum += s.pdf(Eigen::Vector3d(x, y, z)) / z;
       }
+    std::printf("[ measured ] integral of pdf over the hemisphere - 1 = %.2e\n", sum * h * h - 1);
     EXPECT_NEAR(sum * h * h, 1.0, 1e-6);
   }
 }
