@@ -76,9 +76,11 @@ struct Chi2 {
   int dof = 0;
 };
 
-// Histogram of `count` samples over a g x g grid of cells covering [lo, hi]^2 (cell edges on
-// table cell edges) plus one bin for everything else, against the pdf integrated over each
-// cell. Bins with expected count < 5 are pooled.
+// Histogram of `count` samples over a g x g grid of cells covering [lo, hi]^2 plus one bin for
+// everything else. The callers put the bin edges half-way between table nodes, so that every
+// bin holds half cells and the test sees the distribution inside the cells, not only the cell
+// masses (k even keeps the quadrature exact on bilinear cells), against the pdf integrated over
+// each cell. Bins with expected count < 5 are pooled.
 Chi2 chi_square(const TabulatedNdf& t, const NdfSampler& s, double lo, double hi, int g, int count,
                 int k, std::uint64_t seed) {
   std::vector<double> expected(static_cast<std::size_t>(g * g) + 1, 0.0);
@@ -146,7 +148,7 @@ void check_samples(const NdfSampler& s, int count, std::uint64_t seed) {
 TEST(ndf_sampler, BeckmannChiSquare) {
   const TabulatedNdf t = beckmann(129, 0.3);
   const NdfSampler s(t);
-  const Chi2 r = chi_square(t, s, -1, 1, 32, 1'000'000, 4, 1);
+  const Chi2 r = chi_square(t, s, -1 + t.spacing() / 2, 1 + t.spacing() / 2, 32, 1'000'000, 4, 1);
   RecordProperty("chi2", std::to_string(r.chi2) + " dof " + std::to_string(r.dof));
   EXPECT_LT(r.chi2, r.crit) << "dof " << r.dof;
   EXPECT_GT(r.dof, 100);
@@ -158,7 +160,7 @@ TEST(ndf_sampler, NarrowBeckmannChiSquare) {
   const NdfSampler s(t);
   // 80 table cells around the centre in 20 x 20 bins of 4 cells.
   const double h = t.spacing();
-  const Chi2 r = chi_square(t, s, -40 * h, 40 * h, 20, 1'000'000, 2, 3);
+  const Chi2 r = chi_square(t, s, -39.5 * h, 40.5 * h, 20, 1'000'000, 2, 3);
   EXPECT_LT(r.chi2, r.crit) << "dof " << r.dof << " chi2 " << r.chi2;
   EXPECT_GT(r.dof, 100);
   check_samples(s, 100000, 4);
@@ -167,7 +169,7 @@ TEST(ndf_sampler, NarrowBeckmannChiSquare) {
 TEST(ndf_sampler, AnisotropicBlobChiSquare) {
   const TabulatedNdf t = blob(257);
   const NdfSampler s(t);
-  const Chi2 r = chi_square(t, s, -1, 1, 64, 1'000'000, 2, 5);
+  const Chi2 r = chi_square(t, s, -1 + t.spacing() / 2, 1 + t.spacing() / 2, 64, 1'000'000, 2, 5);
   EXPECT_LT(r.chi2, r.crit) << "dof " << r.dof << " chi2 " << r.chi2;
   EXPECT_GT(r.dof, 100);
   // The sample mean matches the mean of the table (a moment test, independent of binning).
@@ -186,9 +188,24 @@ TEST(ndf_sampler, UniformDiskChiSquareWithRimRejection) {
   const NdfSampler s(t);
   std::printf("[ measured ] uniform table: Z - 1 = %.2e\n", s.normalisation() - 1);
   EXPECT_NEAR(s.normalisation(), 1.0, 1e-6);
-  const Chi2 r = chi_square(t, s, -1, 1, 16, 1'000'000, 64, 7);
+  const Chi2 r = chi_square(t, s, -1 + t.spacing() / 2, 1 + t.spacing() / 2, 16, 1'000'000, 64, 7);
   EXPECT_LT(r.chi2, r.crit) << "dof " << r.dof << " chi2 " << r.chi2;
   check_samples(s, 100000, 8);
+}
+
+TEST(ndf_sampler, RandomNodesChiSquareResolvesCellInterior) {
+  // Independent random node values (also outside the disk): the interpolant changes by O(1)
+  // inside every cell, and bins of half a cell see whether the bilinear shape inside the cells
+  // is sampled (a piecewise-constant sampler fails this by far).
+  TabulatedNdf t(17);
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (double& v : t.values()) v = u(rng);
+  const NdfSampler s(t);
+  const Chi2 r = chi_square(t, s, -1, 1, 32, 1'000'000, 64, 13);
+  EXPECT_LT(r.chi2, r.crit) << "dof " << r.dof << " chi2 " << r.chi2;
+  EXPECT_GT(r.dof, 700);
+  check_samples(s, 100000, 14);
 }
 
 TEST(ndf_sampler, PdfIsEvalTimesCosineOverZ) {
