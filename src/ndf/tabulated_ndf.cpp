@@ -7,7 +7,8 @@
 
 namespace microbrdf {
 
-TabulatedNdf::TabulatedNdf(std::size_t resolution) : n_(resolution), d_(resolution * resolution, 0.0) {
+TabulatedNdf::TabulatedNdf(std::size_t resolution)
+    : n_(resolution), d_(resolution * resolution, 0.0) {
   if (resolution < 3) throw std::invalid_argument("TabulatedNdf: resolution must be >= 3");
 }
 
@@ -37,7 +38,8 @@ double TabulatedNdf::integral() const {
 
 void TabulatedNdf::normalise() {
   double i = integral();
-  if (!(i > 0) || !std::isfinite(i)) throw std::domain_error("TabulatedNdf: cannot normalise an empty table");
+  if (!(i > 0) || !std::isfinite(i))
+    throw std::domain_error("TabulatedNdf: cannot normalise an empty table");
   for (double& v : d_) v /= i;
 }
 
@@ -73,7 +75,8 @@ void for_each_node(const TabulatedNdf& t, F&& f) {
 
 Eigen::Vector3d TabulatedNdf::mean_normal() const {
   Eigen::Vector3d s = Eigen::Vector3d::Zero();
-  for_each_node(*this, [&](double x, double y, double z, double w) { s += w * Eigen::Vector3d(x, y, z); });
+  for_each_node(*this,
+                [&](double x, double y, double z, double w) { s += w * Eigen::Vector3d(x, y, z); });
   double len = s.norm();
   return len > 0 ? Eigen::Vector3d(s / len) : Eigen::Vector3d(0, 0, 1);
 }
@@ -142,7 +145,8 @@ void TabulatedNdf::add(const TabulatedNdf& other, double w) {
 TabulatedNdf TabulatedNdf::resampled(std::size_t resolution) const {
   TabulatedNdf out(resolution);
   for (std::size_t iy = 0; iy < resolution; ++iy)
-    for (std::size_t ix = 0; ix < resolution; ++ix) out.at(ix, iy) = eval_disk(out.node_x(ix), out.node_y(iy));
+    for (std::size_t ix = 0; ix < resolution; ++ix)
+      out.at(ix, iy) = eval_disk(out.node_x(ix), out.node_y(iy));
   out.meta = meta;
   if (out.integral() > 0) out.normalise();
   return out;

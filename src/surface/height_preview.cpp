@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/bitmap_font.hpp"
 #include "microbrdf/preview.hpp"
 #include "microbrdf/units.hpp"
 
@@ -18,50 +19,6 @@ void false_colour(double t, std::uint8_t rgb[3]) {
   for (int c = 0; c < 3; ++c)
     rgb[c] = static_cast<std::uint8_t>(std::lround(255 * ((1 - f) * kAnchors[i][c] + f * kAnchors[i + 1][c])));
 }
-
-namespace {
-
-// Tiny 3x5 digit font for the colour-bar labels, so previews need no font library.
-constexpr std::uint16_t kGlyphs[] = {
-    0x7B6F, 0x2C97, 0x73E7, 0x73CF, 0x5BC9, 0x79CF, 0x79EF, 0x7249, 0x7BEF, 0x7BCF,  // 0-9
-    0x0002,                                                                            // .
-    0x01C0,                                                                            // -
-    0x0000,                                                                            // space
-    0x0D6D, 0x0FED,                                                                    // n, m
-    0x0B6F,                                                                            // u (mu)
-};
-
-int glyph_index(char ch) {
-  if (ch >= '0' && ch <= '9') return ch - '0';
-  switch (ch) {
-    case '.': return 10;
-    case '-': return 11;
-    case 'n': return 13;
-    case 'm': return 14;
-    case 'u': return 15;
-    default: return 12;
-  }
-}
-
-void draw_text(RgbImage& img, std::size_t x0, std::size_t y0, const std::string& text, int scale) {
-  std::size_t x = x0;
-  for (char ch : text) {
-    std::uint16_t g = kGlyphs[glyph_index(ch)];
-    for (int r = 0; r < 5; ++r)
-      for (int c = 0; c < 3; ++c) {
-        if (!((g >> (14 - (r * 3 + c))) & 1)) continue;
-        for (int sy = 0; sy < scale; ++sy)
-          for (int sx = 0; sx < scale; ++sx) {
-            std::size_t px = x + static_cast<std::size_t>(c * scale + sx);
-            std::size_t py = y0 + static_cast<std::size_t>(r * scale + sy);
-            if (px < img.width && py < img.height) img.set(px, py, 20, 20, 20);
-          }
-      }
-    x += static_cast<std::size_t>(4 * scale);
-  }
-}
-
-}  // namespace
 
 RgbImage render_height_preview(const Surface& s, std::size_t max_size) {
   // Box-filter down to at most max_size on the long side, keeping the physical aspect ratio.
@@ -125,8 +82,8 @@ RgbImage render_height_preview(const Surface& s, std::size_t max_size) {
     t.erase(std::remove(t.begin(), t.end(), ' '), t.end());
     return t;
   };
-  draw_text(out, bx + bar + 4, 2, label(hi), 2);
-  draw_text(out, bx + bar + 4, bh - 12, label(lo), 2);
+  detail::draw_text(out, bx + bar + 4, 2, label(hi), 2);
+  detail::draw_text(out, bx + bar + 4, bh - 12, label(lo), 2);
   return out;
 }
 

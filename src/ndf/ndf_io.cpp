@@ -1,0 +1,343 @@
+// Tabulated NDF files: .npy (float64, numpy-readable) + JSON sidecar, or single-channel .exr
+// with metadata attributes. See include/microbrdf/ndf_io.hpp.
+//
+// Layout in both: array row iy = m_y = -1 + 2 iy/(N-1), column ix = m_x = -1 + 2 ix/(N-1)
+// (the first row written / the first EXR scanline is iy = 0, i.e. m_y = -1).
+#include "microbrdf/ndf_io.hpp"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfDoubleAttribute.h>
+#include <OpenEXR/ImfFloatAttribute.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfStringVectorAttribute.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/npy.hpp"
+#include "microbrdf/atomic_file.hpp"
+#include "microbrdf/error.hpp"
+#include "microbrdf/io.hpp"
+
+namespace microbrdf {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::size_t kMaxResolution = 16385;  // 2 GiB of float64; far above any real table
+constexpr std::uint64_t kMaxNpyBytes = std::uint64_t{4} << 30;
+
+constexpr const char* kConvMx = "m_x = -1 + 2 ix/(N-1)";
+constexpr const char* kConvMy = "m_y = -1 + 2 iy/(N-1), row iy";
+constexpr const char* kConvValue = "D per steradian";
+constexpr const char* kConvNorm = "integral of D(m)(m.n) = 1";
+constexpr const char* kConvDisk = "0 outside the unit disk; dw = dm_x dm_y / m_z";
+
+enum class Kind { Npy, Exr };
+
+Kind kind_of(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (e == ".npy") return Kind::Npy;
+  if (e == ".exr") return Kind::Exr;
+  throw FileError(path, "unsupported NDF file extension '" + e + "' (use .npy or .exr)");
+}
+
+std::string sidecar_path(const std::string& path) {
+  return fs::path(path).replace_extension(".json").string();
+}
+
+// Validates a table read from `path`: square N x N, N >= 3, finite non-negative values.
+void validate(const std::string& path, std::size_t rows, std::size_t cols,
+              const std::vector<double>& v) {
+  if (rows != cols)
+    throw FileError(path, "NDF table must be square, got " + std::to_string(rows) + " x " +
+                              std::to_string(cols));
+  if (rows < 3) throw FileError(path, "NDF table resolution " + std::to_string(rows) + " < 3");
+  if (rows > kMaxResolution)
+    throw FileError(path, "NDF table resolution " + std::to_string(rows) + " is absurdly large");
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i]) || v[i] < 0)
+      throw FileError(path, "NDF value at row " + std::to_string(i / cols) + ", column " +
+                                std::to_string(i % cols) + " is " +
+                                (std::isfinite(v[i]) ? "negative" : "not finite"));
+  }
+}
+
+void check_writable(const TabulatedNdf& ndf, const std::string& path, bool as_float) {
+  for (double v : ndf.values()) {
+    if (!std::isfinite(v) || v < 0)
+      throw FileError(path, "cannot write an NDF with negative or non-finite values");
+    if (as_float && v > std::numeric_limits<float>::max())
+      throw FileError(path, "NDF value exceeds the float range of EXR");
+  }
+}
+
+nlohmann::json metadata_json(const TabulatedNdf& ndf) {
+  const NdfMetadata& m = ndf.meta;
+  return {{"format", "microbrdf-ndf"},
+          {"version", 1},
+          {"resolution", ndf.resolution()},
+          {"conventions",
+           {{"m_x", kConvMx},
+            {"m_y", kConvMy},
+            {"value", kConvValue},
+            {"normalisation", kConvNorm},
+            {"disk", kConvDisk}}},
+          {"method", m.method},
+          {"filter_sigma_m", m.filter_sigma_m},
+          {"wavelength_m", m.wavelength_m},
+          {"sources", m.sources},
+          {"samples_used", m.samples_used},
+          {"samples_skipped", m.samples_skipped},
+          {"projected_area_m2", m.projected_area_m2},
+          {"leveling", m.leveling},
+          {"parameterisation", m.parameterisation},
+          {"notes", m.notes}};
+}
+
+void read_sidecar(const std::string& side, std::size_t resolution, NdfMetadata& m) {
+  nlohmann::json j;
+  try {
+    std::ifstream in(side);
+    if (!in) throw FileError(side, "cannot open sidecar");
+    j = nlohmann::json::parse(in);
+  } catch (const FileError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw FileError(side, std::string("invalid JSON sidecar: ") + e.what());
+  }
+  if (!j.is_object()) throw FileError(side, "JSON sidecar is not an object");
+  auto bad = [&](const char* key, const char* what) {
+    throw FileError(side, std::string("'") + key + "' must be " + what);
+  };
+  auto str = [&](const char* key, std::string& out) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_string()) bad(key, "a string");
+    out = j[key].get<std::string>();
+  };
+  auto num = [&](const char* key, double& out) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_number() || !std::isfinite(j[key].get<double>())) bad(key, "a finite number");
+    out = j[key].get<double>();
+  };
+  auto count = [&](const char* key, std::size_t& out) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_number_unsigned()) bad(key, "a non-negative integer");
+    out = j[key].get<std::size_t>();
+  };
+  if (j.contains("resolution")) {
+    if (!j["resolution"].is_number_unsigned()) bad("resolution", "a positive integer");
+    if (j["resolution"].get<std::size_t>() != resolution)
+      throw FileError(side, "sidecar says resolution " +
+                                std::to_string(j["resolution"].get<std::size_t>()) +
+                                " but the table is " + std::to_string(resolution));
+  }
+  str("method", m.method);
+  num("filter_sigma_m", m.filter_sigma_m);
+  num("wavelength_m", m.wavelength_m);
+  if (j.contains("sources")) {
+    if (!j["sources"].is_array()) bad("sources", "an array of strings");
+    m.sources.clear();
+    for (const auto& s : j["sources"]) {
+      if (!s.is_string()) bad("sources", "an array of strings");
+      m.sources.push_back(s.get<std::string>());
+    }
+  }
+  count("samples_used", m.samples_used);
+  count("samples_skipped", m.samples_skipped);
+  num("projected_area_m2", m.projected_area_m2);
+  str("leveling", m.leveling);
+  str("parameterisation", m.parameterisation);
+  str("notes", m.notes);
+}
+
+void write_npy_ndf(const TabulatedNdf& ndf, const std::string& path) {
+  check_writable(ndf, path, false);
+  const std::size_t n = ndf.resolution();
+  std::vector<std::uint8_t> bytes;
+  try {
+    bytes = detail::encode_npy_f64(ndf.values(), n, n);
+  } catch (const std::exception& e) {
+    throw FileError(path, e.what());
+  }
+  const std::string side = sidecar_path(path);
+  const std::string json = metadata_json(ndf).dump(2) + "\n";
+  // Both temporaries first, then both renames: a failure leaves no new half pair behind.
+  AtomicFile out(path), out_side(side);
+  auto put = [](const std::string& target, const std::string& tmp, const char* data,
+                std::size_t size) {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) throw FileError(target, "cannot create file");
+    f.write(data, static_cast<std::streamsize>(size));
+    f.flush();
+    if (!f) throw FileError(target, "write failed (disk full?)");
+  };
+  put(path, out.temp_path(), reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  put(side, out_side.temp_path(), json.data(), json.size());
+  out.commit();
+  out_side.commit();
+}
+
+TabulatedNdf read_npy_ndf(const std::string& path) {
+  auto data = read_file_bytes(path, kMaxNpyBytes);
+  detail::NpyArray a = detail::parse_npy(data, path);
+  validate(path, a.rows, a.cols, a.values);
+  TabulatedNdf ndf(a.rows);
+  ndf.values() = std::move(a.values);
+  const std::string side = sidecar_path(path);
+  std::error_code ec;
+  if (fs::exists(side, ec)) read_sidecar(side, ndf.resolution(), ndf.meta);
+  return ndf;
+}
+
+void write_exr_ndf(const TabulatedNdf& ndf, const std::string& path) {
+  check_writable(ndf, path, true);
+  const int n = static_cast<int>(ndf.resolution());
+  std::vector<float> buf(ndf.values().size());
+  std::transform(ndf.values().begin(), ndf.values().end(), buf.begin(),
+                 [](double v) { return static_cast<float>(v); });
+  const NdfMetadata& m = ndf.meta;
+  AtomicFile out(path);
+  try {
+    Imf::Header h(n, n);
+    h.compression() = Imf::ZIP_COMPRESSION;
+    h.channels().insert("D", Imf::Channel(Imf::FLOAT));
+    h.insert("microbrdf_format", Imf::StringAttribute("ndf"));
+    h.insert("convention_m_x", Imf::StringAttribute(kConvMx));
+    h.insert("convention_m_y",
+             Imf::StringAttribute(std::string(kConvMy) + " (first scanline = iy 0 = m_y -1)"));
+    h.insert("convention_value", Imf::StringAttribute(kConvValue));
+    h.insert("convention_normalisation", Imf::StringAttribute(kConvNorm));
+    h.insert("convention_disk", Imf::StringAttribute(kConvDisk));
+    h.insert("resolution", Imf::IntAttribute(n));
+    h.insert("method", Imf::StringAttribute(m.method));
+    h.insert("filter_sigma_m", Imf::DoubleAttribute(m.filter_sigma_m));
+    h.insert("wavelength_m", Imf::DoubleAttribute(m.wavelength_m));
+    h.insert("sources", Imf::StringVectorAttribute(m.sources));
+    // Counts: int when they fit, else double (exact up to 2^53).
+    auto put_count = [&](const char* name, std::size_t v) {
+      if (v <= static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        h.insert(name, Imf::IntAttribute(static_cast<int>(v)));
+      else
+        h.insert(name, Imf::DoubleAttribute(static_cast<double>(v)));
+    };
+    put_count("samples_used", m.samples_used);
+    put_count("samples_skipped", m.samples_skipped);
+    h.insert("projected_area_m2", Imf::DoubleAttribute(m.projected_area_m2));
+    h.insert("leveling", Imf::StringAttribute(m.leveling));
+    h.insert("parameterisation", Imf::StringAttribute(m.parameterisation));
+    h.insert("notes", Imf::StringAttribute(m.notes));
+    Imf::OutputFile file(out.temp_path().c_str(), h, 0);
+    Imf::FrameBuffer fb;
+    fb.insert("D", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(buf.data()), sizeof(float),
+                              sizeof(float) * static_cast<std::size_t>(n)));
+    file.setFrameBuffer(fb);
+    file.writePixels(n);
+  } catch (const FileError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw FileError(path, std::string("EXR write failed: ") + e.what());
+  }
+  out.commit();
+}
+
+TabulatedNdf read_exr_ndf(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw FileError(path, "no such file");
+  if (fs::is_directory(path, ec)) throw FileError(path, "is a directory, not a file");
+  try {
+    Imf::InputFile file(path.c_str(), 0);
+    const Imf::Header& h = file.header();
+    const auto dw = h.dataWindow();
+    const std::int64_t w = std::int64_t{dw.max.x} - dw.min.x + 1;
+    const std::int64_t ht = std::int64_t{dw.max.y} - dw.min.y + 1;
+    if (w <= 0 || ht <= 0 || w > static_cast<std::int64_t>(kMaxResolution) ||
+        ht > static_cast<std::int64_t>(kMaxResolution))
+      throw FileError(path, "EXR data window " + std::to_string(w) + " x " + std::to_string(ht) +
+                                " is not a valid NDF table size");
+    const Imf::Channel* ch = h.channels().findChannel("D");
+    if (!ch) throw FileError(path, "EXR has no channel 'D'");
+    if (ch->xSampling != 1 || ch->ySampling != 1)
+      throw FileError(path, "channel 'D' is subsampled");
+    const auto nx = static_cast<std::size_t>(w), ny = static_cast<std::size_t>(ht);
+    std::vector<float> buf(nx * ny);
+    Imf::FrameBuffer fb;
+    char* base = reinterpret_cast<char*>(buf.data()) -
+                 (static_cast<std::ptrdiff_t>(dw.min.x) +
+                  static_cast<std::ptrdiff_t>(dw.min.y) * static_cast<std::ptrdiff_t>(nx)) *
+                     static_cast<std::ptrdiff_t>(sizeof(float));
+    fb.insert("D", Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * nx));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    std::vector<double> v(buf.begin(), buf.end());
+    validate(path, ny, nx, v);
+    TabulatedNdf ndf(nx);
+    ndf.values() = std::move(v);
+    NdfMetadata& m = ndf.meta;
+    auto str = [&](const char* name, std::string& out) {
+      if (auto* a = h.findTypedAttribute<Imf::StringAttribute>(name)) out = a->value();
+    };
+    auto dbl = [&](const char* name, double& out) {
+      if (auto* a = h.findTypedAttribute<Imf::DoubleAttribute>(name))
+        out = a->value();
+      else if (auto* f = h.findTypedAttribute<Imf::FloatAttribute>(name))
+        out = f->value();
+    };
+    auto count = [&](const char* name, std::size_t& out) {
+      if (auto* a = h.findTypedAttribute<Imf::IntAttribute>(name)) {
+        if (a->value() < 0) throw FileError(path, std::string("attribute '") + name + "' < 0");
+        out = static_cast<std::size_t>(a->value());
+      } else if (auto* d = h.findTypedAttribute<Imf::DoubleAttribute>(name)) {
+        if (!(d->value() >= 0 && d->value() < 1.8e19))
+          throw FileError(path, std::string("attribute '") + name + "' out of range");
+        out = static_cast<std::size_t>(d->value());
+      }
+    };
+    str("method", m.method);
+    dbl("filter_sigma_m", m.filter_sigma_m);
+    dbl("wavelength_m", m.wavelength_m);
+    if (auto* a = h.findTypedAttribute<Imf::StringVectorAttribute>("sources"))
+      m.sources = a->value();
+    count("samples_used", m.samples_used);
+    count("samples_skipped", m.samples_skipped);
+    dbl("projected_area_m2", m.projected_area_m2);
+    str("leveling", m.leveling);
+    str("parameterisation", m.parameterisation);
+    str("notes", m.notes);
+    return ndf;
+  } catch (const FileError&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw FileError(path, "corrupt EXR (implausible sizes)");
+  } catch (const std::exception& e) {
+    throw FileError(path, std::string("cannot read EXR: ") + e.what());
+  }
+}
+
+}  // namespace
+
+void write_ndf(const TabulatedNdf& ndf, const std::string& path) {
+  if (kind_of(path) == Kind::Npy)
+    write_npy_ndf(ndf, path);
+  else
+    write_exr_ndf(ndf, path);
+}
+
+TabulatedNdf read_ndf(const std::string& path) {
+  return kind_of(path) == Kind::Npy ? read_npy_ndf(path) : read_exr_ndf(path);
+}
+
+}  // namespace microbrdf
