@@ -10,6 +10,8 @@ void register_all(CLI::App& app);
 void register_info(CLI::App& app);
 void register_convert(CLI::App& app);
 void register_generate(CLI::App& app);
+void register_ndf(CLI::App& app);
+void register_tabulate(CLI::App& app);
 void register_brdf(CLI::App& app);
 void register_sun(CLI::App& app);
 

@@ -13,6 +13,8 @@ void register_all(CLI::App& app) {
   register_info(app);
   register_convert(app);
   register_generate(app);
+  register_ndf(app);
+  register_tabulate(app);
   register_brdf(app);
   register_sun(app);
 }
