@@ -15,6 +15,7 @@ void register_all(CLI::App& app) {
   register_generate(app);
   register_ndf(app);
   register_tabulate(app);
+  register_slice(app);
   register_brdf(app);
   register_sun(app);
 }
