@@ -13,6 +13,7 @@ void register_generate(CLI::App& app);
 void register_ndf(CLI::App& app);
 void register_tabulate(CLI::App& app);
 void register_slice(CLI::App& app);
+void register_plot(CLI::App& app);
 void register_brdf(CLI::App& app);
 void register_sun(CLI::App& app);
 

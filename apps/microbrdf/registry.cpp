@@ -16,6 +16,7 @@ void register_all(CLI::App& app) {
   register_ndf(app);
   register_tabulate(app);
   register_slice(app);
+  register_plot(app);
   register_brdf(app);
   register_sun(app);
 }

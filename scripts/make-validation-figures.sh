@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Regenerates the geometric-NDF figures of docs/validation.md with the tool itself.
+# Usage: scripts/make-validation-figures.sh [BIN] [SHARED_SURFACES_DIR]
+set -euo pipefail
+BIN=${1:-build/bin/microbrdf}
+SHARED=${2:-../shared/data/surfaces}
+IMG=docs/img
+W=$(mktemp -d); trap 'rm -rf "$W"' EXIT
+mkdir -p "$IMG"
+
+# 1. Filtered rms slope vs filter sigma on a Gaussian surface (issue 3 acceptance 2):
+#    alpha_f = alpha tau^2 / (tau^2 + 4 s^2), alpha = 2 sigma / tau; rms slope = alpha_f / sqrt 2.
+"$BIN" generate gaussian --nx 1024 --ny 1024 --spacing 0.25um --sigma 0.1um --tau 2um --seed 7 -o "$W/g.x3p" 2>/dev/null
+echo "sigma_um,measured_x,measured_y,theory" >"$W/sweep.csv"
+for s in 0.1 0.25 0.5 0.75 1 1.5 2 3; do
+  "$BIN" ndf "$W/g.x3p" --level none --filter-sigma "${s}um" --resolution 513 -o "$W/n.npy" --json 2>/dev/null |
+    python3 -c "import json,sys,math; j=json.load(sys.stdin); s=$s; t=2.0; a=2*0.1/t
+print(f\"{s},{j['slope_rms_x']},{j['slope_rms_y']},{a*t*t/(t*t+4*s*s)/math.sqrt(2)}\")" >>"$W/sweep.csv"
+done
+"$BIN" ndf "$W/g.x3p" --level none --method naive --resolution 513 -o "$W/n.npy" --json 2>/dev/null |
+  python3 -c "import json,sys; j=json.load(sys.stdin); print('naive rms slope x', j['slope_rms_x'])"
+cp "$W/sweep.csv" "$IMG/ndf_filter_sweep.csv"
+"$BIN" plot "$W/sweep.csv" --x sigma_um --y measured_x,measured_y,theory --style markers,markers,line \
+  --label "filtered NDF along x","filtered NDF along y","theory 2 sigma tau / (tau^2 + 4 s^2) / sqrt 2" \
+  --title "Gaussian surface sigma = 0.1 um, tau = 2 um: rms slope of the filtered NDF" \
+  --xlabel "filter sigma s (um)" --ylabel "rms slope" -o "$IMG/ndf_filter_sweep.png"
+
+# 2. Naive vs filtered for the brushed presets (Dong Fig. 5 / Fig. 9 comparisons).
+for preset in stainless4 aluminium4; do
+  "$BIN" generate brushed --preset "$preset" --seed 1 -o "$W/$preset.x3p" 2>/dev/null
+  for m in naive filtered; do
+    "$BIN" ndf "$W/$preset.x3p" --level none --method $m -o "$W/${preset}_$m.npy" \
+      --preview "$IMG/ndf_${preset}_$m.png" --zoom --json 2>/dev/null >"$W/${preset}_$m.summary"
+  done
+  "$BIN" slice "$W/${preset}_naive.npy" "$W/${preset}_filtered.npy" --label naive,filtered --azimuth 0,90 --log \
+    --theta-max 45deg -o "$IMG/ndf_${preset}_slices.png"
+done
+
+# 3. Real scans.
+for f in x3p-2.x3p metropro-1.dat plu-1.plu; do
+  [ -f "$SHARED/$f" ] || continue
+  stem=${f%.*}
+  for m in naive filtered; do
+    "$BIN" ndf "$SHARED/$f" --method $m -o "$W/${stem}_$m.npy" --preview "$IMG/ndf_${stem}_$m.png" --zoom \
+      --json 2>/dev/null >"$W/${stem}_$m.summary"
+  done
+  "$BIN" slice "$W/${stem}_naive.npy" "$W/${stem}_filtered.npy" --label naive,filtered --azimuth 0,90 --log \
+    --theta-max 20deg -o "$IMG/ndf_${stem}_slices.png"
+done
+
+# Summary table of widths (Beckmann alpha = sqrt 2 x rms slope).
+echo "| input | method | alpha x | alpha y | elements used | skipped |"
+echo "|---|---|---|---|---|---|"
+for j in "$W"/*_naive.summary "$W"/*_filtered.summary; do
+  python3 - "$j" <<'PY'
+import json, sys, os
+j = json.load(open(sys.argv[1]))
+name = os.path.basename(sys.argv[1]).rsplit('_', 1)[0]
+print(f"| {name} | {j['method']} | {j['beckmann_alpha_x']:.4f} | {j['beckmann_alpha_y']:.4f} | {j['samples_used']} | {j['samples_skipped']} |")
+PY
+done
