@@ -38,4 +38,6 @@ TEST(Units, Format) {
   EXPECT_EQ(format_length(110e-9), "110 nm");
   EXPECT_EQ(format_length(1.5e-6), "1.5 um");
   EXPECT_EQ(format_length(0.0), "0 m");
+  EXPECT_EQ(format_length(1.4e-21), "0 m");
+  EXPECT_EQ(format_length(-2e-12), "-2 pm");
 }

@@ -93,6 +93,8 @@ std::string format_length(double metres, int digits) {
   };
   static constexpr P kPrefixes[] = {
       {1, "m"}, {1e-3, "mm"}, {1e-6, "um"}, {1e-9, "nm"}, {1e-12, "pm"}};
+  // Below a femtometre a length is a rounding residual (e.g. the mean after levelling).
+  if (std::fabs(metres) < 1e-15) metres = 0;
   double a = std::fabs(metres);
   const P* chosen = &kPrefixes[0];
   if (a > 0) {
