@@ -9,12 +9,14 @@ namespace microbrdf::cli {
 
 void add_read_flags(CLI::App* cmd, ReadFlags& flags, const std::string& default_level) {
   flags.level = default_level;
-  cmd->add_option("--spacing", flags.spacing,
-                  "Sample spacing, overriding or supplying what the file lacks: 110nm, or 110x130nm "
-                  "for dx x dy (needed for .exr/.tif and .npy without a JSON sidecar)");
-  cmd->add_option("--level", flags.level,
-                  "Levelling before anything else: none | plane (least-squares plane) | poly2..poly6 "
-                  "(2-D polynomial of that total degree)")
+  cmd->add_option(
+      "--spacing", flags.spacing,
+      "Sample spacing, overriding or supplying what the file lacks: 110nm, or 110x130nm "
+      "for dx x dy (needed for .exr/.tif and .npy without a JSON sidecar)");
+  cmd->add_option(
+         "--level", flags.level,
+         "Levelling before anything else: none | plane (least-squares plane) | poly2..poly6 "
+         "(2-D polynomial of that total degree)")
       ->capture_default_str();
 }
 

@@ -22,13 +22,22 @@ void run(const ConvertArgs& a) {
   write_surface(s, a.out);
   if (!a.preview.empty()) write_png(a.preview, render_height_preview(s));
   if (a.json) {
-    print_json({{"input", a.in}, {"output", a.out}, {"format", format_name(format_from_extension(a.out))},
-                {"nx", s.nx}, {"ny", s.ny}, {"dx_m", s.dx}, {"dy_m", s.dy}, {"valid_count", s.valid_count()},
-                {"leveling", s.meta.leveling}, {"leveling_report", lev}});
+    print_json({{"input", a.in},
+                {"output", a.out},
+                {"format", format_name(format_from_extension(a.out))},
+                {"nx", s.nx},
+                {"ny", s.ny},
+                {"dx_m", s.dx},
+                {"dy_m", s.dy},
+                {"valid_count", s.valid_count()},
+                {"leveling", s.meta.leveling},
+                {"leveling_report", lev}});
   } else {
-    std::fprintf(stderr, "microbrdf convert: %s -> %s (%zu x %zu, spacing %s x %s, %zu invalid, levelling %s)\n",
-                 a.in.c_str(), a.out.c_str(), s.nx, s.ny, format_length(s.dx).c_str(), format_length(s.dy).c_str(),
-                 s.size() - s.valid_count(), lev.c_str());
+    std::fprintf(
+        stderr,
+        "microbrdf convert: %s -> %s (%zu x %zu, spacing %s x %s, %zu invalid, levelling %s)\n",
+        a.in.c_str(), a.out.c_str(), s.nx, s.ny, format_length(s.dx).c_str(),
+        format_length(s.dy).c_str(), s.size() - s.valid_count(), lev.c_str());
   }
 }
 
@@ -47,7 +56,8 @@ void register_convert(CLI::App& app) {
       "  microbrdf convert metropro-1.dat scan.x3p\n"
       "  microbrdf convert scan.x3p scan.npy --level plane");
   cmd->add_option("input", args->in, "Height map to read")->required();
-  cmd->add_option("output", args->out, "File to write; the format comes from the extension")->required();
+  cmd->add_option("output", args->out, "File to write; the format comes from the extension")
+      ->required();
   add_read_flags(cmd, args->read, "none");
   cmd->add_option("--preview", args->preview, "Also write a false-colour height-map PNG");
   cmd->add_flag("--json", args->json, "Print a JSON summary on stdout");

@@ -59,19 +59,22 @@ void finish(const std::string& kind, const GenArgs& a, const Surface& s, nlohman
     print_json(j);
   } else {
     std::fprintf(stderr,
-                 "microbrdf generate %s: wrote %s (%zu x %zu, spacing %s); measured Sq %s, rms slope x %.4g y %.4g, "
+                 "microbrdf generate %s: wrote %s (%zu x %zu, spacing %s); measured Sq %s, rms "
+                 "slope x %.4g y %.4g, "
                  "corr. length x %s y %s\n",
-                 kind.c_str(), a.output.c_str(), s.nx, s.ny, format_length(s.dx).c_str(), format_length(st.sq).c_str(),
-                 st.slope_rms_x, st.slope_rms_y, format_length(st.corr_length_x).c_str(),
-                 format_length(st.corr_length_y).c_str());
+                 kind.c_str(), a.output.c_str(), s.nx, s.ny, format_length(s.dx).c_str(),
+                 format_length(st.sq).c_str(), st.slope_rms_x, st.slope_rms_y,
+                 format_length(st.corr_length_x).c_str(), format_length(st.corr_length_y).c_str());
   }
 }
 
 void add_common(CLI::App* c, GenArgs& a, const char* default_size) {
-  c->add_option("-o,--output", a.output, "Output height map (.x3p .gwy .npy .xyz .txt)")->required();
+  c->add_option("-o,--output", a.output, "Output height map (.x3p .gwy .npy .xyz .txt)")
+      ->required();
   c->add_option("--nx", a.nx, std::string("Samples along x (default ") + default_size + ")");
   c->add_option("--ny", a.ny, "Samples along y (rows)");
-  c->add_option("--spacing", a.spacing, "Sample spacing, e.g. 110nm, or 110x130nm for dx x dy")->capture_default_str();
+  c->add_option("--spacing", a.spacing, "Sample spacing, e.g. 110nm, or 110x130nm for dx x dy")
+      ->capture_default_str();
   c->add_option("--seed", a.seed, "Random seed (same seed, same surface)")->capture_default_str();
   c->add_option("--preview", a.preview, "Also write a false-colour PNG of the heights");
   c->add_flag("--json", a.json, "Print parameters and measured statistics as JSON on stdout");
@@ -91,15 +94,19 @@ void register_generate(CLI::App& app) {
       "  microbrdf generate brushed --preset stainless4 -o brushed.x3p --preview brushed.png\n"
       "  microbrdf generate grating --amplitude 50nm --period 4um -o grating.x3p");
 
-  auto* g = gen->add_subcommand("gaussian", "Gaussian random surface, ACF sigma^2 exp(-(u/tau)^2 - (v/tau_y)^2)");
+  auto* g = gen->add_subcommand(
+      "gaussian", "Gaussian random surface, ACF sigma^2 exp(-(u/tau)^2 - (v/tau_y)^2)");
   add_common(g, *a, "1024");
   g->add_option("--sigma", a->sigma, "rms height")->capture_default_str();
   g->add_option("--tau", a->tau, "Correlation length (along --angle)")->capture_default_str();
-  g->add_option("--tau-y", a->tau_y, "Correlation length across --angle (default: = --tau, isotropic)");
-  g->add_option("--angle", a->angle, "Direction of --tau from the x axis (deg unless marked)")->capture_default_str();
-  g->add_flag("--process", a->process,
-              "True Gaussian process (random amplitudes): statistics scatter between seeds. Default: exact "
-              "spectrum (random phases), so every realisation has the asked-for ACF");
+  g->add_option("--tau-y", a->tau_y,
+                "Correlation length across --angle (default: = --tau, isotropic)");
+  g->add_option("--angle", a->angle, "Direction of --tau from the x axis (deg unless marked)")
+      ->capture_default_str();
+  g->add_flag(
+      "--process", a->process,
+      "True Gaussian process (random amplitudes): statistics scatter between seeds. Default: exact "
+      "spectrum (random phases), so every realisation has the asked-for ACF");
   g->callback([a] {
     run_guarded("generate", [&] {
       GaussianSurfaceParams p;
@@ -111,13 +118,18 @@ void register_generate(CLI::App& app) {
       p.seed = a->seed;
       p.exact_spectrum = !a->process;
       finish("gaussian", *a, generate_gaussian(p),
-             {{"sigma_m", p.sigma}, {"tau_x_m", p.tau_x}, {"tau_y_m", p.tau_y}, {"angle_rad", p.angle},
-              {"seed", p.seed}, {"exact_spectrum", p.exact_spectrum},
+             {{"sigma_m", p.sigma},
+              {"tau_x_m", p.tau_x},
+              {"tau_y_m", p.tau_y},
+              {"angle_rad", p.angle},
+              {"seed", p.seed},
+              {"exact_spectrum", p.exact_spectrum},
               {"expected_slope_rms_x", std::sqrt(2.0) * p.sigma / p.tau_x}});
     });
   });
 
-  auto* pr = gen->add_subcommand("profile", "1-D Gaussian profiles by moving average (Sun 2002 section 4)");
+  auto* pr = gen->add_subcommand("profile",
+                                 "1-D Gaussian profiles by moving average (Sun 2002 section 4)");
   add_common(pr, *a, "65536");
   pr->add_option("--sigma", a->sigma, "rms height")->capture_default_str();
   pr->add_option("--tau", a->tau, "Correlation length")->capture_default_str();
@@ -131,22 +143,31 @@ void register_generate(CLI::App& app) {
       p.sigma = parse_length(a->sigma);
       p.tau = parse_length(a->tau);
       p.seed = a->seed;
-      finish("profile", *a, generate_profiles(p), {{"sigma_m", p.sigma}, {"tau_m", p.tau}, {"seed", p.seed}});
+      finish("profile", *a, generate_profiles(p),
+             {{"sigma_m", p.sigma}, {"tau_m", p.tau}, {"seed", p.seed}});
     });
   });
 
-  auto* b = gen->add_subcommand("brushed", "Brushed metal: anisotropic Gaussian base plus scratches");
+  auto* b =
+      gen->add_subcommand("brushed", "Brushed metal: anisotropic Gaussian base plus scratches");
   add_common(b, *a, "2048 x 1024");
-  b->add_option("--preset", a->preset, "stainless4 (alpha ~0.007 along / 0.14 across) or aluminium4 (0.02 / 0.47)");
-  b->add_option("--alpha-along", a->alpha_along, "Target filtered Beckmann width along the brushing");
+  b->add_option("--preset", a->preset,
+                "stainless4 (alpha ~0.007 along / 0.14 across) or aluminium4 (0.02 / 0.47)");
+  b->add_option("--alpha-along", a->alpha_along,
+                "Target filtered Beckmann width along the brushing");
   b->add_option("--alpha-across", a->alpha_across, "Target filtered Beckmann width across");
-  b->add_option("--filter-sigma", a->filter_sigma, "Filter the target widths refer to")->capture_default_str();
-  b->add_option("--tau-across", a->tau_across, "Base correlation length across")->capture_default_str();
+  b->add_option("--filter-sigma", a->filter_sigma, "Filter the target widths refer to")
+      ->capture_default_str();
+  b->add_option("--tau-across", a->tau_across, "Base correlation length across")
+      ->capture_default_str();
   b->add_option("--angle", a->angle, "Brushing direction from the x axis")->capture_default_str();
-  b->add_option("--scratch-spacing", a->scratch_spacing, "Mean distance between scratches across the brushing "
-                                                       "(0 = no scratches)");
-  b->add_option("--scratch-depth", a->scratch_depth, "Mean scratch depth (exponentially distributed)");
-  b->add_option("--scratch-width", a->scratch_width, "Mean Gaussian sigma of a scratch's cross-section");
+  b->add_option("--scratch-spacing", a->scratch_spacing,
+                "Mean distance between scratches across the brushing "
+                "(0 = no scratches)");
+  b->add_option("--scratch-depth", a->scratch_depth,
+                "Mean scratch depth (exponentially distributed)");
+  b->add_option("--scratch-width", a->scratch_width,
+                "Mean Gaussian sigma of a scratch's cross-section");
   b->callback([a] {
     run_guarded("generate", [&] {
       BrushedParams p = a->preset.empty() ? BrushedParams{} : brushed_preset(a->preset);
@@ -157,7 +178,8 @@ void register_generate(CLI::App& app) {
         if (a->alpha_along.empty() || a->alpha_across.empty())
           throw InputError("--alpha-along and --alpha-across go together");
         p.tau_across = parse_length(a->tau_across);
-        solve_brushed_base(p, std::stod(a->alpha_along), std::stod(a->alpha_across), parse_length(a->filter_sigma));
+        solve_brushed_base(p, std::stod(a->alpha_along), std::stod(a->alpha_across),
+                           parse_length(a->filter_sigma));
       }
       if (!a->scratch_spacing.empty()) {
         double d = parse_length(a->scratch_spacing);
@@ -176,8 +198,10 @@ void register_generate(CLI::App& app) {
               {"scratch_depth_m", p.scratch_depth},
               {"scratch_width_m", p.scratch_width},
               {"seed", p.seed},
-              {"predicted_base_alpha_along_filtered", predicted_filtered_alpha(p.sigma, p.tau_along, p.tau_across, s)},
-              {"predicted_base_alpha_across_filtered", predicted_filtered_alpha(p.sigma, p.tau_across, p.tau_along, s)},
+              {"predicted_base_alpha_along_filtered",
+               predicted_filtered_alpha(p.sigma, p.tau_along, p.tau_across, s)},
+              {"predicted_base_alpha_across_filtered",
+               predicted_filtered_alpha(p.sigma, p.tau_across, p.tau_along, s)},
               {"filter_sigma_m", s}});
     });
   });
@@ -187,7 +211,8 @@ void register_generate(CLI::App& app) {
   c->add_option("--radius", a->radius, "Cylinder radius")->capture_default_str();
   c->add_option("--pitch", a->pitch, "Axis spacing")->capture_default_str();
   c->add_option("--angle", a->angle, "Axis direction from the x axis")->capture_default_str();
-  c->add_option("--jitter", a->jitter, "Random axis shift, fraction of the pitch (0..0.5)")->capture_default_str();
+  c->add_option("--jitter", a->jitter, "Random axis shift, fraction of the pitch (0..0.5)")
+      ->capture_default_str();
   c->add_flag("--grooves", a->grooves, "Cut grooves into a plane instead of raising cylinders");
   c->callback([a] {
     run_guarded("generate", [&] {
@@ -200,7 +225,10 @@ void register_generate(CLI::App& app) {
       p.grooves = a->grooves;
       p.seed = a->seed;
       finish("cylinders", *a, generate_cylinders(p),
-             {{"radius_m", p.radius}, {"pitch_m", p.pitch}, {"angle_rad", p.angle}, {"jitter", p.jitter},
+             {{"radius_m", p.radius},
+              {"pitch_m", p.pitch},
+              {"angle_rad", p.angle},
+              {"jitter", p.jitter},
               {"grooves", p.grooves}});
     });
   });

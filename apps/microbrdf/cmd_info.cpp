@@ -28,29 +28,36 @@ std::string deg(double slope) {
   return b;
 }
 
-void print_human(const std::string& path, const Surface& s, const SurfaceStats& st, const std::string& lev) {
+void print_human(const std::string& path, const Surface& s, const SurfaceStats& st,
+                 const std::string& lev) {
   std::printf("%s  [%s]\n", path.c_str(), s.meta.format.c_str());
   if (!s.meta.instrument.empty()) std::printf("  instrument     %s\n", s.meta.instrument.c_str());
   if (!s.meta.date.empty()) std::printf("  date           %s\n", s.meta.date.c_str());
   std::printf("  grid           %zu x %zu samples, spacing %s x %s, field %s x %s\n", st.nx, st.ny,
-              format_length(st.dx).c_str(), format_length(st.dy).c_str(), format_length(s.width()).c_str(),
-              format_length(s.height()).c_str());
-  std::printf("  valid          %.2f%% (%zu invalid)\n", 100 * st.valid_fraction, s.size() - st.valid_count);
+              format_length(st.dx).c_str(), format_length(st.dy).c_str(),
+              format_length(s.width()).c_str(), format_length(s.height()).c_str());
+  std::printf("  valid          %.2f%% (%zu invalid)\n", 100 * st.valid_fraction,
+              s.size() - st.valid_count);
   std::printf("  levelling      %s\n", lev.c_str());
   std::printf("  heights        min %s, max %s, mean %s\n", format_length(st.min).c_str(),
               format_length(st.max).c_str(), format_length(st.mean).c_str());
-  std::printf("  Sq (sigma)     %s    Sa %s\n", format_length(st.sq).c_str(), format_length(st.sa).c_str());
+  std::printf("  Sq (sigma)     %s    Sa %s\n", format_length(st.sq).c_str(),
+              format_length(st.sa).c_str());
   std::printf("  skew / kurt    %.4g / %.4g (Gaussian: 0 / 3)\n", st.skewness, st.kurtosis);
-  std::printf("  rms slope      x %.4g (%s), y %.4g (%s)\n", st.slope_rms_x, deg(st.slope_rms_x).c_str(),
-              st.slope_rms_y, deg(st.slope_rms_y).c_str());
-  auto len = [](double v) { return std::isfinite(v) ? format_length(v) : std::string("longer than the scan"); };
-  std::printf("  corr. length   x %s, y %s, radial %s (1/e of the ACF = tau)\n", len(st.corr_length_x).c_str(),
-              len(st.corr_length_y).c_str(), len(st.corr_length).c_str());
+  std::printf("  rms slope      x %.4g (%s), y %.4g (%s)\n", st.slope_rms_x,
+              deg(st.slope_rms_x).c_str(), st.slope_rms_y, deg(st.slope_rms_y).c_str());
+  auto len = [](double v) {
+    return std::isfinite(v) ? format_length(v) : std::string("longer than the scan");
+  };
+  std::printf("  corr. length   x %s, y %s, radial %s (1/e of the ACF = tau)\n",
+              len(st.corr_length_x).c_str(), len(st.corr_length_y).c_str(),
+              len(st.corr_length).c_str());
 }
 
 void write_psd_csv(const std::string& path, const Surface& s) {
   auto psd = power_spectrum(s);
-  std::string text = "# radially averaged PSD, S(k) = integral C(r) exp(-i k.r) d^2r\nk_rad_per_m,s_m4\n";
+  std::string text =
+      "# radially averaged PSD, S(k) = integral C(r) exp(-i k.r) d^2r\nk_rad_per_m,s_m4\n";
   char line[64];
   for (std::size_t i = 0; i < psd.k.size(); ++i) {
     std::snprintf(line, sizeof line, "%.9g,%.9g\n", psd.k[i], psd.s[i]);
@@ -62,7 +69,8 @@ void write_psd_csv(const std::string& path, const Surface& s) {
 void run(const InfoArgs& a) {
   auto paths = expand_scan_inputs(a.inputs);
   if ((!a.preview.empty() || !a.psd.empty()) && paths.size() != 1)
-    throw InputError("--preview and --psd take exactly one input file (got " + std::to_string(paths.size()) + ")");
+    throw InputError("--preview and --psd take exactly one input file (got " +
+                     std::to_string(paths.size()) + ")");
   nlohmann::json all = nlohmann::json::array();
   for (std::size_t i = 0; i < paths.size(); ++i) {
     progress("info", i, paths.size(), paths[i]);
@@ -86,9 +94,11 @@ void run(const InfoArgs& a) {
 
 void register_info(CLI::App& app) {
   auto args = std::make_shared<InfoArgs>();
-  auto* cmd = app.add_subcommand("info", "Grid, spacing, validity and surface statistics of height maps");
+  auto* cmd =
+      app.add_subcommand("info", "Grid, spacing, validity and surface statistics of height maps");
   cmd->footer(
-      "Statistics: Sq = rms height (sigma), Sa, skewness, kurtosis (3 for Gaussian), rms slopes by\n"
+      "Statistics: Sq = rms height (sigma), Sa, skewness, kurtosis (3 for Gaussian), rms slopes "
+      "by\n"
       "central differences, correlation lengths where the normalised autocorrelation falls to 1/e\n"
       "(tau in C(r) = sigma^2 exp(-r^2/tau^2)). Invalid samples are excluded, never filled.\n\n"
       "Inputs: files, directories, glob patterns ('scans/*.x3p') or @manifest.txt.\n\n"
@@ -98,8 +108,10 @@ void register_info(CLI::App& app) {
       "  microbrdf info image.exr --spacing 110nm --preview heights.png");
   cmd->add_option("files", args->inputs, "Height maps to describe")->required();
   add_read_flags(cmd, args->read, "plane");
-  cmd->add_flag("--json", args->json, "Print one JSON object {\"surfaces\": [...]} (SI units) on stdout");
-  cmd->add_option("--preview", args->preview, "Write a false-colour height-map PNG (one input only)");
+  cmd->add_flag("--json", args->json,
+                "Print one JSON object {\"surfaces\": [...]} (SI units) on stdout");
+  cmd->add_option("--preview", args->preview,
+                  "Write a false-colour height-map PNG (one input only)");
   cmd->add_option("--psd", args->psd, "Write the radially averaged PSD as CSV (one input only)");
   cmd->callback([args] { run_guarded("info", [&] { run(*args); }); });
 }

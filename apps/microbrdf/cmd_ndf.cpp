@@ -22,7 +22,7 @@ struct NdfArgs {
   std::string filter_sigma = "1um";
   std::size_t resolution = 1025;
   double min_support = 0.5;
-  std::string output, preview;
+  std::string output, preview, instrument_fwhm;
   bool zoom = false;
   bool json = false;
 };
@@ -47,6 +47,7 @@ nlohmann::json ndf_json(const TabulatedNdf& ndf, const std::string& output) {
           {"filter_sigma_m", m.filter_sigma_m},
           {"wavelength_m", m.wavelength_m},
           {"leveling", m.leveling},
+          {"notes", m.notes},
           {"inputs", m.sources},
           {"output", output}};
 }
@@ -83,6 +84,14 @@ void run(const NdfArgs& a) {
     acc.add(s);
   }
   TabulatedNdf ndf = acc.result();
+  if (!a.instrument_fwhm.empty()) {
+    const double fwhm = parse_angle(a.instrument_fwhm);
+    ndf = convolve_angular_gaussian(ndf, fwhm);
+    char note[96];
+    std::snprintf(note, sizeof note, "convolved with an angular Gaussian of FWHM %.4g deg",
+                  fwhm * 180 / M_PI);
+    ndf.meta.notes = note;
+  }
   write_ndf(ndf, a.output);
   if (!a.preview.empty()) {
     NdfPreviewOptions po;
@@ -141,6 +150,10 @@ void register_ndf(CLI::App& app) {
   cmd->add_option("--min-support", a->min_support,
                   "Filtered: minimum weighted support, fraction of the full kernel")
       ->capture_default_str();
+  cmd->add_option(
+      "--instrument-fwhm", a->instrument_fwhm,
+      "Convolve with an angular Gaussian of this FWHM (a gonioreflectometer's signature, e.g. "
+      "1.5deg as in Dong sec. 7); conserves the integral");
   cmd->add_option("-o,--output", a->output, "Output table (.npy or .exr)")->required();
   cmd->add_option("--preview", a->preview, "Write a log-scale false-colour PNG of the NDF");
   cmd->add_flag("--zoom", a->zoom, "Add a zoom panel around the peak to the preview (narrow NDFs)");

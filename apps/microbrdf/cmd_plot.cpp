@@ -57,8 +57,9 @@ void run(const PlotArgs& a) {
       continue;
     }
     if (cells.size() != header.size())
-      throw FileError(a.input, "line " + std::to_string(lineno) + " has " + std::to_string(cells.size()) +
-                                   " columns, the header " + std::to_string(header.size()));
+      throw FileError(a.input, "line " + std::to_string(lineno) + " has " +
+                                   std::to_string(cells.size()) + " columns, the header " +
+                                   std::to_string(header.size()));
     for (std::size_t c = 0; c < cells.size(); ++c) {
       char* end = nullptr;
       double v = std::strtod(cells[c].c_str(), &end);
@@ -70,8 +71,10 @@ void run(const PlotArgs& a) {
       if (header[c] == name) return cols[c];
     throw InputError("no column '" + name + "' in " + a.input);
   };
-  if (!a.labels.empty() && a.labels.size() != a.y.size()) throw InputError("--label needs one name per --y column");
-  if (!a.styles.empty() && a.styles.size() != a.y.size()) throw InputError("--style needs one style per --y column");
+  if (!a.labels.empty() && a.labels.size() != a.y.size())
+    throw InputError("--label needs one name per --y column");
+  if (!a.styles.empty() && a.styles.size() != a.y.size())
+    throw InputError("--style needs one style per --y column");
   Plot p;
   p.title = a.title;
   p.x.label = a.xlabel.empty() ? a.x : a.xlabel;
@@ -100,7 +103,8 @@ void register_plot(CLI::App& app) {
   cmd->add_option("--x", a->x, "Column for the abscissa")->required();
   cmd->add_option("--y", a->y, "Columns to plot, comma separated")->delimiter(',')->required();
   cmd->add_option("--label", a->labels, "Legend names for the --y columns")->delimiter(',');
-  cmd->add_option("--style", a->styles, "line|dashed|dotted|markers|linemarkers per --y column")->delimiter(',');
+  cmd->add_option("--style", a->styles, "line|dashed|dotted|markers|linemarkers per --y column")
+      ->delimiter(',');
   cmd->add_option("--title", a->title, "Plot title");
   cmd->add_option("--xlabel", a->xlabel, "x axis label (with unit)");
   cmd->add_option("--ylabel", a->ylabel, "y axis label (with unit)");

@@ -26,13 +26,15 @@ struct SliceArgs {
 
 void run(const SliceArgs& a) {
   if (!a.labels.empty() && a.labels.size() != a.inputs.size())
-    throw InputError("--label must be given once per input (" + std::to_string(a.inputs.size()) + ")");
+    throw InputError("--label must be given once per input (" + std::to_string(a.inputs.size()) +
+                     ")");
   const double tmax = parse_angle(a.theta_max) * 180 / M_PI;
   std::vector<TabulatedNdf> ndfs;
   for (const auto& p : a.inputs) ndfs.push_back(read_ndf(p));
   std::vector<Plot> plots;
   std::ostringstream csv;
-  csv << "# D (1/sr) along in-plane directions; theta = signed polar angle of m\nndf,azimuth_deg,theta_deg,d_per_sr\n";
+  csv << "# D (1/sr) along in-plane directions; theta = signed polar angle of "
+         "m\nndf,azimuth_deg,theta_deg,d_per_sr\n";
   for (const auto& az_text : a.azimuths) {
     const double az = parse_angle(az_text);
     Plot plot;
@@ -47,7 +49,8 @@ void run(const SliceArgs& a) {
     for (std::size_t i = 0; i < ndfs.size(); ++i) {
       auto s = ndfs[i].slice(az, a.samples);
       std::vector<double> x, y;
-      std::string name = a.labels.empty() ? std::filesystem::path(a.inputs[i]).stem().string() : a.labels[i];
+      std::string name =
+          a.labels.empty() ? std::filesystem::path(a.inputs[i]).stem().string() : a.labels[i];
       for (std::size_t k = 0; k < s.t.size(); ++k) {
         double th = s.theta[k] * 180 / M_PI;
         if (std::fabs(th) > tmax) continue;
@@ -64,15 +67,16 @@ void run(const SliceArgs& a) {
   else
     write_plot_grid(plots, std::min<std::size_t>(plots.size(), 2), a.output);
   if (!a.csv.empty()) write_file_atomic(a.csv, csv.str());
-  std::fprintf(stderr, "microbrdf slice: %zu NDF(s), %zu direction(s) -> %s\n", ndfs.size(), plots.size(),
-               a.output.c_str());
+  std::fprintf(stderr, "microbrdf slice: %zu NDF(s), %zu direction(s) -> %s\n", ndfs.size(),
+               plots.size(), a.output.c_str());
 }
 
 }  // namespace
 
 void register_slice(CLI::App& app) {
   auto a = std::make_shared<SliceArgs>();
-  auto* cmd = app.add_subcommand("slice", "Plot 1-D cuts through tabulated NDFs (Dong 2015 Fig. 9)");
+  auto* cmd =
+      app.add_subcommand("slice", "Plot 1-D cuts through tabulated NDFs (Dong 2015 Fig. 9)");
   cmd->footer(
       "Cuts run through the disk centre at the given azimuths (0 = along x, 90 = along y); the\n"
       "abscissa is the signed polar angle of the microfacet normal.\n\n"
@@ -81,11 +85,14 @@ void register_slice(CLI::App& app) {
       "  microbrdf slice ndf.npy --azimuth 90 --theta-max 15deg -o cross.svg --csv cross.csv");
   cmd->add_option("ndfs", a->inputs, "Tabulated NDFs (.npy or .exr)")->required();
   cmd->add_option("-o,--output", a->output, "Plot (.png or .svg)")->required();
-  cmd->add_option("--azimuth", a->azimuths, "In-plane directions (deg unless marked), comma separated")
+  cmd->add_option("--azimuth", a->azimuths,
+                  "In-plane directions (deg unless marked), comma separated")
       ->delimiter(',')
       ->capture_default_str();
-  cmd->add_option("--label", a->labels, "Legend names, one per NDF (default: file stems)")->delimiter(',');
-  cmd->add_option("--theta-max", a->theta_max, "Largest |polar angle| shown")->capture_default_str();
+  cmd->add_option("--label", a->labels, "Legend names, one per NDF (default: file stems)")
+      ->delimiter(',');
+  cmd->add_option("--theta-max", a->theta_max, "Largest |polar angle| shown")
+      ->capture_default_str();
   cmd->add_flag("--log", a->log, "Logarithmic D axis");
   cmd->add_option("--csv", a->csv, "Also write the slices as CSV");
   cmd->callback([a] { run_guarded("slice", [&] { run(*a); }); });

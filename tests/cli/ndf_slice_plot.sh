@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# ndf / slice / plot as a user runs them: JSON contract, normalisation, previews, errors.
+set -u
+BIN=$1 DATA=$2
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+$BIN generate gaussian --nx 256 --ny 256 --spacing 0.25um --sigma 0.1um --tau 2um -o "$T/g.x3p" 2>/dev/null || fail generate
+$BIN ndf "$T/g.x3p" --level none --resolution 257 -o "$T/f.npy" --preview "$T/f.png" --zoom --json >"$T/f.summary" \
+  || fail "ndf filtered"
+[ -s "$T/f.npy" ] && [ -s "$T/f.json" ] && [ -s "$T/f.summary" ] && [ -s "$T/f.png" ] || fail "outputs missing"
+python3 - "$T/f.summary" <<'PY' || fail "ndf JSON contract"
+import json, sys, math
+j = json.load(open(sys.argv[1]))
+for k in ["method", "resolution", "integral", "mean_normal", "peak", "slope_rms_x", "slope_rms_y",
+          "samples_used", "samples_skipped", "filter_sigma_m", "wavelength_m", "output"]:
+    assert k in j, k
+assert j["method"] == "filtered" and j["resolution"] == 257
+assert abs(j["integral"] - 1) < 1e-9
+# filtered rms slope of a Gaussian surface: alpha tau^2/(tau^2+4s^2)/sqrt2, sigma .1 tau 2 s 1 (um)
+expect = 0.1 * 4 / (4 + 4) / math.sqrt(2)
+assert abs(j["slope_rms_x"] / expect - 1) < 0.1, j["slope_rms_x"]
+PY
+# The .npy is what numpy reads: magic and a dict header with the shape.
+head -c 128 "$T/f.npy" | grep -q "'shape': (257, 257)" || fail "npy header"
+
+# Instrument convolution widens the NDF and keeps it normalised.
+$BIN ndf "$T/g.x3p" --level none --resolution 257 --instrument-fwhm 3deg -o "$T/c.npy" --json >"$T/c.summary" || fail conv
+python3 -c "
+import json; a=json.load(open('$T/f.summary')); b=json.load(open('$T/c.summary'))
+assert abs(b['integral']-1)<1e-9 and b['slope_rms_x']>a['slope_rms_x'], (a['slope_rms_x'], b['slope_rms_x'])" || fail "convolution"
+
+$BIN ndf "$T/g.x3p" --method naive --level none --resolution 257 -o "$T/n.exr" 2>/dev/null || fail "ndf naive exr"
+$BIN slice "$T/n.exr" "$T/f.npy" --azimuth 0,90 --log -o "$T/s.png" --csv "$T/s.csv" 2>/dev/null || fail slice
+[ -s "$T/s.png" ] && grep -q "^f,90," "$T/s.csv" || fail "slice outputs"
+printf 'x,a,b\n1,2,3\n2,4,5\n3,8,4\n' >"$T/d.csv"
+$BIN plot "$T/d.csv" --x x --y a,b -o "$T/p.svg" || fail plot
+grep -q "<svg" "$T/p.svg" || fail "svg"
+
+# Errors: unknown method (exit 2), missing column, bad resolution; no output left behind.
+$BIN ndf "$T/g.x3p" --method magic -o "$T/bad.npy" 2>"$T/err"; [ $? -eq 2 ] || fail "unknown method exit"
+grep -q "naive | filtered" "$T/err" || fail "unknown method message"
+$BIN plot "$T/d.csv" --x x --y nope -o "$T/bad.png" 2>"$T/err" && fail "missing column accepted"
+grep -q "no column 'nope'" "$T/err" || fail "missing column message"
+$BIN ndf "$T/g.x3p" --resolution 5 -o "$T/bad.npy" 2>/dev/null && fail "tiny resolution accepted"
+ls "$T" | grep -q bad && fail "partial output left"
+echo ok
