@@ -12,93 +12,17 @@
 #include <string>
 #include <vector>
 
+#include "format_test_util.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
 
 using namespace microbrdf;
+using namespace microbrdf::test;
 namespace fs = std::filesystem;
 
 namespace {
 
 const std::string kFile = std::string(MICROBRDF_SHARED_DATA) + "/surfaces/plu-1.plu";
-
-struct Stats {
-  std::size_t invalid = 0;
-  double min = INFINITY, max = -INFINITY, mean = 0, sq = 0;
-};
-
-Stats stats(const Surface& s) {
-  Stats st;
-  double sum = 0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (!s.is_valid(i)) {
-      ++st.invalid;
-      continue;
-    }
-    st.min = std::min(st.min, s.z[i]);
-    st.max = std::max(st.max, s.z[i]);
-    sum += s.z[i];
-    ++n;
-  }
-  st.mean = sum / static_cast<double>(n);
-  double ss = 0;
-  for (std::size_t i = 0; i < s.size(); ++i)
-    if (s.is_valid(i)) ss += (s.z[i] - st.mean) * (s.z[i] - st.mean);
-  st.sq = std::sqrt(ss / static_cast<double>(n));
-  return st;
-}
-
-std::vector<std::uint8_t> load(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() /
-            ("microbrdf-plu-" + std::to_string(::getpid()) + "-" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string write(const std::string& name, const std::vector<std::uint8_t>& bytes) const {
-    std::string p = (path_ / name).string();
-    std::ofstream out(p, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(bytes.data()),
-              static_cast<std::streamsize>(bytes.size()));
-    return p;
-  }
-
- private:
-  fs::path path_;
-};
-
-void put_le32(std::vector<std::uint8_t>& b, std::size_t off, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) b[off + i] = static_cast<std::uint8_t>(v >> (8 * i));
-}
-void put_f32(std::vector<std::uint8_t>& b, std::size_t off, float f) {
-  std::uint32_t bits;
-  std::memcpy(&bits, &f, 4);
-  put_le32(b, off, bits);
-}
-
-// Expects read_surface(path) to throw a FileError naming the path (and `needle` if given).
-void expect_file_error(const std::string& path, const std::string& needle = "") {
-  try {
-    read_surface(path);
-    ADD_FAILURE() << "no error for " << path;
-  } catch (const FileError& e) {
-    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-    if (!needle.empty()) {
-      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-    }
-  }
-}
 
 constexpr std::size_t kData = 508;
 

@@ -16,44 +16,19 @@
 #include <string>
 #include <vector>
 
+#include "format_test_util.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/surface.hpp"
 
 using namespace microbrdf;
+using namespace microbrdf::test;
 namespace fs = std::filesystem;
 
 namespace {
 
 const std::string kData = MICROBRDF_TEST_DATA;
 const std::string kShared = std::string(MICROBRDF_SHARED_DATA) + "/surfaces/";
-
-struct Stats {
-  std::size_t invalid = 0;
-  double min = INFINITY, max = -INFINITY, mean = 0, sq = 0;
-};
-
-Stats stats(const Surface& s) {
-  Stats st;
-  double sum = 0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (!s.is_valid(i)) {
-      ++st.invalid;
-      continue;
-    }
-    st.min = std::min(st.min, s.z[i]);
-    st.max = std::max(st.max, s.z[i]);
-    sum += s.z[i];
-    ++n;
-  }
-  st.mean = sum / static_cast<double>(n);
-  double ss = 0;
-  for (std::size_t i = 0; i < s.size(); ++i)
-    if (s.is_valid(i)) ss += (s.z[i] - st.mean) * (s.z[i] - st.mean);
-  st.sq = std::sqrt(ss / static_cast<double>(n));
-  return st;
-}
 
 // |a - b| <= rel * |b| (reference values are printed with ~6 significant digits).
 #define EXPECT_REL(a, b, rel) EXPECT_NEAR((a), (b), std::abs(b) * (rel))
@@ -150,7 +125,7 @@ std::string doubles(std::size_t n) {
 }
 
 /// Expects reading `path` to throw FileError naming the file and containing `needle`.
-void expect_file_error(const std::string& path, const std::string& needle) {
+void expect_x3p_error(const std::string& path, const std::string& needle) {
   try {
     read_surface(path);
     ADD_FAILURE() << "no FileError for " << path;
@@ -367,8 +342,8 @@ TEST(x3p, DataSizeMismatchNamesFile) {
   std::string path =
       make_zip("mismatch.x3p", {{"main.xml", main_xml(dims("4", "3"), "D", kLink)},
                                 {"bindata/data.bin", doubles(11)}});  // 11 of 12 points
-  expect_file_error(path, "bindata/data.bin");
-  expect_file_error(path, "96 bytes");
+  expect_x3p_error(path, "bindata/data.bin");
+  expect_x3p_error(path, "96 bytes");
   fs::remove(path);
 }
 
@@ -377,7 +352,7 @@ TEST(x3p, DataSizeMismatchForDataTypeNamesFile) {
   std::string path = make_zip(
       "mismatch-type.x3p",
       {{"main.xml", main_xml(dims("4", "3"), "I", kLink)}, {"bindata/data.bin", doubles(12)}});
-  expect_file_error(path, "int16");
+  expect_x3p_error(path, "int16");
   fs::remove(path);
 }
 
@@ -385,34 +360,34 @@ TEST(x3p, AbsurdSizeXNamesFile) {
   std::string path =
       make_zip("absurd.x3p", {{"main.xml", main_xml(dims("4000000000", "3"), "D", kLink)},
                               {"bindata/data.bin", doubles(12)}});
-  expect_file_error(path, "absurdly large");
+  expect_x3p_error(path, "absurdly large");
   fs::remove(path);
   path = make_zip("negative.x3p", {{"main.xml", main_xml(dims("-4", "3"), "D", kLink)},
                                    {"bindata/data.bin", doubles(12)}});
-  expect_file_error(path, "SizeX");
+  expect_x3p_error(path, "SizeX");
   fs::remove(path);
   path = make_zip("zero.x3p", {{"main.xml", main_xml(dims("0", "3"), "D", kLink)},
                                {"bindata/data.bin", doubles(12)}});
-  expect_file_error(path, "empty grid");
+  expect_x3p_error(path, "empty grid");
   fs::remove(path);
 }
 
 TEST(x3p, MissingDataMemberNamesFile) {
   std::string path = make_zip("nodata.x3p", {{"main.xml", main_xml(dims("4", "3"), "D", kLink)}});
-  expect_file_error(path, "not in the archive");
+  expect_x3p_error(path, "not in the archive");
   fs::remove(path);
 }
 
 TEST(x3p, MissingMainXmlAndBadXml) {
   std::string path = make_zip("nomain.x3p", {{"bindata/data.bin", doubles(12)}});
-  expect_file_error(path, "no main.xml");
+  expect_x3p_error(path, "no main.xml");
   fs::remove(path);
   path = make_zip("badxml.x3p", {{"main.xml", "<ISO5436_2><Record1>"}});
-  expect_file_error(path, "not well-formed");
+  expect_x3p_error(path, "not well-formed");
   fs::remove(path);
   path = make_zip("macosx.x3p", {{"__MACOSX/x/main.xml", main_xml(dims("4", "3"), "D", kLink)},
                                  {"__MACOSX/x/bindata/data.bin", doubles(12)}});
-  expect_file_error(path, "no main.xml");
+  expect_x3p_error(path, "no main.xml");
   fs::remove(path);
 }
 
@@ -421,17 +396,17 @@ TEST(x3p, UnsupportedVariantsAreClear) {
   std::string pcl = xml;
   pcl.replace(pcl.find("SUR"), 3, "PCL");
   std::string path = make_zip("pcl.x3p", {{"main.xml", pcl}, {"bindata/data.bin", doubles(12)}});
-  expect_file_error(path, "PCL");
+  expect_x3p_error(path, "PCL");
   fs::remove(path);
   path = make_zip(
       "sizez.x3p",
       {{"main.xml", main_xml("<SizeX>4</SizeX><SizeY>3</SizeY><SizeZ>2</SizeZ>", "D", kLink)},
        {"bindata/data.bin", doubles(24)}});
-  expect_file_error(path, "SizeZ");
+  expect_x3p_error(path, "SizeZ");
   fs::remove(path);
   path = make_zip("ztype.x3p", {{"main.xml", main_xml(dims("4", "3"), "Q", kLink)},
                                 {"bindata/data.bin", doubles(12)}});
-  expect_file_error(path, "DataType");
+  expect_x3p_error(path, "DataType");
   fs::remove(path);
 }
 
@@ -442,7 +417,7 @@ TEST(x3p, ValidBinSizeMismatch) {
   std::string path = make_zip("validsize.x3p", {{"main.xml", main_xml(dims("4", "3"), "D", link)},
                                                 {"bindata/data.bin", doubles(12)},
                                                 {"bindata/valid.bin", std::string(1, '\xff')}});
-  expect_file_error(path, "bindata/valid.bin");
+  expect_x3p_error(path, "bindata/valid.bin");
   fs::remove(path);
   // The right size (2 bytes for 12 points) is accepted; bit 9 cleared marks point 9 invalid.
   path = make_zip("validok.x3p", {{"main.xml", main_xml(dims("4", "3"), "D", link)},
@@ -470,7 +445,7 @@ TEST(x3p, InlineDataList) {
   EXPECT_EQ(s.valid_count(), 5u);
   // A DataList whose count disagrees with the grid is refused.
   path = make_zip("inline-bad.x3p", {{"main.xml", main_xml(dims("4", "2"), "D", list)}});
-  expect_file_error(path, "6 Datum");
+  expect_x3p_error(path, "6 Datum");
   fs::remove(path);
 }
 
@@ -500,7 +475,7 @@ TEST(x3p, ZipBombIsRefusedBeforeReading) {
       zip_file_add(z, "bindata/data.bin", zip_source_buffer(z, zeros.data(), zeros.size(), 0), 0);
   zip_set_file_compression(z, static_cast<zip_uint64_t>(i), ZIP_CM_DEFLATE, 9);
   ASSERT_EQ(zip_close(z), 0);
-  expect_file_error(path, "bindata/data.bin");
+  expect_x3p_error(path, "bindata/data.bin");
   fs::remove(path);
 }
 
