@@ -66,6 +66,8 @@ struct Surface {
   /// and every sample already marked invalid gets NaN. Call after filling z.
   void sync_mask();
   std::size_t valid_count() const;
+  /// Mean height of the valid samples, metres (NaN if there are none).
+  double valid_mean() const;
   double valid_fraction() const;
   double width() const { return static_cast<double>(nx) * dx; }   ///< metres
   double height() const { return static_cast<double>(ny) * dy; }  ///< metres

@@ -49,17 +49,6 @@ void correlate(const std::vector<double>& in, std::vector<double>& out, std::siz
   }
 }
 
-double valid_mean(const Surface& s) {
-  double sum = 0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < s.size(); ++i)
-    if (s.valid[i]) {
-      sum += s.z[i];
-      ++n;
-    }
-  return n ? sum / static_cast<double>(n) : 0.0;
-}
-
 // Solves the 3x3 normal equations of the plane fit (moments in sigma units); returns false if
 // the support is too thin or the system is ill-conditioned.
 bool solve_plane(double m00, double m10, double m01, double m20, double m11, double m02, double b00, double b10,
@@ -95,7 +84,7 @@ NormalField filtered_normals(const Surface& s, double sigma, double truncate, do
   check_args(s, sigma, truncate);
   const std::size_t nx = s.nx, ny = s.ny, n = nx * ny;
   const Kernel kx = make_kernel(s.dx, sigma, truncate), ky = make_kernel(s.dy, sigma, truncate);
-  const double mean = valid_mean(s);
+  const double mean = s.valid_mean();
   std::vector<double> v(n), vh(n);
   for (std::size_t i = 0; i < n; ++i) {
     v[i] = s.valid[i] ? 1.0 : 0.0;

@@ -11,17 +11,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double valid_mean(const Surface& s) {
-  double sum = 0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < s.size(); ++i)
-    if (s.valid[i]) {
-      sum += s.z[i];
-      ++n;
-    }
-  return n ? sum / static_cast<double>(n) : kNaN;
-}
-
 // |FFT(a)|^2 -> inverse: the (linear, via zero padding) autocorrelation sums of `a`.
 std::vector<double> correlation_sums(const std::vector<double>& a, std::size_t px, std::size_t py) {
   auto spec = detail::fft2_r2c(px, py, a);
@@ -40,7 +29,7 @@ Autocorrelation autocorrelation(const Surface& s, std::size_t min_overlap) {
   acf.ny = s.ny;
   acf.dx = s.dx;
   acf.dy = s.dy;
-  const double mean = valid_mean(s);
+  const double mean = s.valid_mean();
   // Pad to >= 2n-1 so circular correlation equals linear correlation.
   const std::size_t px = detail::fft_good_size(2 * s.nx - 1);
   const std::size_t py = detail::fft_good_size(2 * s.ny - 1);
@@ -72,7 +61,7 @@ Autocorrelation autocorrelation(const Surface& s, std::size_t min_overlap) {
 }
 
 double autocorrelation_direct(const Surface& s, long lx, long ly) {
-  const double mean = valid_mean(s);
+  const double mean = s.valid_mean();
   auto sums = [&](long ax, long ay) {
     double sum = 0;
     std::size_t n = 0;
@@ -132,7 +121,7 @@ double correlation_length(const std::vector<double>& r, const std::vector<double
 }
 
 Psd power_spectrum(const Surface& s) {
-  const double mean = valid_mean(s);
+  const double mean = s.valid_mean();
   std::vector<double> h(s.size(), 0.0);
   std::size_t nvalid = 0;
   for (std::size_t i = 0; i < s.size(); ++i)
@@ -175,7 +164,7 @@ SurfaceStats compute_stats(const Surface& s) {
   st.dy = s.dy;
   st.valid_count = s.valid_count();
   st.valid_fraction = s.valid_fraction();
-  st.mean = valid_mean(s);
+  st.mean = s.valid_mean();
   st.min = std::numeric_limits<double>::infinity();
   st.max = -st.min;
   double m2 = 0, m3 = 0, m4 = 0, ma = 0;

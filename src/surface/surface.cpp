@@ -37,6 +37,17 @@ std::size_t Surface::valid_count() const {
   return n;
 }
 
+double Surface::valid_mean() const {
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < z.size(); ++i)
+    if (valid[i]) {
+      sum += z[i];
+      ++n;
+    }
+  return n ? sum / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
+}
+
 double Surface::valid_fraction() const {
   return size() == 0 ? 0.0 : static_cast<double>(valid_count()) / static_cast<double>(size());
 }
