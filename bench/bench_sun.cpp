@@ -4,7 +4,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
-#include <complex>
 #include <random>
 #include <vector>
 
@@ -26,25 +25,16 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> random_pairs(std::size_
   return v;
 }
 
-// Exact conductor Fresnel (complex form), as a caller would pass it in.
-// TODO(fresnel-interface): benchmark with the shared Fresnel once it lands.
-double fresnel(double c, double eta, double kappa) {
-  using C = std::complex<double>;
-  const C n(eta, kappa);
-  const C ct = std::sqrt(C(1, 0) - (1 - c * c) / (n * n));
-  const C rp = (n * c - ct) / (n * c + ct), rs = (c - n * ct) / (c + n * ct);
-  return 0.5 * (std::norm(rp) + std::norm(rs));
-}
-
 void BM_SunBrdf(benchmark::State& state) {
   const auto form = state.range(0) ? BrdfForm::Standard : BrdfForm::AsPublished;
-  FresnelFn F;
-  if (state.range(1)) F = [](double c) { return fresnel(c, 0.2, 3.0); };
+  // The shared exact conductor Fresnel (microbrdf::ConductorFresnel, Siegel form).
+  const microbrdf::ConductorFresnel conductor(microbrdf::constant_index(0.2, 3.0));
+  const microbrdf::Fresnel* F = state.range(1) ? &conductor : nullptr;
   const auto pairs = random_pairs(4096);
   std::size_t i = 0;
   for (auto _ : state) {
     const auto& [wi, wo] = pairs[i++ & 4095];
-    benchmark::DoNotOptimize(brdf(wi, wo, 2.0, form, F));
+    benchmark::DoNotOptimize(brdf(wi, wo, 2.0, form, F, 555e-9));
   }
   state.counters["evals/s"] = benchmark::Counter(1, benchmark::Counter::kIsIterationInvariantRate);
   state.SetLabel(std::string(state.range(0) ? "standard" : "as published") +

@@ -17,18 +17,9 @@ namespace {
 
 constexpr double kDeg = M_PI / 180;
 
-// Exact unpolarised conductor Fresnel, Siegel-Howell real form (theory notes 5.4). Local to
-// this test. TODO(fresnel-interface): use the shared Fresnel (include/microbrdf/fresnel.hpp)
-// once it lands.
-double conductor_fresnel(double c, double eta, double kappa) {
-  const double s2 = 1 - c * c;
-  const double t = eta * eta - kappa * kappa - s2;
-  const double a2b2 = std::sqrt(t * t + 4 * eta * eta * kappa * kappa);
-  const double a = std::sqrt(0.5 * (a2b2 + t));
-  const double rs = (a2b2 - 2 * a * c + c * c) / (a2b2 + 2 * a * c + c * c);
-  const double rp =
-      rs * (a2b2 * c * c - 2 * a * c * s2 + s2 * s2) / (a2b2 * c * c + 2 * a * c * s2 + s2 * s2);
-  return 0.5 * (rs + rp);
+// The project's one conductor Fresnel (include/microbrdf/fresnel.hpp) with a constant index.
+std::shared_ptr<const Fresnel> conductor(double eta, double kappa) {
+  return std::make_shared<ConductorFresnel>(constant_index(eta, kappa));
 }
 
 Eigen::Vector3d dir(double theta, double phi) {
@@ -133,19 +124,20 @@ TEST(sun2002, SunBrdfBeckmannNdfIsNormalised) {
 // The BRDF
 
 TEST(sun2002, SunBrdfExactConductorFresnelOfTheTest) {
-  // Theory notes 5.4 values.
+  // Theory notes 5.4 values, through the shared Fresnel the Sun BRDF uses.
   const double v[] = {0.6127, 0.6113, 0.6055, 0.5887, 0.5683, 0.6826};
   const int a[] = {0, 30, 45, 60, 75, 85};
-  for (int i = 0; i < 6; ++i)
-    EXPECT_NEAR(conductor_fresnel(std::cos(a[i] * kDeg), 2.76, 3.79), v[i], 1e-4);
-  EXPECT_NEAR(conductor_fresnel(std::cos(75 * kDeg), 1, 2), 0.6244, 1e-4);
-  EXPECT_NEAR(conductor_fresnel(1, 2.95, 2.93), 0.5121, 1e-4);
+  const auto f = conductor(2.76, 3.79);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(f->eval(std::cos(a[i] * kDeg), 555e-9), v[i], 1e-4);
+  EXPECT_NEAR(conductor(1, 2)->eval(std::cos(75 * kDeg), 555e-9), 0.6244, 1e-4);
+  EXPECT_NEAR(conductor(2.95, 2.93)->eval(1, 555e-9), 0.5121, 1e-4);
 }
 
 TEST(sun2002, SunBrdfReciprocity) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0, 1);
-  FresnelFn F = [](double c) { return conductor_fresnel(c, 1.02, 2.577); };
+  const auto Fp = conductor(1.02, 2.577);
+  const Fresnel* F = Fp.get();
   for (int i = 0; i < 2000; ++i) {
     const Eigen::Vector3d wi = dir(std::acos(u(rng)), 2 * M_PI * u(rng));
     const Eigen::Vector3d wo = dir(std::acos(u(rng)), 2 * M_PI * u(rng));
@@ -161,7 +153,8 @@ TEST(sun2002, SunBrdfReciprocity) {
 TEST(sun2002, SunBrdfPublishedOverStandardRatio) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
-  FresnelFn F = [](double c) { return conductor_fresnel(c, 0.2, 3.0); };
+  const auto Fp = conductor(0.2, 3.0);
+  const Fresnel* F = Fp.get();
   for (int i = 0; i < 2000; ++i) {
     const Eigen::Vector3d wi = dir(std::acos(u(rng)), 2 * M_PI * u(rng));
     const Eigen::Vector3d wo = dir(std::acos(u(rng)), 2 * M_PI * u(rng));
@@ -192,12 +185,18 @@ TEST(sun2002, SunBrdfFormulaDetailsAndHorizon) {
   }
   // The Fresnel factor is evaluated at cos(delta / 2) = wi . h.
   const Eigen::Vector3d wi = dir(50 * kDeg, 0), wo = dir(20 * kDeg, 2.0);
-  double seen = -1;
-  FresnelFn spy = [&](double c) {
-    seen = c;
-    return 0.25;
-  };
-  const double f = brdf(wi, wo, 1.5, BrdfForm::Standard, spy);
+  struct Spy final : Fresnel {
+    mutable double seen = -1, lambda = -1;
+    double eval(double c, double wl) const override {
+      seen = c;
+      lambda = wl;
+      return 0.25;
+    }
+    std::string describe() const override { return "spy"; }
+  } spy;
+  const double f = brdf(wi, wo, 1.5, BrdfForm::Standard, &spy, 633e-9);
+  const double seen = spy.seen;
+  EXPECT_EQ(spy.lambda, 633e-9);
   EXPECT_NEAR(seen, std::cos(0.5 * std::acos(wi.dot(wo))), 1e-14);
   EXPECT_NEAR(f, 0.25 * brdf(wi, wo, 1.5, BrdfForm::Standard), 1e-15);
   // Below or at the horizon: 0. Unnormalised inputs are fine.
@@ -214,25 +213,26 @@ TEST(sun2002, SunBrdfEnergyBoundWithUnitFresnel) {
   for (double s : {0.5, 1.0, 2.0, 5.0, 10.0, 20.0})
     for (double d : {0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.0}) {
       const double t = d * kDeg;
-      const double eq51 = albedo(t, s, BrdfForm::AsPublished, {}, false, 128, 96);
-      const double pub = albedo(t, s, BrdfForm::AsPublished, {}, true, 128, 96);
-      const double stdf = albedo(t, s, BrdfForm::Standard, {}, true, 128, 96);
+      const double eq51 = albedo(t, s, BrdfForm::AsPublished, nullptr, 555e-9, false, 128, 96);
+      const double pub = albedo(t, s, BrdfForm::AsPublished, nullptr, 555e-9, true, 128, 96);
+      const double stdf = albedo(t, s, BrdfForm::Standard, nullptr, 555e-9, true, 128, 96);
       EXPECT_LE(eq51, 1 + 1e-9) << s << " " << d;
       EXPECT_LE(pub, eq51 + 1e-12) << s << " " << d;
       EXPECT_LE(stdf, 1 + 1e-9) << s << " " << d;
       EXPECT_GE(pub, 0.0);
     }
   // Smooth surface seen from the normal: Gamma_0 ~ 1, so eq. 5.1 is an equality.
-  EXPECT_NEAR(albedo(0, 20, BrdfForm::AsPublished, {}, false), 1.0, 1e-6);
-  EXPECT_NEAR(albedo(0, 20, BrdfForm::Standard, {}, true), 1.0, 1e-6);
+  EXPECT_NEAR(albedo(0, 20, BrdfForm::AsPublished, nullptr, 555e-9, false), 1.0, 1e-6);
+  EXPECT_NEAR(albedo(0, 20, BrdfForm::Standard, nullptr, 555e-9, true), 1.0, 1e-6);
   // The quadrature has converged (the u range of each azimuth stops at the horizon).
   for (double s : {0.5, 3.0, 20.0})
     for (double t : {0.0, 0.7, 1.3})
-      EXPECT_NEAR(albedo(t, s, BrdfForm::Standard, {}, true, 128, 128),
-                  albedo(t, s, BrdfForm::Standard, {}, true, 512, 256), 1e-8)
+      EXPECT_NEAR(albedo(t, s, BrdfForm::Standard, nullptr, 555e-9, true, 128, 128),
+                  albedo(t, s, BrdfForm::Standard, nullptr, 555e-9, true, 512, 256), 1e-8)
           << s << " " << t;
   // A metal reflects less than the mirror bound.
-  FresnelFn F = [](double c) { return conductor_fresnel(c, 0.2, 3.0); };
+  const auto Fp = conductor(0.2, 3.0);
+  const Fresnel* F = Fp.get();
   EXPECT_LT(albedo(0.3, 5, BrdfForm::Standard, F), albedo(0.3, 5, BrdfForm::Standard));
 }
 

@@ -1,6 +1,7 @@
 // `microbrdf brdf slice|color`: the microfacet BRDF (Dong 2015 eq. 1) of a metal for an analytic
 // NDF, along in-plane / out-of-plane cuts, and the normal-incidence colour of a material.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -11,6 +12,9 @@
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/ndf_io.hpp"
+#include "microbrdf/plot.hpp"
+#include "microbrdf/tabulated_distribution.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
@@ -26,7 +30,10 @@ struct BrdfArgs {
   double alpha = 0, alpha_x = 0, alpha_y = 0;
   std::string phi = "0", theta_x = "0", theta_y = "0", theta_z = "0";
   MaterialArgs mat;
-  std::string theta_i = "30deg", plane = "in", wavelength = "555nm", output;
+  std::string ndf;  ///< tabulated NDF file (.npy/.exr) instead of an analytic model
+  bool model_given = false;
+  std::string theta_i = "30deg", plane = "in", wavelength = "555nm", output, plot;
+  bool log_y = false;
   std::string fresnel = "exact";
   std::size_t samples = 721;
   bool separable = false, json = false;
@@ -76,6 +83,14 @@ OpticalConstants material(const MaterialArgs& m) {
 }
 
 std::shared_ptr<MicrofacetDistribution> distribution(const BrdfArgs& a) {
+  if (!a.ndf.empty()) {
+    if (a.model_given || a.alpha > 0 || a.alpha_x > 0 || a.alpha_y > 0 || a.phi != "0" ||
+        a.theta_x != "0" || a.theta_y != "0" || a.theta_z != "0")
+      throw InputError(
+          "--ndf replaces the analytic model: do not combine it with --model, --alpha*, --phi or "
+          "--theta-x/y/z");
+    return std::make_shared<TabulatedDistribution>(read_ndf(a.ndf));
+  }
   NdfSpec s;
   s.model = a.model;
   s.alpha_x = a.alpha_x > 0 ? a.alpha_x : a.alpha;
@@ -89,7 +104,19 @@ std::shared_ptr<MicrofacetDistribution> distribution(const BrdfArgs& a) {
   return make_distribution(s);
 }
 
+void check_plot_name(const std::string& path) {
+  if (path.empty()) return;
+  auto dot = path.find_last_of('.');
+  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != "png" && ext != "svg")
+    throw InputError("--plot " + path + ": plots are written as .png or .svg");
+}
+
 void run_slice(const BrdfArgs& a) {
+  if (a.output.empty() && a.plot.empty())
+    throw InputError("give an output: -o slice.csv and/or --plot slice.png|svg");
+  check_plot_name(a.plot);
   auto d = distribution(a);
   auto mat = material(a.mat);
   std::shared_ptr<const Fresnel> f;
@@ -121,11 +148,39 @@ void run_slice(const BrdfArgs& a) {
     text += line;
     if (s.value[i] > peak) peak = s.value[i], peak_angle = s.angle_deg[i];
   }
-  write_file_atomic(a.output, text);
+  if (!a.output.empty()) write_file_atomic(a.output, text);
+  if (!a.plot.empty()) {
+    Plot p;
+    char title[200];
+    std::snprintf(title, sizeof title, "BRDF, %s: θi = %g°, λ = %s",
+                  a.plane == "in" ? "plane of incidence" : "across the plane of incidence",
+                  ti * 180 / M_PI, format_length(lambda).c_str());
+    p.title = title;
+    p.x.label = a.plane == "in" ? "viewing angle θo (deg; mirror direction at +θi)"
+                                : "angle from the mirror direction across the plane (deg)";
+    p.y.label = "BRDF (1/sr)";
+    p.x.min = -90;
+    p.x.max = 90;
+    if (a.log_y) p.y.scale = AxisScale::Log;
+    PlotSeries series;
+    std::string label = a.ndf.empty() ? d->describe() : "tabulated NDF " + a.ndf;
+    if (label.size() > 70) label = label.substr(0, 67) + "...";
+    series.label = label;
+    for (std::size_t i = 0; i < s.value.size(); ++i) {
+      if (a.log_y && !(s.value[i] > 0)) continue;
+      series.x.push_back(s.angle_deg[i]);
+      series.y.push_back(s.value[i]);
+    }
+    if (series.x.empty()) throw InputError("--plot: the BRDF is zero along the whole slice");
+    p.add(series);
+    p.write(a.plot);
+  }
   Vec3 wi(-std::sin(ti), 0, std::cos(ti));
   const double albedo = directional_albedo_sampled(b, wi, lambda, 256);
   if (a.json) {
     print_json({{"output", a.output},
+                {"plot", a.plot},
+                {"ndf", a.ndf},
                 {"model", b.describe()},
                 {"theta_i_rad", ti},
                 {"wavelength_m", lambda},
@@ -137,7 +192,12 @@ void run_slice(const BrdfArgs& a) {
   } else {
     std::printf(
         "%s\n  wrote %zu angles to %s; peak %.6g /sr at %.3f deg; directional albedo %.5f\n",
-        b.describe().c_str(), s.value.size(), a.output.c_str(), peak, peak_angle, albedo);
+        b.describe().c_str(), s.value.size(),
+        (a.output.empty() ? a.plot
+         : a.plot.empty() ? a.output
+                          : a.output + " and " + a.plot)
+            .c_str(),
+        peak, peak_angle, albedo);
   }
 }
 
@@ -182,6 +242,7 @@ void register_brdf(CLI::App& app) {
       "spectrum).\n\n"
       "Examples:\n"
       "  microbrdf brdf slice --model ggx --alpha 0.1 --metal Cu --theta-i 30deg -o slice.csv\n"
+      "  microbrdf brdf slice --ndf scan_ndf.npy --metal Al --theta-i 45deg -o s.csv --plot s.png\n"
       "  microbrdf brdf slice --model ellipsoid --alpha-x 0.05 --alpha-y 0.2 --theta-x 5deg "
       "--metal Al \\\n"
       "      --theta-i 45 --plane out --wavelength 633nm -o out.csv --json\n"
@@ -190,7 +251,12 @@ void register_brdf(CLI::App& app) {
 
   auto* sl = brdf->add_subcommand("slice",
                                   "Tabulate the BRDF along an in-plane or out-of-plane cut (CSV)");
-  sl->add_option("--model", a->model, "NDF: beckmann, ggx or ellipsoid")->capture_default_str();
+  sl->add_option("--model", a->model, "NDF: beckmann, ggx or ellipsoid")
+      ->capture_default_str()
+      ->each([a](const std::string&) { a->model_given = true; });
+  sl->add_option("--ndf", a->ndf,
+                 "Tabulated NDF (.npy with its .json sidecar, or .exr; from `microbrdf ndf` or "
+                 "`tabulate`) instead of --model/--alpha");
   sl->add_option("--alpha", a->alpha, "Roughness alpha (both axes)");
   sl->add_option("--alpha-x", a->alpha_x, "Roughness along the first axis");
   sl->add_option("--alpha-y", a->alpha_y, "Roughness along the second axis (default: = alpha-x)");
@@ -210,7 +276,9 @@ void register_brdf(CLI::App& app) {
   sl->add_option("--wavelength", a->wavelength, "Wavelength (with unit)")->capture_default_str();
   sl->add_option("--samples", a->samples, "Number of angles over [-90, 90] deg")
       ->capture_default_str();
-  sl->add_option("-o,--output", a->output, "Output CSV (angle_deg, brdf_per_sr, wo)")->required();
+  sl->add_option("-o,--output", a->output, "Output CSV (angle_deg, brdf_per_sr, wo)");
+  sl->add_option("--plot", a->plot, "Plot of the slice (.png or .svg)");
+  sl->add_flag("--log-y", a->log_y, "Logarithmic BRDF axis in the plot");
   sl->add_flag("--json", a->json, "Print a JSON summary on stdout");
   sl->callback([a] { run_guarded("brdf slice", [&] { run_slice(*a); }); });
 

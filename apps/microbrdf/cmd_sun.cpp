@@ -3,7 +3,6 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
-#include <complex>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -37,20 +36,6 @@ struct SunArgs {
   std::size_t profile_length = 65536;
   double n = NAN, k = NAN;
 };
-
-// TODO(fresnel-interface): use the shared exact conductor Fresnel (include/microbrdf/fresnel.hpp)
-// when it lands. Unpolarised reflectance of a conductor with relative index eta + i kappa,
-// complex form (theory notes 5.4; NOT Sun's eqs. 5.4/5.7/5.8, which are misprinted).
-double conductor_fresnel(double cos_i, double eta, double kappa) {
-  using C = std::complex<double>;
-  cos_i = std::clamp(cos_i, 0.0, 1.0);
-  const C n(eta, kappa);
-  const double sin2 = 1 - cos_i * cos_i;
-  const C cos_t = std::sqrt(C(1, 0) - sin2 / (n * n));
-  const C rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
-  const C rs = (cos_i - n * cos_t) / (cos_i + n * cos_t);
-  return 0.5 * (std::norm(rp) + std::norm(rs));
-}
 
 std::vector<double> theta_grid(const SunArgs& a) {
   const double step = parse_angle(a.theta_step), tmax = parse_angle(a.theta_max);
@@ -377,8 +362,11 @@ void run_slice(const SunArgs& a) {
   const bool have_nk = !std::isnan(a.n) || !std::isnan(a.k);
   if (have_nk && (std::isnan(a.n) || std::isnan(a.k) || !(a.n > 0) || a.k < 0))
     throw InputError("--n and --k go together (n > 0, k >= 0)");
-  sun::FresnelFn F;
-  if (have_nk) F = [n = a.n, k = a.k](double c) { return conductor_fresnel(c, n, k); };
+  // The shared exact conductor Fresnel (complex index n + ik, constant in wavelength).
+  std::shared_ptr<const Fresnel> fresnel;
+  if (have_nk) fresnel = std::make_shared<ConductorFresnel>(constant_index(a.n, a.k));
+  const Fresnel* F = fresnel.get();
+  constexpr double kLambda = 555e-9;  // irrelevant for a constant index
   const double step = parse_angle(a.theta_step);
   if (!(step > 0) || step > M_PI / 4) throw InputError("--theta-step must be in (0, 45] deg");
 
@@ -397,12 +385,12 @@ void run_slice(const SunArgs& a) {
     const double to = i * step;
     if (std::abs(to) >= M_PI / 2 - 1e-12) continue;  // at the horizon the BRDF is 0
     const Eigen::Vector3d wo(-std::sin(to), 0, std::cos(to));
-    const double fp = sun::brdf(wi, wo, s, sun::BrdfForm::AsPublished, F);
-    const double fs = sun::brdf(wi, wo, s, sun::BrdfForm::Standard, F);
+    const double fp = sun::brdf(wi, wo, s, sun::BrdfForm::AsPublished, F, kLambda);
+    const double fs = sun::brdf(wi, wo, s, sun::BrdfForm::Standard, F, kLambda);
     const double cd = wi.dot((wi + wo).normalized());
     csv << num(to / kDeg) << ',' << num(fp) << ',' << num(fs) << ','
-        << num(sun::published_over_standard(wi, wo)) << ',' << num(F ? F(cd) : 1.0) << ','
-        << num(sun::ftp(ti, s)) << ',' << num(sun::ftp(std::abs(to), s)) << '\n';
+        << num(sun::published_over_standard(wi, wo)) << ',' << num(F ? F->eval(cd, kLambda) : 1.0)
+        << ',' << num(sun::ftp(ti, s)) << ',' << num(sun::ftp(std::abs(to), s)) << '\n';
     pub.x.push_back(to / kDeg);
     pub.y.push_back(fp);
     stdf.x.push_back(to / kDeg);
@@ -429,8 +417,8 @@ void run_slice(const SunArgs& a) {
          {"s", s},
          {"theta_i_deg", deg(ti)},
          {"fresnel", have_nk ? nlohmann::json{{"n", a.n}, {"k", a.k}} : nlohmann::json("R = 1")},
-         {"albedo_as_published", sun::albedo(ti, s, sun::BrdfForm::AsPublished, F)},
-         {"albedo_standard", sun::albedo(ti, s, sun::BrdfForm::Standard, F)},
+         {"albedo_as_published", sun::albedo(ti, s, sun::BrdfForm::AsPublished, F, kLambda)},
+         {"albedo_standard", sun::albedo(ti, s, sun::BrdfForm::Standard, F, kLambda)},
          {"peak_as_published", {{"value", peak_pub}, {"theta_o_deg", deg(at_pub)}}},
          {"peak_standard", {{"value", peak_std}, {"theta_o_deg", deg(at_std)}}}});
   } else if (a.output.empty()) {

@@ -43,8 +43,9 @@ class Brdf {
 
 /// Dong 2015 eq. 1: f = F(wi.h) D(h) G(wi, wo) / (4 |wi.n| |wo.n|), h = (wi + wo)/|wi + wo|.
 /// G is Smith's height-correlated G2 by default; `separable_g` gives G1(wi) G1(wo) (Dong eq. 13).
-/// Sampling draws h from the visible normals of wi and reflects: pdf = D_wi(h) / (4 wi.h),
-/// weight = F G2 / G1u(wi).
+/// Sampling draws h with the distribution's sample_visible (the visible normals of wi for the
+/// analytic models) and reflects: pdf = q(h) / (4 wi.h) with q = sampling_pdf(wi, h) (D_wi(h)
+/// for visible normals, then weight = F G2 / G1u(wi)); weight = F D G2 (wi.h) / ((wi.n) q).
 class MicrofacetBrdf final : public Brdf {
  public:
   MicrofacetBrdf(std::shared_ptr<const MicrofacetDistribution> d, std::shared_ptr<const Fresnel> f,

@@ -8,7 +8,9 @@
 //   G1(v, m)  = chi+((v.m)/(v.n)) min(1, 1/(1 + Lambda(v)))
 //   D_v(m)    = <v.m>+ D(m) / sigma+(v) = G1u(v) <v.m>+ D(m) / (v.n)   (visible normals; G1u the
 //               unclamped Smith term, which is the exact normaliser even when G1 > 1)
-// sample_visible(v, u1, u2) draws m with density D_v(m) per steradian exactly.
+// sample_visible(v, u1, u2) draws m with density sampling_pdf(v, m) per steradian exactly: D_v(m)
+// for Beckmann, GGX and the ellipsoid; D(m)(m.n) (not the visible normals) for a tabulated NDF
+// (tabulated_distribution.hpp). Code that weights samples (MicrofacetBrdf) uses sampling_pdf.
 //
 // Anisotropy: alpha_x along the in-plane axis at azimuth `phi` (rad, counter-clockwise from +x),
 // alpha_y perpendicular to it. The ellipsoid NDF is Dong et al. 2015 eqs. 10-14; see
@@ -32,8 +34,11 @@ class MicrofacetDistribution {
   virtual double D(const Vec3& m) const = 0;
   /// Smith Lambda(v) for a unit v with v.z > 0 (unclamped; may be < 0 for the skewed ellipsoid).
   virtual double lambda(const Vec3& v) const = 0;
-  /// Draws a visible normal for the view v (v.z > 0) from two uniforms in [0,1).
+  /// Draws a normal for the view v (v.z > 0) from two uniforms in [0,1), with density
+  /// sampling_pdf(v, m): the visible normals D_v for the analytic models.
   virtual Vec3 sample_visible(const Vec3& v, double u1, double u2) const = 0;
+  /// Density per steradian of sample_visible(v, ...): pdf_visible(v, m) unless overridden.
+  virtual double sampling_pdf(const Vec3& v, const Vec3& m) const { return pdf_visible(v, m); }
   /// Short description for reports ("ggx alpha=(0.1, 0.2) phi=0").
   virtual std::string describe() const = 0;
 
@@ -47,9 +52,10 @@ class MicrofacetDistribution {
   /// clamped to >= 0 (only the skewed ellipsoid has Lambda < 0, i.e. G1 > 1 before eq. 14's clamp);
   /// `separable` gives G1(wi, m) G1(wo, m) (Dong eq. 13) instead.
   double G2(const Vec3& wi, const Vec3& wo, const Vec3& m, bool separable = false) const;
-  /// D_v(m) per steradian, the density of sample_visible.
+  /// D_v(m) per steradian (the density of sample_visible for the analytic models).
   double pdf_visible(const Vec3& v, const Vec3& m) const;
-  /// Draws m with density D(m)(m.n) (the visible normals for v = n).
+  /// Draws m with density D(m)(m.n) (the visible normals for v = n; every model samples this
+  /// density exactly for v = n).
   Vec3 sample(double u1, double u2) const { return sample_visible(Vec3(0, 0, 1), u1, u2); }
   /// Density of sample(): D(m)(m.n).
   double pdf(const Vec3& m) const { return m.z() > 0 ? D(m) * m.z() : 0.0; }

@@ -16,8 +16,14 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
 #include <vector>
+
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/fresnel.hpp"
+#include "microbrdf/microfacet.hpp"
 
 namespace microbrdf::sun2002 {
 
@@ -52,12 +58,9 @@ double beckmann_ndf(double cos_theta_h, double s);
 // ---------------------------------------------------------------------------------------------
 // The analytic BRDF (eq. 3.5.3)
 
-/// Unpolarised Fresnel reflectance of the metal as a function of the cosine of the angle of
-/// incidence on the micro-area (Sun's R-bar(delta/2) takes cos(delta/2) = wi . h). An empty
-/// function means R = 1 (a perfect mirror: the upper bound used for energy checks).
-// TODO(fresnel-interface): adapt to the shared Fresnel / Brdf interface (include/microbrdf/
-// fresnel.hpp, brdf.hpp) when it lands; until then the caller passes the reflectance in.
-using FresnelFn = std::function<double(double cos_theta_d)>;
+// The Fresnel factor R-bar(delta/2) is the shared Fresnel type (include/microbrdf/fresnel.hpp)
+// evaluated at cos(delta/2) = wi . h and the given wavelength; a null pointer means R = 1 (a
+// perfect mirror: the upper bound used for energy checks).
 
 enum class BrdfForm {
   /// Eq. 3.5.3 as printed: R Gamma_0(th_i) Gamma_0(th_o) s^2 exp(-s^2 tan^2 th_h / 4) /
@@ -71,7 +74,7 @@ enum class BrdfForm {
 
 /// One evaluation. Returns 0 when either direction is at or below the horizon.
 double brdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wo, double s, BrdfForm form,
-            const FresnelFn& fresnel = {});
+            const Fresnel* fresnel = nullptr, double wavelength_m = 555e-9);
 
 /// The factor AsPublished / Standard = (h.n) cos th_i cos th_o / (wi.h) for a pair of
 /// directions above the horizon (0 otherwise).
@@ -83,8 +86,34 @@ double published_over_standard(const Eigen::Vector3d& wi, const Eigen::Vector3d&
 /// with n_u nodes (rounded up to a multiple of 16) in u, tan(th_h) = 2u/s, u in [0, 7], and
 /// an n_phi-point midpoint rule in azimuth. With weight_cos = false the cos th_o is left out
 /// (Sun's eq. 5.1 integral).
-double albedo(double theta_i, double s, BrdfForm form, const FresnelFn& fresnel = {},
-              bool weight_cos = true, int n_u = 128, int n_phi = 128);
+double albedo(double theta_i, double s, BrdfForm form, const Fresnel* fresnel = nullptr,
+              double wavelength_m = 555e-9, bool weight_cos = true, int n_u = 128, int n_phi = 128);
+
+/// Sun's BRDF behind the shared Brdf interface (include/microbrdf/brdf.hpp): eval() is brdf()
+/// above. Sampling draws h from the visible normals of wi for the Beckmann distribution of the
+/// same surface (alpha = 2/s, exact, BeckmannDistribution::sample_visible) and reflects:
+/// pdf(wo) = D_wi(h) / (4 wi.h), weight = f cos(theta_o) / pdf (for the standard form this is
+/// R Gamma_0(th_i) Gamma_0(th_o) sigma+(wi) / (wi.n), <= R Gamma_0 Gamma_0 / G1(wi)). Samples
+/// below the horizon are dropped (no sample).
+class SunBrdf final : public Brdf {
+ public:
+  /// s > 0 (InputError otherwise); a null Fresnel means R = 1.
+  explicit SunBrdf(double s, BrdfForm form = BrdfForm::Standard,
+                   std::shared_ptr<const Fresnel> f = nullptr);
+  double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
+  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
+                                   double wavelength_m) const override;
+  double pdf(const Vec3& wi, const Vec3& wo) const override;
+  std::string describe() const override;
+  double smoothness() const { return s_; }
+  BrdfForm form() const { return form_; }
+
+ private:
+  double s_;
+  BrdfForm form_;
+  std::shared_ptr<const Fresnel> f_;
+  BeckmannDistribution d_;
+};
 
 // ---------------------------------------------------------------------------------------------
 // The numerical experiment of section 4

@@ -37,11 +37,13 @@ std::optional<BrdfSample> MicrofacetBrdf::sample(const Vec3& wi, double u1, doub
   if (wo.z() <= 0) return std::nullopt;
   BrdfSample s;
   s.wo = wo;
-  s.pdf = d_->pdf_visible(wi, m) / (4 * im);
+  const double q = d_->sampling_pdf(wi, m);  // density of m per steradian
+  s.pdf = q / (4 * im);
   if (!(s.pdf > 0)) return std::nullopt;
-  // f cos / pdf = F D G2 / (4 wi.z) * 4 (wi.m) sigma+(wi) / ((wi.m) D) = F G2 sigma+(wi) / wi.z.
+  // f cos / pdf = F D G2 / (4 wi.z) * 4 (wi.m) / q. With visible normals, q = (wi.m) D /
+  // sigma+(wi) and this is F G2 sigma+(wi) / wi.z.
   const double g = d_->G2(wi, wo, m, separable_);
-  s.weight = f_->eval(im, wavelength_m) * g * d_->projected_area(wi) / wi.z();
+  s.weight = f_->eval(im, wavelength_m) * g * d_->D(m) * im / (wi.z() * q);
   return s;
 }
 
@@ -53,7 +55,7 @@ double MicrofacetBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
   const Vec3 h = hs / len;
   const double ih = wi.dot(h);
   if (ih <= 0) return 0;
-  return d_->pdf_visible(wi, h) / (4 * ih);
+  return d_->sampling_pdf(wi, h) / (4 * ih);
 }
 
 std::string MicrofacetBrdf::describe() const {

@@ -49,7 +49,7 @@ const std::array<std::pair<double, double>, 16>& gauss_legendre16() {
 }  // namespace
 
 double brdf(const Eigen::Vector3d& wi_in, const Eigen::Vector3d& wo_in, double s, BrdfForm form,
-            const FresnelFn& fresnel) {
+            const Fresnel* fresnel, double wavelength_m) {
   if (!(s > 0) || !std::isfinite(s))
     throw InputError("Sun 2002 BRDF: smoothness s must be positive, got " + std::to_string(s));
   const double ni = wi_in.norm(), no = wo_in.norm();
@@ -60,7 +60,7 @@ double brdf(const Eigen::Vector3d& wi_in, const Eigen::Vector3d& wo_in, double s
   const Eigen::Vector3d h = (wi + wo).normalized();
   const double ch = h.z();      // cos(theta), theta = polar angle of the micro-normal
   const double cd = wi.dot(h);  // cos(delta/2), delta = angle between wi and wo
-  const double R = fresnel ? fresnel(cd) : 1.0;
+  const double R = fresnel ? fresnel->eval(cd, wavelength_m) : 1.0;
   const double G = ftp_cos(ci, s) * ftp_cos(co, s);
   if (form == BrdfForm::AsPublished) {
     // Eq. 3.5.3 exactly as printed.
@@ -77,8 +77,8 @@ double published_over_standard(const Eigen::Vector3d& wi_in, const Eigen::Vector
   return h.z() * wi.z() * wo.z() / wi.dot(h);
 }
 
-double albedo(double theta_i, double s, BrdfForm form, const FresnelFn& fresnel, bool weight_cos,
-              int n_u, int n_phi) {
+double albedo(double theta_i, double s, BrdfForm form, const Fresnel* fresnel, double wavelength_m,
+              bool weight_cos, int n_u, int n_phi) {
   if (!(theta_i >= 0 && theta_i < M_PI / 2))
     throw InputError("Sun 2002 albedo: theta_i must be in [0, 90) deg");
   if (n_u < 1 || n_phi < 1) throw InputError("Sun 2002 albedo: quadrature sizes must be >= 1");
@@ -108,11 +108,59 @@ double albedo(double theta_i, double s, BrdfForm form, const FresnelFn& fresnel,
         if (!(d > 0)) continue;
         const Eigen::Vector3d wo = 2 * d * h - wi;
         if (!(wo.z() > 0)) continue;
-        const double f = brdf(wi, wo, s, form, fresnel);
+        const double f = brdf(wi, wo, s, form, fresnel, wavelength_m);
         sum += f * (weight_cos ? wo.z() : 1.0) * 4 * d * sh * dth * dphi;
       }
   }
   return sum;
+}
+
+namespace {
+double checked_s(double s) {
+  if (!(s > 0) || !std::isfinite(s))
+    throw InputError("Sun 2002 BRDF: smoothness s must be positive, got " + std::to_string(s));
+  return s;
+}
+}  // namespace
+
+SunBrdf::SunBrdf(double s, BrdfForm form, std::shared_ptr<const Fresnel> f)
+    : s_(checked_s(s)), form_(form), f_(std::move(f)), d_(2 / checked_s(s)) {}
+
+double SunBrdf::eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const {
+  return brdf(wi, wo, s_, form_, f_.get(), wavelength_m);
+}
+
+std::optional<BrdfSample> SunBrdf::sample(const Vec3& wi, double u1, double u2,
+                                          double wavelength_m) const {
+  if (!(wi.z() > 0)) return std::nullopt;
+  const Vec3 m = d_.sample_visible(wi, u1, u2);
+  const double im = wi.dot(m);
+  if (!(im > 0)) return std::nullopt;
+  const Vec3 wo = 2 * im * m - wi;
+  if (!(wo.z() > 0)) return std::nullopt;
+  BrdfSample r;
+  r.wo = wo;
+  r.pdf = d_.pdf_visible(wi, m) / (4 * im);
+  if (!(r.pdf > 0)) return std::nullopt;
+  r.weight = eval(wi, wo, wavelength_m) * wo.z() / r.pdf;
+  return r;
+}
+
+double SunBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
+  if (!(wi.z() > 0) || !(wo.z() > 0)) return 0;
+  const Vec3 hs = wi + wo;
+  const double len = hs.norm();
+  if (!(len > 0)) return 0;
+  const Vec3 h = hs / len;
+  const double ih = wi.dot(h);
+  if (!(ih > 0)) return 0;
+  return d_.pdf_visible(wi, h) / (4 * ih);
+}
+
+std::string SunBrdf::describe() const {
+  return "Sun 2002 eq. 3.5.3 (" +
+         std::string(form_ == BrdfForm::AsPublished ? "as published" : "standard microfacet form") +
+         "), s = " + std::to_string(s_) + ", " + (f_ ? f_->describe() : std::string("R = 1"));
 }
 
 }  // namespace microbrdf::sun2002

@@ -1,0 +1,180 @@
+// A tabulated NDF as a microfacet distribution (include/microbrdf/tabulated_distribution.hpp).
+#include "microbrdf/tabulated_distribution.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "microbrdf/error.hpp"
+
+namespace microbrdf {
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+TabulatedDistribution::TabulatedDistribution(TabulatedNdf ndf,
+                                             const TabulatedDistributionOptions& opt)
+    : ndf_(std::make_unique<TabulatedNdf>(std::move(ndf))), opt_(opt) {
+  if (opt_.theta_steps < 2 || opt_.phi_steps < 4 || opt_.sigma_bins < 2)
+    throw InputError("tabulated distribution: sigma+ grid too small");
+  const std::size_t n = ndf_->resolution();
+  for (double v : ndf_->values())
+    if (!std::isfinite(v)) throw InputError("tabulated NDF: non-finite value in the table");
+  try {
+    sampler_ = std::make_unique<NdfSampler>(*ndf_);
+  } catch (const std::invalid_argument&) {
+    throw InputError("tabulated NDF: no positive mass inside the unit disk");
+  }
+  z_ = sampler_->normalisation();
+  if (!(z_ > 0) || !std::isfinite(z_))
+    throw InputError("tabulated NDF: no positive mass inside the unit disk");
+  inv_z_ = 1 / z_;
+
+  // Slope bins: cell (cx, cy) of the node grid -> bin (cx * b / (n - 1), cy * b / (n - 1)).
+  // Per bin: the moments of the interpolant  integral D {1, m_x/m_z, m_y/m_z} dm_x dm_y  over its
+  // cells (inside the disk). Cells well inside the disk (all corners at r <= 0.98): 3 x 3
+  // Gauss-Legendre (the integrands are smooth there). Cells reaching r > 0.98: 32 midpoint
+  // sub-rows in y, each integrated exactly in x (D is linear in x along a row, and the
+  // antiderivatives of x/sqrt(c^2 - x^2), x^2/sqrt(c^2 - x^2) and 1/sqrt(c^2 - x^2) are
+  // elementary), which handles the 1/m_z singularity at the rim.
+  const std::size_t cells = n - 1;
+  bins_ = std::min(opt_.sigma_bins, cells);
+  std::vector<double> m0(bins_ * bins_, 0), mx(m0.size(), 0), my(m0.size(), 0);
+  const double h = ndf_->spacing();
+  const double gx[3] = {0.5 - std::sqrt(0.15), 0.5, 0.5 + std::sqrt(0.15)};
+  const double gw[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};
+  constexpr int kRows = 32;
+  for (std::size_t cy = 0; cy < cells; ++cy) {
+    const double y0 = ndf_->node_y(cy), y1 = y0 + h;
+    const double ynear = y0 > 0 ? y0 : (y1 < 0 ? y1 : 0.0), yfar = std::max(-y0, y1);
+    const std::size_t by = cy * bins_ / cells;
+    for (std::size_t cx = 0; cx < cells; ++cx) {
+      const double a = ndf_->at(cx, cy), b = ndf_->at(cx + 1, cy), c = ndf_->at(cx, cy + 1),
+                   d = ndf_->at(cx + 1, cy + 1);
+      if (a == 0 && b == 0 && c == 0 && d == 0) continue;
+      const double x0 = ndf_->node_x(cx), x1 = x0 + h;
+      const double xnear = x0 > 0 ? x0 : (x1 < 0 ? x1 : 0.0), xfar = std::max(-x0, x1);
+      if (xnear * xnear + ynear * ynear >= 1) continue;  // outside the disk
+      double s0 = 0, sx = 0, sy = 0;
+      if (xfar * xfar + yfar * yfar <= 0.98 * 0.98) {
+        for (int j = 0; j < 3; ++j)
+          for (int i = 0; i < 3; ++i) {
+            const double tx = gx[i], ty = gx[j], x = x0 + h * tx, y = y0 + h * ty;
+            const double v =
+                ((1 - ty) * ((1 - tx) * a + tx * b) + ty * ((1 - tx) * c + tx * d)) * gw[i] * gw[j];
+            const double inv_mz = 1 / std::sqrt(1 - x * x - y * y);
+            s0 += v;
+            sx += v * x * inv_mz;
+            sy += v * y * inv_mz;
+          }
+        s0 *= h * h;
+        sx *= h * h;
+        sy *= h * h;
+      } else {
+        const double dy = h / kRows;
+        for (int k = 0; k < kRows; ++k) {
+          const double ty = (k + 0.5) / kRows, y = y0 + h * ty, c2 = 1 - y * y;
+          if (c2 <= 0) continue;
+          const double cc = std::sqrt(c2);
+          const double xa = std::max(x0, -cc), xb = std::min(x1, cc);
+          if (xb <= xa) continue;
+          const double left = (1 - ty) * a + ty * c, right = (1 - ty) * b + ty * d;
+          const double B = (right - left) / h, A = left - B * x0;
+          auto sq = [&](double x) { return std::sqrt(std::max(0.0, c2 - x * x)); };
+          auto as = [&](double x) { return std::asin(std::clamp(x / cc, -1.0, 1.0)); };
+          const double sa = sq(xa), sb = sq(xb), da = as(xb) - as(xa);
+          s0 += dy * (A * (xb - xa) + 0.5 * B * (xb * xb - xa * xa));
+          sx += dy * (A * (sa - sb) + B * (0.5 * c2 * da - 0.5 * (xb * sb - xa * sa)));
+          sy += dy * y * (A * da + B * (sa - sb));
+        }
+      }
+      const std::size_t bin = by * bins_ + cx * bins_ / cells;
+      m0[bin] += s0;
+      mx[bin] += sx;
+      my[bin] += sy;
+    }
+  }
+  double total = 0;
+  for (double v : m0)
+    if (v > 0) total += v;
+  if (!(total > 0)) throw InputError("tabulated NDF: no positive mass inside the unit disk");
+  for (std::size_t b = 0; b < m0.size(); ++b) {
+    if (!(m0[b] > 0)) continue;  // (negative table values: such bins are left out)
+    bm_.push_back(m0[b] / total);
+    bp_.push_back(mx[b] / m0[b]);
+    bq_.push_back(my[b] / m0[b]);
+  }
+
+  // sigma+ on the (theta, phi) grid.
+  const std::size_t nt = opt_.theta_steps + 1, np = opt_.phi_steps;
+  sigma_.assign(nt * np, 0);
+  const double dt = 0.5 * kPi / static_cast<double>(opt_.theta_steps),
+               dp = 2 * kPi / static_cast<double>(np);
+  const auto nodes = static_cast<long>(nt * np);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (long c = 0; c < nodes; ++c) {
+    const auto it = static_cast<std::size_t>(c) / np, ip = static_cast<std::size_t>(c) % np;
+    const double t = dt * static_cast<double>(it), p = dp * static_cast<double>(ip);
+    sigma_[static_cast<std::size_t>(c)] =
+        sigma_plus_direct(Vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)));
+  }
+  // sigma+(n) = 1 up to rounding; make it exact so that G1(n) = 1 exactly.
+  const double s_n = sigma_[0];
+  for (double& v : sigma_) v /= s_n;
+  for (double& v : bm_) v /= s_n;
+}
+
+double TabulatedDistribution::sigma_plus_direct(const Vec3& k) const {
+  const double kx = k.x(), ky = k.y(), kz = k.z();
+  double s = 0;
+  const std::size_t nb = bm_.size();
+  const double *m = bm_.data(), *p = bp_.data(), *q = bq_.data();
+  for (std::size_t b = 0; b < nb; ++b) s += m[b] * std::max(0.0, kz + kx * p[b] + ky * q[b]);
+  return s;
+}
+
+double TabulatedDistribution::sigma_plus(const Vec3& k) const {
+  const std::size_t np = opt_.phi_steps;
+  const double st = std::hypot(k.x(), k.y());
+  double t = std::atan2(st, k.z()) * (static_cast<double>(opt_.theta_steps) / (0.5 * kPi));
+  double p = std::atan2(k.y(), k.x());
+  if (p < 0) p += 2 * kPi;
+  p *= static_cast<double>(np) / (2 * kPi);
+  t = std::clamp(t, 0.0, static_cast<double>(opt_.theta_steps));
+  const auto it = std::min(static_cast<std::size_t>(t), opt_.theta_steps - 1);
+  const auto ip = std::min(static_cast<std::size_t>(p), np - 1);
+  const std::size_t ip1 = ip + 1 == np ? 0 : ip + 1;
+  const double ft = t - static_cast<double>(it), fp = p - static_cast<double>(ip);
+  const double* r0 = &sigma_[it * np];
+  const double* r1 = r0 + np;
+  return (1 - ft) * ((1 - fp) * r0[ip] + fp * r0[ip1]) + ft * ((1 - fp) * r1[ip] + fp * r1[ip1]);
+}
+
+double TabulatedDistribution::D(const Vec3& m) const { return ndf_->eval(m) * inv_z_; }
+
+double TabulatedDistribution::lambda(const Vec3& v) const {
+  if (!(v.z() > 0)) return std::numeric_limits<double>::infinity();
+  return sigma_plus(v) / v.z() - 1.0;
+}
+
+Vec3 TabulatedDistribution::sample_visible(const Vec3&, double u1, double u2) const {
+  return sampler_->sample(u1, u2);
+}
+
+double TabulatedDistribution::sampling_pdf(const Vec3&, const Vec3& m) const {
+  return m.z() > 0 ? D(m) * m.z() : 0.0;
+}
+
+std::string TabulatedDistribution::describe() const {
+  char b[256];
+  std::snprintf(b, sizeof b,
+                "tabulated NDF %zux%zu%s%s (sigma+ on %zux%zu theta,phi nodes from %zu^2 slope "
+                "bins; samples D(m)(m.n))",
+                ndf_->resolution(), ndf_->resolution(), ndf_->meta.method.empty() ? "" : " ",
+                ndf_->meta.method.c_str(), opt_.theta_steps + 1, opt_.phi_steps, bins_);
+  return b;
+}
+
+}  // namespace microbrdf
