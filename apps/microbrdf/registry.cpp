@@ -18,6 +18,7 @@ void register_all(CLI::App& app) {
   register_slice(app);
   register_brdf(app);
   register_sun(app);
+  register_fit(app);
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {
