@@ -20,6 +20,7 @@ PACKAGES=(
   libfmt-dev           # formatting
   colord-data          # CIE 1931 colour matching functions and D65 (tables generated at build time)
   libcairo2-dev        # plots (PNG and SVG)
+  libceres-dev         # non-linear least squares (NDF fits)
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -19,6 +19,7 @@ void register_all(CLI::App& app) {
   register_plot(app);
   register_brdf(app);
   register_sun(app);
+  register_fit(app);
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {

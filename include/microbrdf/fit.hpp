@@ -1,0 +1,130 @@
+#pragma once
+// Parametric fits of tabulated NDFs (Dong 2015 section 8, Fig. 12): the ellipsoid NDF
+// (alpha_x, alpha_y, theta_x, theta_y, theta_z), anisotropic Beckmann and anisotropic GGX
+// (alpha_x, alpha_y, theta_z), fitted to any TabulatedNdf with Ceres (Levenberg-Marquardt).
+// Conventions, objective and error measures are in docs/fitting.md.
+//
+//  - Parameters use the ellipsoid convention of microfacet.hpp for every model: theta_z turns the
+//    anisotropy axes about n by -theta_z, so Beckmann/GGX have phi = -theta_z and
+//    theta_x = theta_y = 0. Reported theta_z lies in (-pi/2, pi/2]; the ellipsoid's symmetry
+//    (theta_x, theta_y, theta_z) == (-theta_x, -theta_y, theta_z + pi) is used to get there.
+//  - Forward operator: the model is compared with the table the way the table represents a
+//    function. Node: D at the nodes times a fitted amplitude (what `tabulate` writes: point
+//    samples renormalised to sum D Delta^2 = 1). Tent: D averaged over each node's bilinear
+//    (tent) cell, which is what the histogram estimators' bilinear splatting produce; exactly
+//    normalised, no amplitude. Auto picks Node for tables made by `tabulate` (meta.method is a
+//    model name) and Tent otherwise.
+//  - Objective (default): least squares on sqrt(D + eps) over the disk, equal weight per node
+//    (equal projected area): a Hellinger distance between the two densities; sqrt is the
+//    variance-stabilising transform of histogram (Poisson) counts, so unweighted least squares is
+//    close to maximum likelihood, and the tails count without a log's blow-up at D = 0.
+
+#include <cstddef>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "microbrdf/microfacet.hpp"
+#include "microbrdf/tabulated_ndf.hpp"
+
+namespace microbrdf {
+
+enum class FitModel { Ellipsoid, Beckmann, Ggx };
+enum class FitObjective { Sqrt, Linear, Log };
+enum class FitSampling { Auto, Node, Tent };
+enum class FitSolver { LevenbergMarquardt, NelderMead };
+
+/// "ellipsoid" | "beckmann" | "ggx" (case-insensitive). Throws InputError otherwise.
+FitModel parse_fit_model(const std::string& name);
+std::string fit_model_name(FitModel m);
+/// "sqrt" | "linear" | "log".
+FitObjective parse_fit_objective(const std::string& name);
+std::string fit_objective_name(FitObjective o);
+/// "auto" | "node" | "tent".
+FitSampling parse_fit_sampling(const std::string& name);
+std::string fit_sampling_name(FitSampling s);
+
+struct FitOptions {
+  FitModel model = FitModel::Ellipsoid;
+  FitObjective objective = FitObjective::Sqrt;
+  FitSampling sampling = FitSampling::Auto;
+  FitSolver solver = FitSolver::LevenbergMarquardt;
+  /// Tent mode: quadrature points per node spacing and axis (midpoint rule on the tent);
+  /// 0 = automatic, ceil(8 Delta / alpha_min) from the initial guess, clamped to 1..8.
+  int tent_subsamples = 0;
+  /// Residuals are taken on the nodes of the smallest box holding every node above this
+  /// fraction of the table maximum, widened by a margin (the rest carries < ~1e-6 of the mass).
+  double roi_threshold = 1e-7;
+  /// Floor eps of sqrt(D + eps) / log(D + eps), relative to the table maximum; when the table
+  /// knows its sample count (histogram estimators) eps is at least 3/8 of one sample's value
+  /// (Anscombe).
+  double floor = 1e-9;
+  int max_iterations = 200;
+  int threads = 0;  ///< 0 = OpenMP's default
+  /// Starting point; default: from slope moments (see initial_guess()).
+  std::optional<EllipsoidParams> initial;
+};
+
+struct FitResult {
+  FitModel model = FitModel::Ellipsoid;
+  /// Fitted parameters (ellipsoid convention; theta_x = theta_y = 0 for Beckmann/GGX).
+  EllipsoidParams params;
+  double phi = 0;           ///< Beckmann/GGX: azimuth of the alpha_x axis = -theta_z, rad
+  double amplitude = 1;     ///< Node sampling: fitted scale of the point samples (1/sum D Delta^2)
+  EllipsoidParams initial;  ///< where the solver started
+  FitObjective objective = FitObjective::Sqrt;
+  FitSampling sampling = FitSampling::Node;  ///< the one used (never Auto)
+  int tent_subsamples = 1;
+  double floor = 0;  ///< eps used, 1/sr
+  /// Errors of the model as compared (the fit table) against the table, over all nodes inside
+  /// the unit disk: rms_error = sqrt(mean (T - M)^2) in 1/sr; relative_l2_error =
+  /// ||T - M||_2 / ||T||_2; hellinger = sqrt(1/2 sum (sqrt T - sqrt M)^2 Delta^2) in [0, 1].
+  double rms_error = 0, relative_l2_error = 0, hellinger = 0;
+  double initial_cost = 0, final_cost = 0;  ///< objective (1/2 sum r^2) at start and end
+  int iterations = 0;
+  bool converged = false;
+  std::string termination;            ///< solver's message
+  std::size_t residuals = 0;          ///< nodes in the region of interest
+  std::size_t roi[4] = {0, 0, 0, 0};  ///< ix0, ix1, iy0, iy1 (inclusive)
+  double seconds = 0;
+};
+
+/// Starting point from the table's slope moments: alpha from the eigenvalues of the slope
+/// covariance (alpha = sqrt(2 lambda), the Beckmann relation), theta_z from its eigenvectors
+/// (the alpha_x axis is the eigenvector nearer the +x axis), theta_x/theta_y (ellipsoid) so that
+/// the peak R^T z lies along the mean normal. The solver then tries a few scalings of both alphas
+/// (heavy-tailed GGX tables have inflated second moments) and starts from the best.
+EllipsoidParams initial_guess(const TabulatedNdf& ndf, FitModel model);
+
+/// Fits `model` to the table. Throws InputError for an empty or unnormalisable table.
+FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& options);
+
+/// The fitted distribution (normalised analytic model).
+std::shared_ptr<MicrofacetDistribution> fitted_distribution(const FitResult& r);
+
+/// The model as it is compared with the table (same resolution, sampling, amplitude): what
+/// the fit errors are measured against.
+TabulatedNdf fit_table(const FitResult& r, std::size_t resolution);
+
+/// D averaged over every node's tent cell with `subsamples` midpoint samples per spacing and
+/// axis (tent mode's forward operator, in double precision), 0 outside the disk.
+TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& model,
+                           std::size_t resolution, int subsamples);
+
+/// Objective value (1/2 sum r^2) of `params` for the given options (sampling resolved as in
+/// fit_ndf; amplitude as given). For references and tests.
+double fit_objective(const TabulatedNdf& ndf, const FitOptions& options, const EllipsoidParams& p,
+                     double amplitude = 1);
+
+/// Writes DIR/fit.json, DIR/compare.png (measured | fit | residual, zoomed on the region of
+/// interest, log colour scale shared by the first two, residual (M - T)/max T in a diverging
+/// scale), DIR/slices.png (measured and fitted cuts along the fitted axes, log scale) and
+/// DIR/measured.png, DIR/fit.png (write_ndf_preview with zoom). Throws FileError.
+void write_fit_report(const TabulatedNdf& ndf, const FitResult& r, const std::string& dir);
+
+/// The fit as JSON (ARCHITECTURE keys "model", "params" {alpha_x, alpha_y, theta_x, theta_y,
+/// theta_z}, "rms_error", "relative_l2_error", plus the rest of FitResult).
+nlohmann::json fit_result_json(const FitResult& r);
+
+}  // namespace microbrdf

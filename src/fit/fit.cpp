@@ -1,0 +1,731 @@
+// Parametric NDF fits with Ceres (see include/microbrdf/fit.hpp and docs/fitting.md).
+#include "microbrdf/fit.hpp"
+
+#include <ceres/ceres.h>
+#include <omp.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include "microbrdf/error.hpp"
+
+namespace microbrdf {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kThetaTiltMax = 1.2;  // rad, bound on theta_x, theta_y
+constexpr double kAlphaMax = 4.0;
+constexpr double kLogAmpMax = 3.0;
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+int shape_size(FitModel m) { return m == FitModel::Ellipsoid ? 5 : 3; }
+
+// Shape parameter vector: (log alpha_x, log alpha_y, theta_x, theta_y, theta_z) for the
+// ellipsoid, (log alpha_x, log alpha_y, theta_z) for Beckmann/GGX.
+std::array<double, 5> to_shape(FitModel m, const EllipsoidParams& p) {
+  if (m == FitModel::Ellipsoid)
+    return {std::log(p.alpha_x), std::log(p.alpha_y), p.theta_x, p.theta_y, p.theta_z};
+  return {std::log(p.alpha_x), std::log(p.alpha_y), p.theta_z, 0, 0};
+}
+EllipsoidParams from_shape(FitModel m, const double* s) {
+  EllipsoidParams p;
+  p.alpha_x = std::exp(s[0]);
+  p.alpha_y = std::exp(s[1]);
+  if (m == FitModel::Ellipsoid) {
+    p.theta_x = s[2];
+    p.theta_y = s[3];
+    p.theta_z = s[4];
+  } else {
+    p.theta_z = s[2];
+  }
+  return p;
+}
+
+// The three models as templates (T = double or a Ceres Jet), identical to microfacet.cpp's
+// double versions (tested against them).
+template <typename T>
+struct ModelEval {
+  FitModel kind;
+  T m[3][3];  // ellipsoid: S^-1 R; Beckmann/GGX: rows 0, 1 = in-plane rotation Rz(theta_z)
+  T norm;     // 1 / (pi ax ay ||A n||) (ellipsoid), 1 / (pi ax ay) otherwise
+  T iax2, iay2;
+
+  ModelEval(FitModel k, const T* s) : kind(k) {
+    using std::cos;
+    using std::exp;
+    using std::sin;
+    using std::sqrt;
+    const T ax = exp(s[0]), ay = exp(s[1]);
+    iax2 = T(1) / (ax * ax);
+    iay2 = T(1) / (ay * ay);
+    if (k == FitModel::Ellipsoid) {
+      const T cx = cos(s[2]), sx = sin(s[2]), cy = cos(s[3]), sy = sin(s[3]), cz = cos(s[4]),
+              sz = sin(s[4]);
+      // R = Rx Ry Rz (active, right-handed), written out.
+      T r[3][3];
+      r[0][0] = cy * cz;
+      r[0][1] = -cy * sz;
+      r[0][2] = sy;
+      r[1][0] = sx * sy * cz + cx * sz;
+      r[1][1] = -sx * sy * sz + cx * cz;
+      r[1][2] = -sx * cy;
+      r[2][0] = -cx * sy * cz + sx * sz;
+      r[2][1] = cx * sy * sz + sx * cz;
+      r[2][2] = cx * cy;
+      for (int j = 0; j < 3; ++j) {
+        m[0][j] = r[0][j] / ax;
+        m[1][j] = r[1][j] / ay;
+        m[2][j] = r[2][j];
+      }
+      const T an =
+          sqrt(ax * ax * r[0][2] * r[0][2] + ay * ay * r[1][2] * r[1][2] + r[2][2] * r[2][2]);
+      norm = T(1) / (T(kPi) * ax * ay * an);
+    } else {
+      const T c = cos(s[2]), sn = sin(s[2]);
+      m[0][0] = c;
+      m[0][1] = -sn;
+      m[1][0] = sn;
+      m[1][1] = c;
+      m[0][2] = m[1][2] = m[2][0] = m[2][1] = T(0);
+      m[2][2] = T(1);
+      norm = T(1) / (T(kPi) * ax * ay);
+    }
+  }
+
+  // D(m) for a unit m with z > 0.
+  T D(double x, double y, double z) const {
+    using std::exp;
+    if (kind == FitModel::Ellipsoid) {
+      const T a = m[0][0] * x + m[0][1] * y + m[0][2] * z;
+      const T b = m[1][0] * x + m[1][1] * y + m[1][2] * z;
+      const T c = m[2][0] * x + m[2][1] * y + m[2][2] * z;
+      const T q = a * a + b * b + c * c;
+      return norm / (q * q);
+    }
+    const T u = m[0][0] * x + m[0][1] * y, v = m[1][0] * x + m[1][1] * y;
+    if (kind == FitModel::Ggx) {
+      const T q = u * u * iax2 + v * v * iay2 + T(z * z);
+      return norm / (q * q);
+    }
+    const double z2 = z * z;
+    return norm * exp(-(u * u * iax2 + v * v * iay2) / z2) / (z2 * z2);
+  }
+  T D_disk(double x, double y) const {
+    const double r2 = x * x + y * y;
+    return r2 < 1 ? D(x, y, std::sqrt(1 - r2)) : T(0);
+  }
+};
+
+// Everything a residual needs: the region of interest, the transformed table, the forward
+// operator.
+struct FitContext {
+  FitModel model = FitModel::Ellipsoid;
+  FitObjective objective = FitObjective::Sqrt;
+  bool tent = false;
+  int s = 1;  // tent subsamples
+  std::size_t n = 0;
+  double delta = 0, eps = 0, lin_scale = 1;
+  std::size_t ix0 = 0, ix1 = 0, iy0 = 0, iy1 = 0;
+  std::vector<double> gt;  // g(T) on the ROI, row-major
+
+  std::size_t cols() const { return ix1 - ix0 + 1; }
+  std::size_t rows() const { return iy1 - iy0 + 1; }
+  double node(std::size_t i) const { return -1.0 + delta * static_cast<double>(i); }
+
+  template <typename T>
+  T g(const T& d) const {
+    using std::log;
+    using std::sqrt;
+    switch (objective) {
+      case FitObjective::Sqrt:
+        return sqrt(d + T(eps));
+      case FitObjective::Log:
+        return log(d + T(eps));
+      case FitObjective::Linear:
+        break;
+    }
+    return d * T(lin_scale);
+  }
+  double g0(double d) const { return g<double>(d); }
+
+  // Model values of ROI row iy (absolute node index) into out[cols()].
+  template <typename T>
+  void row_values(const ModelEval<T>& me, std::size_t iy, T* out) const {
+    const std::size_t nc = cols();
+    const double y = node(iy);
+    if (!tent) {
+      for (std::size_t c = 0; c < nc; ++c) out[c] = me.D_disk(node(ix0 + c), y);
+      return;
+    }
+    // Midpoint rule on the tent: 2s points per axis at offsets ((a + 1/2)/s - 1) Delta with
+    // weights (1 - |offset|/Delta)/s (they sum to 1); sub-columns are shared by neighbours.
+    const std::size_t ss = static_cast<std::size_t>(s);
+    std::vector<double> w(2 * ss);
+    for (std::size_t a = 0; a < 2 * ss; ++a) {
+      const double u = (static_cast<double>(a) + 0.5) / s - 1.0;
+      w[a] = (1.0 - std::abs(u)) / s;
+    }
+    const std::size_t nsub = ss * (nc + 1);
+    std::vector<T> sub(nsub);
+    const double h = delta / s, x0 = node(ix0) - delta + 0.5 * h;
+    for (std::size_t c = 0; c < nc; ++c) out[c] = T(0);
+    for (std::size_t b = 0; b < 2 * ss; ++b) {
+      const double yb = y + ((static_cast<double>(b) + 0.5) / s - 1.0) * delta;
+      for (std::size_t j = 0; j < nsub; ++j)
+        sub[j] = me.D_disk(x0 + static_cast<double>(j) * h, yb);
+      for (std::size_t c = 0; c < nc; ++c) {
+        T acc = T(0);
+        for (std::size_t a = 0; a < 2 * ss; ++a) acc += w[a] * sub[c * ss + a];
+        out[c] += w[b] * acc;
+      }
+    }
+  }
+
+  template <typename T>
+  void residuals(const T* shape, const T& amp, std::size_t iy, T* r) const {
+    ModelEval<T> me(model, shape);
+    const std::size_t nc = cols();
+    std::vector<T> v(nc);
+    row_values(me, iy, v.data());
+    const double* gt_row = &gt[(iy - iy0) * nc];
+    for (std::size_t c = 0; c < nc; ++c) r[c] = (g(v[c] * amp) - T(gt_row[c])) * T(delta);
+  }
+
+  // 1/2 sum r^2 in double.
+  double cost(const double* shape, double amp) const {
+    double total = 0;
+#pragma omp parallel for reduction(+ : total) schedule(dynamic, 8) if (rows() * cols() > 50000)
+    for (std::size_t iy = iy0; iy <= iy1; ++iy) {
+      std::vector<double> r(cols());
+      residuals<double>(shape, amp, iy, r.data());
+      for (double x : r) total += x * x;
+    }
+    return 0.5 * total;
+  }
+  // Node mode: the amplitude that renormalises the point samples on the ROI.
+  double node_amplitude(const double* shape) const {
+    ModelEval<double> me(model, shape);
+    double sum = 0;
+    for (std::size_t iy = iy0; iy <= iy1; ++iy)
+      for (std::size_t ix = ix0; ix <= ix1; ++ix) sum += me.D_disk(node(ix), node(iy));
+    sum *= delta * delta;
+    return sum > 0 ? 1.0 / sum : 1.0;
+  }
+};
+
+template <int K>
+struct RowCost {
+  const FitContext* ctx;
+  std::size_t iy;
+  template <typename T>
+  bool operator()(const T* shape, const T* log_amp, T* r) const {
+    using std::exp;
+    T s5[5] = {T(0), T(0), T(0), T(0), T(0)};  // ModelEval reads five entries
+    for (int i = 0; i < K; ++i) s5[i] = shape[i];
+    ctx->residuals(s5, T(exp(log_amp[0])), iy, r);
+    return true;
+  }
+};
+
+bool made_by_tabulate(const TabulatedNdf& t) {
+  const std::string m = lower(t.meta.method);
+  return m == "beckmann" || m == "ggx" || m == "ellipsoid" || m == "trowbridge-reitz" ||
+         m == "gtr2";
+}
+
+FitContext make_context(const TabulatedNdf& t, const FitOptions& o, const EllipsoidParams& start) {
+  FitContext c;
+  c.model = o.model;
+  c.objective = o.objective;
+  c.n = t.resolution();
+  c.delta = t.spacing();
+  FitSampling smp = o.sampling;
+  if (smp == FitSampling::Auto) smp = made_by_tabulate(t) ? FitSampling::Node : FitSampling::Tent;
+  c.tent = smp == FitSampling::Tent;
+  if (c.tent) {
+    int s = o.tent_subsamples;
+    if (s <= 0) {
+      const double amin = std::min(start.alpha_x, start.alpha_y);
+      s = static_cast<int>(std::ceil(4 * c.delta / std::max(amin, 1e-12)));
+    }
+    c.s = std::clamp(s, 1, 8);
+  }
+  const auto& v = t.values();
+  double vmax = 0;
+  for (double x : v) vmax = std::max(vmax, x);
+  if (!(vmax > 0) || !std::isfinite(vmax))
+    throw InputError("the NDF table is empty (no positive finite value); nothing to fit");
+  c.eps = o.floor * vmax;
+  if (t.meta.samples_used > 0 && !made_by_tabulate(t))
+    c.eps = std::max(c.eps, 0.375 / (static_cast<double>(t.meta.samples_used) * c.delta * c.delta));
+  c.lin_scale = 1.0 / std::sqrt(vmax);
+  // Region of interest: the box of nodes above roi_threshold * max, widened.
+  const double thr = o.roi_threshold * vmax;
+  std::size_t x0 = c.n, x1 = 0, y0 = c.n, y1 = 0;
+  for (std::size_t iy = 0; iy < c.n; ++iy)
+    for (std::size_t ix = 0; ix < c.n; ++ix)
+      if (t.at(ix, iy) > thr) {
+        x0 = std::min(x0, ix);
+        x1 = std::max(x1, ix);
+        y0 = std::min(y0, iy);
+        y1 = std::max(y1, iy);
+      }
+  const std::size_t margin = 6;
+  c.ix0 = x0 > margin ? x0 - margin : 0;
+  c.iy0 = y0 > margin ? y0 - margin : 0;
+  c.ix1 = std::min(c.n - 1, x1 + margin);
+  c.iy1 = std::min(c.n - 1, y1 + margin);
+  c.gt.resize(c.rows() * c.cols());
+  for (std::size_t iy = c.iy0; iy <= c.iy1; ++iy)
+    for (std::size_t ix = c.ix0; ix <= c.ix1; ++ix)
+      c.gt[(iy - c.iy0) * c.cols() + (ix - c.ix0)] = c.g0(std::max(0.0, t.at(ix, iy)));
+  return c;
+}
+
+void canonicalise(FitModel m, EllipsoidParams& p) {
+  // A spheroid (alpha_x == alpha_y) depends on its axis R^T z only: A^T A = a^2 I + (1 - a^2)
+  // (R^T z)(R^T z)^T, so theta_z is free; report theta_z = 0 and the tilt of that axis.
+  if (m == FitModel::Ellipsoid &&
+      std::abs(p.alpha_x - p.alpha_y) <= 1e-6 * std::max(p.alpha_x, p.alpha_y)) {
+    const Eigen::Vector3d axis =
+        (rotation_x(p.theta_x) * rotation_y(p.theta_y) * rotation_z(p.theta_z)).transpose() *
+        Eigen::Vector3d(0, 0, 1);
+    const Eigen::Vector3d w = axis.z() < 0 ? Eigen::Vector3d(-axis) : axis;
+    p.theta_x = std::asin(std::clamp(w.y(), -1.0, 1.0));
+    p.theta_y = std::atan2(-w.x(), w.z());
+    p.theta_z = 0;
+    return;
+  }
+  // theta_z into (-pi/2, pi/2]; for the ellipsoid (tx, ty, tz) == (-tx, -ty, tz + pi).
+  const double k = std::ceil((p.theta_z - kPi / 2) / kPi);
+  p.theta_z -= k * kPi;
+  if (p.theta_z <= -kPi / 2) p.theta_z += kPi;
+  if (m == FitModel::Ellipsoid && static_cast<long long>(std::llround(k)) % 2 != 0) {
+    p.theta_x = -p.theta_x;
+    p.theta_y = -p.theta_y;
+  }
+  if (m != FitModel::Ellipsoid) p.theta_x = p.theta_y = 0;
+}
+
+// Nelder-Mead on the same objective (reference solver; bounds by clamping).
+int nelder_mead(const std::function<double(const std::vector<double>&)>& f, std::vector<double>& x,
+                const std::vector<double>& step, int max_evals, double& fbest, bool& converged) {
+  converged = false;
+  const std::size_t n = x.size();
+  std::vector<std::vector<double>> pts(n + 1, x);
+  std::vector<double> fv(n + 1);
+  for (std::size_t i = 0; i < n; ++i) pts[i + 1][i] += step[i];
+  int evals = 0;
+  for (std::size_t i = 0; i <= n; ++i) {
+    fv[i] = f(pts[i]);
+    ++evals;
+  }
+  int iter = 0;
+  while (evals < max_evals) {
+    ++iter;
+    std::vector<std::size_t> idx(n + 1);
+    for (std::size_t i = 0; i <= n; ++i) idx[i] = i;
+    std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return fv[a] < fv[b]; });
+    const std::size_t best = idx[0], worst = idx[n], second = idx[n - 1];
+    double spread = 0;  // simplex size in parameter units (log alpha, rad)
+    for (std::size_t i = 0; i <= n; ++i)
+      for (std::size_t j = 0; j < n; ++j)
+        spread = std::max(spread, std::abs(pts[i][j] - pts[best][j]));
+    if (spread < 1e-8) {
+      converged = true;
+      break;
+    }
+    std::vector<double> cen(n, 0.0);
+    for (std::size_t i = 0; i <= n; ++i)
+      if (i != worst)
+        for (std::size_t j = 0; j < n; ++j) cen[j] += pts[i][j] / static_cast<double>(n);
+    auto along = [&](double t) {
+      std::vector<double> p(n);
+      for (std::size_t j = 0; j < n; ++j) p[j] = cen[j] + t * (pts[worst][j] - cen[j]);
+      return p;
+    };
+    auto xr = along(-1);
+    const double fr = f(xr);
+    ++evals;
+    if (fr < fv[best]) {
+      auto xe = along(-2);
+      const double fe = f(xe);
+      ++evals;
+      if (fe < fr) {
+        pts[worst] = xe;
+        fv[worst] = fe;
+      } else {
+        pts[worst] = xr;
+        fv[worst] = fr;
+      }
+    } else if (fr < fv[second]) {
+      pts[worst] = xr;
+      fv[worst] = fr;
+    } else {
+      auto xc = fr < fv[worst] ? along(-0.5) : along(0.5);
+      const double fc = f(xc);
+      ++evals;
+      if (fc < std::min(fr, fv[worst])) {
+        pts[worst] = xc;
+        fv[worst] = fc;
+      } else {
+        for (std::size_t i = 0; i <= n; ++i)
+          if (i != best) {
+            for (std::size_t j = 0; j < n; ++j)
+              pts[i][j] = pts[best][j] + 0.5 * (pts[i][j] - pts[best][j]);
+            fv[i] = f(pts[i]);
+            ++evals;
+          }
+      }
+    }
+  }
+  const std::size_t b =
+      static_cast<std::size_t>(std::min_element(fv.begin(), fv.end()) - fv.begin());
+  x = pts[b];
+  fbest = fv[b];
+  return iter;
+}
+
+}  // namespace
+
+FitModel parse_fit_model(const std::string& name) {
+  const std::string m = lower(name);
+  if (m == "ellipsoid") return FitModel::Ellipsoid;
+  if (m == "beckmann") return FitModel::Beckmann;
+  if (m == "ggx" || m == "trowbridge-reitz" || m == "gtr2") return FitModel::Ggx;
+  throw InputError("unknown model '" + name + "' (ellipsoid | beckmann | ggx)");
+}
+std::string fit_model_name(FitModel m) {
+  switch (m) {
+    case FitModel::Ellipsoid:
+      return "ellipsoid";
+    case FitModel::Beckmann:
+      return "beckmann";
+    case FitModel::Ggx:
+      break;
+  }
+  return "ggx";
+}
+FitObjective parse_fit_objective(const std::string& name) {
+  const std::string m = lower(name);
+  if (m == "sqrt") return FitObjective::Sqrt;
+  if (m == "linear") return FitObjective::Linear;
+  if (m == "log") return FitObjective::Log;
+  throw InputError("unknown objective '" + name + "' (sqrt | linear | log)");
+}
+std::string fit_objective_name(FitObjective o) {
+  return o == FitObjective::Sqrt ? "sqrt" : o == FitObjective::Linear ? "linear" : "log";
+}
+FitSampling parse_fit_sampling(const std::string& name) {
+  const std::string m = lower(name);
+  if (m == "auto") return FitSampling::Auto;
+  if (m == "node") return FitSampling::Node;
+  if (m == "tent") return FitSampling::Tent;
+  throw InputError("unknown sampling '" + name + "' (auto | node | tent)");
+}
+std::string fit_sampling_name(FitSampling s) {
+  return s == FitSampling::Auto ? "auto" : s == FitSampling::Node ? "node" : "tent";
+}
+
+EllipsoidParams initial_guess(const TabulatedNdf& ndf, FitModel model) {
+  const Eigen::Matrix2d c = ndf.slope_covariance();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(c);
+  const Eigen::Vector2d ev = es.eigenvalues();
+  const Eigen::Matrix2d vec = es.eigenvectors();
+  // The alpha_x axis: the eigenvector nearer +x.
+  const int ix = std::abs(vec(0, 0)) >= std::abs(vec(0, 1)) ? 0 : 1;
+  const Eigen::Vector2d ax = vec.col(ix);
+  double phi = std::atan2(ax.y(), ax.x());
+  if (phi > kPi / 2) phi -= kPi;
+  if (phi <= -kPi / 2) phi += kPi;
+  EllipsoidParams p;
+  auto width = [&](double lambda) {
+    return std::clamp(std::sqrt(2 * std::max(lambda, 0.0)), 0.25 * ndf.spacing(), kAlphaMax);
+  };
+  p.alpha_x = width(ev(ix));
+  p.alpha_y = width(ev(1 - ix));
+  p.theta_z = -phi;
+  if (model == FitModel::Ellipsoid) {
+    const Eigen::Vector3d mu = ndf.mean_normal();
+    const Eigen::Vector3d w = rotation_z(p.theta_z) * mu;
+    p.theta_x = std::asin(std::clamp(w.y(), -1.0, 1.0));
+    p.theta_y = std::atan2(-w.x(), w.z());
+  }
+  return p;
+}
+
+double fit_objective(const TabulatedNdf& ndf, const FitOptions& o, const EllipsoidParams& p,
+                     double amplitude) {
+  const FitContext c = make_context(ndf, o, p);
+  const auto s = to_shape(o.model, p);
+  return c.cost(s.data(), c.tent ? 1.0 : amplitude);
+}
+
+FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (ndf.resolution() < 5) throw InputError("NDF table too small to fit");
+  EllipsoidParams start = o.initial ? *o.initial : initial_guess(ndf, o.model);
+  if (o.model != FitModel::Ellipsoid) start.theta_x = start.theta_y = 0;
+  const double alpha_min = std::max(1e-5, ndf.spacing() / 20);
+  start.alpha_x = std::clamp(start.alpha_x, alpha_min, kAlphaMax);
+  start.alpha_y = std::clamp(start.alpha_y, alpha_min, kAlphaMax);
+
+  FitContext ctx = make_context(ndf, o, start);
+  const int k = shape_size(o.model);
+  std::array<double, 5> shape = to_shape(o.model, start);
+  double log_amp = 0;
+  // Multi-start on the scale of both alphas (moments of heavy-tailed tables overestimate).
+  if (!o.initial) {
+    double best = std::numeric_limits<double>::infinity();
+    std::array<double, 5> best_shape = shape;
+    for (double f : {1.0, 0.7, 0.5, 0.35, 0.25, 0.18, 0.125}) {
+      std::array<double, 5> s = shape;
+      s[0] = std::max(std::log(alpha_min), s[0] + std::log(f));
+      s[1] = std::max(std::log(alpha_min), s[1] + std::log(f));
+      const double amp = ctx.tent ? 1.0 : ctx.node_amplitude(s.data());
+      const double cst = ctx.cost(s.data(), amp);
+      if (cst < best) {
+        best = cst;
+        best_shape = s;
+      }
+    }
+    shape = best_shape;
+    start = from_shape(o.model, shape.data());
+    if (ctx.tent && o.tent_subsamples <= 0) ctx = make_context(ndf, o, start);  // subsamples
+  }
+  if (!ctx.tent) log_amp = std::log(ctx.node_amplitude(shape.data()));
+
+  FitResult r;
+  r.model = o.model;
+  r.initial = start;
+  r.objective = o.objective;
+  r.sampling = ctx.tent ? FitSampling::Tent : FitSampling::Node;
+  r.tent_subsamples = ctx.tent ? ctx.s : 1;
+  r.floor = ctx.eps;
+  r.residuals = ctx.rows() * ctx.cols();
+  r.roi[0] = ctx.ix0;
+  r.roi[1] = ctx.ix1;
+  r.roi[2] = ctx.iy0;
+  r.roi[3] = ctx.iy1;
+  r.initial_cost = ctx.cost(shape.data(), std::exp(log_amp));
+
+  const double la_hi = std::log(kAlphaMax);
+  // Tent mode resolves lobes down to ~2 quadrature steps: alpha >= 2 Delta / s. A fit that ends
+  // on that bound is repeated with twice the subsamples (up to 8).
+  for (int pass = 0;; ++pass) {
+    const double la_lo =
+        std::log(ctx.tent ? std::max(alpha_min, 2 * ctx.delta / ctx.s) : alpha_min);
+    shape[0] = std::max(shape[0], la_lo);
+    shape[1] = std::max(shape[1], la_lo);
+    if (o.solver == FitSolver::LevenbergMarquardt) {
+      ceres::Problem::Options po;
+      ceres::Problem problem(po);
+      for (std::size_t iy = ctx.iy0; iy <= ctx.iy1; ++iy) {
+        const int nres = static_cast<int>(ctx.cols());
+        ceres::CostFunction* cf = nullptr;
+        if (k == 5)
+          cf = new ceres::AutoDiffCostFunction<RowCost<5>, ceres::DYNAMIC, 5, 1>(
+              new RowCost<5>{&ctx, iy}, nres);
+        else
+          cf = new ceres::AutoDiffCostFunction<RowCost<3>, ceres::DYNAMIC, 3, 1>(
+              new RowCost<3>{&ctx, iy}, nres);
+        problem.AddResidualBlock(cf, nullptr, shape.data(), &log_amp);
+      }
+      if (ctx.tent)
+        problem.SetParameterBlockConstant(&log_amp);
+      else {
+        problem.SetParameterLowerBound(&log_amp, 0, -kLogAmpMax);
+        problem.SetParameterUpperBound(&log_amp, 0, kLogAmpMax);
+      }
+      for (int i = 0; i < 2; ++i) {
+        problem.SetParameterLowerBound(shape.data(), i, la_lo);
+        problem.SetParameterUpperBound(shape.data(), i, la_hi);
+      }
+      if (k == 5)
+        for (int i = 2; i < 4; ++i) {
+          problem.SetParameterLowerBound(shape.data(), i, -kThetaTiltMax);
+          problem.SetParameterUpperBound(shape.data(), i, kThetaTiltMax);
+        }
+      ceres::Solver::Options so;
+      so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+      so.max_num_iterations = o.max_iterations;
+      so.function_tolerance = 1e-13;
+      so.gradient_tolerance = 1e-14;
+      so.parameter_tolerance = 1e-11;
+      so.num_threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+      so.logging_type = ceres::SILENT;
+      so.minimizer_progress_to_stdout = false;
+      ceres::Solver::Summary sum;
+      ceres::Solve(so, &problem, &sum);
+      r.iterations = sum.num_successful_steps + sum.num_unsuccessful_steps;
+      r.converged = sum.termination_type == ceres::CONVERGENCE;
+      r.termination = sum.message;
+      r.final_cost = sum.final_cost;
+    } else {
+      std::vector<double> x(shape.begin(), shape.begin() + k);
+      if (!ctx.tent) x.push_back(log_amp);
+      std::vector<double> step(x.size(), 0.02);
+      step[0] = step[1] = 0.1;
+      auto f = [&](const std::vector<double>& v) {
+        std::array<double, 5> s{};
+        for (int i = 0; i < k; ++i) s[static_cast<std::size_t>(i)] = v[static_cast<std::size_t>(i)];
+        s[0] = std::clamp(s[0], la_lo, la_hi);
+        s[1] = std::clamp(s[1], la_lo, la_hi);
+        if (k == 5) {
+          s[2] = std::clamp(s[2], -kThetaTiltMax, kThetaTiltMax);
+          s[3] = std::clamp(s[3], -kThetaTiltMax, kThetaTiltMax);
+        }
+        const double amp = ctx.tent ? 1.0 : std::exp(std::clamp(v.back(), -kLogAmpMax, kLogAmpMax));
+        return ctx.cost(s.data(), amp);
+      };
+      double fb = 0;
+      bool conv = false;
+      r.iterations = nelder_mead(f, x, step, 200 * o.max_iterations, fb, conv);
+      for (int i = 0; i < k; ++i)
+        shape[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
+      shape[0] = std::clamp(shape[0], la_lo, la_hi);
+      shape[1] = std::clamp(shape[1], la_lo, la_hi);
+      if (!ctx.tent) log_amp = std::clamp(x.back(), -kLogAmpMax, kLogAmpMax);
+      r.final_cost = fb;
+      r.converged = conv;
+      r.termination = "Nelder-Mead";
+    }
+    const bool at_bound = std::min(shape[0], shape[1]) <= la_lo + 1e-6;
+    if (!(ctx.tent && at_bound && ctx.s < 8 && pass < 3)) break;
+    ctx.s = std::min(8, 2 * ctx.s);
+    r.tent_subsamples = ctx.s;
+  }
+  r.params = from_shape(o.model, shape.data());
+  r.amplitude = std::exp(log_amp);
+  canonicalise(o.model, r.params);
+  r.phi = o.model == FitModel::Ellipsoid ? 0.0 : -r.params.theta_z;
+
+  // Errors over the whole disk.
+  const TabulatedNdf m = fit_table(r, ndf.resolution());
+  double se = 0, st = 0, sh = 0;
+  std::size_t count = 0;
+  for (std::size_t iy = 0; iy < ndf.resolution(); ++iy)
+    for (std::size_t ix = 0; ix < ndf.resolution(); ++ix) {
+      const double x = ndf.node_x(ix), y = ndf.node_y(iy);
+      if (x * x + y * y >= 1) continue;
+      const double tv = std::max(0.0, ndf.at(ix, iy)), mv = m.at(ix, iy);
+      se += (tv - mv) * (tv - mv);
+      st += tv * tv;
+      const double dh = std::sqrt(tv) - std::sqrt(mv);
+      sh += dh * dh;
+      ++count;
+    }
+  r.rms_error = std::sqrt(se / static_cast<double>(std::max<std::size_t>(count, 1)));
+  r.relative_l2_error = st > 0 ? std::sqrt(se / st) : 0.0;
+  r.hellinger = std::sqrt(0.5 * sh * ndf.spacing() * ndf.spacing());
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+std::shared_ptr<MicrofacetDistribution> fitted_distribution(const FitResult& r) {
+  const auto& p = r.params;
+  switch (r.model) {
+    case FitModel::Ellipsoid:
+      return std::make_shared<EllipsoidDistribution>(p);
+    case FitModel::Beckmann:
+      return std::make_shared<BeckmannDistribution>(p.alpha_x, p.alpha_y, r.phi);
+    case FitModel::Ggx:
+      break;
+  }
+  return std::make_shared<GgxDistribution>(p.alpha_x, p.alpha_y, r.phi);
+}
+
+TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& model,
+                           std::size_t resolution, int subsamples) {
+  if (resolution < 3) throw InputError("NDF table resolution must be at least 3");
+  const int s = std::max(1, subsamples);
+  TabulatedNdf t(resolution);
+  const double delta = t.spacing();
+  std::vector<double> w(2 * static_cast<std::size_t>(s)), off(w.size());
+  for (std::size_t a = 0; a < w.size(); ++a) {
+    off[a] = ((static_cast<double>(a) + 0.5) / s - 1.0);
+    w[a] = (1.0 - std::abs(off[a])) / s;
+  }
+  auto dd = [&](double x, double y) {
+    const double r2 = x * x + y * y;
+    return r2 < 1 ? d.D(Vec3(x, y, std::sqrt(1 - r2))) : 0.0;
+  };
+#pragma omp parallel for schedule(dynamic, 4)
+  for (std::size_t iy = 0; iy < resolution; ++iy)
+    for (std::size_t ix = 0; ix < resolution; ++ix) {
+      double acc = 0;
+      for (std::size_t b = 0; b < w.size(); ++b)
+        for (std::size_t a = 0; a < w.size(); ++a)
+          acc += w[a] * w[b] * dd(t.node_x(ix) + off[a] * delta, t.node_y(iy) + off[b] * delta);
+      t.at(ix, iy) = acc;
+    }
+  t.meta.method = model + "-tent";
+  t.meta.notes = d.describe() + "; tent-cell averages, " + std::to_string(s) + " subsamples";
+  return t;
+}
+
+TabulatedNdf fit_table(const FitResult& r, std::size_t resolution) {
+  const auto d = fitted_distribution(r);
+  if (r.sampling == FitSampling::Tent) {
+    TabulatedNdf t = tabulate_tent(*d, fit_model_name(r.model), resolution, r.tent_subsamples);
+    t.meta.method = fit_model_name(r.model) + " fit";
+    return t;
+  }
+  TabulatedNdf t(resolution);
+  for (std::size_t iy = 0; iy < resolution; ++iy)
+    for (std::size_t ix = 0; ix < resolution; ++ix) {
+      const double x = t.node_x(ix), y = t.node_y(iy), r2 = x * x + y * y;
+      t.at(ix, iy) = r2 < 1 ? r.amplitude * d->D(Vec3(x, y, std::sqrt(1 - r2))) : 0.0;
+    }
+  t.meta.method = fit_model_name(r.model) + " fit";
+  t.meta.notes = d->describe();
+  return t;
+}
+
+nlohmann::json fit_result_json(const FitResult& r) {
+  const auto& p = r.params;
+  auto params = [](const EllipsoidParams& q) {
+    return nlohmann::json{{"alpha_x", q.alpha_x},
+                          {"alpha_y", q.alpha_y},
+                          {"theta_x", q.theta_x},
+                          {"theta_y", q.theta_y},
+                          {"theta_z", q.theta_z}};
+  };
+  return {{"model", fit_model_name(r.model)},
+          {"params", params(p)},
+          {"params_deg",
+           {{"theta_x", p.theta_x * 180 / kPi},
+            {"theta_y", p.theta_y * 180 / kPi},
+            {"theta_z", p.theta_z * 180 / kPi}}},
+          {"phi", r.phi},
+          {"rms_error", r.rms_error},
+          {"relative_l2_error", r.relative_l2_error},
+          {"hellinger", r.hellinger},
+          {"amplitude", r.amplitude},
+          {"objective", fit_objective_name(r.objective)},
+          {"sampling", fit_sampling_name(r.sampling)},
+          {"tent_subsamples", r.tent_subsamples},
+          {"floor", r.floor},
+          {"initial_params", params(r.initial)},
+          {"initial_cost", r.initial_cost},
+          {"final_cost", r.final_cost},
+          {"iterations", r.iterations},
+          {"converged", r.converged},
+          {"termination", r.termination},
+          {"residuals", r.residuals},
+          {"roi", {r.roi[0], r.roi[1], r.roi[2], r.roi[3]}},
+          {"seconds", r.seconds}};
+}
+
+}  // namespace microbrdf
