@@ -22,5 +22,39 @@ double fft_freq(std::size_t i, std::size_t n);
 
 /// A size >= n that FFTW transforms fast (product of 2, 3, 5, 7).
 std::size_t fft_good_size(std::size_t n);
+/// A size >= n that is a product of 2, 3 and 5 only (FFTW's fastest codelets).
+std::size_t fft_good_size_235(std::size_t n);
+
+/// Batched 1-D chirp-z (zoom) transform with plans made once and reused (Bluestein):
+///   X_b[k] = sum_{j<n} x_b[j] exp(-i (w0 + k dw) j),   k = 0..m-1,  b = 0..batch-1,
+/// i.e. the DTFT of each input vector at m equispaced angular frequencies (rad per sample) of
+/// any spacing -- exactly, not interpolated. Cost: two complex FFTs of length L >= n + m - 1 per
+/// vector (the chirp's spectrum is computed once). Not thread-safe per object (one work buffer).
+/// `measure`: plan with FFTW_MEASURE (faster transforms; planning takes a moment the first time a
+/// size is seen in the process, FFTW's wisdom makes later plans of that size cheap).
+class ChirpZ {
+ public:
+  ChirpZ(std::size_t n, std::size_t m, double w0, double dw, std::size_t batch,
+         bool measure = true);
+  ~ChirpZ();
+  ChirpZ(const ChirpZ&) = delete;
+  ChirpZ& operator=(const ChirpZ&) = delete;
+
+  /// Input element (b, j) is read from in[b * b_stride + j * j_stride]; output (b, k) is written
+  /// to out[b * m + k].
+  void execute(const std::complex<double>* in, std::size_t b_stride, std::size_t j_stride,
+               std::complex<double>* out);
+  std::size_t fft_length() const { return l_; }
+  std::size_t batch() const { return batch_; }
+
+ private:
+  std::size_t n_, m_, batch_, l_;
+  std::vector<std::complex<double>> pre_;     // exp(-i (w0 j + dw j^2 / 2)), j < n
+  std::vector<std::complex<double>> post_;    // exp(-i dw k^2 / 2) / L, k < m
+  std::vector<std::complex<double>> kernel_;  // FFT of exp(+i dw r^2 / 2), r = -(n-1)..m-1
+  std::vector<std::complex<double>> work_;    // batch x L
+  void* fwd_ = nullptr;                       // fftw_plan
+  void* inv_ = nullptr;
+};
 
 }  // namespace microbrdf::detail
