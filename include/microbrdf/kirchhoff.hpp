@@ -99,11 +99,13 @@ struct KirchhoffFastInfo {
 /// q_z = q_c + (|q|/2) t with t in [-1, 1] over the disk, and exp(-i q_z h) expanded in Chebyshev
 /// polynomials T_n(t) (Jacobi-Anger: coefficients 2 (-i)^n J_n(|q| (h - h_c) / 2)), truncated
 /// where the tail is below `accuracy` (relative to one sample's unit phasor). Each term's three
-/// sample arrays (q_z, q_x and q_y parts of q.m) are transformed by separable chirp-z transforms
-/// evaluated exactly at the node frequencies, and the series is summed per node (Clenshaw).
+/// sample arrays (q_z, q_x and q_y parts of q.m) are Fourier transformed separably (x, then y)
+/// directly at the node frequencies -- by a type-2 NUFFT with a kernel accurate to accuracy/100
+/// (default), or exactly by chirp-z transforms (`chirp_z`, about 3x slower) -- and the series is
+/// summed per node (Clenshaw).
 std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_q,
-                                         std::size_t resolution, double accuracy = 1e-6,
-                                         KirchhoffFastInfo* info = nullptr);
+                                         std::size_t resolution, double accuracy = 1e-3,
+                                         KirchhoffFastInfo* info = nullptr, bool chirp_z = false);
 
 /// Bessel functions J_0..J_nmax(x), x >= 0, by Miller's backward recurrence normalised with
 /// J_0 + 2 sum J_2k = 1 (relative accuracy ~1e-14 where J_n is not negligible).
@@ -115,7 +117,7 @@ struct KirchhoffOptions {
   double patch_x = 70e-6, patch_y = 53e-6;  ///< patch size, m (<= 0: whole scan on that axis)
   KirchhoffWindow window = KirchhoffWindow::None;
   double gauss_fraction = 0.125;  ///< Gauss window std as a fraction of the patch side
-  double accuracy = 1e-6;         ///< Chebyshev truncation bound of the fast method
+  double accuracy = 1e-3;         ///< fast method: Chebyshev tail bound (NUFFT: accuracy/100)
   bool direct = false;            ///< use the direct sums on every node (slow; small patches)
 };
 

@@ -14,7 +14,9 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <stdexcept>
+#include <type_traits>
 
 #include "core/fft.hpp"
 #include "microbrdf/error.hpp"
@@ -60,9 +62,11 @@ class BesselTable {
 
 }  // namespace
 
-std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_q,
-                                         std::size_t resolution, double accuracy,
-                                         KirchhoffFastInfo* info) {
+namespace {
+
+template <class Transform>
+std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::size_t resolution,
+                               double accuracy, KirchhoffFastInfo* info) {
   if (!(lambda_q > 0)) throw InputError("Kirchhoff: lambda_q must be > 0");
   if (resolution < 3) throw InputError("Kirchhoff: resolution must be >= 3");
   if (!(accuracy > 0 && accuracy < 1)) throw InputError("Kirchhoff: accuracy must be in (0, 1)");
@@ -106,6 +110,7 @@ std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_
 
   // Per-sample constants.
   const std::size_t ns = nx * ny;
+  const bool big = ns + N * N > (1u << 17);  // threads only pay off on large problems
   std::vector<cd> base(ns);
   std::vector<double> zs(ns);
   for (std::size_t i = 0; i < ns; ++i) {
@@ -123,15 +128,25 @@ std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_
       if (rr < 1) tnode[ix * N + iy] = (qmag * std::sqrt(1 - rr) - qc) / r;
     }
 
-  detail::ChirpZ czx(nx, N, -qmag * p.dx, qmag * delta * p.dx, 3 * ny);
-  detail::ChirpZ czy(ny, N, -qmag * p.dy, qmag * delta * p.dy, N);
+  // Transforms: exact chirp-z, or the NUFFT with taps for accuracy / 100 relative to sum |x|.
+  auto make = [&](std::size_t n, double d, std::size_t batch) {
+    if constexpr (std::is_same_v<Transform, detail::ChirpZ>)
+      return std::make_unique<Transform>(n, N, -qmag * d, qmag * delta * d, batch);
+    else
+      return std::make_unique<Transform>(n, N, -qmag * d, qmag * delta * d, batch,
+                                         Transform::taps_for(accuracy * 1e-2));
+  };
+  auto czx_p = make(nx, p.dx, 3 * ny);
+  auto czy_p = make(ny, p.dy, N);
+  Transform& czx = *czx_p;
+  Transform& czy = *czy_p;
   std::vector<cd> in(3 * ns), xo(3 * ny * N), ym(N * N), yc(N * N), b1(N * N), b2(N * N);
   const cd mi[4] = {cd(1, 0), cd(0, -1), cd(-1, 0), cd(0, 1)};  // (-i)^n
 
   for (std::size_t nn = terms; nn-- > 0;) {
     const std::size_t n = nn;
     // Sample arrays of term n.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (big)
     for (std::size_t i = 0; i < ns; ++i) {
       if (p.w[i] == 0) {
         in[i] = in[ns + i] = in[2 * ns + i] = 0.0;
@@ -150,18 +165,19 @@ std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_
       in[ns + i] = b * (p.gx[i] * cn);
       in[2 * ns + i] = b * (p.gy[i] * cn);
     }
-    czx.execute(in.data(), nx, 1, xo.data());  // rows: (component, y) -> q_x
-    cd* xa = xo.data();
-    const cd* xb = xo.data() + ny * N;
-    const cd* xcc = xo.data() + 2 * ny * N;
-#pragma omp parallel for schedule(static)
-    for (std::size_t y = 0; y < ny; ++y)
-      for (std::size_t k = 0; k < N; ++k) xa[y * N + k] -= qx[k] * xb[y * N + k];
-    czy.execute(xa, 1, N, ym.data());  // columns k -> ym[k * N + l], l = q_y index
-    czy.execute(xcc, 1, N, yc.data());
+    // x-pass, written transposed: xo[k * 3ny + (component * ny + y)], k = q_x index.
+    const std::size_t bt = 3 * ny;
+    czx.execute(in.data(), nx, 1, xo.data(), 1, bt);
+#pragma omp parallel for schedule(static) if (big)
+    for (std::size_t k = 0; k < N; ++k) {
+      cd* col = xo.data() + k * bt;
+      for (std::size_t y = 0; y < ny; ++y) col[y] -= qx[k] * col[ny + y];
+    }
+    czy.execute(xo.data(), bt, 1, ym.data());  // column k -> ym[k * N + l], l = q_y index
+    czy.execute(xo.data() + 2 * ny, bt, 1, yc.data());
     // Clenshaw step: b_n = I_n + 2 t b_{n+1} - b_{n+2}; at n = 0: f = I_0 + t b_1 - b_2.
     const double two = n == 0 ? 1.0 : 2.0;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (big)
     for (std::size_t k = 0; k < N; ++k)
       for (std::size_t l = 0; l < N; ++l) {
         const std::size_t j = k * N + l;
@@ -178,6 +194,15 @@ std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_
     for (std::size_t l = 0; l < N; ++l)
       if (!std::isnan(tnode[k * N + l])) out[l * N + k] = std::norm(b1[k * N + l]) * norm;
   return out;
+}
+
+}  // namespace
+
+std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_q,
+                                         std::size_t resolution, double accuracy,
+                                         KirchhoffFastInfo* info, bool chirp_z) {
+  return chirp_z ? table_fast<detail::ChirpZ>(p, lambda_q, resolution, accuracy, info)
+                 : table_fast<detail::ZoomNufft>(p, lambda_q, resolution, accuracy, info);
 }
 
 }  // namespace microbrdf
