@@ -143,7 +143,8 @@ class KirchhoffAccumulator {
   TabulatedNdf acc_;  // sum over patches of A_w,p D_K,p
   double area_w2_ = 0, valid_area_ = 0;
   std::size_t patches_ = 0, used_ = 0, skipped_ = 0;
-  std::string tiles_;
+  std::string tiles_, leveling_;
+  std::vector<std::string> sources_;
   KirchhoffFastInfo info_;
 };
 

@@ -93,6 +93,23 @@ std::complex<double> chirp(double a, std::size_t j) {
 
 }  // namespace
 
+Fft2c::Fft2c(std::size_t nx, std::size_t ny) : data_(nx * ny) {
+  std::lock_guard<std::mutex> lock(g_plan_mutex);
+  init_threads_once();
+  fftw_plan_with_nthreads(omp_get_max_threads());
+  auto* d = reinterpret_cast<fftw_complex*>(data_.data());
+  plan_ = fftw_plan_dft_2d(static_cast<int>(ny), static_cast<int>(nx), d, d, FFTW_FORWARD,
+                           FFTW_ESTIMATE);
+  if (!plan_) throw std::runtime_error("FFTW could not plan a transform");
+}
+
+Fft2c::~Fft2c() {
+  std::lock_guard<std::mutex> lock(g_plan_mutex);
+  if (plan_) fftw_destroy_plan(static_cast<fftw_plan>(plan_));
+}
+
+void Fft2c::execute() { fftw_execute(static_cast<fftw_plan>(plan_)); }
+
 std::size_t fft_good_size_235(std::size_t n) {
   for (std::size_t m = std::max<std::size_t>(n, 1);; ++m) {
     std::size_t r = m;

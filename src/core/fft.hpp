@@ -25,6 +25,22 @@ std::size_t fft_good_size(std::size_t n);
 /// A size >= n that is a product of 2, 3 and 5 only (FFTW's fastest codelets).
 std::size_t fft_good_size_235(std::size_t n);
 
+/// In-place forward complex 2-D FFT of an ny x nx row-major array with the plan made once
+/// (FFTW_ESTIMATE, threads as for the other transforms): the reference cost in the benchmarks.
+class Fft2c {
+ public:
+  Fft2c(std::size_t nx, std::size_t ny);
+  ~Fft2c();
+  Fft2c(const Fft2c&) = delete;
+  Fft2c& operator=(const Fft2c&) = delete;
+  std::vector<std::complex<double>>& data() { return data_; }
+  void execute();
+
+ private:
+  std::vector<std::complex<double>> data_;
+  void* plan_ = nullptr;
+};
+
 /// Batched 1-D chirp-z (zoom) transform with plans made once and reused (Bluestein):
 ///   X_b[k] = sum_{j<n} x_b[j] exp(-i (w0 + k dw) j),   k = 0..m-1,  b = 0..batch-1,
 /// i.e. the DTFT of each input vector at m equispaced angular frequencies (rad per sample) of

@@ -30,6 +30,8 @@ KirchhoffAccumulator::KirchhoffAccumulator(const KirchhoffOptions& options)
 
 void KirchhoffAccumulator::add(const Surface& s) {
   s.check();
+  if (!s.meta.source_path.empty()) sources_.push_back(s.meta.source_path);
+  leveling_ = s.meta.leveling;
   std::size_t cx, lx, cy, ly;
   tiling(s.nx, s.dx, opt_.patch_x, cx, lx);
   tiling(s.ny, s.dy, opt_.patch_y, cy, ly);
@@ -77,18 +79,23 @@ TabulatedNdf KirchhoffAccumulator::result() const {
   out.meta.samples_used = used_;
   out.meta.samples_skipped = skipped_;
   out.meta.projected_area_m2 = valid_area_;
-  char buf[400];
+  out.meta.sources = sources_;
+  out.meta.leveling = leveling_;
+  char method[120];
+  if (opt_.direct)
+    std::snprintf(method, sizeof method, "direct sums");
+  else
+    std::snprintf(method, sizeof method,
+                  "fast (Chebyshev series in q_z x NUFFT at the node frequencies), accuracy %g, "
+                  "%zu terms",
+                  opt_.accuracy, info_.terms);
+  char buf[600];
   std::snprintf(buf, sizeof buf,
                 "D_K (Dong eq. 6), midpoint rule per sample with the (q.m) factor; lambda_q = "
                 "%.6g nm; %zu patch(es), last: %s; window %s; %s; integral before "
                 "normalising %.6g",
                 opt_.wavelength_q * 1e9, patches_, tiles_.c_str(), to_string(opt_.window).c_str(),
-                opt_.direct ? "direct sums"
-                            : ("fast (Chebyshev in q_z x chirp-z), accuracy " +
-                               std::to_string(opt_.accuracy) + ", " +
-                               std::to_string(info_.terms) + " terms")
-                                  .c_str(),
-                raw_integral());
+                method, raw_integral());
   out.meta.notes = buf;
   return out;
 }
