@@ -158,3 +158,17 @@ TEST(kirchhoff, AccuracyKnobTradesTermsForError) {
   EXPECT_LT(e_loose, 0.05);
   EXPECT_LT(e_tight, e_loose);
 }
+
+// Acceptance 4 at full size: one 640 x 480 scan (70.4 x 52.8 um at 110 nm) on the 1025^2 table,
+// default accuracy, against the direct sums on 200 random disk nodes.
+TEST(kirchhoff, SlowFullScanFastMatchesDirect) {
+  BrushedParams b = brushed_preset("stainless4");
+  b.nx = 640;
+  b.ny = 480;
+  Surface s = generate_brushed(b);
+  auto p = make_kirchhoff_patch(s);
+  KirchhoffFastInfo info;
+  double err = fast_vs_direct(p, 555e-9, 1025, KirchhoffOptions{}.accuracy, 200, 5, &info);
+  std::printf("640x480 -> 1025^2: %zu terms, relative L1 %.3g\n", info.terms, err);
+  EXPECT_LT(err, 0.01);
+}

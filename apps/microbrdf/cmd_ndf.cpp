@@ -33,6 +33,7 @@ struct NdfArgs {
   std::string window = "none";
   double accuracy = KirchhoffOptions{}.accuracy;
   bool direct = false;
+  bool keep_aliases = false;
 };
 
 nlohmann::json ndf_json(const TabulatedNdf& ndf, const std::string& output) {
@@ -72,6 +73,7 @@ void run_kirchhoff(const NdfArgs& a) {
   o.window = parse_kirchhoff_window(a.window);
   o.accuracy = a.accuracy;
   o.direct = a.direct;
+  o.nyquist_mask = !a.keep_aliases;
   o.resolution = a.resolution;
   if (a.resolution < 17 || a.resolution > 8193)
     throw InputError("--resolution must be in 17..8193");
@@ -86,10 +88,10 @@ void run_kirchhoff(const NdfArgs& a) {
     if (i == 0 && nyq < qm)
       std::fprintf(stderr,
                    "microbrdf ndf: warning: sample spacing %s is above lambda_q/4 = %s: |q| exceeds "
-                   "the Nyquist frequency of the scan and D_K aliases at large half-vector "
-                   "angles\n",
+                   "the Nyquist frequency of the scan; nodes beyond it are %s\n",
                    format_length(std::max(s.dx, s.dy)).c_str(),
-                   format_length(o.wavelength_q / 4).c_str());
+                   format_length(o.wavelength_q / 4).c_str(),
+                   o.nyquist_mask ? "set to 0 (--keep-aliases keeps them)" : "aliases (kept)");
     if (o.direct && s.size() * a.resolution * a.resolution > 5e10)
       std::fprintf(stderr,
                    "microbrdf ndf: warning: --direct on %zu samples x %zu^2 nodes will take very "
@@ -116,6 +118,8 @@ void run_kirchhoff(const NdfArgs& a) {
                       {"terms", in.terms},
                       {"height_half_range_m", in.height_half_range},
                       {"raw_integral", acc.raw_integral()},
+                      {"nyquist_mask", o.nyquist_mask},
+                      {"aliased_fraction", acc.aliased_fraction()},
                       {"notes", ndf.meta.notes}};
     print_json(j);
   } else {
@@ -244,6 +248,8 @@ void register_ndf(CLI::App& app) {
                   "Kirchhoff: tail bound of the fast method (smaller = more terms)")
       ->capture_default_str();
   cmd->add_flag("--direct", a->direct, "Kirchhoff: direct sums on every node (slow reference)");
+  cmd->add_flag("--keep-aliases", a->keep_aliases,
+                "Kirchhoff: keep nodes beyond the scan's Nyquist band (|q_x| > pi/dx, |q_y| > pi/dy)");
   cmd->add_option("-o,--output", a->output, "Output table (.npy or .exr)")->required();
   cmd->add_option("--preview", a->preview, "Write a log-scale false-colour PNG of the NDF");
   cmd->add_flag("--zoom", a->zoom, "Add a zoom panel around the peak to the preview (narrow NDFs)");

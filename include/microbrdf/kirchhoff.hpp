@@ -119,6 +119,10 @@ struct KirchhoffOptions {
   double gauss_fraction = 0.125;  ///< Gauss window std as a fraction of the patch side
   double accuracy = 1e-3;         ///< fast method: Chebyshev tail bound (NUFFT: accuracy/100)
   bool direct = false;            ///< use the direct sums on every node (slow; small patches)
+  /// Zero the nodes whose |q_x| > pi/dx or |q_y| > pi/dy: beyond the scan's Nyquist band the
+  /// sampled-surface sum only repeats the band (aliases, e.g. a copy of the specular peak at
+  /// q_y = 2 pi/dy). Only matters when a spacing exceeds lambda_q / 4 (|q| > pi / d).
+  bool nyquist_mask = true;
 };
 
 /// Averages D_K over patches and scans (Dong App. A): each scan is cut into tiles of about
@@ -135,13 +139,15 @@ class KirchhoffAccumulator {
   /// sum D_K Delta^2 of the physical average before normalising (~1; theory 4.3.6).
   double raw_integral() const;
   std::size_t patches() const { return patches_; }
+  /// Fraction of the (A_w-weighted, physical) D_K mass removed by the Nyquist mask.
+  double aliased_fraction() const;
   const KirchhoffFastInfo& last_info() const { return info_; }
   const KirchhoffOptions& options() const { return opt_; }
 
  private:
   KirchhoffOptions opt_;
   TabulatedNdf acc_;  // sum over patches of A_w,p D_K,p
-  double area_w2_ = 0, valid_area_ = 0;
+  double area_w2_ = 0, valid_area_ = 0, aliased_ = 0;
   std::size_t patches_ = 0, used_ = 0, skipped_ = 0;
   std::string tiles_, leveling_;
   std::vector<std::string> sources_;
