@@ -9,8 +9,8 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "core/fft.hpp"
@@ -128,8 +128,8 @@ void BM_KirchhoffSummary(benchmark::State& state) {
     num += std::fabs(fast[nodes()[i]] - direct[i]);
     den += std::fabs(direct[i]);
   }
-  const double t_direct_full = t_direct / static_cast<double>(nodes().size()) *
-                               static_cast<double>(disk_nodes());
+  const double t_direct_full =
+      t_direct / static_cast<double>(nodes().size()) * static_cast<double>(disk_nodes());
   state.counters["fast_s"] = t_fast;
   state.counters["fft_ms"] = 1e3 * t_fft;
   state.counters["direct_full_s"] = t_direct_full;

@@ -7,8 +7,8 @@
 #include <random>
 
 #include "core/fft.hpp"
-#include "microbrdf/generate.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/generate.hpp"
 #include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 
@@ -75,7 +75,8 @@ TEST(kirchhoff, ChirpZEqualsDtft) {
     for (std::size_t k = 0; k < m; ++k) {
       std::complex<double> ref = 0;
       for (std::size_t j = 0; j < n; ++j)
-        ref += in[b * n + j] * std::polar(1.0, -(w0 + dw * static_cast<double>(k)) * static_cast<double>(j));
+        ref += in[b * n + j] *
+               std::polar(1.0, -(w0 + dw * static_cast<double>(k)) * static_cast<double>(j));
       EXPECT_LT(std::abs(out[b * m + k] - ref), 1e-11 * (1 + std::abs(ref)));
     }
 }

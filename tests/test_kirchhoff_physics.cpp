@@ -141,8 +141,8 @@ TEST(kirchhoff, SmoothGaussianSpecularFractionIsDebyeWaller) {
       }
     double frac = (peak - ann / nann * npk) / total;
     double qz = 4 * M_PI / kLq, expect = std::exp(-qz * qz * sigma * sigma);
-    std::printf("sigma %.0f nm: specular fraction %.4f, exp(-g) %.4f, integral %.4f\n",
-                sigma * 1e9, frac, expect, total * d * d);
+    std::printf("sigma %.0f nm: specular fraction %.4f, exp(-g) %.4f, integral %.4f\n", sigma * 1e9,
+                frac, expect, total * d * d);
     EXPECT_NEAR(frac / expect, 1.0, 0.05);
   }
 }
@@ -165,7 +165,8 @@ TEST(kirchhoff, ScanSetAveragesPatchesByArea) {
   EXPECT_NEAR(avg.integral(), 1.0, 1e-12);
   // Same as averaging the two halves by hand.
   auto a = make_kirchhoff_patch(s, 0, 0, 128, 128), c = make_kirchhoff_patch(s, 128, 0, 128, 128);
-  auto ta = kirchhoff_table_fast(a, kLq, 129, o.accuracy), tc = kirchhoff_table_fast(c, kLq, 129, o.accuracy);
+  auto ta = kirchhoff_table_fast(a, kLq, 129, o.accuracy),
+       tc = kirchhoff_table_fast(c, kLq, 129, o.accuracy);
   TabulatedNdf ref(129);
   for (std::size_t i = 0; i < ta.size(); ++i) ref.values()[i] = 0.5 * (ta[i] + tc[i]);
   ref.normalise();

@@ -86,12 +86,12 @@ void run_kirchhoff(const NdfArgs& a) {
     Surface s = load_surface(paths[i], a.read, nullptr);
     const double nyq = M_PI / std::max(s.dx, s.dy), qm = 4 * M_PI / o.wavelength_q;
     if (i == 0 && nyq < qm)
-      std::fprintf(stderr,
-                   "microbrdf ndf: warning: sample spacing %s is above lambda_q/4 = %s: |q| exceeds "
-                   "the Nyquist frequency of the scan; nodes beyond it are %s\n",
-                   format_length(std::max(s.dx, s.dy)).c_str(),
-                   format_length(o.wavelength_q / 4).c_str(),
-                   o.nyquist_mask ? "set to 0 (--keep-aliases keeps them)" : "aliases (kept)");
+      std::fprintf(
+          stderr,
+          "microbrdf ndf: warning: sample spacing %s is above lambda_q/4 = %s: |q| exceeds "
+          "the Nyquist frequency of the scan; nodes beyond it are %s\n",
+          format_length(std::max(s.dx, s.dy)).c_str(), format_length(o.wavelength_q / 4).c_str(),
+          o.nyquist_mask ? "set to 0 (--keep-aliases keeps them)" : "aliases (kept)");
     if (o.direct && s.size() * a.resolution * a.resolution > 5e10)
       std::fprintf(stderr,
                    "microbrdf ndf: warning: --direct on %zu samples x %zu^2 nodes will take very "
@@ -239,8 +239,9 @@ void register_ndf(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--wavelength", a->wavelength, "Kirchhoff: lambda_q (Dong eq. 5)")
       ->capture_default_str();
-  cmd->add_option("--patch", a->patch,
-                  "Kirchhoff: tile size (coherence area), e.g. 70x53um; 'whole' = one tile per scan")
+  cmd->add_option(
+         "--patch", a->patch,
+         "Kirchhoff: tile size (coherence area), e.g. 70x53um; 'whole' = one tile per scan")
       ->capture_default_str();
   cmd->add_option("--window", a->window, "Kirchhoff: apodisation none | hann | gauss")
       ->capture_default_str();
@@ -248,8 +249,9 @@ void register_ndf(CLI::App& app) {
                   "Kirchhoff: tail bound of the fast method (smaller = more terms)")
       ->capture_default_str();
   cmd->add_flag("--direct", a->direct, "Kirchhoff: direct sums on every node (slow reference)");
-  cmd->add_flag("--keep-aliases", a->keep_aliases,
-                "Kirchhoff: keep nodes beyond the scan's Nyquist band (|q_x| > pi/dx, |q_y| > pi/dy)");
+  cmd->add_flag(
+      "--keep-aliases", a->keep_aliases,
+      "Kirchhoff: keep nodes beyond the scan's Nyquist band (|q_x| > pi/dx, |q_y| > pi/dy)");
   cmd->add_option("-o,--output", a->output, "Output table (.npy or .exr)")->required();
   cmd->add_option("--preview", a->preview, "Write a log-scale false-colour PNG of the NDF");
   cmd->add_flag("--zoom", a->zoom, "Add a zoom panel around the peak to the preview (narrow NDFs)");

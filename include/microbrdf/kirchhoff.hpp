@@ -89,10 +89,10 @@ std::vector<double> kirchhoff_nodes_direct(const KirchhoffPatch& p, double lambd
 
 /// What the fast method did (for reports and the accuracy knob).
 struct KirchhoffFastInfo {
-  std::size_t terms = 0;       ///< Chebyshev terms in q_z (each = 3 + 2 batched chirp-z passes)
+  std::size_t terms = 0;         ///< Chebyshev terms in q_z (each: 3 x-passes + 2 y-passes)
   double height_half_range = 0;  ///< H = (max - min)/2 of the valid heights, m
-  double z_max = 0;            ///< |q| H / 2, the Bessel argument that sets the term count
-  double tail_bound = 0;       ///< 2 sum_{n > terms-1} |J_n(z_max)| (plus the q_z-factor term)
+  double z_max = 0;              ///< |q| H / 2, the Bessel argument that sets the term count
+  double tail_bound = 0;         ///< 2 sum_{n > terms-1} |J_n(z_max)| (plus the q_z-factor term)
 };
 
 /// Physical D_K on all N x N nodes (0 on and outside the unit circle), fast:

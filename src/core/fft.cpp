@@ -119,8 +119,7 @@ std::size_t fft_good_size_235(std::size_t n) {
   }
 }
 
-ChirpZ::ChirpZ(std::size_t n, std::size_t m, double w0, double dw, std::size_t batch,
-               bool measure)
+ChirpZ::ChirpZ(std::size_t n, std::size_t m, double w0, double dw, std::size_t batch, bool measure)
     : n_(n), m_(m), batch_(batch), l_(fft_good_size_235(n + m - 1)) {
   if (n == 0 || m == 0 || batch == 0) throw std::invalid_argument("ChirpZ: empty transform");
   pre_.resize(n);
@@ -181,7 +180,8 @@ void ChirpZ::execute(const std::complex<double>* in, std::size_t b_stride, std::
     }
     for (std::size_t b = b0; b < b1; ++b)
       std::fill(work_.begin() + static_cast<std::ptrdiff_t>(b * l + n),
-                work_.begin() + static_cast<std::ptrdiff_t>((b + 1) * l), std::complex<double>(0.0, 0.0));
+                work_.begin() + static_cast<std::ptrdiff_t>((b + 1) * l),
+                std::complex<double>(0.0, 0.0));
   }
   fftw_execute(static_cast<fftw_plan>(fwd_));
 #pragma omp parallel for schedule(static) if (big)
@@ -267,8 +267,8 @@ ZoomNufft::ZoomNufft(std::size_t n, std::size_t m, double w0, double dw, std::si
   init_threads_once();
   fftw_plan_with_nthreads(batch * l_ > (1u << 18) ? omp_get_max_threads() : 1);
   auto* wp = reinterpret_cast<fftw_complex*>(work_.data());
-  fwd_ = fftw_plan_many_dft(1, &len, static_cast<int>(batch), wp, nullptr, 1, dist, wp, nullptr,
-                            1, dist, FFTW_FORWARD, measure ? FFTW_MEASURE : FFTW_ESTIMATE);
+  fwd_ = fftw_plan_many_dft(1, &len, static_cast<int>(batch), wp, nullptr, 1, dist, wp, nullptr, 1,
+                            dist, FFTW_FORWARD, measure ? FFTW_MEASURE : FFTW_ESTIMATE);
   if (!fwd_) throw std::runtime_error("FFTW could not plan a transform");
 }
 
@@ -277,9 +277,8 @@ ZoomNufft::~ZoomNufft() {
   if (fwd_) fftw_destroy_plan(static_cast<fftw_plan>(fwd_));
 }
 
-void ZoomNufft::execute(const std::complex<double>* in, std::size_t b_stride,
-                        std::size_t j_stride, std::complex<double>* out, std::size_t ob,
-                        std::size_t ok) {
+void ZoomNufft::execute(const std::complex<double>* in, std::size_t b_stride, std::size_t j_stride,
+                        std::complex<double>* out, std::size_t ob, std::size_t ok) {
   const std::size_t n = n_, m = m_, l = ld_, K = static_cast<std::size_t>(taps_);
   if (ob == 0) ob = m;
   const std::ptrdiff_t L = static_cast<std::ptrdiff_t>(l_), c = centre_;
@@ -292,9 +291,10 @@ void ZoomNufft::execute(const std::complex<double>* in, std::size_t b_stride,
     const std::size_t b0 = blk * kBlock, b1 = std::min(batch_, b0 + kBlock);
     // Samples j sit at offset j - c, stored circularly: [0, n - c) and [L - c, L); zero between.
     for (std::size_t b = b0; b < b1; ++b)
-      std::fill(work_.begin() + static_cast<std::ptrdiff_t>(b * l) + (static_cast<std::ptrdiff_t>(n) - c),
-                work_.begin() + static_cast<std::ptrdiff_t>(b * l) + (L - c),
-                std::complex<double>(0.0, 0.0));
+      std::fill(
+          work_.begin() + static_cast<std::ptrdiff_t>(b * l) + (static_cast<std::ptrdiff_t>(n) - c),
+          work_.begin() + static_cast<std::ptrdiff_t>(b * l) + (L - c),
+          std::complex<double>(0.0, 0.0));
     for (std::size_t j = 0; j < n; ++j) {
       std::ptrdiff_t pos = static_cast<std::ptrdiff_t>(j) - c;
       if (pos < 0) pos += L;

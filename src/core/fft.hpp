@@ -100,12 +100,12 @@ class ZoomNufft {
   std::size_t n_, m_, batch_, l_;
   int taps_;
   std::ptrdiff_t centre_;
-  std::vector<double> deconv_;                 // 1 / Phi(2 pi (j - c) / M), j < n
-  std::vector<std::ptrdiff_t> start_;          // first bin of output k (may be negative)
-  std::vector<double> weight_;                 // m x K kernel weights
-  std::vector<std::complex<double>> phase_;    // exp(-i w_k c)
-  std::size_t ld_;                             // row distance in work_ (M + 4: no 4 KiB aliasing)
-  std::vector<std::complex<double>> work_;     // batch x ld_
+  std::vector<double> deconv_;               // 1 / Phi(2 pi (j - c) / M), j < n
+  std::vector<std::ptrdiff_t> start_;        // first bin of output k (may be negative)
+  std::vector<double> weight_;               // m x K kernel weights
+  std::vector<std::complex<double>> phase_;  // exp(-i w_k c)
+  std::size_t ld_;                           // row distance in work_ (M + 4: no 4 KiB aliasing)
+  std::vector<std::complex<double>> work_;   // batch x ld_
   void* fwd_ = nullptr;
 };
 

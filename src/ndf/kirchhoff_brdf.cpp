@@ -9,14 +9,16 @@
 
 namespace microbrdf {
 
-KirchhoffBrdf::KirchhoffBrdf(std::vector<TabulatedNdf> tables, std::shared_ptr<const Fresnel> fresnel,
+KirchhoffBrdf::KirchhoffBrdf(std::vector<TabulatedNdf> tables,
+                             std::shared_ptr<const Fresnel> fresnel,
                              std::shared_ptr<const MicrofacetDistribution> shadowing)
     : tables_(std::move(tables)), f_(std::move(fresnel)), g_(std::move(shadowing)) {
   if (tables_.empty() || !f_)
     throw std::invalid_argument("KirchhoffBrdf needs at least one D_K table and a Fresnel term");
   for (const auto& t : tables_)
     if (!(t.meta.wavelength_m > 0) && tables_.size() > 1)
-      throw std::invalid_argument("KirchhoffBrdf: every table needs its lambda_q (meta.wavelength_m)");
+      throw std::invalid_argument(
+          "KirchhoffBrdf: every table needs its lambda_q (meta.wavelength_m)");
   std::sort(tables_.begin(), tables_.end(), [](const TabulatedNdf& a, const TabulatedNdf& b) {
     return a.meta.wavelength_m < b.meta.wavelength_m;
   });

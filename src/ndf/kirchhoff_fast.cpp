@@ -121,7 +121,8 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
 
   // Node tables: t(q_z) per node (NaN outside the disk), q_x per column, q_y per row.
   std::vector<double> tnode(N * N, NAN), qx(N), qy(N);
-  for (std::size_t k = 0; k < N; ++k) qx[k] = qy[k] = qmag * (-1.0 + delta * static_cast<double>(k));
+  for (std::size_t k = 0; k < N; ++k)
+    qx[k] = qy[k] = qmag * (-1.0 + delta * static_cast<double>(k));
   for (std::size_t iy = 0; iy < N; ++iy)
     for (std::size_t ix = 0; ix < N; ++ix) {
       double mx = qx[ix] / qmag, my = qy[iy] / qmag, rr = mx * mx + my * my;
