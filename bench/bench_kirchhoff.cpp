@@ -1,0 +1,148 @@
+// Kirchhoff distribution D_K of one 640 x 480 scan at 110 nm (stainless #4 brushed preset, Dong's
+// scan size, 70.4 x 52.8 um) on the full 1025^2 table at lambda_q = 555 nm, side by side in one
+// run with
+//  - the direct-summation reference, timed on 64 random disk nodes and extrapolated to all
+//    825,242 disk nodes (a full direct table takes hours);
+//  - one zero-padded complex 2-D FFT of the same patch (exp(-i q_z h) padded to 1280 x 960).
+// BM_KirchhoffSummary reports the ratios (speed-up, cost in padded FFTs) and the fast method's
+// relative L1 error on those nodes as counters.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <random>
+
+#include "core/fft.hpp"
+#include "microbrdf/generate.hpp"
+#include "microbrdf/kirchhoff.hpp"
+
+using namespace microbrdf;
+
+namespace {
+
+constexpr double kLq = 555e-9;
+constexpr std::size_t kN = 1025;
+
+const Surface& scan() {
+  static const Surface s = [] {
+    BrushedParams b = brushed_preset("stainless4");
+    b.nx = 640;
+    b.ny = 480;
+    return generate_brushed(b);
+  }();
+  return s;
+}
+
+const KirchhoffPatch& patch() {
+  static const KirchhoffPatch p = make_kirchhoff_patch(scan());
+  return p;
+}
+
+const std::vector<std::size_t>& nodes() {
+  static const std::vector<std::size_t> v = [] {
+    std::mt19937_64 rng(7);
+    std::uniform_int_distribution<std::size_t> pick(0, kN * kN - 1);
+    std::vector<std::size_t> out;
+    while (out.size() < 64) {
+      std::size_t k = pick(rng);
+      if (kirchhoff_node_q(kN, k % kN, k / kN, kLq).z() > 0) out.push_back(k);
+    }
+    return out;
+  }();
+  return v;
+}
+
+std::size_t disk_nodes() {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < kN * kN; ++i)
+    if (kirchhoff_node_q(kN, i % kN, i / kN, kLq).z() > 0) ++n;
+  return n;
+}
+
+// One zero-padded complex 2-D FFT of exp(-i q_z h) of the patch.
+struct PaddedFft {
+  std::size_t mx, my;
+  detail::Fft2c fft;
+  PaddedFft()
+      : mx(detail::fft_good_size(2 * scan().nx)),
+        my(detail::fft_good_size(2 * scan().ny)),
+        fft(mx, my) {}
+  void run() {
+    const auto& p = patch();
+    auto& d = fft.data();
+    std::fill(d.begin(), d.end(), std::complex<double>(0, 0));
+    const double qz = 4 * M_PI / kLq;
+    for (std::size_t y = 0; y < p.ny; ++y)
+      for (std::size_t x = 0; x < p.nx; ++x)
+        d[y * mx + x] = std::polar(p.w[y * p.nx + x], -qz * p.h[y * p.nx + x]);
+    fft.execute();
+  }
+};
+
+void BM_KirchhoffFast(benchmark::State& state) {
+  const auto& p = patch();
+  double acc = std::pow(10.0, -static_cast<double>(state.range(0)));
+  KirchhoffFastInfo info;
+  for (auto _ : state) benchmark::DoNotOptimize(kirchhoff_table_fast(p, kLq, kN, acc, &info));
+  state.counters["terms"] = static_cast<double>(info.terms);
+}
+
+void BM_KirchhoffDirect64Nodes(benchmark::State& state) {
+  const auto& p = patch();
+  for (auto _ : state) benchmark::DoNotOptimize(kirchhoff_nodes_direct(p, kLq, kN, nodes()));
+}
+
+void BM_PaddedFft2d(benchmark::State& state) {
+  PaddedFft f;
+  for (auto _ : state) f.run();
+  state.counters["size"] = static_cast<double>(f.mx * f.my);
+}
+
+// One scan file's worth: patch preparation (slopes, window) + fast D_K + averaging.
+void BM_KirchhoffScanToTable(benchmark::State& state) {
+  KirchhoffOptions o;
+  o.window = KirchhoffWindow::Hann;
+  for (auto _ : state) benchmark::DoNotOptimize(estimate_kirchhoff(scan(), o));
+}
+
+double seconds(const std::function<void()>& f, int reps) {
+  auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < reps; ++i) f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / reps;
+}
+
+void BM_KirchhoffSummary(benchmark::State& state) {
+  const auto& p = patch();
+  PaddedFft f;
+  std::vector<double> fast, direct;
+  KirchhoffFastInfo info;
+  double t_fast = 0, t_direct = 0, t_fft = 0;
+  for (auto _ : state) {
+    t_fft = seconds([&] { f.run(); }, 10);
+    t_fast = seconds([&] { fast = kirchhoff_table_fast(p, kLq, kN, 1e-3, &info); }, 1);
+    t_direct = seconds([&] { direct = kirchhoff_nodes_direct(p, kLq, kN, nodes()); }, 1);
+  }
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < nodes().size(); ++i) {
+    num += std::fabs(fast[nodes()[i]] - direct[i]);
+    den += std::fabs(direct[i]);
+  }
+  const double t_direct_full =
+      t_direct / static_cast<double>(nodes().size()) * static_cast<double>(disk_nodes());
+  state.counters["fast_s"] = t_fast;
+  state.counters["fft_ms"] = 1e3 * t_fft;
+  state.counters["direct_full_s"] = t_direct_full;
+  state.counters["speedup"] = t_direct_full / t_fast;
+  state.counters["fast_in_ffts"] = t_fast / t_fft;
+  state.counters["rel_L1"] = num / den;
+  state.counters["terms"] = static_cast<double>(info.terms);
+}
+
+}  // namespace
+
+BENCHMARK(BM_PaddedFft2d)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KirchhoffFast)->Arg(2)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KirchhoffDirect64Nodes)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_KirchhoffScanToTable)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_KirchhoffSummary)->Unit(benchmark::kSecond)->Iterations(1);

@@ -1,0 +1,192 @@
+#pragma once
+// The Kirchhoff distribution D_K (Dong 2015 eqs. 3-8 and Appendix A; theory notes section 4)
+// computed from height maps, and the Kirchhoff BRDF (Dong eq. 8). docs/kirchhoff.md has the
+// derivations, the accuracy figures and the pictures.
+//
+// Definition (eq. 6, height-field form of theory 4.1), for q = (4 pi / lambda_q) h:
+//   I(q)   = integral over the patch of w (q.m) exp(-i q.s) dS
+//          = integral w(x,y) (q_z - q_x h_x - q_y h_y) exp(-i (q_x x + q_y y + q_z h)) dx dy
+//   D_K(q) = |I(q)|^2 / (4 pi^2 A_w),   A_w = integral w^2 dx dy
+// with w the aperture: 1 on valid samples (0 at invalid ones) times an optional window.
+//
+// Quadrature (the "sampled surface"): midpoint rule per sample. Each valid sample j stands for
+// its projected cell dx dy, at the point s_j = (x_j, y_j, h_j), with the slope (g_x, g_y) of
+// central differences over its valid neighbours (one-sided beside a hole or the edge of the
+// surface, 0 along an axis with no valid neighbour):
+//   I(q) = dx dy sum_j w_j (q_z - q_x g_xj - q_y g_yj) exp(-i q.s_j).
+// The (q.m) factor is kept as it is (no integration by parts, so the edge-diffraction term of the
+// patch outline and of holes is included). Invalid samples are excluded, never filled.
+//
+// Normalisation: D_K above is the physical quantity of eq. 6 (dimensionless, per steradian of h
+// in the BRDF of eq. 7). By Parseval its integral over the disk, sum D_K Delta^2 on the table, is
+// close to 1 (exactly 1 for a mirror at normal q); the tables returned by the estimators are
+// divided by that sum so that sum D Delta^2 = 1 like every TabulatedNdf, and the sum before
+// normalising is reported (KirchhoffAccumulator::raw_integral, metadata notes).
+
+#include <Eigen/Core>
+#include <complex>
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/surface.hpp"
+#include "microbrdf/tabulated_ndf.hpp"
+
+namespace microbrdf {
+
+/// Apodisation of each patch (theory 4.5). D_K is the true D_K blurred by |FT(w)|^2 / (4 pi^2 A_w):
+///  - None: sinc^2 blur, first zero at q = 2 pi / L, side lobes decaying as 1/q^2 (a hard
+///    aperture diffracts into a cross along the patch axes);
+///  - Hann: sin^2 taper over the whole patch; main lobe twice as wide, side lobes 1/q^6;
+///  - Gauss: exp(-u^2 / (2 s^2)) per axis about the patch centre with s = gauss_fraction * side
+///    (default 1/8: 3.4e-4 at the edges); Gaussian blur of std 1/(sqrt(2) s) in q.
+enum class KirchhoffWindow { None, Hann, Gauss };
+KirchhoffWindow parse_kirchhoff_window(const std::string& name);  ///< none|hann|gauss; InputError
+std::string to_string(KirchhoffWindow w);
+
+/// One patch prepared for evaluation: heights, slopes and aperture weights on its samples.
+struct KirchhoffPatch {
+  std::size_t nx = 0, ny = 0;
+  double dx = 0, dy = 0;
+  std::vector<double> h;       ///< height, m (0 where invalid)
+  std::vector<double> gx, gy;  ///< slopes (central differences over valid neighbours)
+  std::vector<double> w;       ///< aperture: window x validity (0 where invalid)
+  double area_w2 = 0;          ///< A_w = dx dy sum w^2, m^2
+  double valid_area = 0;       ///< dx dy x valid samples, m^2
+  std::size_t valid = 0, invalid = 0;
+  std::size_t no_slope = 0;  ///< valid samples with no valid neighbour along an axis (slope 0)
+};
+
+/// Cuts the window [ix0, ix0+nx) x [iy0, iy0+ny) out of `s` (neighbours outside the window are
+/// used for the slopes of its border samples). Throws InputError for an empty or out-of-range
+/// window.
+KirchhoffPatch make_kirchhoff_patch(const Surface& s, std::size_t ix0, std::size_t iy0,
+                                    std::size_t nx, std::size_t ny,
+                                    KirchhoffWindow window = KirchhoffWindow::None,
+                                    double gauss_fraction = 0.125);
+/// The whole surface as one patch.
+KirchhoffPatch make_kirchhoff_patch(const Surface& s,
+                                    KirchhoffWindow window = KirchhoffWindow::None,
+                                    double gauss_fraction = 0.125);
+
+/// I(q) by direct summation (the reference; O(samples) per q). Positions are relative to the
+/// patch's first sample (a global phase, irrelevant to D_K). q in 1/m.
+std::complex<double> kirchhoff_amplitude(const KirchhoffPatch& p, const Eigen::Vector3d& q);
+/// Physical D_K(q) = |I|^2 / (4 pi^2 A_w) by direct summation.
+double kirchhoff_dk_direct(const KirchhoffPatch& p, const Eigen::Vector3d& q);
+
+/// The node q of an N x N table at lambda_q: q = (4 pi / lambda_q) (m_x, m_y, m_z).
+Eigen::Vector3d kirchhoff_node_q(std::size_t n, std::size_t ix, std::size_t iy, double lambda_q);
+
+/// Physical D_K at the given table nodes (index iy * N + ix) by direct summation, in parallel
+/// over nodes; nodes on or outside the unit circle give 0.
+std::vector<double> kirchhoff_nodes_direct(const KirchhoffPatch& p, double lambda_q,
+                                           std::size_t resolution,
+                                           const std::vector<std::size_t>& nodes);
+
+/// What the fast method did (for reports and the accuracy knob).
+struct KirchhoffFastInfo {
+  std::size_t terms = 0;         ///< Chebyshev terms in q_z (each: 3 x-passes + 2 y-passes)
+  double height_half_range = 0;  ///< H = (max - min)/2 of the valid heights, m
+  double z_max = 0;              ///< |q| H / 2, the Bessel argument that sets the term count
+  double tail_bound = 0;         ///< 2 sum_{n > terms-1} |J_n(z_max)| (plus the q_z-factor term)
+};
+
+/// Physical D_K on all N x N nodes (0 on and outside the unit circle), fast:
+/// q_z = q_c + (|q|/2) t with t in [-1, 1] over the disk, and exp(-i q_z h) expanded in Chebyshev
+/// polynomials T_n(t) (Jacobi-Anger: coefficients 2 (-i)^n J_n(|q| (h - h_c) / 2)), truncated
+/// where the tail is below `accuracy` (relative to one sample's unit phasor). Each term's three
+/// sample arrays (q_z, q_x and q_y parts of q.m) are Fourier transformed separably (x, then y)
+/// directly at the node frequencies -- by a type-2 NUFFT with a kernel accurate to accuracy/100
+/// (default), or exactly by chirp-z transforms (`chirp_z`, about 3x slower) -- and the series is
+/// summed per node (Clenshaw).
+std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_q,
+                                         std::size_t resolution, double accuracy = 1e-3,
+                                         KirchhoffFastInfo* info = nullptr, bool chirp_z = false);
+
+/// Bessel functions J_0..J_nmax(x), x >= 0, by Miller's backward recurrence normalised with
+/// J_0 + 2 sum J_2k = 1 (relative accuracy ~1e-14 where J_n is not negligible).
+std::vector<double> bessel_j_all(std::size_t nmax, double x);
+
+struct KirchhoffOptions {
+  double wavelength_q = 555e-9;  ///< lambda_q, m (Dong section 7: 555 nm)
+  std::size_t resolution = 1025;
+  double patch_x = 70e-6, patch_y = 53e-6;  ///< patch size, m (<= 0: whole scan on that axis)
+  KirchhoffWindow window = KirchhoffWindow::None;
+  double gauss_fraction = 0.125;  ///< Gauss window std as a fraction of the patch side
+  double accuracy = 1e-3;         ///< fast method: Chebyshev tail bound (NUFFT: accuracy/100)
+  bool direct = false;            ///< use the direct sums on every node (slow; small patches)
+  /// Zero the nodes whose |q_x| > pi/dx or |q_y| > pi/dy: beyond the scan's Nyquist band the
+  /// sampled-surface sum only repeats the band (aliases, e.g. a copy of the specular peak at
+  /// q_y = 2 pi/dy). Only matters when a spacing exceeds lambda_q / 4 (|q| > pi / d).
+  bool nyquist_mask = true;
+};
+
+/// Averages D_K over patches and scans (Dong App. A): each scan is cut into tiles of about
+/// patch_x x patch_y (round(L / patch) equal tiles per axis, at least 1, the remainder of the
+/// division left out at the far edges), D_K is computed per tile, and the intensities are
+/// averaged weighted by A_w: D = sum |I_p|^2 / (4 pi^2 sum A_w,p).
+class KirchhoffAccumulator {
+ public:
+  explicit KirchhoffAccumulator(const KirchhoffOptions& options);
+  void add(const Surface& s);
+  /// The averaged D_K normalised to sum D Delta^2 = 1; meta.method = "kirchhoff",
+  /// meta.wavelength_m = lambda_q. Throws InputError if nothing was accumulated.
+  TabulatedNdf result() const;
+  /// sum D_K Delta^2 of the physical average before normalising (~1; theory 4.3.6).
+  double raw_integral() const;
+  std::size_t patches() const { return patches_; }
+  /// Fraction of the (A_w-weighted, physical) D_K mass removed by the Nyquist mask.
+  double aliased_fraction() const;
+  const KirchhoffFastInfo& last_info() const { return info_; }
+  const KirchhoffOptions& options() const { return opt_; }
+
+ private:
+  KirchhoffOptions opt_;
+  TabulatedNdf acc_;  // sum over patches of A_w,p D_K,p
+  double area_w2_ = 0, valid_area_ = 0, aliased_ = 0;
+  std::size_t patches_ = 0, used_ = 0, skipped_ = 0;
+  std::string tiles_, leveling_;
+  std::vector<std::string> sources_;
+  KirchhoffFastInfo info_;
+};
+
+/// One scan's D_K (KirchhoffAccumulator with one add).
+TabulatedNdf estimate_kirchhoff(const Surface& s, const KirchhoffOptions& options);
+
+/// Dong 2015 eq. 8: f = D_K(4 pi h / lambda_q) F(wi.h) G(wi, wo) / (4 |wi.n| |wo.n|).
+/// - One table: D_K at a fixed lambda_q is used for every wavelength and angle (Dong section 7).
+/// - Several tables (computed at different lambda_q): the actual lambda_q = 2 lambda / |wi + wo|
+///   (eq. 5) is formed per evaluation and the table values are interpolated linearly in
+///   1/lambda_q between the two bracketing tables (clamped at the ends): spectral use, e.g.
+///   diffraction colours of gratings.
+/// G: Smith G2 of the `shadowing` distribution when one is given (e.g. a fitted Beckmann or
+/// ellipsoid, as Dong does), else 1 (plain Kirchhoff, eq. 7). Sampling draws h from the table
+/// closest to 555 nm (NdfSampler: density D(h)(h.n)) and reflects.
+class KirchhoffBrdf final : public Brdf {
+ public:
+  KirchhoffBrdf(std::vector<TabulatedNdf> tables, std::shared_ptr<const Fresnel> fresnel,
+                std::shared_ptr<const MicrofacetDistribution> shadowing = nullptr);
+  KirchhoffBrdf(const KirchhoffBrdf&) = delete;  // the sampler points into tables_
+  KirchhoffBrdf& operator=(const KirchhoffBrdf&) = delete;
+  double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
+  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
+                                   double wavelength_m) const override;
+  double pdf(const Vec3& wi, const Vec3& wo) const override;
+  std::string describe() const override;
+  /// D_K(h) at lambda_q (interpolated between tables as described above).
+  double dk(const Vec3& h, double lambda_q) const;
+  const std::vector<TabulatedNdf>& tables() const { return tables_; }
+
+ private:
+  std::vector<TabulatedNdf> tables_;  // sorted by lambda_q
+  std::shared_ptr<const Fresnel> f_;
+  std::shared_ptr<const MicrofacetDistribution> g_;
+  std::size_t sample_table_ = 0;
+  std::shared_ptr<const void> sampler_;  // NdfSampler of tables_[sample_table_]
+};
+
+}  // namespace microbrdf

@@ -1,0 +1,175 @@
+// Kirchhoff distribution D_K (issue 5): the building blocks and the fast method against the
+// direct-summation reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <random>
+
+#include "core/fft.hpp"
+#include "microbrdf/fresnel.hpp"
+#include "microbrdf/generate.hpp"
+#include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/ndf_estimate.hpp"
+
+using namespace microbrdf;
+
+namespace {
+
+Surface gaussian(std::size_t nx, std::size_t ny, double dx, double sigma, double tau,
+                 std::uint64_t seed = 1) {
+  GaussianSurfaceParams p;
+  p.nx = nx;
+  p.ny = ny;
+  p.dx = p.dy = dx;
+  p.sigma = sigma;
+  p.tau_x = p.tau_y = tau;
+  p.seed = seed;
+  return generate_gaussian(p);
+}
+
+// Relative L1 error of the fast table against the direct sums on `count` random disk nodes.
+double fast_vs_direct(const KirchhoffPatch& p, double lambda_q, std::size_t n, double accuracy,
+                      std::size_t count, std::uint64_t seed, KirchhoffFastInfo* info = nullptr,
+                      bool chirp_z = false) {
+  auto fast = kirchhoff_table_fast(p, lambda_q, n, accuracy, info, chirp_z);
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, n * n - 1);
+  std::vector<std::size_t> nodes;
+  while (nodes.size() < count) {
+    std::size_t k = pick(rng);
+    Eigen::Vector3d q = kirchhoff_node_q(n, k % n, k / n, lambda_q);
+    if (q.z() > 0) nodes.push_back(k);
+  }
+  auto direct = kirchhoff_nodes_direct(p, lambda_q, n, nodes);
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    num += std::fabs(fast[nodes[i]] - direct[i]);
+    den += std::fabs(direct[i]);
+  }
+  return num / den;
+}
+
+}  // namespace
+
+TEST(kirchhoff, BesselMatchesStd) {
+  for (double x : {1e-6, 0.3, 1.0, 7.5, 42.0, 120.0}) {
+    auto j = bessel_j_all(200, x);
+    for (unsigned n : {0u, 1u, 2u, 5u, 17u, 60u, 150u}) {
+      double ref = std::cyl_bessel_j(static_cast<double>(n), x);
+      EXPECT_NEAR(j[n], ref, 1e-13 + 1e-11 * std::fabs(ref)) << "n=" << n << " x=" << x;
+    }
+  }
+}
+
+TEST(kirchhoff, ChirpZEqualsDtft) {
+  const std::size_t n = 37, m = 53, batch = 3;
+  const double w0 = -1.3, dw = 0.0417;
+  std::vector<std::complex<double>> in(batch * n), out(batch * m);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g;
+  for (auto& v : in) v = {g(rng), g(rng)};
+  detail::ChirpZ cz(n, m, w0, dw, batch);
+  cz.execute(in.data(), n, 1, out.data());
+  for (std::size_t b = 0; b < batch; ++b)
+    for (std::size_t k = 0; k < m; ++k) {
+      std::complex<double> ref = 0;
+      for (std::size_t j = 0; j < n; ++j)
+        ref += in[b * n + j] *
+               std::polar(1.0, -(w0 + dw * static_cast<double>(k)) * static_cast<double>(j));
+      EXPECT_LT(std::abs(out[b * m + k] - ref), 1e-11 * (1 + std::abs(ref)));
+    }
+}
+
+TEST(kirchhoff, ZoomNufftMatchesChirpZToItsTolerance) {
+  const std::size_t n = 200, m = 301, batch = 5;
+  const double w0 = -2.9, dw = 0.0193;
+  std::vector<std::complex<double>> in(batch * n), ref(batch * m), out(batch * m);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> g;
+  double l1 = 0;
+  for (auto& v : in) {
+    v = {g(rng), g(rng)};
+    l1 += std::abs(v);
+  }
+  detail::ChirpZ cz(n, m, w0, dw, batch, false);
+  cz.execute(in.data(), n, 1, ref.data());
+  for (int taps : {4, 8, 12}) {
+    detail::ZoomNufft nu(n, m, w0, dw, batch, taps, false);
+    nu.execute(in.data(), n, 1, out.data());
+    double worst = 0;
+    for (std::size_t i = 0; i < out.size(); ++i) worst = std::max(worst, std::abs(out[i] - ref[i]));
+    EXPECT_LT(worst / (l1 / batch), 10 * std::pow(10.0, 1 - taps)) << taps << " taps";
+  }
+}
+
+TEST(kirchhoff, FlatMirrorIsNormalisedAndPeaksAtNormal) {
+  Surface s(64, 48, 0.11e-6, 0.11e-6);
+  auto p = make_kirchhoff_patch(s);
+  // At q = |q| n: I = q_z * area, D_K = q^2 A / (4 pi^2).
+  const double lq = 555e-9, qm = 4 * M_PI / lq, a = p.area_w2;
+  EXPECT_NEAR(kirchhoff_dk_direct(p, {0, 0, qm}), qm * qm * a / (4 * M_PI * M_PI),
+              1e-9 * qm * qm * a);
+  auto t = kirchhoff_table_fast(p, lq, 257, 1e-8);
+  TabulatedNdf ndf(257);
+  ndf.values() = t;
+  // Parseval: the integral over the disk is close to 1 (the sinc^2 tails reach the rim).
+  EXPECT_NEAR(ndf.integral(), 1.0, 0.05);
+  EXPECT_NEAR(ndf.peak().z(), 1.0, 1e-12);
+}
+
+TEST(kirchhoff, FastMatchesDirectOnRoughPatchWithHoles) {
+  Surface s = gaussian(96, 80, 0.11e-6, 0.15e-6, 1.0e-6, 7);
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<std::size_t> pick(0, s.size() - 1);
+  for (int k = 0; k < 300; ++k) s.invalidate(pick(rng));
+  for (auto w : {KirchhoffWindow::None, KirchhoffWindow::Hann, KirchhoffWindow::Gauss}) {
+    auto p = make_kirchhoff_patch(s, 3, 2, 90, 75, w);
+    EXPECT_GT(p.invalid, 200u);
+    KirchhoffFastInfo info;
+    double err = fast_vs_direct(p, 555e-9, 257, 1e-6, 300, 11, &info);
+    EXPECT_LT(err, 1e-4) << to_string(w) << " terms " << info.terms;
+  }
+  // The exact transforms (chirp-z) leave only the Chebyshev tail.
+  auto p = make_kirchhoff_patch(s, 3, 2, 90, 75, KirchhoffWindow::None);
+  EXPECT_LT(fast_vs_direct(p, 555e-9, 129, 1e-10, 200, 12, nullptr, true), 1e-8);
+}
+
+TEST(kirchhoff, FastMatchesDirectAtDefaultAccuracyOnBrushedScan) {
+  // Acceptance: fast vs direct within 1 % (relative L1 over random disk nodes), default knob.
+  BrushedParams b = brushed_preset("stainless4");
+  b.nx = 160;
+  b.ny = 120;
+  Surface s = generate_brushed(b);
+  auto p = make_kirchhoff_patch(s);
+  KirchhoffFastInfo info;
+  double err = fast_vs_direct(p, 555e-9, 513, KirchhoffOptions{}.accuracy, 300, 21, &info);
+  std::printf("stainless4 160x120, 513^2: %zu terms, relative L1 %.3g\n", info.terms, err);
+  EXPECT_LT(err, 0.01);
+}
+
+TEST(kirchhoff, AccuracyKnobTradesTermsForError) {
+  Surface s = gaussian(64, 64, 0.11e-6, 0.3e-6, 1.5e-6, 9);
+  auto p = make_kirchhoff_patch(s);
+  KirchhoffFastInfo loose, tight;
+  double e_loose = fast_vs_direct(p, 555e-9, 129, 1e-2, 300, 3, &loose);
+  double e_tight = fast_vs_direct(p, 555e-9, 129, 1e-8, 300, 3, &tight);
+  EXPECT_LT(loose.terms, tight.terms);
+  EXPECT_LT(e_tight, 1e-6);
+  EXPECT_LT(e_loose, 0.05);
+  EXPECT_LT(e_tight, e_loose);
+}
+
+// Acceptance 4 at full size: one 640 x 480 scan (70.4 x 52.8 um at 110 nm) on the 1025^2 table,
+// default accuracy, against the direct sums on 200 random disk nodes.
+TEST(kirchhoff, SlowFullScanFastMatchesDirect) {
+  BrushedParams b = brushed_preset("stainless4");
+  b.nx = 640;
+  b.ny = 480;
+  Surface s = generate_brushed(b);
+  auto p = make_kirchhoff_patch(s);
+  KirchhoffFastInfo info;
+  double err = fast_vs_direct(p, 555e-9, 1025, KirchhoffOptions{}.accuracy, 200, 5, &info);
+  std::printf("640x480 -> 1025^2: %zu terms, relative L1 %.3g\n", info.terms, err);
+  EXPECT_LT(err, 0.01);
+}
