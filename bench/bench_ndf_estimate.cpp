@@ -19,7 +19,8 @@ const Surface& scan() {
     p.sigma = 0.1e-6;
     p.tau_x = p.tau_y = 1e-6;
     Surface g = generate_gaussian(p);
-    for (std::size_t i = 0; i < g.size(); i += 37) g.invalidate(i);  // a few holes, as real scans have
+    for (std::size_t i = 0; i < g.size(); i += 37)
+      g.invalidate(i);  // a few holes, as real scans have
     return g;
   }();
   return s;
@@ -28,7 +29,8 @@ const Surface& scan() {
 void BM_FilteredNormalsSeparable(benchmark::State& state) {
   const Surface& s = scan();
   for (auto _ : state) benchmark::DoNotOptimize(filtered_normals(s, 1e-6, 4.0, 0.5));
-  state.counters["points/s"] = benchmark::Counter(static_cast<double>(s.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(s.size()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // Brute force on every 16th row (a full pass takes ~16x this); points/s is comparable.
@@ -44,22 +46,24 @@ void BM_FilteredNormalsBruteForce(benchmark::State& state) {
         ++points;
       }
   }
-  state.counters["points/s"] = benchmark::Counter(static_cast<double>(points), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(points),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_NdfFiltered1025(benchmark::State& state) {
   NdfEstimateOptions o;
   o.filter_sigma = 1e-6;
   for (auto _ : state) benchmark::DoNotOptimize(estimate_ndf(scan(), o));
-  state.counters["points/s"] = benchmark::Counter(static_cast<double>(scan().size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(scan().size()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_NdfNaive1025(benchmark::State& state) {
   NdfEstimateOptions o;
   o.method = NdfMethod::Naive;
   for (auto _ : state) benchmark::DoNotOptimize(estimate_ndf(scan(), o));
-  state.counters["triangles/s"] =
-      benchmark::Counter(2.0 * static_cast<double>(scan().size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["triangles/s"] = benchmark::Counter(2.0 * static_cast<double>(scan().size()),
+                                                     benchmark::Counter::kIsIterationInvariantRate);
 }
 
 }  // namespace

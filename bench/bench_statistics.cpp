@@ -24,7 +24,8 @@ Surface scan(std::size_t nx, std::size_t ny) {
 void BM_InfoStats640x480(benchmark::State& state) {
   Surface s = scan(640, 480);
   for (auto _ : state) benchmark::DoNotOptimize(compute_stats(s));
-  state.counters["points/s"] = benchmark::Counter(static_cast<double>(s.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(s.size()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_InfoRealMetropro(benchmark::State& state) {
@@ -40,7 +41,8 @@ void BM_InfoRealMetropro(benchmark::State& state) {
     level_surface(t, LevelingSpec::parse("plane"));
     benchmark::DoNotOptimize(compute_stats(t));
   }
-  state.counters["points/s"] = benchmark::Counter(static_cast<double>(s.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(s.size()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // Brute force: the x- and y-axis lags of the ACF summed directly (O(N * (nx + ny))).
@@ -55,14 +57,17 @@ void BM_AxisAcfDirect640x480(benchmark::State& state) {
 }
 
 void BM_FullAcfFft(benchmark::State& state) {
-  Surface s = scan(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(0)));
+  Surface s =
+      scan(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(0)));
   for (auto _ : state) benchmark::DoNotOptimize(autocorrelation(s));
-  state.counters["lags/s"] = benchmark::Counter(static_cast<double>((2 * s.nx - 1) * (2 * s.ny - 1)),
-                                                benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["lags/s"] =
+      benchmark::Counter(static_cast<double>((2 * s.nx - 1) * (2 * s.ny - 1)),
+                         benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_FullAcfDirect(benchmark::State& state) {
-  Surface s = scan(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(0)));
+  Surface s =
+      scan(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(0)));
   for (auto _ : state) {
     double acc = 0;
     for (long ly = -static_cast<long>(s.ny) + 1; ly < static_cast<long>(s.ny); ++ly)
@@ -70,8 +75,9 @@ void BM_FullAcfDirect(benchmark::State& state) {
         acc += autocorrelation_direct(s, lx, ly);
     benchmark::DoNotOptimize(acc);
   }
-  state.counters["lags/s"] = benchmark::Counter(static_cast<double>((2 * s.nx - 1) * (2 * s.ny - 1)),
-                                                benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["lags/s"] =
+      benchmark::Counter(static_cast<double>((2 * s.nx - 1) * (2 * s.ny - 1)),
+                         benchmark::Counter::kIsIterationInvariantRate);
 }
 
 }  // namespace

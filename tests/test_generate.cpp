@@ -22,7 +22,8 @@ double filtered_slope_rms(const Surface& z, double s, double a) {
     for (std::size_t ix = 0; ix < hx; ++ix) {
       double kx = detail::fft_freq(ix, z.nx) / z.dx, ky = detail::fft_freq(iy, z.ny) / z.dy;
       double ku = kx * std::cos(a) + ky * std::sin(a);
-      spec[iy * hx + ix] *= std::complex<double>(0, ku) * std::exp(-(kx * kx + ky * ky) * s * s / 2);
+      spec[iy * hx + ix] *=
+          std::complex<double>(0, ku) * std::exp(-(kx * kx + ky * ky) * s * s / 2);
     }
   auto d = detail::fft2_c2r(z.nx, z.ny, std::move(spec));
   double sum = 0;
@@ -78,10 +79,13 @@ TEST(Generate, FilteredSlopeFormulaMatchesRealisation) {
 }
 
 TEST(Generate, BrushedPresetsHitDongWidths) {
-  for (auto [name, along, across] : {std::tuple{"stainless4", 0.007, 0.14}, std::tuple{"aluminium4", 0.02, 0.47}}) {
+  for (auto [name, along, across] :
+       {std::tuple{"stainless4", 0.007, 0.14}, std::tuple{"aluminium4", 0.02, 0.47}}) {
     auto p = brushed_preset(name);
-    EXPECT_NEAR(predicted_filtered_alpha(p.sigma, p.tau_along, p.tau_across, 1e-6), along, 1e-9) << name;
-    EXPECT_NEAR(predicted_filtered_alpha(p.sigma, p.tau_across, p.tau_along, 1e-6), across, 1e-9) << name;
+    EXPECT_NEAR(predicted_filtered_alpha(p.sigma, p.tau_along, p.tau_across, 1e-6), along, 1e-9)
+        << name;
+    EXPECT_NEAR(predicted_filtered_alpha(p.sigma, p.tau_across, p.tau_along, 1e-6), across, 1e-9)
+        << name;
     p.nx = 2048;
     p.ny = 512;
     auto s = generate_brushed(p);
@@ -94,8 +98,8 @@ TEST(Generate, BrushedPresetsHitDongWidths) {
     double a_across = filtered_slope_rms(s, 1e-6, M_PI / 2) * std::sqrt(2.0);
     EXPECT_NEAR(a_along / along, 1.0, 0.15) << name;
     EXPECT_NEAR(a_across / across, 1.0, 0.15) << name;
-    std::printf("%s: filtered alpha along %.4f (target %.3f), across %.4f (target %.3f)\n", name, a_along, along,
-                a_across, across);
+    std::printf("%s: filtered alpha along %.4f (target %.3f), across %.4f (target %.3f)\n", name,
+                a_along, along, a_across, across);
   }
   EXPECT_THROW(brushed_preset("velvet"), InputError);
 }
@@ -141,7 +145,8 @@ TEST(Generate, CylindersGeometry) {
     covered += z > 0;
   }
   EXPECT_NEAR(maxz, p.radius, 1e-3 * p.radius);
-  EXPECT_NEAR(static_cast<double>(covered) / static_cast<double>(s.size()), 2 * p.radius / p.pitch, 0.01);
+  EXPECT_NEAR(static_cast<double>(covered) / static_cast<double>(s.size()), 2 * p.radius / p.pitch,
+              0.01);
   p.grooves = true;
   auto g = generate_cylinders(p);
   EXPECT_NEAR(*std::min_element(g.z.begin(), g.z.end()), -p.radius, 1e-3 * p.radius);
@@ -160,6 +165,7 @@ TEST(Generate, GratingSlopeAndHeight) {
   EXPECT_NEAR(st.sq, p.amplitude / std::sqrt(2.0), 1e-3 * p.amplitude);
   const double k = 2 * M_PI / p.period;
   // Central differences of a sinusoid: A sin(k d) / d instead of A k.
-  EXPECT_NEAR(st.slope_rms_x, p.amplitude * std::sin(k * p.dx) / p.dx / std::sqrt(2.0), 1e-3 * p.amplitude * k);
+  EXPECT_NEAR(st.slope_rms_x, p.amplitude * std::sin(k * p.dx) / p.dx / std::sqrt(2.0),
+              1e-3 * p.amplitude * k);
   EXPECT_NEAR(st.slope_rms_y, 0.0, 1e-12);
 }

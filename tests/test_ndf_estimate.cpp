@@ -13,7 +13,8 @@ using namespace microbrdf;
 
 namespace {
 
-Surface gaussian(std::size_t n, double sigma, double tau_x, double tau_y, std::uint64_t seed = 1, double angle = 0) {
+Surface gaussian(std::size_t n, double sigma, double tau_x, double tau_y, std::uint64_t seed = 1,
+                 double angle = 0) {
   GaussianSurfaceParams p;
   p.nx = p.ny = n;
   p.sigma = sigma;
@@ -60,7 +61,8 @@ TEST(ndf_estimate, NaiveMatchesBeckmannMoments) {
     // Forward differences over one triangle edge read 2 sigma^2 (1 - exp(-d^2/tau^2)) / d^2.
     for (auto [phi, tau] : {std::pair{0.0, tx * dx}, std::pair{M_PI / 2, ty * dx}}) {
       double alpha = 2 * 0.1e-6 / tau;
-      EXPECT_NEAR(ndf.rms_slope(phi) / (alpha / std::sqrt(2.0)), 1.0, 0.03) << tx << " " << ty << " " << phi;
+      EXPECT_NEAR(ndf.rms_slope(phi) / (alpha / std::sqrt(2.0)), 1.0, 0.03)
+          << tx << " " << ty << " " << phi;
     }
     EXPECT_NEAR(ndf.integral(), 1.0, 1e-12);
     EXPECT_GT(ndf.mean_normal().z(), 1 - 1e-4);
@@ -162,7 +164,8 @@ TEST(ndf_estimate, HolesBarelyChangeFilteredSlopesAndMatchBruteForce) {
   std::mt19937 rng(1);
   for (std::size_t i = 0; i < s.size(); ++i)
     if (rng() % 20 == 0) random_holes.invalidate(i);  // 5%
-  for (auto [cx, cy, r] : {std::tuple{100, 100, 12}, std::tuple{250, 300, 20}, std::tuple{300, 60, 8}})
+  for (auto [cx, cy, r] :
+       {std::tuple{100, 100, 12}, std::tuple{250, 300, 20}, std::tuple{300, 60, 8}})
     for (int y = cy - r; y <= cy + r; ++y)
       for (int x = cx - r; x <= cx + r; ++x)
         if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r)

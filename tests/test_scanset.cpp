@@ -22,7 +22,8 @@ fs::path make_dir() {
   GratingParams g;
   g.nx = 16;
   g.ny = 8;
-  for (const char* name : {"b.x3p", "a.x3p", "c.gwy", "sub/d.x3p"}) write_surface(generate_grating(g), (d / name).string());
+  for (const char* name : {"b.x3p", "a.x3p", "c.gwy", "sub/d.x3p"})
+    write_surface(generate_grating(g), (d / name).string());
   std::ofstream(d / "notes.md") << "not a scan\n";
   return d;
 }
@@ -60,8 +61,8 @@ TEST(preview, HeightPreviewShapeAndColourBar) {
   Surface s = generate_grating(g);
   for (std::size_t i : {0UL, 1UL, 300UL, 301UL}) s.invalidate(i);  // one whole 2x2 preview cell
   auto img = render_height_preview(s, 150);
-  EXPECT_EQ(img.height, 60u);  // 150 x 50 image, at least 60 tall for the labels
-  EXPECT_GT(img.width, 150u);  // plus colour bar and labels
+  EXPECT_EQ(img.height, 60u);     // 150 x 50 image, at least 60 tall for the labels
+  EXPECT_GT(img.width, 150u);     // plus colour bar and labels
   EXPECT_EQ(img.pixels[0], 128);  // the invalid corner is grey
   EXPECT_NE(img.pixels[3], 128);  // its neighbour is valid
   auto bad = fs::temp_directory_path() / "no-such-dir-microbrdf" / "x.png";

@@ -36,7 +36,8 @@ TEST(Statistics, MomentsOfKnownValues) {
 
 TEST(Statistics, InvalidSamplesAreExcludedNotFilled) {
   Surface s(8, 8, 1e-6, 1e-6);
-  for (std::size_t i = 0; i < s.size(); ++i) s.z[i] = 1e-6 * static_cast<double>(i % 8);  // slope 1 in x
+  for (std::size_t i = 0; i < s.size(); ++i)
+    s.z[i] = 1e-6 * static_cast<double>(i % 8);  // slope 1 in x
   s.invalidate(10);
   s.invalidate(27);
   auto st = compute_stats(s);
@@ -59,7 +60,8 @@ TEST(Statistics, FftAutocorrelationMatchesBruteForceWithHoles) {
   std::mt19937 rng(3);
   for (int k = 0; k < 400; ++k) s.invalidate(rng() % s.size());
   auto acf = autocorrelation(s, 1);
-  for (auto [lx, ly] : {std::pair{0L, 0L}, {1L, 0L}, {0L, 1L}, {5L, -3L}, {-7L, 4L}, {40L, 30L}, {-90L, 2L}}) {
+  for (auto [lx, ly] :
+       {std::pair{0L, 0L}, {1L, 0L}, {0L, 1L}, {5L, -3L}, {-7L, 4L}, {40L, 30L}, {-90L, 2L}}) {
     EXPECT_NEAR(acf.at(lx, ly), autocorrelation_direct(s, lx, ly), 1e-10) << lx << "," << ly;
   }
 }
@@ -91,11 +93,13 @@ TEST(Statistics, PsdIntegratesToVariance) {
   // lose the corners, where a tau = 10-sample surface has no power).
   double dk = psd.k[1] - psd.k[0];
   double var = 0;
-  for (std::size_t i = 0; i < psd.k.size(); ++i) var += psd.s[i] * 2 * M_PI * psd.k[i] * dk / (4 * M_PI * M_PI);
+  for (std::size_t i = 0; i < psd.k.size(); ++i)
+    var += psd.s[i] * 2 * M_PI * psd.k[i] * dk / (4 * M_PI * M_PI);
   EXPECT_NEAR(var, p.sigma * p.sigma, 0.03 * p.sigma * p.sigma);
   // Gaussian PSD: S(k) = pi tau^2 sigma^2 exp(-k^2 tau^2 / 4); compare near k = 1/tau.
   std::size_t i = static_cast<std::size_t>(std::lround((1.0 / p.tau_x) / dk)) - 1;
-  double expect = M_PI * p.tau_x * p.tau_x * p.sigma * p.sigma * std::exp(-psd.k[i] * psd.k[i] * p.tau_x * p.tau_x / 4);
+  double expect = M_PI * p.tau_x * p.tau_x * p.sigma * p.sigma *
+                  std::exp(-psd.k[i] * psd.k[i] * p.tau_x * p.tau_x / 4);
   EXPECT_NEAR(psd.s[i] / expect, 1.0, 0.25);
 }
 
@@ -137,8 +141,9 @@ TEST_P(GaussianStats, SigmaTauSlopeMatchTheory) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Acceptance, GaussianStats,
-                         ::testing::Values(GaussCase{10, 10, 1}, GaussCase{10, 10, 2}, GaussCase{25, 25, 3},
-                                           GaussCase{50, 50, 4}, GaussCase{50, 50, 5}, GaussCase{10, 40, 6},
+                         ::testing::Values(GaussCase{10, 10, 1}, GaussCase{10, 10, 2},
+                                           GaussCase{25, 25, 3}, GaussCase{50, 50, 4},
+                                           GaussCase{50, 50, 5}, GaussCase{10, 40, 6},
                                            GaussCase{40, 15, 7}, GaussCase{20, 50, 8}));
 
 // A true Gaussian process (no exact spectrum): single realisations scatter, the average over
@@ -189,7 +194,8 @@ TEST(Leveling, PlaneRemovalRecoversRoughness) {
   Surface tilted = s;
   for (std::size_t iy = 0; iy < s.ny; ++iy)
     for (std::size_t ix = 0; ix < s.nx; ++ix)
-      tilted.at(ix, iy) += 5e-6 + 0.1 * static_cast<double>(ix) * s.dx - 0.2 * static_cast<double>(iy) * s.dy;
+      tilted.at(ix, iy) +=
+          5e-6 + 0.1 * static_cast<double>(ix) * s.dx - 0.2 * static_cast<double>(iy) * s.dy;
   tilted.invalidate(100);
   auto r = level_surface(tilted, LevelingSpec::parse("plane"));
   EXPECT_EQ(tilted.meta.leveling, "plane");

@@ -56,15 +56,15 @@ Surface generate_profiles(const ProfileParams& p);
 struct BrushedParams {
   std::size_t nx = 2048, ny = 1024;
   double dx = 110e-9, dy = 110e-9;
-  double angle = 0;             ///< brushing direction from the x axis, rad
-  double sigma = 0.2e-6;        ///< rms height of the base, m
-  double tau_along = 50e-6;     ///< base correlation length along the brushing, m
-  double tau_across = 2e-6;     ///< base correlation length across, m
-  double scratch_density = 0;   ///< scratches per metre across the brushing
-  double scratch_depth = 0;     ///< mean depth (exponentially distributed), m
-  double scratch_width = 0;     ///< mean Gaussian sigma of the cross-section, m
+  double angle = 0;            ///< brushing direction from the x axis, rad
+  double sigma = 0.2e-6;       ///< rms height of the base, m
+  double tau_along = 50e-6;    ///< base correlation length along the brushing, m
+  double tau_across = 2e-6;    ///< base correlation length across, m
+  double scratch_density = 0;  ///< scratches per metre across the brushing
+  double scratch_depth = 0;    ///< mean depth (exponentially distributed), m
+  double scratch_width = 0;    ///< mean Gaussian sigma of the cross-section, m
   std::uint64_t seed = 1;
-  bool exact_spectrum = true;   ///< for the base, see GaussianSurfaceParams
+  bool exact_spectrum = true;  ///< for the base, see GaussianSurfaceParams
 };
 Surface generate_brushed(const BrushedParams& p);
 
@@ -80,7 +80,8 @@ std::vector<std::string> brushed_preset_names();
 /// filter of standard deviation `filter_sigma`, keeping tau_across fixed. Uses
 /// <b_u^2> = tau_u tau_v sigma^2 / (8 a_u^{3/2} a_v^{1/2}), a = s^2 + tau^2/4 (theory notes 3.4,
 /// anisotropic form). Throws InputError when no solution exists.
-void solve_brushed_base(BrushedParams& p, double alpha_along, double alpha_across, double filter_sigma);
+void solve_brushed_base(BrushedParams& p, double alpha_along, double alpha_across,
+                        double filter_sigma);
 
 /// Predicted Gaussian-filtered Beckmann width along the u axis of an anisotropic Gaussian
 /// surface (filter_sigma = 0 gives the unfiltered 2 sigma / tau_u).

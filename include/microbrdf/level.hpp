@@ -21,7 +21,7 @@ struct LevelingSpec {
 };
 
 struct LevelingResult {
-  std::string description;          ///< e.g. "plane (tilt 0.012 deg, rms removed 2.83 um)"
+  std::string description;           ///< e.g. "plane (tilt 0.012 deg, rms removed 2.83 um)"
   std::vector<double> coefficients;  ///< of u^i v^j (graded order 1, u, v, u^2, uv, v^2, ...), m;
                                      ///< u, v = coordinates scaled to [-1, 1] over the grid
   double rms_before = 0;             ///< rms about the mean before levelling, m

@@ -13,15 +13,15 @@ namespace microbrdf {
 
 struct SurfaceStats {
   std::size_t nx = 0, ny = 0;
-  double dx = 0, dy = 0;           ///< m
+  double dx = 0, dy = 0;  ///< m
   std::size_t valid_count = 0;
   double valid_fraction = 0;
-  double mean = 0;                  ///< m
-  double min = 0, max = 0;          ///< m (valid samples)
-  double sq = 0;                    ///< rms height about the mean (population), m
-  double sa = 0;                    ///< mean absolute height about the mean, m
-  double skewness = 0;              ///< Ssk (0 for Gaussian)
-  double kurtosis = 0;              ///< Sku, not excess (3 for Gaussian)
+  double mean = 0;          ///< m
+  double min = 0, max = 0;  ///< m (valid samples)
+  double sq = 0;            ///< rms height about the mean (population), m
+  double sa = 0;            ///< mean absolute height about the mean, m
+  double skewness = 0;      ///< Ssk (0 for Gaussian)
+  double kurtosis = 0;      ///< Sku, not excess (3 for Gaussian)
   /// rms slope dz/dx and dz/dy by central differences over samples whose two neighbours are
   /// valid (dimensionless). For C(r) = sigma^2 exp(-r^2/tau^2) the continuum value is
   /// sqrt(2) sigma / tau; central differences read sigma^2 (1 - exp(-4 d^2/tau^2)) / (2 d^2).

@@ -19,23 +19,24 @@ namespace microbrdf {
 
 /// Where an NDF came from; travels into .npy sidecars / EXR attributes / JSON.
 struct NdfMetadata {
-  std::string method;                 ///< "naive", "filtered", "kirchhoff", "beckmann", ...
-  double filter_sigma_m = 0;          ///< Gaussian filter std (filtered method), m
-  double wavelength_m = 0;            ///< lambda_q (Kirchhoff), m
-  std::vector<std::string> sources;   ///< input files
-  std::size_t samples_used = 0;       ///< elements (triangles / points) accumulated
-  std::size_t samples_skipped = 0;    ///< elements rejected (invalid samples, thin support)
-  double projected_area_m2 = 0;       ///< total projected area accumulated, m^2
-  std::string leveling;               ///< levelling applied to the inputs
+  std::string method;                ///< "naive", "filtered", "kirchhoff", "beckmann", ...
+  double filter_sigma_m = 0;         ///< Gaussian filter std (filtered method), m
+  double wavelength_m = 0;           ///< lambda_q (Kirchhoff), m
+  std::vector<std::string> sources;  ///< input files
+  std::size_t samples_used = 0;      ///< elements (triangles / points) accumulated
+  std::size_t samples_skipped = 0;   ///< elements rejected (invalid samples, thin support)
+  double projected_area_m2 = 0;      ///< total projected area accumulated, m^2
+  std::string leveling;              ///< levelling applied to the inputs
   std::string parameterisation = "orthographic-disk node-centred";
   std::string notes;
 };
 
 /// A 1-D cut through the table along an in-plane direction.
 struct NdfSlice {
-  std::vector<double> t;       ///< signed disk coordinate along the direction (m_x cos phi + m_y sin phi)
-  std::vector<double> theta;   ///< signed polar angle of m, rad
-  std::vector<double> value;   ///< D(m), 1/sr
+  std::vector<double>
+      t;  ///< signed disk coordinate along the direction (m_x cos phi + m_y sin phi)
+  std::vector<double> theta;  ///< signed polar angle of m, rad
+  std::vector<double> value;  ///< D(m), 1/sr
 };
 
 class TabulatedNdf {

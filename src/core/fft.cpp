@@ -34,7 +34,8 @@ struct Plan {
 
 }  // namespace
 
-std::vector<std::complex<double>> fft2_r2c(std::size_t nx, std::size_t ny, const std::vector<double>& in) {
+std::vector<std::complex<double>> fft2_r2c(std::size_t nx, std::size_t ny,
+                                           const std::vector<double>& in) {
   if (in.size() != nx * ny) throw std::invalid_argument("fft2_r2c: size mismatch");
   std::vector<double> work(in);  // FFTW_ESTIMATE does not overwrite, but r2c may use the input
   std::vector<std::complex<double>> out(ny * (nx / 2 + 1));
@@ -59,8 +60,9 @@ std::vector<double> fft2_c2r(std::size_t nx, std::size_t ny, std::vector<std::co
     std::lock_guard<std::mutex> lock(g_plan_mutex);
     init_threads_once();
     fftw_plan_with_nthreads(omp_get_max_threads());
-    plan.p = fftw_plan_dft_c2r_2d(static_cast<int>(ny), static_cast<int>(nx),
-                                  reinterpret_cast<fftw_complex*>(in.data()), out.data(), FFTW_ESTIMATE);
+    plan.p =
+        fftw_plan_dft_c2r_2d(static_cast<int>(ny), static_cast<int>(nx),
+                             reinterpret_cast<fftw_complex*>(in.data()), out.data(), FFTW_ESTIMATE);
   }
   if (!plan.p) throw std::runtime_error("FFTW could not plan a transform");
   fftw_execute(plan.p);
@@ -68,7 +70,8 @@ std::vector<double> fft2_c2r(std::size_t nx, std::size_t ny, std::vector<std::co
 }
 
 double fft_freq(std::size_t i, std::size_t n) {
-  double k = (i <= n / 2) ? static_cast<double>(i) : static_cast<double>(i) - static_cast<double>(n);
+  double k =
+      (i <= n / 2) ? static_cast<double>(i) : static_cast<double>(i) - static_cast<double>(n);
   if (n % 2 == 0 && i == n / 2) k = -static_cast<double>(n) / 2;
   return 2.0 * M_PI * k / static_cast<double>(n);
 }

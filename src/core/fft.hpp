@@ -11,7 +11,8 @@ namespace microbrdf::detail {
 
 /// Forward 2-D real-to-complex FFT of an ny x nx row-major array. Output has ny x (nx/2+1)
 /// complex values (FFTW's half-spectrum layout). Unnormalised.
-std::vector<std::complex<double>> fft2_r2c(std::size_t nx, std::size_t ny, const std::vector<double>& in);
+std::vector<std::complex<double>> fft2_r2c(std::size_t nx, std::size_t ny,
+                                           const std::vector<double>& in);
 
 /// Inverse of fft2_r2c: ny x (nx/2+1) half spectrum -> ny x nx real. Unnormalised (the result is
 /// nx*ny times the input of the forward transform).

@@ -31,19 +31,22 @@ Kernel make_kernel(double spacing, double sigma, double truncate) {
 }
 
 // out[x] = sum_k in[x + k] * w[k + half] along rows (dir 0) or columns (dir 1); zero outside.
-void correlate(const std::vector<double>& in, std::vector<double>& out, std::size_t nx, std::size_t ny,
-               const std::vector<double>& w, long half, int dir) {
+void correlate(const std::vector<double>& in, std::vector<double>& out, std::size_t nx,
+               std::size_t ny, const std::vector<double>& w, long half, int dir) {
   out.assign(nx * ny, 0.0);
   const long n_along = static_cast<long>(dir == 0 ? nx : ny);
   const long lines = static_cast<long>(dir == 0 ? ny : nx);
   const std::size_t stride = dir == 0 ? 1 : nx;
 #pragma omp parallel for schedule(static)
   for (long line = 0; line < lines; ++line) {
-    const std::size_t base = dir == 0 ? static_cast<std::size_t>(line) * nx : static_cast<std::size_t>(line);
+    const std::size_t base =
+        dir == 0 ? static_cast<std::size_t>(line) * nx : static_cast<std::size_t>(line);
     for (long x = 0; x < n_along; ++x) {
       long k0 = std::max(-half, -x), k1 = std::min(half, n_along - 1 - x);
       double acc = 0;
-      for (long k = k0; k <= k1; ++k) acc += in[base + static_cast<std::size_t>(x + k) * stride] * w[static_cast<std::size_t>(k + half)];
+      for (long k = k0; k <= k1; ++k)
+        acc += in[base + static_cast<std::size_t>(x + k) * stride] *
+               w[static_cast<std::size_t>(k + half)];
       out[base + static_cast<std::size_t>(x) * stride] = acc;
     }
   }
@@ -51,8 +54,8 @@ void correlate(const std::vector<double>& in, std::vector<double>& out, std::siz
 
 // Solves the 3x3 normal equations of the plane fit (moments in sigma units); returns false if
 // the support is too thin or the system is ill-conditioned.
-bool solve_plane(double m00, double m10, double m01, double m20, double m11, double m02, double b00, double b10,
-                 double b01, double min_mass, double& bx, double& by) {
+bool solve_plane(double m00, double m10, double m01, double m20, double m11, double m02, double b00,
+                 double b10, double b01, double min_mass, double& bx, double& by) {
   if (!(m00 >= min_mass)) return false;
   // Reduce to the 2x2 system for the slopes: covariance of (u, v) and of (u, v) with h.
   const double cu = m10 / m00, cv = m01 / m00;
@@ -124,7 +127,8 @@ NormalField filtered_normals(const Surface& s, double sigma, double truncate, do
     auto i = static_cast<std::size_t>(ii);
     if (!s.valid[i]) continue;  // invalid samples are not elements at all
     double bx, by;
-    if (!solve_plane(m00[i], m10[i], m01[i], m20[i], m11[i], m02[i], b00[i], b10[i], b01[i], min_mass, bx, by)) {
+    if (!solve_plane(m00[i], m10[i], m01[i], m20[i], m11[i], m02[i], b00[i], b10[i], b01[i],
+                     min_mass, bx, by)) {
       ++skipped;
       continue;
     }
@@ -140,8 +144,8 @@ NormalField filtered_normals(const Surface& s, double sigma, double truncate, do
   return f;
 }
 
-bool filtered_normal_direct(const Surface& s, std::size_t ix, std::size_t iy, double sigma, double truncate,
-                            double min_support, double out[3]) {
+bool filtered_normal_direct(const Surface& s, std::size_t ix, std::size_t iy, double sigma,
+                            double truncate, double min_support, double out[3]) {
   check_args(s, sigma, truncate);
   if (!s.valid[iy * s.nx + ix]) return false;
   const Kernel kx = make_kernel(s.dx, sigma, truncate), ky = make_kernel(s.dy, sigma, truncate);
@@ -174,7 +178,9 @@ bool filtered_normal_direct(const Surface& s, std::size_t ix, std::size_t iy, do
     }
   }
   double bx, by;
-  if (!solve_plane(m00, m10, m01, m20, m11, m02, b00, b10, b01, min_support * kx.sum * ky.sum, bx, by)) return false;
+  if (!solve_plane(m00, m10, m01, m20, m11, m02, b00, b10, b01, min_support * kx.sum * ky.sum, bx,
+                   by))
+    return false;
   set_normal(bx / sigma, by / sigma, out);
   return true;
 }

@@ -9,7 +9,8 @@
 
 namespace microbrdf {
 
-NdfAccumulator::NdfAccumulator(const NdfEstimateOptions& options) : opt_(options), acc_(options.resolution) {
+NdfAccumulator::NdfAccumulator(const NdfEstimateOptions& options)
+    : opt_(options), acc_(options.resolution) {
   acc_.meta.method = options.method == NdfMethod::Naive ? "naive" : "filtered";
   acc_.meta.filter_sigma_m = options.method == NdfMethod::Filtered ? options.filter_sigma : 0.0;
 }
@@ -42,7 +43,8 @@ void add_naive(const Surface& s, TabulatedNdf& acc, NdfMetadata& meta) {
     }
 }
 
-void add_filtered(const Surface& s, const NdfEstimateOptions& o, TabulatedNdf& acc, NdfMetadata& meta) {
+void add_filtered(const Surface& s, const NdfEstimateOptions& o, TabulatedNdf& acc,
+                  NdfMetadata& meta) {
   auto f = filtered_normals(s, o.filter_sigma, o.truncate_sigmas, o.min_support);
   const double area = s.dx * s.dy;
   for (std::size_t i = 0; i < s.size(); ++i)
@@ -68,7 +70,8 @@ void NdfAccumulator::add(const Surface& s) {
 
 TabulatedNdf NdfAccumulator::result() const {
   if (!(acc_.meta.projected_area_m2 > 0))
-    throw InputError("no normal could be estimated (every element touches an invalid sample or lacks support)");
+    throw InputError(
+        "no normal could be estimated (every element touches an invalid sample or lacks support)");
   TabulatedNdf out = acc_;
   // Rim splats can reach nodes just outside the unit disk, where D is 0 by convention.
   out.clear_outside_disk();

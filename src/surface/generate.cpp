@@ -47,10 +47,12 @@ void normalise(Surface& s, double sigma) {
 
 // Range of v = -x sin(angle) + y cos(angle) (the coordinate across a direction at `angle`)
 // over the grid's extent.
-std::pair<double, double> across_range(std::size_t nx, std::size_t ny, double dx, double dy, double angle) {
+std::pair<double, double> across_range(std::size_t nx, std::size_t ny, double dx, double dy,
+                                       double angle) {
   const double c = std::cos(angle), sn = std::sin(angle);
   const double W = static_cast<double>(nx) * dx, H = static_cast<double>(ny) * dy;
-  return {std::min({0.0, -W * sn, H * c, -W * sn + H * c}), std::max({0.0, -W * sn, H * c, -W * sn + H * c})};
+  return {std::min({0.0, -W * sn, H * c, -W * sn + H * c}),
+          std::max({0.0, -W * sn, H * c, -W * sn + H * c})};
 }
 
 void base_metadata(Surface& s, const std::string& kind) {
@@ -139,8 +141,8 @@ void solve_brushed_base(BrushedParams& p, double alpha_along, double alpha_acros
   double ratio = alpha_across / alpha_along;
   double a_along = a_across * ratio * ratio;
   p.tau_along = 2 * std::sqrt(a_along - s * s);
-  p.sigma = std::sqrt(4 * alpha_across * alpha_across * std::pow(a_across, 1.5) * std::sqrt(a_along) /
-                      (p.tau_across * p.tau_along));
+  p.sigma = std::sqrt(4 * alpha_across * alpha_across * std::pow(a_across, 1.5) *
+                      std::sqrt(a_along) / (p.tau_across * p.tau_along));
 }
 
 std::vector<std::string> brushed_preset_names() { return {"stainless4", "aluminium4"}; }
@@ -231,7 +233,8 @@ Surface generate_cylinders(const CylindersParams& p) {
       long k0 = static_cast<long>(std::lround(v / p.pitch));
       double h = 0;
       for (long k = std::max(kmin, k0 - reach); k <= std::min(kmax, k0 + reach); ++k) {
-        double d = v - (static_cast<double>(k) * p.pitch + shift[static_cast<std::size_t>(k - kmin)]);
+        double d =
+            v - (static_cast<double>(k) * p.pitch + shift[static_cast<std::size_t>(k - kmin)]);
         if (std::fabs(d) < p.radius) h = std::max(h, std::sqrt(p.radius * p.radius - d * d));
       }
       s.z[iy * p.nx + ix] = p.grooves ? -h : h;

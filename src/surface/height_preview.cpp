@@ -10,21 +10,24 @@ namespace microbrdf {
 
 void false_colour(double t, std::uint8_t rgb[3]) {
   // Piecewise-linear through hand-picked anchors, monotone in lightness.
-  static constexpr double kAnchors[][3] = {{0.10, 0.05, 0.30}, {0.15, 0.30, 0.60}, {0.10, 0.55, 0.60},
-                                           {0.35, 0.75, 0.45}, {0.80, 0.85, 0.25}, {0.99, 0.95, 0.60}};
+  static constexpr double kAnchors[][3] = {{0.10, 0.05, 0.30}, {0.15, 0.30, 0.60},
+                                           {0.10, 0.55, 0.60}, {0.35, 0.75, 0.45},
+                                           {0.80, 0.85, 0.25}, {0.99, 0.95, 0.60}};
   constexpr int n = 6;
   t = std::clamp(t, 0.0, 1.0) * (n - 1);
   int i = std::min(static_cast<int>(t), n - 2);
   double f = t - i;
   for (int c = 0; c < 3; ++c)
-    rgb[c] = static_cast<std::uint8_t>(std::lround(255 * ((1 - f) * kAnchors[i][c] + f * kAnchors[i + 1][c])));
+    rgb[c] = static_cast<std::uint8_t>(
+        std::lround(255 * ((1 - f) * kAnchors[i][c] + f * kAnchors[i + 1][c])));
 }
 
 RgbImage render_height_preview(const Surface& s, std::size_t max_size) {
   // Box-filter down to at most max_size on the long side, keeping the physical aspect ratio.
   const double w_m = s.width(), h_m = s.height();
   // Square output pixels (metres each): the finer spacing, or coarser to fit max_size.
-  const double px_m = std::max(std::min(s.dx, s.dy), std::max(w_m, h_m) / static_cast<double>(max_size));
+  const double px_m =
+      std::max(std::min(s.dx, s.dy), std::max(w_m, h_m) / static_cast<double>(max_size));
   const std::size_t w = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(w_m / px_m)));
   const std::size_t h = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(h_m / px_m)));
   std::vector<double> img(w * h, 0.0), cnt(w * h, 0.0);
@@ -32,8 +35,10 @@ RgbImage render_height_preview(const Surface& s, std::size_t max_size) {
     for (std::size_t ix = 0; ix < s.nx; ++ix) {
       std::size_t i = iy * s.nx + ix;
       if (!s.valid[i]) continue;
-      auto ox = std::min(w - 1, static_cast<std::size_t>((static_cast<double>(ix) + 0.5) * s.dx / px_m));
-      auto oy = std::min(h - 1, static_cast<std::size_t>((static_cast<double>(iy) + 0.5) * s.dy / px_m));
+      auto ox =
+          std::min(w - 1, static_cast<std::size_t>((static_cast<double>(ix) + 0.5) * s.dx / px_m));
+      auto oy =
+          std::min(h - 1, static_cast<std::size_t>((static_cast<double>(iy) + 0.5) * s.dy / px_m));
       img[oy * w + ox] += s.z[i];
       cnt[oy * w + ox] += 1;
     }

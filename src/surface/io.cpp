@@ -74,7 +74,8 @@ void read_npy_sidecar(const std::string& path, ReadOptions& opt, double& x0, dou
   if (!opt.dy) opt.dy = get("dy_m");
   for (auto [key, out] : {std::pair{"x0_m", &x0}, std::pair{"y0_m", &y0}}) {
     if (!j.contains(key)) continue;
-    if (!j[key].is_number()) throw FileError(side.string(), std::string("'") + key + "' must be a number (metres)");
+    if (!j[key].is_number())
+      throw FileError(side.string(), std::string("'") + key + "' must be a number (metres)");
     *out = j[key].get<double>();
   }
   if (opt.dx && !opt.dy) opt.dy = opt.dx;

@@ -11,9 +11,12 @@ namespace microbrdf {
 
 std::string LevelingSpec::name() const {
   switch (mode) {
-    case Leveling::None: return "none";
-    case Leveling::Plane: return "plane";
-    case Leveling::Polynomial: return "poly" + std::to_string(degree);
+    case Leveling::None:
+      return "none";
+    case Leveling::Plane:
+      return "plane";
+    case Leveling::Polynomial:
+      return "poly" + std::to_string(degree);
   }
   return "?";
 }
@@ -67,12 +70,14 @@ LevelingResult level_surface(Surface& s, const LevelingSpec& spec) {
   const int degree = spec.mode == Leveling::Plane ? 1 : spec.degree;
   const int nterms = (degree + 1) * (degree + 2) / 2;
   if (s.valid_count() < static_cast<std::size_t>(3 * nterms))
-    throw InputError("too few valid samples to fit a degree-" + std::to_string(degree) + " polynomial");
+    throw InputError("too few valid samples to fit a degree-" + std::to_string(degree) +
+                     " polynomial");
 
   // Coordinates scaled to [-1, 1] for conditioning; heights about a reference for precision.
   const double hx = std::max<double>(1.0, (static_cast<double>(s.nx) - 1) / 2.0);
   const double hy = std::max<double>(1.0, (static_cast<double>(s.ny) - 1) / 2.0);
-  const double cx = (static_cast<double>(s.nx) - 1) / 2.0, cy = (static_cast<double>(s.ny) - 1) / 2.0;
+  const double cx = (static_cast<double>(s.nx) - 1) / 2.0,
+               cy = (static_cast<double>(s.ny) - 1) / 2.0;
   double zref = 0;
   for (std::size_t i = 0; i < s.size(); ++i)
     if (s.valid[i]) {

@@ -46,11 +46,14 @@ Autocorrelation autocorrelation(const Surface& s, std::size_t min_overlap) {
   const std::size_t lx_n = 2 * s.nx - 1, ly_n = 2 * s.ny - 1;
   acf.value.assign(lx_n * ly_n, kNaN);
   for (long ly = -static_cast<long>(s.ny) + 1; ly < static_cast<long>(s.ny); ++ly) {
-    std::size_t row = static_cast<std::size_t>((ly + static_cast<long>(py)) % static_cast<long>(py));
+    std::size_t row =
+        static_cast<std::size_t>((ly + static_cast<long>(py)) % static_cast<long>(py));
     for (long lx = -static_cast<long>(s.nx) + 1; lx < static_cast<long>(s.nx); ++lx) {
-      std::size_t col = static_cast<std::size_t>((lx + static_cast<long>(px)) % static_cast<long>(px));
+      std::size_t col =
+          static_cast<std::size_t>((lx + static_cast<long>(px)) % static_cast<long>(px));
       double pairs = cvv[row * px + col];
-      double val = pairs >= static_cast<double>(min_overlap) - 0.5 ? chh[row * px + col] / pairs : kNaN;
+      double val =
+          pairs >= static_cast<double>(min_overlap) - 0.5 ? chh[row * px + col] / pairs : kNaN;
       acf.value[static_cast<std::size_t>(ly + static_cast<long>(s.ny) - 1) * lx_n +
                 static_cast<std::size_t>(lx + static_cast<long>(s.nx) - 1)] = val;
     }
@@ -85,8 +88,8 @@ double autocorrelation_direct(const Surface& s, long lx, long ly) {
 
 RadialProfile radial_average(const Autocorrelation& acf) {
   const double dr = std::min(acf.dx, acf.dy);
-  const double rmax = std::min(static_cast<double>(acf.nx - 1) * acf.dx,
-                               static_cast<double>(acf.ny - 1) * acf.dy);
+  const double rmax =
+      std::min(static_cast<double>(acf.nx - 1) * acf.dx, static_cast<double>(acf.ny - 1) * acf.dy);
   const std::size_t nbins = static_cast<std::size_t>(rmax / dr) + 1;
   std::vector<double> sum(nbins, 0.0), cnt(nbins, 0.0);
   for (long ly = -static_cast<long>(acf.ny) + 1; ly < static_cast<long>(acf.ny); ++ly)
@@ -131,7 +134,8 @@ Psd power_spectrum(const Surface& s) {
     }
   auto spec = detail::fft2_r2c(s.nx, s.ny, h);
   const std::size_t hx = s.nx / 2 + 1;
-  const double dk = 2 * M_PI / std::max(static_cast<double>(s.nx) * s.dx, static_cast<double>(s.ny) * s.dy);
+  const double dk =
+      2 * M_PI / std::max(static_cast<double>(s.nx) * s.dx, static_cast<double>(s.ny) * s.dy);
   const std::size_t nbins = std::min(s.nx, s.ny) / 2 + 1;
   std::vector<double> sum(nbins, 0.0), cnt(nbins, 0.0);
   const double norm = s.dx * s.dy / static_cast<double>(nvalid);
@@ -194,7 +198,8 @@ SurfaceStats compute_stats(const Surface& s) {
         sx += g * g;
         ++nxs;
       }
-      if (iy >= 1 && iy + 1 < s.ny && s.valid[(iy - 1) * s.nx + ix] && s.valid[(iy + 1) * s.nx + ix]) {
+      if (iy >= 1 && iy + 1 < s.ny && s.valid[(iy - 1) * s.nx + ix] &&
+          s.valid[(iy + 1) * s.nx + ix]) {
         double g = (s.z[(iy + 1) * s.nx + ix] - s.z[(iy - 1) * s.nx + ix]) / (2 * s.dy);
         sy += g * g;
         ++nys;

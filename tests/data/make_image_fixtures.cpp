@@ -28,7 +28,10 @@ static void write_exr(const std::string& path, int w, int h, const char* chan, I
                   Imath::Box2i({min_x, min_y}, {min_x + w - 1, min_y + h - 1}));
   hdr.compression() = comp;
   std::vector<std::string> names;
-  if (std::string(chan) == "RGB") names = {"R", "G", "B"}; else names = {chan};
+  if (std::string(chan) == "RGB")
+    names = {"R", "G", "B"};
+  else
+    names = {chan};
   for (auto& n : names) hdr.channels().insert(n, Imf::Channel(pt));
   if (z_unit) hdr.insert("z_unit", Imf::StringAttribute(z_unit));
   hdr.insert("comments", Imf::StringAttribute("microbrdf test fixture"));
@@ -72,8 +75,8 @@ static void write_exr_tiled(const std::string& path, int w, int h) {
   out.writeTiles(0, out.numXTiles() - 1, 0, out.numYTiles() - 1);
 }
 
-static void write_tiff(const std::string& path, int w, int h, int fmt, int bits, int spp,
-                       int comp, bool tiled, const char* desc, const char* mode = "w") {
+static void write_tiff(const std::string& path, int w, int h, int fmt, int bits, int spp, int comp,
+                       bool tiled, const char* desc, const char* mode = "w") {
   TIFF* t = TIFFOpen(path.c_str(), mode);
   TIFFSetField(t, TIFFTAG_IMAGEWIDTH, w);
   TIFFSetField(t, TIFFTAG_IMAGELENGTH, h);
@@ -129,8 +132,10 @@ static void write_tiff(const std::string& path, int w, int h, int fmt, int bits,
 int main(int argc, char** argv) {
   std::string d = argc > 1 ? argv[1] : ".";
   // test fixtures
-  write_exr(d + "/height_z_float.exr", 20, 12, "Z", Imf::FLOAT, nullptr, Imf::ZIP_COMPRESSION, 5, -3);
-  write_exr(d + "/height_rgb_half_um.exr", 10, 6, "RGB", Imf::HALF, "um", Imf::NO_COMPRESSION, 0, 0);
+  write_exr(d + "/height_z_float.exr", 20, 12, "Z", Imf::FLOAT, nullptr, Imf::ZIP_COMPRESSION, 5,
+            -3);
+  write_exr(d + "/height_rgb_half_um.exr", 10, 6, "RGB", Imf::HALF, "um", Imf::NO_COMPRESSION, 0,
+            0);
   write_exr_tiled(d + "/height_z_tiled.exr", 20, 12);
   write_tiff(d + "/height_f32.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1, COMPRESSION_ADOBE_DEFLATE,
              false, "microbrdf test fixture");
@@ -143,19 +148,29 @@ int main(int argc, char** argv) {
   // fuzz seeds (second argument: a directory holding exr/ and tiff/)
   if (argc > 2) {
     std::string f = argv[2];
-    write_exr(f + "/exr/z_float_zip.exr", 20, 12, "Z", Imf::FLOAT, nullptr, Imf::ZIP_COMPRESSION, 5, -3);
+    write_exr(f + "/exr/z_float_zip.exr", 20, 12, "Z", Imf::FLOAT, nullptr, Imf::ZIP_COMPRESSION, 5,
+              -3);
     write_exr(f + "/exr/rgb_half_um.exr", 10, 6, "RGB", Imf::HALF, "um", Imf::NO_COMPRESSION, 0, 0);
-    write_exr(f + "/exr/z_float_piz.exr", 8, 8, "Z", Imf::FLOAT, nullptr, Imf::PIZ_COMPRESSION, 0, 0);
-    write_exr(f + "/exr/z_float_pxr24.exr", 8, 8, "Z", Imf::FLOAT, nullptr, Imf::PXR24_COMPRESSION, 0, 0);
-    write_exr(f + "/exr/z_float_rle.exr", 8, 8, "Z", Imf::FLOAT, nullptr, Imf::RLE_COMPRESSION, 0, 0);
+    write_exr(f + "/exr/z_float_piz.exr", 8, 8, "Z", Imf::FLOAT, nullptr, Imf::PIZ_COMPRESSION, 0,
+              0);
+    write_exr(f + "/exr/z_float_pxr24.exr", 8, 8, "Z", Imf::FLOAT, nullptr, Imf::PXR24_COMPRESSION,
+              0, 0);
+    write_exr(f + "/exr/z_float_rle.exr", 8, 8, "Z", Imf::FLOAT, nullptr, Imf::RLE_COMPRESSION, 0,
+              0);
     write_exr(f + "/exr/y_half_b44.exr", 8, 8, "Y", Imf::HALF, nullptr, Imf::B44_COMPRESSION, 0, 0);
-    write_exr(f + "/exr/y_half_dwaa.exr", 8, 8, "Y", Imf::HALF, nullptr, Imf::DWAA_COMPRESSION, 0, 0);
+    write_exr(f + "/exr/y_half_dwaa.exr", 8, 8, "Y", Imf::HALF, nullptr, Imf::DWAA_COMPRESSION, 0,
+              0);
     write_exr_tiled(f + "/exr/z_float_tiled_zip.exr", 20, 12);
-    write_tiff(f + "/tiff/f32_deflate.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1, COMPRESSION_ADOBE_DEFLATE, false, "seed");
-    write_tiff(f + "/tiff/f32_tiled.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1, COMPRESSION_NONE, true, nullptr);
-    write_tiff(f + "/tiff/u16_lzw_nm.tif", 20, 12, SAMPLEFORMAT_UINT, 16, 1, COMPRESSION_LZW, false, "z_unit = nm");
-    write_tiff(f + "/tiff/f64_packbits.tif", 6, 5, SAMPLEFORMAT_IEEEFP, 64, 1, COMPRESSION_PACKBITS, false, nullptr);
-    write_tiff(f + "/tiff/i32_bigendian.tif", 6, 5, SAMPLEFORMAT_INT, 32, 1, COMPRESSION_NONE, false, nullptr, "wb");
+    write_tiff(f + "/tiff/f32_deflate.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1,
+               COMPRESSION_ADOBE_DEFLATE, false, "seed");
+    write_tiff(f + "/tiff/f32_tiled.tif", 20, 12, SAMPLEFORMAT_IEEEFP, 32, 1, COMPRESSION_NONE,
+               true, nullptr);
+    write_tiff(f + "/tiff/u16_lzw_nm.tif", 20, 12, SAMPLEFORMAT_UINT, 16, 1, COMPRESSION_LZW, false,
+               "z_unit = nm");
+    write_tiff(f + "/tiff/f64_packbits.tif", 6, 5, SAMPLEFORMAT_IEEEFP, 64, 1, COMPRESSION_PACKBITS,
+               false, nullptr);
+    write_tiff(f + "/tiff/i32_bigendian.tif", 6, 5, SAMPLEFORMAT_INT, 32, 1, COMPRESSION_NONE,
+               false, nullptr, "wb");
     write_tiff(f + "/tiff/u8.tif", 6, 5, SAMPLEFORMAT_UINT, 8, 1, COMPRESSION_NONE, false, nullptr);
   }
   return 0;
