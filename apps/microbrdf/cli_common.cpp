@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "microbrdf/error.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
@@ -69,6 +70,20 @@ nlohmann::json stats_json(const std::string& path, const Surface& s, const Surfa
           {"instrument", s.meta.instrument},
           {"date", s.meta.date},
           {"z_unit_in_file", s.meta.z_unit_in_file}};
+}
+
+NdfSpec ndf_spec(const ModelFlags& f) {
+  NdfSpec s;
+  s.model = f.model;
+  s.alpha_x = f.alpha_x > 0 ? f.alpha_x : f.alpha;
+  s.alpha_y = f.alpha_y > 0 ? f.alpha_y : (f.alpha > 0 ? f.alpha : s.alpha_x);
+  if (!(s.alpha_x > 0))
+    throw InputError("give the roughness: --alpha, or --alpha-x (and --alpha-y)");
+  s.phi = parse_angle(f.phi);
+  s.theta_x = parse_angle(f.theta_x);
+  s.theta_y = parse_angle(f.theta_y);
+  s.theta_z = parse_angle(f.theta_z);
+  return s;
 }
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }

@@ -6,6 +6,7 @@
 
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
+#include "microbrdf/microfacet.hpp"
 #include "microbrdf/statistics.hpp"
 #include "microbrdf/surface.hpp"
 
@@ -25,6 +26,16 @@ Surface load_surface(const std::string& path, const ReadFlags& flags, std::strin
 
 /// The `info --json` record of one surface (ARCHITECTURE.md keys, SI units).
 nlohmann::json stats_json(const std::string& path, const Surface& s, const SurfaceStats& st);
+
+/// The analytic-model flags shared by `tabulate` and `brdf` (--model, --alpha or
+/// --alpha-x/--alpha-y, --phi, --theta-x/y/z; angles with units) as an NdfSpec. --alpha sets
+/// both widths; --alpha-y defaults to alpha_x. Throws InputError without a roughness.
+struct ModelFlags {
+  std::string model = "ggx";
+  double alpha = 0, alpha_x = 0, alpha_y = 0;
+  std::string phi = "0", theta_x = "0", theta_y = "0", theta_z = "0";
+};
+NdfSpec ndf_spec(const ModelFlags& f);
 
 /// Prints one JSON object on stdout.
 void print_json(const nlohmann::json& j);

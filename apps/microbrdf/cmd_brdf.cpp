@@ -25,10 +25,7 @@ struct MaterialArgs {
   double n = 0, k = -1, r0 = -1;
 };
 
-struct BrdfArgs {
-  std::string model = "ggx";
-  double alpha = 0, alpha_x = 0, alpha_y = 0;
-  std::string phi = "0", theta_x = "0", theta_y = "0", theta_z = "0";
+struct BrdfArgs : ModelFlags {
   MaterialArgs mat;
   std::string ndf;  ///< tabulated NDF file (.npy/.exr) instead of an analytic model
   bool model_given = false;
@@ -91,16 +88,7 @@ std::shared_ptr<MicrofacetDistribution> distribution(const BrdfArgs& a) {
           "--theta-x/y/z");
     return std::make_shared<TabulatedDistribution>(read_ndf(a.ndf));
   }
-  NdfSpec s;
-  s.model = a.model;
-  s.alpha_x = a.alpha_x > 0 ? a.alpha_x : a.alpha;
-  s.alpha_y = a.alpha_y > 0 ? a.alpha_y : (a.alpha > 0 ? a.alpha : s.alpha_x);
-  if (!(s.alpha_x > 0))
-    throw InputError("give the roughness: --alpha, or --alpha-x (and --alpha-y)");
-  s.phi = parse_angle(a.phi);
-  s.theta_x = parse_angle(a.theta_x);
-  s.theta_y = parse_angle(a.theta_y);
-  s.theta_z = parse_angle(a.theta_z);
+  const NdfSpec s = ndf_spec(a);
   return make_distribution(s);
 }
 

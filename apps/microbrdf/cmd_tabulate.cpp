@@ -13,26 +13,14 @@
 namespace microbrdf::cli {
 namespace {
 
-struct TabulateArgs {
-  std::string model = "ggx";
-  double alpha = 0, alpha_x = 0, alpha_y = 0;
-  std::string phi = "0", theta_x = "0", theta_y = "0", theta_z = "0";
+struct TabulateArgs : ModelFlags {
   std::size_t resolution = 1025;
   std::string output;
   bool json = false;
 };
 
 void run(const TabulateArgs& a) {
-  NdfSpec s;
-  s.model = a.model;
-  s.alpha_x = a.alpha_x > 0 ? a.alpha_x : a.alpha;
-  s.alpha_y = a.alpha_y > 0 ? a.alpha_y : (a.alpha > 0 ? a.alpha : s.alpha_x);
-  if (!(s.alpha_x > 0))
-    throw InputError("give the roughness: --alpha, or --alpha-x (and --alpha-y)");
-  s.phi = parse_angle(a.phi);
-  s.theta_x = parse_angle(a.theta_x);
-  s.theta_y = parse_angle(a.theta_y);
-  s.theta_z = parse_angle(a.theta_z);
+  const NdfSpec s = ndf_spec(a);
   if (a.resolution < 3 || a.resolution > 8193) throw InputError("--resolution must lie in 3..8193");
   auto d = make_distribution(s);
   auto t = tabulate(*d, s.model, a.resolution);

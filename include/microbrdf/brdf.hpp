@@ -64,6 +64,15 @@ class MicrofacetBrdf final : public Brdf {
   bool separable_;
 };
 
+/// The reflection half vector h = (wi + wo)/|wi + wo| and wi.h, or nothing when either direction
+/// is at or below the surface or wi.h <= 0. A half-vector density p(h) per steradian gives the
+/// density of wo as p(h) / (4 wi.h).
+struct HalfVector {
+  Vec3 h;
+  double wi_dot_h;
+};
+std::optional<HalfVector> reflection_half_vector(const Vec3& wi, const Vec3& wo);
+
 /// Directional albedo a(wi) = integral f(wi, wo) cos(theta_o) dwo by product quadrature:
 /// Gauss-Legendre in cos(theta_o) (n_theta nodes) times the midpoint rule in phi_o (n_phi).
 /// Accurate for lobes wider than a few grid steps (alpha >~ 0.05 at the defaults).

@@ -47,15 +47,20 @@ std::optional<BrdfSample> MicrofacetBrdf::sample(const Vec3& wi, double u1, doub
   return s;
 }
 
-double MicrofacetBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
-  if (wi.z() <= 0 || wo.z() <= 0) return 0;
+std::optional<HalfVector> reflection_half_vector(const Vec3& wi, const Vec3& wo) {
+  if (wi.z() <= 0 || wo.z() <= 0) return std::nullopt;
   const Vec3 hs = wi + wo;
   const double len = hs.norm();
-  if (len == 0) return 0;
+  if (len == 0) return std::nullopt;
   const Vec3 h = hs / len;
   const double ih = wi.dot(h);
-  if (ih <= 0) return 0;
-  return d_->sampling_pdf(wi, h) / (4 * ih);
+  if (ih <= 0) return std::nullopt;
+  return HalfVector{h, ih};
+}
+
+double MicrofacetBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
+  const auto hv = reflection_half_vector(wi, wo);
+  return hv ? d_->sampling_pdf(wi, hv->h) / (4 * hv->wi_dot_h) : 0.0;
 }
 
 std::string MicrofacetBrdf::describe() const {

@@ -75,15 +75,10 @@ std::optional<BrdfSample> KirchhoffBrdf::sample(const Vec3& wi, double u1, doubl
 }
 
 double KirchhoffBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
-  if (wi.z() <= 0 || wo.z() <= 0) return 0;
-  const Vec3 hs = wi + wo;
-  const double len = hs.norm();
-  if (len == 0) return 0;
-  const Vec3 h = hs / len;
-  const double ih = wi.dot(h);
-  if (ih <= 0) return 0;
+  const auto hv = reflection_half_vector(wi, wo);
+  if (!hv) return 0;
   const auto& s = *static_cast<const NdfSampler*>(sampler_.get());
-  return s.pdf(h) / (4 * ih);
+  return s.pdf(hv->h) / (4 * hv->wi_dot_h);
 }
 
 std::string KirchhoffBrdf::describe() const {
