@@ -193,9 +193,12 @@ Surface read_isolated(const std::string& name, const std::string& library,
                                         ": " + strsignal(sig) + ")") +
                   "; the file is corrupt or uses a feature it cannot handle");
   }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || msg.empty())
-    throw FileError(name, library + " failed decoding this file (reader process exit " +
-                              std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || msg.empty()) {
+    // Under a sanitizer a crash in the child ends as exit code 1 rather than a signal.
+    throw FileError(name, library + " crashed or failed decoding this file (reader process exit " +
+                              std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                              "); the file is corrupt or uses a feature it cannot handle");
+  }
   Reader r{msg};
   if (r.pod<std::uint8_t>() == 0) throw FileError(name, r.str());
   return decode(r);
