@@ -86,6 +86,19 @@ NdfSpec ndf_spec(const ModelFlags& f) {
   return s;
 }
 
+CLI::Option* add_model_flags(CLI::App* c, ModelFlags& f) {
+  auto* model =
+      c->add_option("--model", f.model, "NDF: beckmann, ggx or ellipsoid")->capture_default_str();
+  c->add_option("--alpha", f.alpha, "Roughness alpha (both axes)");
+  c->add_option("--alpha-x", f.alpha_x, "Roughness along the first axis");
+  c->add_option("--alpha-y", f.alpha_y, "Roughness along the second axis (default: = alpha-x)");
+  c->add_option("--phi", f.phi, "beckmann/ggx: azimuth of the alpha-x axis (deg unless marked)");
+  c->add_option("--theta-x", f.theta_x, "ellipsoid: rotation Rx (tilts the peak towards +y)");
+  c->add_option("--theta-y", f.theta_y, "ellipsoid: rotation Ry (tilts the peak towards -x)");
+  c->add_option("--theta-z", f.theta_z, "ellipsoid: rotation Rz (turns the axes by -theta_z)");
+  return model;
+}
+
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
 
 void progress(const char* command, std::size_t index, std::size_t total, const std::string& what) {

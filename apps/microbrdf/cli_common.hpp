@@ -36,6 +36,8 @@ struct ModelFlags {
   std::string phi = "0", theta_x = "0", theta_y = "0", theta_z = "0";
 };
 NdfSpec ndf_spec(const ModelFlags& f);
+/// Registers those flags on a subcommand; returns the --model option.
+CLI::Option* add_model_flags(CLI::App* cmd, ModelFlags& f);
 
 /// Prints one JSON object on stdout.
 void print_json(const nlohmann::json& j);

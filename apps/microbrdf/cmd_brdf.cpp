@@ -239,19 +239,10 @@ void register_brdf(CLI::App& app) {
 
   auto* sl = brdf->add_subcommand("slice",
                                   "Tabulate the BRDF along an in-plane or out-of-plane cut (CSV)");
-  sl->add_option("--model", a->model, "NDF: beckmann, ggx or ellipsoid")
-      ->capture_default_str()
-      ->each([a](const std::string&) { a->model_given = true; });
+  add_model_flags(sl, *a)->each([a](const std::string&) { a->model_given = true; });
   sl->add_option("--ndf", a->ndf,
                  "Tabulated NDF (.npy with its .json sidecar, or .exr; from `microbrdf ndf` or "
                  "`tabulate`) instead of --model/--alpha");
-  sl->add_option("--alpha", a->alpha, "Roughness alpha (both axes)");
-  sl->add_option("--alpha-x", a->alpha_x, "Roughness along the first axis");
-  sl->add_option("--alpha-y", a->alpha_y, "Roughness along the second axis (default: = alpha-x)");
-  sl->add_option("--phi", a->phi, "beckmann/ggx: azimuth of the alpha-x axis (deg unless marked)");
-  sl->add_option("--theta-x", a->theta_x, "ellipsoid: rotation Rx (tilts the peak towards +y)");
-  sl->add_option("--theta-y", a->theta_y, "ellipsoid: rotation Ry (tilts the peak towards -x)");
-  sl->add_option("--theta-z", a->theta_z, "ellipsoid: rotation Rz (turns the axes by -theta_z)");
   add_material_flags(sl, a->mat);
   sl->add_option("--fresnel", a->fresnel, "exact (complex-index Fresnel) or schlick")
       ->capture_default_str();

@@ -63,14 +63,7 @@ void register_tabulate(CLI::App& app) {
       "  microbrdf tabulate --model ellipsoid --alpha-x 0.1 --alpha-y 0.3 --theta-x 5deg --theta-z "
       "20deg \\\n"
       "      --resolution 513 -o ell.npy --json");
-  c->add_option("--model", a->model, "beckmann, ggx or ellipsoid")->capture_default_str();
-  c->add_option("--alpha", a->alpha, "Roughness alpha (both axes)");
-  c->add_option("--alpha-x", a->alpha_x, "Roughness along the first axis");
-  c->add_option("--alpha-y", a->alpha_y, "Roughness along the second axis (default: = alpha-x)");
-  c->add_option("--phi", a->phi, "beckmann/ggx: azimuth of the alpha-x axis (deg unless marked)");
-  c->add_option("--theta-x", a->theta_x, "ellipsoid: rotation Rx");
-  c->add_option("--theta-y", a->theta_y, "ellipsoid: rotation Ry");
-  c->add_option("--theta-z", a->theta_z, "ellipsoid: rotation Rz (turns the axes by -theta_z)");
+  add_model_flags(c, *a);
   c->add_option("--resolution", a->resolution, "Nodes per side")->capture_default_str();
   c->add_option("-o,--output", a->output, "Output table (.npy with a JSON sidecar, or .exr)")
       ->required();
