@@ -9,23 +9,19 @@
 #include <random>
 #include <vector>
 
+#include "microbrdf/microfacet.hpp"
 #include "microbrdf/ndf_io.hpp"
 
 using namespace microbrdf;
 
 namespace {
 
+// The library's Beckmann table (tabulate in microfacet.hpp).
 TabulatedNdf beckmann(std::size_t n, double alpha) {
-  TabulatedNdf t(n);
-  for (std::size_t iy = 0; iy < n; ++iy)
-    for (std::size_t ix = 0; ix < n; ++ix) {
-      const double x = t.node_x(ix), y = t.node_y(iy), r2 = x * x + y * y;
-      if (r2 >= 1) continue;
-      const double z2 = 1 - r2, tan2 = r2 / z2;
-      t.at(ix, iy) =
-          std::exp(-tan2 / (alpha * alpha)) / (std::numbers::pi * alpha * alpha * z2 * z2);
-    }
-  t.normalise();
+  NdfSpec spec;
+  spec.model = "beckmann";
+  spec.alpha_x = spec.alpha_y = alpha;
+  TabulatedNdf t = tabulate(*make_distribution(spec), "beckmann", n);
   return t;
 }
 

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <vector>
 
+#include "microbrdf/microfacet.hpp"
 #include "microbrdf/ndf_io.hpp"
 
 using namespace microbrdf;
@@ -16,15 +17,10 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180;
 
 TabulatedNdf beckmann(std::size_t n, double alpha, double floor_rel = 0) {
-  TabulatedNdf t(n);
-  for (std::size_t iy = 0; iy < n; ++iy)
-    for (std::size_t ix = 0; ix < n; ++ix) {
-      const double x = t.node_x(ix), y = t.node_y(iy), r2 = x * x + y * y;
-      if (r2 >= 1) continue;
-      const double z2 = 1 - r2, tan2 = r2 / z2;
-      t.at(ix, iy) =
-          std::exp(-tan2 / (alpha * alpha)) / (std::numbers::pi * alpha * alpha * z2 * z2);
-    }
+  NdfSpec spec;
+  spec.model = "beckmann";
+  spec.alpha_x = spec.alpha_y = alpha;
+  TabulatedNdf t = tabulate(*make_distribution(spec), "beckmann", n);
   // Optionally drop the far tail (keeps tests fast: empty rows are skipped).
   const double cut = floor_rel / (std::numbers::pi * alpha * alpha);
   for (double& v : t.values())

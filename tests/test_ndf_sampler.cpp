@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "microbrdf/microfacet.hpp"
 #include "microbrdf/ndf_io.hpp"
 
 using namespace microbrdf;
@@ -25,11 +26,10 @@ void fill(TabulatedNdf& t, const std::function<double(double, double, double)>& 
 }
 
 TabulatedNdf beckmann(std::size_t n, double alpha) {
-  TabulatedNdf t(n);
-  fill(t, [&](double x, double y, double z) {
-    const double z2 = z * z, tan2 = (x * x + y * y) / z2;
-    return std::exp(-tan2 / (alpha * alpha)) / (M_PI * alpha * alpha * z2 * z2);
-  });
+  NdfSpec spec;
+  spec.model = "beckmann";
+  spec.alpha_x = spec.alpha_y = alpha;
+  TabulatedNdf t = tabulate(*make_distribution(spec), "beckmann", n);
   return t;
 }
 
