@@ -60,8 +60,6 @@ SurfaceFormat format_from_extension(const std::string& path);
 SurfaceFormat format_from_magic(std::span<const std::uint8_t> head);
 /// Short name: "x3p", "dat", "datx", ...
 std::string format_name(SurfaceFormat format);
-/// Parses a short name (as format_name prints it). Throws InputError.
-SurfaceFormat format_from_name(const std::string& name);
 bool format_can_write(SurfaceFormat format);
 /// Whether the format needs ReadOptions::dx/dy (no spacing stored).
 bool format_needs_spacing(SurfaceFormat format);

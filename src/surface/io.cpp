@@ -101,14 +101,6 @@ std::string format_name(SurfaceFormat format) {
   return info(format).name;
 }
 
-SurfaceFormat format_from_name(const std::string& name) {
-  for (const auto& i : kFormats)
-    if (name == i.name) return i.format;
-  if (name == "tif") return SurfaceFormat::Tiff;
-  if (name == "grid" || name == "asc") return SurfaceFormat::AsciiGrid;
-  throw InputError("unknown surface format '" + name + "'");
-}
-
 bool format_can_write(SurfaceFormat format) { return info(format).can_write; }
 bool format_needs_spacing(SurfaceFormat format) { return info(format).needs_spacing; }
 
