@@ -21,6 +21,8 @@ PACKAGES=(
   colord-data          # CIE 1931 colour matching functions and D65 (tables generated at build time)
   libcairo2-dev        # plots (PNG and SVG)
   libceres-dev         # non-linear least squares (NDF fits)
+  libembree-dev        # ray tracing: Westin micro-scenes and the preview renderer (Embree 3)
+  libtinyobjloader-dev # OBJ meshes for the renderer
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

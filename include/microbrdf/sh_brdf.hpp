@@ -1,0 +1,124 @@
+#pragma once
+// Westin, Arvo & Torrance 1992: BRDFs as matrices of real spherical-harmonic coefficients
+// (theory notes section 6). Directions are unit vectors in the local frame of brdf.hpp (n = +z).
+//
+// Stored quantity: f(wi, wo) = rho(wi, wo) cos(theta_i) cos(theta_o), completed oddly in z in both
+// arguments (W92 section 2.5), so only the basis functions with l + m odd survive (theory 6.2).
+// f(wi, wo) = Y(wi)^T M Y(wo) over that kept basis; M is symmetric (reciprocity by construction).
+// The BRDF is grey (one matrix); a simulation at one wavelength says which in its metadata.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "microbrdf/brdf.hpp"
+
+namespace microbrdf {
+
+/// Index of Y_lm in the full real basis, k = l^2 + l + m (-l <= m <= l).
+constexpr int sh_index(int l, int m) { return l * l + l + m; }
+/// Number of functions in the full basis up to lmax: (lmax + 1)^2.
+constexpr int sh_count(int lmax) { return (lmax + 1) * (lmax + 1); }
+/// All real spherical harmonics Y_k(w), k < sh_count(lmax), orthonormal on the sphere, by the
+/// normalised recurrence (stable to lmax >= 40). `out` must hold sh_count(lmax) values.
+void sh_eval(int lmax, const Vec3& w, double* out);
+
+/// The basis kept after the odd completion: the (l, m) with l + m odd, l <= lmax, in increasing k.
+class ShOddBasis {
+ public:
+  explicit ShOddBasis(int lmax);
+  int lmax() const { return lmax_; }
+  int size() const { return static_cast<int>(l_.size()); }  ///< lmax (lmax + 1) / 2
+  int l(int j) const { return l_[j]; }
+  int m(int j) const { return m_[j]; }
+  /// Y_j(w) for the kept functions; `out` holds size() values. Cost O(lmax^2).
+  void eval(const Vec3& w, double* out) const;
+  /// Integral of Y_j over the upper hemisphere (for albedos).
+  const std::vector<double>& hemisphere_integrals() const { return hemi_; }
+
+ private:
+  int lmax_;
+  std::vector<int> l_, m_;
+  std::vector<double> hemi_;
+};
+
+/// The Monte Carlo estimator of W92 eq. 17 / 25 with the constants of theory 6.4:
+///   m~_jk = (1/N) sum_n [cos(theta_U) / p_U(U)] * 4 * Y_j(U_n) sum_exits R Y_k(V) / (rays per U)
+/// Callers trace rays for one incident direction U at a time, sum R * Y(V) over all exits of all
+/// the rays started for U (N_p target points x N_b branches), and hand over that sum.
+/// Memory is O(size^2), independent of the number of rays. Not thread-safe: one per thread, merge.
+class ShEstimator {
+ public:
+  explicit ShEstimator(int lmax);
+  const ShOddBasis& basis() const { return basis_; }
+  /// One incident direction `u` (upper hemisphere) drawn with density `pdf_u` per steradian,
+  /// `exit_sum[k]` = sum over exits of R * Y_k(V) (kept basis), `rays` = rays started for u
+  /// (every ray counts, including absorbed ones), `energy` = sum of exit R (for the albedo check).
+  void add_incident(const Vec3& u, double pdf_u, const double* exit_sum, std::size_t rays,
+                    double energy);
+  void merge(const ShEstimator& other);
+  std::size_t incident_count() const { return n_incident_; }
+  std::size_t ray_count() const { return n_rays_; }
+  /// The unsymmetrised estimate M~ (kept basis, size() x size()).
+  Eigen::MatrixXd raw() const;
+  /// W92 eqs. 26-27 with the J^2 normalisation of theory 6.5: Q = sum |M~ - M~^T| / J^2.
+  double q() const;
+  /// Mean exit energy per ray, averaged with weight cos(theta_U)/p_U (= hemispherical-average albedo
+  /// estimate); diagnostics only.
+  double mean_energy() const;
+
+ private:
+  ShOddBasis basis_;
+  Eigen::MatrixXd sum_;  // sum over incident directions of w(U) Y(U) exit_sum^T / rays
+  std::size_t n_incident_ = 0, n_rays_ = 0;
+  double energy_sum_ = 0;
+};
+
+class ShBrdf final : public Brdf {
+ public:
+  /// `m` is over the kept basis of lmax (symmetrised here: M = (m + m^T)/2). `meta` is carried
+  /// into save() (scene, rays, seed, Q, wavelength...).
+  ShBrdf(int lmax, const Eigen::MatrixXd& m, nlohmann::json meta = {});
+  /// The symmetrised result of an estimator.
+  static ShBrdf from_estimator(const ShEstimator& e, nlohmann::json meta = {});
+
+  int lmax() const { return basis_.lmax(); }
+  const ShOddBasis& basis() const { return basis_; }
+  const Eigen::MatrixXd& matrix() const { return m_; }
+  const nlohmann::json& meta() const { return meta_; }
+
+  /// f = rho cos(theta_i) cos(theta_o) = Y(wi)^T M Y(wo), unclamped (may be slightly negative).
+  double cosine_weighted(const Vec3& wi, const Vec3& wo) const;
+  /// rho in 1/sr, clamped at 0; near the horizon the division by the cosines amplifies the
+  /// truncation error (W92 section 5.1), so the cosines are clamped at `horizon_cos` (default 1e-3).
+  double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
+  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
+                                   double wavelength_m) const override;
+  double pdf(const Vec3& wi, const Vec3& wo) const override;
+  std::string describe() const override;
+
+  /// Directional albedo a(wi) = integral over the upper hemisphere of rho cos(theta_o) dwo, exact
+  /// for the truncated expansion (hemisphere integrals of the basis).
+  double albedo(const Vec3& wi) const;
+  /// Gibbs attenuation (theory 6.6): w(l) = 1 for l <= l_filter, exp(-(l - l_filter)^2 / (2 width^2))
+  /// above; m_jk <- w(l_j) w(l_k) m_jk.
+  ShBrdf damped(int l_filter, double width) const;
+
+  /// Binary file: magic "MBSHBRDF", uint32 JSON header length, JSON header (lmax, size, basis
+  /// convention, meta), then size x size little-endian float64, row-major. Atomic write.
+  void save(const std::string& path) const;
+  /// Throws FileError naming the file on a short, corrupt or inconsistent file.
+  static ShBrdf load(const std::string& path);
+
+  void set_horizon_cos(double c) { horizon_cos_ = c; }
+
+ private:
+  ShOddBasis basis_;
+  Eigen::MatrixXd m_;
+  nlohmann::json meta_;
+  double horizon_cos_ = 1e-3;
+  struct SamplingTable;  // tabulated CDFs for sample()/pdf(), built on first use
+  mutable std::shared_ptr<const SamplingTable> table_;
+};
+
+}  // namespace microbrdf
