@@ -36,6 +36,7 @@ struct BrdfArgs : ModelFlags {
   int l_filter = -1;
   double filter_width = 0;
   int lmax = 12, n_theta = 0;
+  bool iso_average = false;
   bool model_given = false;
   std::string theta_i = "30deg", plane = "in", wavelength = "555nm", output, plot;
   bool log_y = false;
@@ -136,6 +137,7 @@ std::shared_ptr<ShBrdf> sh_brdf(const BrdfArgs& a) {
       throw InputError("--l-filter and --filter-width go together (l_filter >= 0, width > 0)");
     b = std::make_shared<ShBrdf>(b->damped(a.l_filter, a.filter_width));
   }
+  if (a.iso_average) b = std::make_shared<ShBrdf>(b->isotropic_average());
   return b;
 }
 
@@ -156,8 +158,8 @@ void run_slice(const BrdfArgs& a) {
     bp = sh;
     label = "SH BRDF " + a.sh;
   } else {
-    if (a.l_filter >= 0 || a.filter_width > 0)
-      throw InputError("--l-filter/--filter-width apply to --sh only");
+    if (a.l_filter >= 0 || a.filter_width > 0 || a.iso_average)
+      throw InputError("--l-filter, --filter-width and --isotropic-average apply to --sh only");
     auto mf = microfacet_brdf(a);
     label = a.ndf.empty() ? mf->distribution().describe() : "tabulated NDF " + a.ndf;
     bp = mf;
@@ -406,6 +408,8 @@ void register_brdf(CLI::App& app) {
                  "With --sh: Gibbs damping, keep l <= L_FILTER, attenuate above by "
                  "exp(-(l-L_FILTER)^2/(2 WIDTH^2))");
   sl->add_option("--filter-width", a->filter_width, "With --sh: the damping width WIDTH (in l)");
+  sl->add_flag("--isotropic-average", a->iso_average,
+               "With --sh: average over rotations about n (for surfaces known to be isotropic)");
   add_material_flags(sl, a->mat);
   sl->add_option("--fresnel", a->fresnel, "exact (complex-index Fresnel) or schlick")
       ->capture_default_str();
@@ -430,6 +434,7 @@ void register_brdf(CLI::App& app) {
   in->add_option("--l-filter", a->l_filter,
                  "Gibbs damping: keep l <= L_FILTER (with --filter-width)");
   in->add_option("--filter-width", a->filter_width, "Gibbs damping width (in l)");
+  in->add_flag("--isotropic-average", a->iso_average, "Average over rotations about n first");
   in->add_flag("--json", a->json, "Print JSON on stdout");
   in->footer(
       "Albedo a(theta_i) = integral rho cos(theta_o) dw_o of the truncated expansion (exact, at\n"
