@@ -193,7 +193,8 @@ BENCHMARK(BM_ShBrdfTableBuild)
     ->Args({30, 1})
     ->Unit(benchmark::kMillisecond);
 
-// add_incident with one precomputed exit sum: the O(size^2) outer product per incident direction
+// add_incident with one precomputed exit sum: the O(size^2) outer product per incident direction,
+// batched 32 at a time into one matrix product
 // (the tracer's cost per exit is one ShOddBasis::eval, benchmarked above).
 void BM_ShEstimatorAddIncident(benchmark::State& state) {
   const int L = static_cast<int>(state.range(0));
