@@ -91,6 +91,13 @@ class ShEstimator {
   double energy_sum_ = 0;
 };
 
+/// A synthetic "ray tracer" for validating the estimator without geometry: `n_incident`
+/// directions U drawn cosine-weighted (p_U = cos/pi), and for each `rays` exits drawn with
+/// brdf.sample(U) carrying R = weight (f cos / pdf). E[estimate] = the projection of `brdf`.
+/// Deterministic for a seed. Used by tests and `microbrdf brdf sh-estimate`.
+void sh_estimate_by_sampling(ShEstimator& e, const Brdf& brdf, std::size_t n_incident, int rays,
+                             std::uint64_t seed, double wavelength_m);
+
 class ShBrdf final : public Brdf {
  public:
   /// `m` is over the kept basis of lmax (symmetrised here: M = (m + m^T)/2). `meta` is carried
