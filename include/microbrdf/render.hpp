@@ -65,6 +65,12 @@ struct RenderLights {
   std::vector<Disk> disks;
 };
 
+/// The light of Dong 2015 Fig. 13 for the plate scene: a disk spanning 9 degrees, 23 degrees to
+/// the left of the camera (which looks straight down), as far from the plate as the camera; its
+/// radiance 1/sin^2(4.5 deg) gives an irradiance of pi on a surface facing it (a white
+/// Lambertian surface facing the light would have radiance 1).
+RenderLights::Disk dong_plate_light();
+
 enum class MisMode { mis, brdf_only, light_only };
 
 struct RenderOptions {

@@ -25,9 +25,11 @@ Camera look_at(const V3& pos, const V3& target, const V3& world_up, double tan_h
 
 // Cylinder pair (Dong Fig. 10): radius, half height, centre offset in x.
 constexpr double kCylR = 0.45, kCylHalf = 1.5, kCylX = 0.5;
+}  // namespace
 // Plate (Dong Fig. 13): the sample is 10 cm square and the camera 64 cm above it; in scene
 // units the plate is 2 wide, so the camera stands 12.8 above.
 constexpr double kPlateHalf = 1.0, kPlateCamera = 12.8;
+namespace {
 
 /// The vase profile r(y), y in [-1, 1], and dr/dy.
 double vase_r(double y) { return 0.5 + 0.25 * std::cos(M_PI * (y + 0.3) / 1.3); }
@@ -392,3 +394,18 @@ void PreviewGeometry::shade(unsigned geom, unsigned prim, float bu, float bv, co
 }
 
 }  // namespace microbrdf::pt
+
+namespace microbrdf {
+
+RenderLights::Disk dong_plate_light() {
+  const double a = 23 * M_PI / 180, half = 4.5 * M_PI / 180;
+  RenderLights::Disk d;
+  const Eigen::Vector3d dir(-std::sin(a), std::cos(a), 0);  // the image's left is -x
+  d.centre = pt::kPlateCamera * dir;
+  d.normal = -dir;
+  d.radius = pt::kPlateCamera * std::tan(half);
+  d.rgb_radiance = Eigen::Vector3d::Constant(1 / (std::sin(half) * std::sin(half)));
+  return d;
+}
+
+}  // namespace microbrdf
