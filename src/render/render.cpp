@@ -118,8 +118,11 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
         const V3 wl = sp.to_local(ls->dir);
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
           ++rays;
-          if (!c.geo.occluded(origin, ls->dir,
-                              std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6))) {
+          // Blocked by geometry, or by another area light in front (the same rule as for
+          // BRDF-sampled rays, which see the nearest emitter only).
+          const double tmax = std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6);
+          if (!c.geo.occluded(origin, ls->dir, tmax) &&
+              !(c.lights.hit_area(origin, ls->dir, tmax).t > 0)) {
             double w = 1;
             if (!ls->delta && c.opt.mis == MisMode::mis)
               w = power_heuristic(ls->pdf, m.pdf(sp.u, sp.v, wv, wl));
