@@ -38,7 +38,7 @@ EnvironmentMap::EnvironmentMap(RgbFloatImage img, double scale, double rotation_
       f[r * w + c] = std::max({p[0], p[1], p[2]}) * s;
     }
   }
-  dist_ = Distribution2D(f, w, h);
+  dist_ = PiecewiseConstant2D(f, w, h);
 }
 
 EnvironmentMap EnvironmentMap::uniform(const Eigen::Vector3d& rgb) {
@@ -70,14 +70,14 @@ Eigen::Vector3d EnvironmentMap::rgb(const Eigen::Vector3d& d) const {
   return {p[0], p[1], p[2]};
 }
 
-Eigen::Vector3d EnvironmentMap::sample(double u1, double u2, double& pdf) const {
+Eigen::Vector3d EnvironmentMap::sample(double u1, double u2, double u3, double& pdf) const {
   if (uniform_) {
     const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * M_PI * u2;
     pdf = 1 / (4 * M_PI);
     return {r * std::cos(phi), z, r * std::sin(phi)};
   }
   double u, v, p;
-  dist_.sample(u1, u2, u, v, p);
+  dist_.sample(u1, u2, u3, u, v, p);
   const double st = std::sin(M_PI * v);
   pdf = st > 0 ? p / (2 * M_PI * M_PI * st) : 0;
   return direction(u, v);

@@ -57,7 +57,8 @@ LightSet::LightSet(const RenderLights& lights) : l_(lights) {
   count_ = (env_ ? 1 : 0) + int(l_.points.size() + l_.spheres.size() + l_.disks.size());
 }
 
-std::optional<LightSample> LightSet::sample(const V3& x, double uc, double u1, double u2) const {
+std::optional<LightSample> LightSet::sample(const V3& x, double uc, double u1, double u2,
+                                            double u3) const {
   if (count_ == 0) return std::nullopt;
   int i = std::min(int(uc * count_), count_ - 1);
   const double choose = 1.0 / count_;
@@ -65,7 +66,7 @@ std::optional<LightSample> LightSet::sample(const V3& x, double uc, double u1, d
   if (env_) {
     if (i == 0) {
       double pdf;
-      s.dir = env_->sample(u1, u2, pdf);
+      s.dir = env_->sample(u1, u2, u3, pdf);
       if (!(pdf > 0)) return std::nullopt;
       s.rgb = env_->rgb(s.dir);
       s.pdf = pdf * choose;

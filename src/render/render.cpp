@@ -113,8 +113,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
 
     // Next-event estimation.
     if (use_nee && c.lights.count() > 0) {
-      const double uc = rng.next(), u1 = rng.next(), u2 = rng.next();
-      if (auto ls = c.lights.sample(origin, uc, u1, u2)) {
+      const double uc = rng.next(), u1 = rng.next(), u2 = rng.next(), u3 = rng.next();
+      if (auto ls = c.lights.sample(origin, uc, u1, u2, u3)) {
         const V3 wl = sp.to_local(ls->dir);
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
           ++rays;
