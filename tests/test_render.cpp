@@ -11,6 +11,7 @@
 #include "microbrdf/tabulated_distribution.hpp"
 #include "render/distribution2d.hpp"
 #include "render/envmap.hpp"
+#include "render/material.hpp"
 #include "render/scene.hpp"
 
 using namespace microbrdf;
@@ -285,7 +286,8 @@ TEST(Render, CorruptRadianceFilesAreRefused) {
 }
 
 TEST(Render, EnvironmentSamplingPdfIntegratesToOne) {
-  const pt::EnvironmentMap map(pt::read_envmap_image(kShared + "/envmaps/blender_courtyard.hdr"));
+  const pt::EnvironmentMap map(pt::read_envmap_image(kShared + "/envmaps/blender_courtyard.hdr"),
+                               1.0, 0.7);
   // Integral of pdf over the sphere (midpoint rule on a fine grid) and the pdf of sampled
   // directions matching pdf().
   double sum = 0;
@@ -300,8 +302,10 @@ TEST(Render, EnvironmentSamplingPdfIntegratesToOne) {
   EXPECT_NEAR(sum, 1.0, 2e-3);
   for (int k = 0; k < 100; ++k) {
     double pdf;
-    const auto d = map.sample((k + 0.5) / 100, std::fmod(k * 0.618, 1.0), 0.5, pdf);
+    Eigen::Vector3d rgb;
+    const auto d = map.sample((k + 0.5) / 100, std::fmod(k * 0.618, 1.0), 0.5, pdf, &rgb);
     EXPECT_NEAR(map.pdf(d), pdf, 1e-6 * pdf + 1e-9);
+    EXPECT_EQ(map.rgb(d), rgb);
   }
 }
 
@@ -351,4 +355,29 @@ TEST(Render, AliasTableDrawsCellsWithTheirWeights) {
     const double p = w[i] / sum, sd = std::sqrt(n * p * (1 - p));
     EXPECT_NEAR(count[i], n * p, 5 * sd + 1e-9) << "cell " << i;
   }
+}
+
+TEST(Render, SpectralMaterialEqualsTheBrdf) {
+  // The microfacet fast path (D G2 once, Fresnel per wavelength) gives what eval() gives, for
+  // both shadowing forms; other BRDFs go through eval() per wavelength.
+  auto f = std::make_shared<ConductorFresnel>(metal("Au"));
+  for (bool separable : {false, true}) {
+    auto b = std::make_shared<MicrofacetBrdf>(
+        std::make_shared<EllipsoidDistribution>(EllipsoidParams{0.05, 0.3, 0.1, -0.05, 0.4}), f,
+        separable);
+    const pt::SpectralMaterial m(std::make_shared<UniformSvbrdf>(b));
+    EXPECT_TRUE(m.fast());
+    const double lambda[3] = {400e-9, 555e-9, 700e-9};
+    for (int i = 0; i < 50; ++i) {
+      const double ti = 0.03 * i, to = 1.5 - 0.029 * i, p = 0.37 * i;
+      const Vec3 wi(std::sin(ti), 0, std::cos(ti));
+      const Vec3 wo(std::sin(to) * std::cos(p), std::sin(to) * std::sin(p), std::cos(to));
+      double got[3];
+      m.eval(0.3, 0.7, wi, wo, lambda, 3, got);
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(got[k], b->eval(wi, wo, lambda[k]), 1e-12 * b->eval(wi, wo, lambda[k]));
+    }
+  }
+  const pt::SpectralMaterial lam(one(std::make_shared<LambertianBrdf>(0.5))[0]);
+  EXPECT_FALSE(lam.fast());
 }

@@ -52,8 +52,9 @@ class PiecewiseConstant2D {
     for (auto i : small) cells_[i].prob = 1, cells_[i].alias = i;  // rounding leftovers
   }
 
-  /// (u, v) in [0,1)^2 from three uniforms, with its density per unit area.
-  void sample(double u1, double u2, double u3, double& u, double& v, double& pdf) const {
+  /// (u, v) in [0,1)^2 from three uniforms, with its density per unit area; returns the cell
+  /// index (row * nu + col).
+  std::size_t sample(double u1, double u2, double u3, double& u, double& v, double& pdf) const {
     const std::size_t n = cells_.size();
     const double x = u1 * double(n);
     std::size_t j = std::min(std::size_t(x), n - 1);
@@ -63,6 +64,7 @@ class PiecewiseConstant2D {
     u = (double(col) + u2) / double(nu_);
     v = (double(row) + u3) / double(nv_);
     pdf = cells_[j].density;
+    return j;
   }
   /// Density per unit area in cell (col, row).
   double pdf(std::size_t col, std::size_t row) const { return cells_[row * nu_ + col].density; }

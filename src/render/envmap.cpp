@@ -70,14 +70,21 @@ Eigen::Vector3d EnvironmentMap::rgb(const Eigen::Vector3d& d) const {
   return {p[0], p[1], p[2]};
 }
 
-Eigen::Vector3d EnvironmentMap::sample(double u1, double u2, double u3, double& pdf) const {
+Eigen::Vector3d EnvironmentMap::sample(double u1, double u2, double u3, double& pdf,
+                                       Eigen::Vector3d* rgb) const {
   if (uniform_) {
     const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * M_PI * u2;
     pdf = 1 / (4 * M_PI);
+    if (rgb) *rgb = uniform_rgb_;
     return {r * std::cos(phi), z, r * std::sin(phi)};
   }
   double u, v, p;
-  dist_.sample(u1, u2, u3, u, v, p);
+  const std::size_t cell = dist_.sample(u1, u2, u3, u, v, p);
+  if (rgb) {
+    // Cells index the stored image (the rotation acts in direction()).
+    const float* q = &img_.rgb[cell * 3];
+    *rgb = Eigen::Vector3d(q[0], q[1], q[2]);
+  }
   const double st = std::sin(M_PI * v);
   pdf = st > 0 ? p / (2 * M_PI * M_PI * st) : 0;
   return direction(u, v);

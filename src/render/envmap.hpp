@@ -50,7 +50,9 @@ class EnvironmentMap {
   Eigen::Vector3d rgb(const Eigen::Vector3d& d) const;
   /// Draws a direction with density pdf(d) per steradian (proportional to the pixel's largest
   /// channel times its solid angle) from three uniforms; returns the pdf through `pdf`.
-  Eigen::Vector3d sample(double u1, double u2, double u3, double& pdf) const;
+  /// `rgb`, when given, receives the radiance in that direction (saves a lookup).
+  Eigen::Vector3d sample(double u1, double u2, double u3, double& pdf,
+                         Eigen::Vector3d* rgb = nullptr) const;
   double pdf(const Eigen::Vector3d& d) const;
 
   int width() const { return img_.width; }

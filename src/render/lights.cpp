@@ -66,9 +66,8 @@ std::optional<LightSample> LightSet::sample(const V3& x, double uc, double u1, d
   if (env_) {
     if (i == 0) {
       double pdf;
-      s.dir = env_->sample(u1, u2, u3, pdf);
+      s.dir = env_->sample(u1, u2, u3, pdf, &s.rgb);
       if (!(pdf > 0)) return std::nullopt;
-      s.rgb = env_->rgb(s.dir);
       s.pdf = pdf * choose;
       s.distance = kInf;
       return s;
