@@ -98,4 +98,17 @@ double EnvironmentMap::pdf(const Eigen::Vector3d& d) const {
   return st > 0 ? dist_.pdf(c, r) / (2 * M_PI * M_PI * st) : 0;
 }
 
+Eigen::Vector3d EnvironmentMap::rgb_and_pdf(const Eigen::Vector3d& d, double& pdf) const {
+  if (uniform_) {
+    pdf = 1 / (4 * M_PI);
+    return uniform_rgb_;
+  }
+  int c, r;
+  pixel_of(d, c, r);
+  const double st = std::sqrt(std::max(0.0, 1 - d.y() * d.y()));
+  pdf = st > 0 ? dist_.pdf(c, r) / (2 * M_PI * M_PI * st) : 0;
+  const float* p = &img_.rgb[(std::size_t(r) * img_.width + c) * 3];
+  return {p[0], p[1], p[2]};
+}
+
 }  // namespace microbrdf::pt

@@ -54,6 +54,8 @@ class EnvironmentMap {
   Eigen::Vector3d sample(double u1, double u2, double u3, double& pdf,
                          Eigen::Vector3d* rgb = nullptr) const;
   double pdf(const Eigen::Vector3d& d) const;
+  /// rgb(d) and pdf(d) with one pixel look-up.
+  Eigen::Vector3d rgb_and_pdf(const Eigen::Vector3d& d, double& pdf) const;
 
   int width() const { return img_.width; }
   int height() const { return img_.height; }

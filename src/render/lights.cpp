@@ -158,8 +158,9 @@ V3 LightSet::env_rgb(const V3& d, double& pdf) const {
     pdf = 0;
     return V3::Zero();
   }
-  pdf = env_->pdf(d) / count_;
-  return env_->rgb(d);
+  const V3 rgb = env_->rgb_and_pdf(d, pdf);
+  pdf /= count_;
+  return rgb;
 }
 
 }  // namespace microbrdf::pt
