@@ -29,6 +29,12 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n
 $BIN render --scene obj --obj "$T/t.obj" --lambertian 0.8 --point 2,2,4:30 --brushing rotational \
   --size 16 --spp 2 -o "$T/t.png" --quiet >/dev/null 2>"$T/err" || fail "obj: $(cat "$T/err")"
 
+# A Kirchhoff BRDF from a D_K table of a small generated surface.
+$BIN generate gaussian --nx 128 --ny 128 --spacing 0.1um --sigma 0.03um --tau 1um -o "$T/g.x3p" >/dev/null 2>&1 || fail "generate"
+$BIN ndf "$T/g.x3p" --method kirchhoff --wavelength 555nm --resolution 129 -o "$T/dk.npy" >/dev/null 2>&1 || fail "ndf kirchhoff"
+$BIN render --scene sphere --kirchhoff "$T/dk.npy" --metal Au --size 16 --spp 2 -o "$T/k.png" --quiet >/dev/null 2>"$T/err" ||
+  fail "kirchhoff: $(cat "$T/err")"
+
 # Errors: usage problems exit 2, file problems exit 1, nothing is written.
 $BIN render --scene teapot --lambertian 1 -o "$T/x.png" 2>"$T/err"; [ $? -eq 2 ] || fail "unknown scene not exit 2"
 grep -q "known: cylinders" "$T/err" || fail "unknown scene message: $(cat "$T/err")"
