@@ -42,10 +42,22 @@ Eigen::Vector3d mean_rgb(const RenderImage& img) {
   return m / double(img.rgb.size() / 3);
 }
 
+/// A scratch directory for this process, removed at exit.
 std::string temp_dir() {
-  auto d = fs::temp_directory_path() / ("microbrdf_render_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d.string();
+  struct Dir {
+    std::string path;
+    Dir() {
+      path =
+          (fs::temp_directory_path() / ("microbrdf_render_" + std::to_string(::getpid()))).string();
+      fs::create_directories(path);
+    }
+    ~Dir() {
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+  };
+  static Dir d;
+  return d.path;
 }
 
 /// A smooth synthetic sky: colour varying slowly with direction (no detail finer than a pixel
@@ -380,4 +392,20 @@ TEST(Render, SpectralMaterialEqualsTheBrdf) {
   }
   const pt::SpectralMaterial lam(one(std::make_shared<LambertianBrdf>(0.5))[0]);
   EXPECT_FALSE(lam.fast());
+}
+
+TEST(Render, ExrOutputReadsBack) {
+  RenderImage img;
+  img.width = 5;
+  img.height = 3;
+  for (int i = 0; i < 45; ++i) img.rgb.push_back(float(0.01 * i * i));
+  img.settings = "test";
+  const std::string p = temp_dir() + "/out.exr";
+  write_render_exr(img, p);
+  const auto back = pt::read_exr_rgb(p);
+  ASSERT_EQ(back.width, 5);
+  ASSERT_EQ(back.height, 3);
+  for (int i = 0; i < 45; ++i) EXPECT_NEAR(back.rgb[i], img.rgb[i], 1e-3 * img.rgb[i] + 1e-6);
+  EXPECT_THROW(write_render_exr(RenderImage{}, temp_dir() + "/empty.exr"), FileError);
+  EXPECT_FALSE(fs::exists(temp_dir() + "/empty.exr"));
 }
