@@ -409,3 +409,23 @@ TEST(Render, ExrOutputReadsBack) {
   EXPECT_THROW(write_render_exr(RenderImage{}, temp_dir() + "/empty.exr"), FileError);
   EXPECT_FALSE(fs::exists(temp_dir() + "/empty.exr"));
 }
+
+TEST(Render, OneMaterialPerCylinder) {
+  // The cylinder pair takes one material per cylinder: white on the left, half grey on the
+  // right, under the white sky. Each cylinder sees mostly the sky, a little of its neighbour.
+  RenderScene sc;
+  sc.kind = PreviewScene::cylinders;
+  RenderLights l;
+  l.uniform_white_env = true;
+  std::vector<std::shared_ptr<const Svbrdf>> m = {one(std::make_shared<LambertianBrdf>(1.0))[0],
+                                                  one(std::make_shared<LambertianBrdf>(0.5))[0]};
+  const auto img = render(sc, m, l, small(40, 64));
+  auto column_mean = [&](int x) {
+    double s = 0;
+    for (int y = 10; y < 30; ++y) s += img.rgb[(y * 40 + x) * 3 + 1] / 20;
+    return s;
+  };
+  // Pixel columns through the middle of each cylinder (x = -0.5 and +0.5 at the axis plane).
+  EXPECT_NEAR(column_mean(11), 1.0, 0.03);
+  EXPECT_NEAR(column_mean(28), 0.5, 0.03);
+}
