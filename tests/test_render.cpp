@@ -8,11 +8,13 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/render.hpp"
+#include "microbrdf/spectrum.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "render/distribution2d.hpp"
 #include "render/envmap.hpp"
 #include "render/material.hpp"
 #include "render/scene.hpp"
+#include "render/spectral.hpp"
 
 using namespace microbrdf;
 namespace fs = std::filesystem;
@@ -428,4 +430,30 @@ TEST(Render, OneMaterialPerCylinder) {
   // Pixel columns through the middle of each cylinder (x = -0.5 and +0.5 at the axis plane).
   EXPECT_NEAR(column_mean(11), 1.0, 0.03);
   EXPECT_NEAR(column_mean(28), 0.5, 0.03);
+}
+
+TEST(Render, UpsamplingBasisReproducesColours) {
+  // The three basis spectra have the linear sRGB colours (1,0,0), (0,1,0), (0,0,1) under the
+  // renderer's own XYZ estimator (mean over uniform wavelengths), and they sum to 1 (white is
+  // flat).
+  const auto& t = pt::SpectralTables::get();
+  const Eigen::Matrix3d to_rgb = xyz_to_linear_srgb_matrix();
+  Eigen::Matrix3d rgb = Eigen::Matrix3d::Zero();
+  const int n = 47000;
+  double lo = 1e9;
+  for (int i = 0; i < n; ++i) {
+    const double l = 360 + 470 * (i + 0.5) / n;
+    const Eigen::Vector3d b = t.basis(l), w = t.xyz_weight(l);
+    EXPECT_NEAR(b.sum(), 1.0, 1e-12);
+    lo = std::min(lo, b.minCoeff());
+    for (int c = 0; c < 3; ++c) rgb.col(c) += to_rgb * w * b[c] / n;
+  }
+  // (The smooth spectra were fitted with the 5 nm sums; the renderer integrates continuously.)
+  EXPECT_LT((rgb - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 3e-3) << rgb;
+  EXPECT_GT(lo, -0.2) << lo;  // mild negative dips where another primary rises  // bounded (basis
+                              // spectra may dip below 0 where another primary rises)
+  // White (flat 1) maps to (1, 1, 1).
+  Eigen::Vector3d white = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) white += to_rgb * t.xyz_weight(360 + 470 * (i + 0.5) / n) / n;
+  EXPECT_LT((white - Eigen::Vector3d::Ones()).cwiseAbs().maxCoeff(), 2e-3) << white.transpose();
 }
