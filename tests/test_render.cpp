@@ -7,6 +7,7 @@
 #include <string>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/io.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
@@ -456,4 +457,30 @@ TEST(Render, UpsamplingBasisReproducesColours) {
   Eigen::Vector3d white = Eigen::Vector3d::Zero();
   for (int i = 0; i < n; ++i) white += to_rgb * t.xyz_weight(360 + 470 * (i + 0.5) / n) / n;
   EXPECT_LT((white - Eigen::Vector3d::Ones()).cwiseAbs().maxCoeff(), 2e-3) << white.transpose();
+}
+
+TEST(Render, RadianceReaderSurvivesMutations) {
+  // 3000 randomly mutated copies of the head of a real run-length-encoded map (a poor man's
+  // fuzzer; run under ASan too): each is read or refused with FileError, nothing else.
+  const std::string path = kShared + "/envmaps/blender_studio.hdr";
+  std::vector<std::uint8_t> full = read_file_bytes(path, 1u << 26);
+  std::vector<std::uint8_t> head(full.begin(), full.begin() + 24000);
+  std::uint64_t s = 99;
+  auto next = [&] {
+    s = s * 6364136223846793005ull + 1442695040888963407ull;
+    return s >> 33;
+  };
+  int refused = 0;
+  for (int it = 0; it < 3000; ++it) {
+    auto d = head;
+    const int edits = 1 + int(next() % 8);
+    for (int e = 0; e < edits; ++e) d[next() % d.size()] = std::uint8_t(next());
+    if (it % 3 == 0) d.resize(next() % d.size());
+    try {
+      pt::read_radiance_hdr_bytes(d, "mutated.hdr");
+    } catch (const FileError&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 0);
 }
