@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -227,13 +226,11 @@ class Assembler {
 }  // namespace
 
 ParamTexture fit_texels(const Surface& s, const TexelFitOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
   Surface lv = s;
   level_surface(lv, options.leveling);
   Assembler a(options);
   a.add(fit_scan(lv, options), s.meta.source_path.empty() ? "(memory)" : s.meta.source_path);
   ParamTexture t = a.finish();
-  t.meta["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (options.progress) options.progress(1.0);
   return t;
 }
@@ -241,7 +238,6 @@ ParamTexture fit_texels(const Surface& s, const TexelFitOptions& options) {
 ParamTexture fit_texels(const std::vector<std::string>& scans, const ReadOptions& read,
                         const TexelFitOptions& options) {
   if (scans.empty()) throw InputError("no scans given");
-  const auto t0 = std::chrono::steady_clock::now();
   Assembler a(options);
   for_each_scan(scans, read, [&](std::size_t i, const std::string& path, Surface& s) {
     level_surface(s, options.leveling);
@@ -250,7 +246,6 @@ ParamTexture fit_texels(const std::vector<std::string>& scans, const ReadOptions
       options.progress(static_cast<double>(i + 1) / static_cast<double>(scans.size()));
   });
   ParamTexture t = a.finish();
-  t.meta["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return t;
 }
 

@@ -3,7 +3,6 @@
 // resampled to the output size and pitch, random phases, inverse FFT, then the exemplars' mean
 // and variance, and the valid range. See docs/texture.md.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -172,7 +171,6 @@ void clamp_range(int c, double& v) {
 
 ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& across,
                                 const SynthesisOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
   const std::size_t n = options.size;
   if (n < 2 || n > (std::size_t{1} << 15)) throw InputError("texture size must lie in 2..32768");
   if (along.nx < 4)
@@ -217,15 +215,38 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
     mean /= static_cast<double>(f.size());
     for (double v : f) var += (v - mean) * (v - mean);
     var /= static_cast<double>(f.size());
-    const double gain = var > 0 ? std::sqrt(target.variance / var) : 0.0;
+    // Mean and variance of the exemplar, then the valid range. Clamping a tail moves the mean and
+    // variance (alphas are skewed: a Gaussian field reaches alpha_min where the exemplar does
+    // not), so offset and gain are re-solved a few times until the clamped texture has them.
+    const double sd = std::sqrt(var);
+    double offset = target.mean, gain = sd > 0 ? std::sqrt(target.variance) / sd : 0.0;
     std::size_t clipped = 0;
     auto& ch = out.channel[static_cast<std::size_t>(c)];
-    for (std::size_t i = 0; i < f.size(); ++i) {
-      double v = target.mean + (f[i] - mean) * gain;
-      const double before = v;
-      clamp_range(c, v);
-      clipped += v != before;
-      ch[i] = static_cast<float>(v);
+    for (int pass = 0; pass < 8; ++pass) {
+      clipped = 0;
+      double m = 0, m2 = 0;
+#pragma omp parallel for reduction(+ : clipped, m) schedule(static)
+      for (long i = 0; i < static_cast<long>(f.size()); ++i) {
+        double v = offset + (f[static_cast<std::size_t>(i)] - mean) * gain;
+        const double before = v;
+        clamp_range(c, v);
+        clipped += v != before;
+        ch[static_cast<std::size_t>(i)] = static_cast<float>(v);
+        m += v;
+      }
+      m /= static_cast<double>(f.size());
+#pragma omp parallel for reduction(+ : m2) schedule(static)
+      for (long i = 0; i < static_cast<long>(f.size()); ++i) {
+        const double d = ch[static_cast<std::size_t>(i)] - m;
+        m2 += d * d;
+      }
+      const double got_sd = std::sqrt(m2 / static_cast<double>(f.size()));
+      const double want_sd = std::sqrt(target.variance);
+      if (clipped == 0 || !(got_sd > 0) ||
+          (std::fabs(m - target.mean) <= 1e-4 * want_sd && std::fabs(got_sd / want_sd - 1) < 1e-4))
+        break;
+      offset += target.mean - m;
+      gain *= want_sd / got_sd;
     }
     stats[ParamTexture::channel_names[c]] = {
         {"mean", target.mean}, {"variance", target.variance}, {"texels", target.count}};
@@ -247,8 +268,6 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
       {"exemplar_stats", stats},
       {"clamped_texels", clamped},
       {"sources", sources}};
-  out.meta["seconds"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
 
