@@ -26,6 +26,7 @@ struct TextureArgs {
   std::uint64_t seed = 1;
   std::string output, texels_out, preview;
   bool no_preview = false;
+  std::size_t preview_size = 512;
   bool tent = false;
   bool json = false;
   ReadFlags read;
@@ -138,7 +139,7 @@ void run(const TextureArgs& a) {
   }
   write_param_texture(out, a.output);
   const std::string pv = preview_path(a);
-  if (!pv.empty()) write_param_preview(out, pv);
+  if (!pv.empty()) write_param_preview(out, pv, a.preview_size);
   j["output"] = a.output;
   j["preview"] = pv;
   j.update(summary(out));
@@ -219,6 +220,8 @@ void register_texture(CLI::App& app) {
                 "FILE.across.exr)");
   c->add_option("--preview", a->preview, "Preview PNG (default: OUT with .png)");
   c->add_flag("--no-preview", a->no_preview, "Write no preview");
+  c->add_option("--preview-size", a->preview_size, "Longest side of each preview panel, pixels")
+      ->capture_default_str();
   c->add_flag("--json", a->json, "Print a JSON summary on stdout");
   add_read_flags(c, a->read, "plane");
   c->callback([a] { run_guarded("texture", [&] { run(*a); }); });
