@@ -28,6 +28,7 @@ struct TextureArgs {
   bool no_preview = false;
   std::size_t preview_size = 512;
   bool tent = false;
+  bool lognormal = false;
   bool json = false;
   ReadFlags read;
 };
@@ -114,6 +115,7 @@ void run(const TextureArgs& a) {
     SynthesisOptions so;
     so.size = a.size;
     so.seed = a.seed;
+    so.lognormal_alpha = a.lognormal;
     so.texel_m = a.pitch.empty() ? 0.0 : parse_length(a.pitch);
     if (strips) {
       const ParamTexture along = exemplar(a.along, a, false, "along");
@@ -214,6 +216,8 @@ void register_texture(CLI::App& app) {
   c->add_option("--size", a->size, "Synthesise an N x N texture (omit: fit only)");
   c->add_option("--pitch", a->pitch, "Output texel pitch (default: the exemplar's)");
   c->add_option("--seed", a->seed, "Random phases' seed")->capture_default_str();
+  c->add_flag("--lognormal-alpha", a->lognormal,
+              "Also try log-normal alpha fields; keep whichever matches the spectra better");
   c->add_option("-o,--output", a->output, "Output parameter texture (.exr)")->required();
   c->add_option("--texels-out", a->texels_out,
                 "Synthesis: also write the fitted exemplar texels (strips: FILE.along.exr, "
