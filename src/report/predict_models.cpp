@@ -200,6 +200,8 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
       for (std::size_t i = 0; i < angles.size(); ++i)
         angles[i] =
             lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(angles.size() - 1);
+      for (double& a : angles)
+        if (std::abs(a) < 1e-9) a = 0;  // the mirror direction, not -7e-15 deg
       p.x.min = lo;
       p.x.max = hi;
       nlohmann::json values = nlohmann::json::object(), peaks = nlohmann::json::object();
