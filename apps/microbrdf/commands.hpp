@@ -18,6 +18,7 @@ void register_brdf(CLI::App& app);
 void register_sun(CLI::App& app);
 void register_fit(CLI::App& app);
 void register_predict(CLI::App& app);
+void register_render(CLI::App& app);
 
 /// Runs `body`, turning microbrdf errors into "microbrdf <cmd>: error: <message>" on stderr and
 /// a non-zero exit code.

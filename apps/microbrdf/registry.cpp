@@ -21,6 +21,7 @@ void register_all(CLI::App& app) {
   register_sun(app);
   register_fit(app);
   register_predict(app);
+  register_render(app);
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {

@@ -22,8 +22,8 @@ enum class PreviewScene {
   cylinders,  ///< two cylinder sections, the BRDF rotated 90 degrees between them (Dong Fig. 10)
   plate,      ///< a flat plate seen from above under a small area light (Dong Fig. 13)
   sphere,
-  vase,       ///< a surface of revolution
-  obj,        ///< an OBJ mesh (RenderScene::obj_path)
+  vase,           ///< a surface of revolution
+  obj,            ///< an OBJ mesh (RenderScene::obj_path)
   furnace_sphere  ///< a sphere alone in a uniform white environment (tests)
 };
 PreviewScene parse_preview_scene(const std::string& name);  ///< throws InputError listing names
@@ -43,29 +43,45 @@ struct RenderScene {
 };
 
 struct RenderLights {
-  std::string envmap_path;          ///< EXR or Radiance HDR, equirectangular; empty = none
-  double envmap_scale = 1;          ///< multiplies the map
-  double envmap_rotation_rad = 0;   ///< about the world up axis
-  bool uniform_white_env = false;   ///< radiance 1 everywhere (furnace tests)
-  struct Point { Eigen::Vector3d position, rgb_intensity; };  ///< intensity in W/sr per channel
-  struct Sphere { Eigen::Vector3d centre; double radius; Eigen::Vector3d rgb_radiance; };
-  struct Disk { Eigen::Vector3d centre, normal; double radius; Eigen::Vector3d rgb_radiance; };
+  std::string envmap_path;         ///< EXR or Radiance HDR, equirectangular; empty = none
+  double envmap_scale = 1;         ///< multiplies the map
+  double envmap_rotation_rad = 0;  ///< about the world up axis
+  bool uniform_white_env = false;  ///< radiance 1 everywhere (furnace tests)
+  struct Point {
+    Eigen::Vector3d position, rgb_intensity;
+  };  ///< intensity in W/sr per channel
+  struct Sphere {
+    Eigen::Vector3d centre;
+    double radius;
+    Eigen::Vector3d rgb_radiance;
+  };
+  struct Disk {
+    Eigen::Vector3d centre, normal;
+    double radius;
+    Eigen::Vector3d rgb_radiance;
+  };
   std::vector<Point> points;
   std::vector<Sphere> spheres;
   std::vector<Disk> disks;
 };
 
+/// The light of Dong 2015 Fig. 13 for the plate scene: a disk spanning 9 degrees, 23 degrees to
+/// the left of the camera (which looks straight down), as far from the plate as the camera; its
+/// radiance 1/sin^2(4.5 deg) gives an irradiance of pi on a surface facing it (a white
+/// Lambertian surface facing the light would have radiance 1).
+RenderLights::Disk dong_plate_light();
+
 enum class MisMode { mis, brdf_only, light_only };
 
 struct RenderOptions {
   int width = 512, height = 512;
-  int spp = 64;           ///< samples per pixel
-  int max_depth = 6;      ///< path length cap (reported)
-  int wavelengths = 4;    ///< hero-wavelength samples per path (360-830 nm)
+  int spp = 64;         ///< samples per pixel
+  int max_depth = 6;    ///< path length cap (reported)
+  int wavelengths = 4;  ///< hero-wavelength samples per path (360-830 nm)
   std::uint64_t seed = 1;
-  int threads = 0;        ///< 0 = all cores
+  int threads = 0;  ///< 0 = all cores
   MisMode mis = MisMode::mis;
-  double exposure = 0;    ///< stops, for the PNG only
+  double exposure = 0;                            ///< stops, for the PNG only
   std::function<void(double fraction)> progress;  ///< called from one thread, fraction in [0, 1]
 };
 
@@ -75,13 +91,46 @@ struct RenderImage {
   double seconds = 0;      ///< wall time
   double samples_per_second = 0;
   std::uint64_t rays = 0;
+  std::string settings;  ///< one line: scene, materials, lights, spp, seed (EXR header, JSON)
 };
 
 /// `materials` holds one entry (applied to every object) or one per object of the scene (the
 /// cylinder pair takes two: the second is what the first is with the tangent turned 90 degrees,
 /// so passing one material there is the Dong Fig. 10 set-up).
-RenderImage render(const RenderScene& scene, const std::vector<std::shared_ptr<const Svbrdf>>& materials,
+RenderImage render(const RenderScene& scene,
+                   const std::vector<std::shared_ptr<const Svbrdf>>& materials,
                    const RenderLights& lights, const RenderOptions& options);
+
+/// A Lambertian reflector f = albedo / pi (furnace tests, diffuse props); cosine-weighted
+/// sampling, weight = albedo.
+class LambertianBrdf final : public Brdf {
+ public:
+  explicit LambertianBrdf(double albedo = 1.0);
+  double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
+  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
+                                   double wavelength_m) const override;
+  double pdf(const Vec3& wi, const Vec3& wo) const override;
+  std::string describe() const override;
+
+ private:
+  double albedo_;
+};
+
+/// An ideal mirror (a delta lobe): eval() and pdf() are 0, sample() returns the mirror direction
+/// with pdf 0 and weight F(cos theta_i) (F = 1 without a Fresnel term). The renderer treats a
+/// sample with pdf 0 and a positive weight as a delta lobe (no MIS, no light sampling).
+class SpecularMirrorBrdf final : public Brdf {
+ public:
+  explicit SpecularMirrorBrdf(std::shared_ptr<const Fresnel> f = nullptr) : f_(std::move(f)) {}
+  double eval(const Vec3&, const Vec3&, double) const override { return 0; }
+  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
+                                   double wavelength_m) const override;
+  double pdf(const Vec3&, const Vec3&) const override { return 0; }
+  std::string describe() const override;
+
+ private:
+  std::shared_ptr<const Fresnel> f_;
+};
 
 /// Linear EXR (half floats, RGB) with the render settings in the header; atomic.
 void write_render_exr(const RenderImage& img, const std::string& path);

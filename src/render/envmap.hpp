@@ -1,0 +1,73 @@
+#pragma once
+// Equirectangular environment maps: reading (OpenEXR, Radiance RGBE), lookup and importance
+// sampling.
+//
+// Direction convention (world frame, y up): row 0 of the image is the zenith (+y), the last row
+// the nadir; theta = acos(d.y) in [0, pi] maps to v = theta / pi; the azimuth
+// phi = atan2(d.x, -d.z) in (-pi, pi] maps to u = 1/2 + phi / (2 pi) (+ rotation / (2 pi)), so the
+// middle column lies straight ahead of a camera looking along -z and u grows to its right (the
+// map is seen as from inside, not mirrored). Radiance is piecewise constant per pixel (nearest
+// pixel), the same function the sampler draws from, so light-sampling and BRDF-sampling
+// estimates agree exactly.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "render/distribution2d.hpp"
+
+namespace microbrdf::pt {
+
+/// A linear RGB float image, row-major from the top, 3 floats per pixel.
+struct RgbFloatImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+};
+
+/// Radiance .hdr (RGBE, "#?RADIANCE" or "#?RGBE", FORMAT=32-bit_rle_rgbe, orientation
+/// "-Y H +X W"), flat or new-style run-length encoded scanlines. Every read is bounds-checked;
+/// at most 2^15 pixels a side and no more pixels than the file can encode. Throws FileError.
+RgbFloatImage read_radiance_hdr(const std::string& path);
+RgbFloatImage read_radiance_hdr_bytes(const std::vector<std::uint8_t>& data,
+                                      const std::string& name);
+/// Writes flat (uncompressed) RGBE, "-Y H +X W"; atomic. For fixtures and tests.
+void write_radiance_hdr(const RgbFloatImage& img, const std::string& path);
+/// OpenEXR with R, G, B channels (HALF or FLOAT; Y alone is taken as grey). Throws FileError.
+RgbFloatImage read_exr_rgb(const std::string& path);
+/// By the file's magic number: EXR or Radiance HDR.
+RgbFloatImage read_envmap_image(const std::string& path);
+
+class EnvironmentMap {
+ public:
+  /// From an image; negative pixels (lossy compression) are clamped to 0. `scale` multiplies the
+  /// radiance, `rotation_rad` turns the map about +y (positive = the map moves to the left).
+  EnvironmentMap(RgbFloatImage img, double scale = 1, double rotation_rad = 0);
+  /// Radiance rgb everywhere (uniform sampling over the sphere).
+  static EnvironmentMap uniform(const Eigen::Vector3d& rgb);
+
+  /// Linear sRGB radiance in direction d (unit, world frame).
+  Eigen::Vector3d rgb(const Eigen::Vector3d& d) const;
+  /// Draws a direction with density pdf(d) per steradian (proportional to the pixel's largest
+  /// channel times its solid angle); returns the pdf through `pdf`.
+  Eigen::Vector3d sample(double u1, double u2, double& pdf) const;
+  double pdf(const Eigen::Vector3d& d) const;
+
+  int width() const { return img_.width; }
+  int height() const { return img_.height; }
+  bool is_uniform() const { return uniform_; }
+  /// Pixel (column, row) that direction d falls into.
+  void pixel_of(const Eigen::Vector3d& d, int& col, int& row) const;
+  /// Unit direction through the centre of (u, v) in [0,1]^2 of the map.
+  Eigen::Vector3d direction(double u, double v) const;
+
+ private:
+  EnvironmentMap() = default;
+  RgbFloatImage img_;
+  bool uniform_ = false;
+  Eigen::Vector3d uniform_rgb_ = Eigen::Vector3d::Zero();
+  double rotation_u_ = 0;  // rotation / (2 pi)
+  Distribution2D dist_;
+};
+
+}  // namespace microbrdf::pt

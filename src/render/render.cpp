@@ -1,0 +1,254 @@
+// The spectral path tracer (render.hpp).
+//
+// Per pixel sample: a camera ray with a box-filter jitter, `wavelengths` hero wavelengths
+// (spectral.hpp) carried together, next-event estimation from one uniformly chosen light and a
+// BRDF-sampled continuation, combined by the power heuristic (MisMode::mis) or used alone
+// (light_only: emission reached by BRDF sampling is dropped except after a delta bounce;
+// brdf_only: no light samples, point lights are invisible). The BRDF's sampler is driven by the
+// first (hero) wavelength; its pdf does not depend on wavelength (Brdf::pdf), so every
+// wavelength is weighted by f(l_k) cos / pdf. Samples with pdf 0 and a positive weight are delta
+// lobes: each wavelength takes the weight its own sample() gives for the same random numbers.
+// The BRDF is evaluated as f(wi = light, wo = viewer) in the local frame of the shading point.
+//
+// Determinism: the random stream of each (pixel, sample) is seeded from (seed, pixel, sample)
+// and the samples of a pixel are summed in order by one thread, so an image does not depend on
+// the number of threads.
+#include "microbrdf/render.hpp"
+
+#include <omp.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "microbrdf/error.hpp"
+#include "microbrdf/spectrum.hpp"
+#include "render/lights.hpp"
+#include "render/scene.hpp"
+#include "render/spectral.hpp"
+
+namespace microbrdf {
+namespace {
+
+using pt::V3;
+
+std::uint64_t splitmix(std::uint64_t& s) {
+  std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+class Rng {
+ public:
+  Rng(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
+    std::uint64_t s = seed * 0xD1B54A32D192ED03ull;
+    s ^= splitmix(s) + pixel * 0x9E3779B97F4A7C15ull;
+    s ^= splitmix(s) + sample * 0xC2B2AE3D27D4EB4Full;
+    splitmix(s);
+    state_ = s;
+  }
+  double next() { return double(splitmix(state_) >> 11) * 0x1.0p-53; }
+
+ private:
+  std::uint64_t state_;
+};
+
+double power_heuristic(double a, double b) {
+  const double a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0;
+}
+
+struct PathContext {
+  const pt::PreviewGeometry& geo;
+  const pt::LightSet& lights;
+  const std::vector<std::shared_ptr<const Svbrdf>>& mats;
+  const RenderOptions& opt;
+  const pt::SpectralTables& spec;
+};
+
+/// Radiance (relative to D65) at the n hero wavelengths along one camera path, added to L.
+std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_nm, int n, Rng& rng,
+                         double* L) {
+  double T[pt::kMaxWavelengths];
+  double lm[pt::kMaxWavelengths];
+  for (int k = 0; k < n; ++k) T[k] = 1, lm[k] = lambda_nm[k] * 1e-9;
+  std::uint64_t rays = 0;
+  bool specular = true;  // camera ray or a delta bounce: emission counts fully
+  double prev_pdf = 0;   // BRDF-sampling density of the current ray direction
+  const bool use_nee = c.opt.mis != MisMode::brdf_only;
+  const bool use_brdf_emission = c.opt.mis != MisMode::light_only;
+  const double eps = c.geo.epsilon();
+  auto add_emission = [&](const V3& rgb, double light_pdf) {
+    double w = 1;
+    if (!specular) {
+      if (!use_brdf_emission) return;
+      if (use_nee) w = power_heuristic(prev_pdf, light_pdf);
+    }
+    if (!(w > 0)) return;
+    for (int k = 0; k < n; ++k) L[k] += T[k] * w * c.spec.upsample(rgb, lambda_nm[k]);
+  };
+
+  for (int depth = 0;; ++depth) {
+    pt::ShadingPoint sp;
+    ++rays;
+    const double t = c.geo.intersect(o, d, 1e30, sp);
+    const pt::LightHit lh = c.lights.hit_area(o, d, t > 0 ? t : 1e30);
+    if (lh.t > 0) {
+      add_emission(lh.rgb, lh.pdf);
+      return rays;
+    }
+    if (t < 0) {
+      double pdf;
+      const V3 rgb = c.lights.env_rgb(d, pdf);
+      if (c.lights.env()) add_emission(rgb, pdf);
+      return rays;
+    }
+    if (depth >= c.opt.max_depth) return rays;
+    const Svbrdf& m = *c.mats[c.mats.size() == 1 ? 0 : sp.object];
+    const V3 wv = sp.to_local(-d);  // towards the viewer
+    if (!(wv.z() > 0)) return rays;
+    const V3 origin = sp.p + eps * sp.ng;
+
+    // Next-event estimation.
+    if (use_nee && c.lights.count() > 0) {
+      const double uc = rng.next(), u1 = rng.next(), u2 = rng.next();
+      if (auto ls = c.lights.sample(origin, uc, u1, u2)) {
+        const V3 wl = sp.to_local(ls->dir);
+        if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
+          ++rays;
+          // Blocked by geometry, or by another area light in front (the same rule as for
+          // BRDF-sampled rays, which see the nearest emitter only).
+          const double tmax = std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6);
+          if (!c.geo.occluded(origin, ls->dir, tmax) &&
+              !(c.lights.hit_area(origin, ls->dir, tmax).t > 0)) {
+            double w = 1;
+            if (!ls->delta && c.opt.mis == MisMode::mis)
+              w = power_heuristic(ls->pdf, m.pdf(sp.u, sp.v, wv, wl));
+            const double scale = w * wl.z() / ls->pdf;
+            for (int k = 0; k < n; ++k) {
+              const double f = m.eval(sp.u, sp.v, wl, wv, lm[k]);
+              if (f != 0) L[k] += T[k] * f * scale * c.spec.upsample(ls->rgb, lambda_nm[k]);
+            }
+          }
+        }
+      }
+    }
+
+    // BRDF sampling (the viewer direction plays wi; see the header comment).
+    const double u1 = rng.next(), u2 = rng.next();
+    const auto s = m.sample(sp.u, sp.v, wv, u1, u2, lm[0]);
+    if (!s || !(s->weight > 0) || !(s->wo.z() > 0)) return rays;
+    const V3 wl = s->wo;
+    if (s->pdf > 0 && std::isfinite(s->pdf)) {
+      for (int k = 0; k < n; ++k) T[k] *= m.eval(sp.u, sp.v, wl, wv, lm[k]) * wl.z() / s->pdf;
+      specular = false;
+      prev_pdf = s->pdf;
+    } else {
+      T[0] *= s->weight;
+      for (int k = 1; k < n; ++k) {
+        const auto sk = m.sample(sp.u, sp.v, wv, u1, u2, lm[k]);
+        T[k] *= sk && (sk->wo - wl).squaredNorm() < 1e-12 ? sk->weight : 0.0;
+      }
+      specular = true;
+      prev_pdf = 0;
+    }
+    d = sp.to_world(wl).normalized();
+    if (d.dot(sp.ng) <= 0) return rays;  // below the geometric surface
+    o = origin;
+    // Russian roulette after three bounces.
+    double tmax = 0;
+    for (int k = 0; k < n; ++k) {
+      if (!std::isfinite(T[k])) return rays;
+      tmax = std::max(tmax, std::abs(T[k]));
+    }
+    if (!(tmax > 0)) return rays;
+    if (depth >= 3) {
+      const double q = std::min(1.0, tmax);
+      if (rng.next() >= q) return rays;
+      for (int k = 0; k < n; ++k) T[k] /= q;
+    }
+  }
+}
+
+}  // namespace
+
+RenderImage render(const RenderScene& scene,
+                   const std::vector<std::shared_ptr<const Svbrdf>>& materials,
+                   const RenderLights& lights, const RenderOptions& opt) {
+  if (opt.width <= 0 || opt.height <= 0 || opt.width > 16384 || opt.height > 16384)
+    throw InputError("render: image size must be 1..16384 pixels a side");
+  if (opt.spp <= 0) throw InputError("render: samples per pixel must be > 0");
+  if (opt.max_depth < 1) throw InputError("render: max depth must be >= 1");
+  if (opt.wavelengths < 1 || opt.wavelengths > pt::kMaxWavelengths)
+    throw InputError("render: wavelengths per path must be 1..16");
+  if (materials.empty()) throw InputError("render: no material");
+  for (const auto& m : materials)
+    if (!m) throw InputError("render: null material");
+  const auto t0 = std::chrono::steady_clock::now();
+  const pt::PreviewGeometry geo(scene);
+  if (materials.size() != 1 && int(materials.size()) != geo.object_count())
+    throw InputError("render: scene '" + preview_scene_name(scene.kind) + "' has " +
+                     std::to_string(geo.object_count()) + " objects; give 1 or " +
+                     std::to_string(geo.object_count()) + " materials, not " +
+                     std::to_string(materials.size()));
+  const pt::LightSet ls(lights);
+  if (ls.count() == 0) throw InputError("render: no light (give an environment map or lights)");
+  const auto& spec = pt::SpectralTables::get();
+  const PathContext ctx{geo, ls, materials, opt, spec};
+  const Eigen::Matrix3d to_rgb = xyz_to_linear_srgb_matrix();
+
+  RenderImage img;
+  img.width = opt.width;
+  img.height = opt.height;
+  img.rgb.assign(std::size_t(opt.width) * opt.height * 3, 0.0f);
+  const pt::Camera& cam = geo.camera();
+  const int n = opt.wavelengths;
+  std::atomic<int> rows_done{0};
+  std::uint64_t rays = 0;
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : rays)
+  for (int y = 0; y < opt.height; ++y) {
+    for (int x = 0; x < opt.width; ++x) {
+      const std::uint64_t pixel = std::uint64_t(y) * opt.width + x;
+      Eigen::Vector3d xyz = Eigen::Vector3d::Zero();
+      for (int s = 0; s < opt.spp; ++s) {
+        Rng rng(opt.seed, pixel, std::uint64_t(s));
+        const double jx = rng.next(), jy = rng.next();
+        double lambda[pt::kMaxWavelengths], L[pt::kMaxWavelengths] = {};
+        pt::hero_wavelengths(rng.next(), n, lambda);
+        const V3 d = cam.direction(x + jx, y + jy, opt.width, opt.height);
+        rays += trace_path(ctx, cam.position, d, lambda, n, rng, L);
+        Eigen::Vector3d sx = Eigen::Vector3d::Zero();
+        for (int k = 0; k < n; ++k) sx += L[k] * spec.xyz_weight(lambda[k]);
+        if (sx.allFinite()) xyz += sx / n;
+      }
+      const Eigen::Vector3d rgb = to_rgb * (xyz / opt.spp);
+      for (int ch = 0; ch < 3; ++ch) img.rgb[pixel * 3 + ch] = float(rgb[ch]);
+    }
+    const int done = ++rows_done;
+    if (opt.progress && omp_get_thread_num() == 0) opt.progress(double(done) / opt.height);
+  }
+  if (opt.progress) opt.progress(1.0);
+  img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  img.samples_per_second = double(opt.width) * opt.height * opt.spp / std::max(img.seconds, 1e-9);
+  img.rays = rays;
+  std::ostringstream os;
+  os << "scene " << preview_scene_name(scene.kind) << "; materials:";
+  for (const auto& m : materials) os << " [" << m->describe() << "]";
+  os << "; lights:";
+  if (lights.uniform_white_env) os << " uniform white environment";
+  if (!lights.envmap_path.empty())
+    os << " envmap " << lights.envmap_path << " x" << lights.envmap_scale;
+  os << " points " << lights.points.size() << " spheres " << lights.spheres.size() << " disks "
+     << lights.disks.size() << "; " << opt.width << "x" << opt.height << ", " << opt.spp << " spp, "
+     << n << " wavelengths/path, max depth " << opt.max_depth << ", seed " << opt.seed << ", mis "
+     << (opt.mis == MisMode::mis         ? "power"
+         : opt.mis == MisMode::brdf_only ? "brdf_only"
+                                         : "light_only");
+  img.settings = os.str();
+  return img;
+}
+
+}  // namespace microbrdf

@@ -1,0 +1,326 @@
+// The preview renderer: furnace, mirror, MIS consistency, determinism, anisotropy.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "microbrdf/error.hpp"
+#include "microbrdf/render.hpp"
+#include "microbrdf/tabulated_distribution.hpp"
+#include "render/envmap.hpp"
+#include "render/scene.hpp"
+
+using namespace microbrdf;
+namespace fs = std::filesystem;
+using namespace std::string_literals;
+
+namespace {
+
+const std::string kShared = MICROBRDF_SHARED_DATA;
+
+std::vector<std::shared_ptr<const Svbrdf>> one(std::shared_ptr<const Brdf> b) {
+  return {std::make_shared<UniformSvbrdf>(std::move(b))};
+}
+
+RenderOptions small(int size, int spp, int wavelengths = 4) {
+  RenderOptions o;
+  o.width = o.height = size;
+  o.spp = spp;
+  o.wavelengths = wavelengths;
+  o.threads = 2;
+  return o;
+}
+
+Eigen::Vector3d mean_rgb(const RenderImage& img) {
+  Eigen::Vector3d m = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < img.rgb.size() / 3; ++i)
+    m += Eigen::Vector3d(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
+  return m / double(img.rgb.size() / 3);
+}
+
+std::string temp_dir() {
+  auto d = fs::temp_directory_path() / ("microbrdf_render_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d.string();
+}
+
+/// A smooth synthetic sky: colour varying slowly with direction (no detail finer than a pixel
+/// of the render), written as a Radiance file.
+std::string smooth_envmap() {
+  pt::RgbFloatImage img;
+  img.width = 256;
+  img.height = 128;
+  img.rgb.resize(256 * 128 * 3);
+  for (int r = 0; r < 128; ++r)
+    for (int c = 0; c < 256; ++c) {
+      const double th = M_PI * (r + 0.5) / 128, ph = 2 * M_PI * (c + 0.5) / 256;
+      float* p = &img.rgb[(r * 256 + c) * 3];
+      p[0] = float(0.6 + 0.4 * std::cos(th));
+      p[1] = float(0.5 + 0.3 * std::sin(ph) * std::sin(th));
+      p[2] = float(0.4 + 0.3 * std::cos(ph) * std::sin(th) + 0.2 * (1 - std::cos(th)));
+    }
+  const std::string path = temp_dir() + "/smooth.hdr";
+  pt::write_radiance_hdr(img, path);
+  return path;
+}
+
+}  // namespace
+
+TEST(Render, FurnaceLambertianSphereIsOne) {
+  RenderScene sc;
+  sc.kind = PreviewScene::furnace_sphere;
+  RenderLights l;
+  l.uniform_white_env = true;
+  for (MisMode mode : {MisMode::mis, MisMode::brdf_only, MisMode::light_only}) {
+    // Light sampling alone wastes half its samples below the horizon: more samples.
+    auto o = small(32, mode == MisMode::light_only ? 512 : 64);
+    o.mis = mode;
+    auto img = render(sc, one(std::make_shared<LambertianBrdf>(1.0)), l, o);
+    // Only the sphere's pixels (the centre 16 x 16 lies inside it).
+    Eigen::Vector3d m = Eigen::Vector3d::Zero();
+    for (int y = 8; y < 24; ++y)
+      for (int x = 8; x < 24; ++x)
+        for (int c = 0; c < 3; ++c) m[c] += img.rgb[(y * 32 + x) * 3 + c] / 256.0;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(m[c], 1.0, 0.01) << "mode " << int(mode) << " ch " << c;
+  }
+}
+
+TEST(Render, FurnaceHalfAlbedoSphereIsHalf) {
+  RenderScene sc;
+  sc.kind = PreviewScene::furnace_sphere;
+  RenderLights l;
+  l.uniform_white_env = true;
+  auto img = render(sc, one(std::make_shared<LambertianBrdf>(0.5)), l, small(32, 32));
+  double m = 0;
+  for (int y = 8; y < 24; ++y)
+    for (int x = 8; x < 24; ++x) m += img.rgb[(y * 32 + x) * 3 + 1] / 256.0;
+  EXPECT_NEAR(m, 0.5, 0.005);  // a convex object sees only the sky: one bounce
+}
+
+TEST(Render, MirrorSphereReflectsTheEnvironment) {
+  // An ideal mirror (a delta lobe: pdf 0) on the sphere: each pixel must show the map in the
+  // mirror direction of the camera ray (a smooth map, so the pixel footprint hardly matters).
+  const std::string env = smooth_envmap();
+  RenderScene sc;
+  sc.kind = PreviewScene::sphere;
+  RenderLights l;
+  l.envmap_path = env;
+  const int n = 48;
+  auto o = small(n, 64, 16);
+  auto img = render(sc, one(std::make_shared<SpecularMirrorBrdf>()), l, o);
+  const pt::EnvironmentMap map(pt::read_envmap_image(env));
+  const pt::Camera cam = pt::preview_camera(PreviewScene::sphere);
+  int checked = 0, wx = 0, wy = 0;
+  double worst = 0, mean_err = 0;
+  Eigen::Vector3d bias = Eigen::Vector3d::Zero();
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const Eigen::Vector3d d = cam.direction(x + 0.5, y + 0.5, n, n);
+      const Eigen::Vector3d oc = cam.position;  // sphere at the origin, radius 1
+      const double b = oc.dot(d), disc = b * b - (oc.squaredNorm() - 1);
+      Eigen::Vector3d want;
+      bool inside = disc > 0.05;  // away from the silhouette
+      if (inside) {
+        const Eigen::Vector3d p = oc + (-b - std::sqrt(disc)) * d, nrm = p.normalized();
+        want = map.rgb(d - 2 * d.dot(nrm) * nrm);
+      } else if (disc < -0.05) {
+        want = map.rgb(d);  // the background
+      } else {
+        continue;
+      }
+      for (int c = 0; c < 3; ++c) {
+        const double got = img.rgb[(y * n + x) * 3 + c];
+        const double err = std::abs(got - want[c]) / want[c];
+        bias[c] += (got - want[c]) / want[c];
+        mean_err += err / 3;
+        if (err > worst) worst = err, wx = x, wy = y;
+      }
+      ++checked;
+    }
+  EXPECT_GT(checked, n * n * 3 / 4);
+  // Hero-wavelength colour noise (64 spp x 16 wavelengths) is about 1% per pixel.
+  EXPECT_LT(worst, 0.06) << "largest relative pixel error, at " << wx << ", " << wy;
+  EXPECT_LT(mean_err / checked, 0.01);
+  for (int c = 0; c < 3; ++c) EXPECT_LT(std::abs(bias[c] / checked), 0.003) << "channel " << c;
+}
+
+TEST(Render, MisAgreesWithEachStrategy) {
+  // A rough copper sphere under a smooth map and a large sphere light: MIS, BRDF sampling alone
+  // and light sampling alone estimate the same image. (Small bright sources make BRDF sampling
+  // alone too noisy for a 2% test; CLI runs with the shared maps agree within their noise.)
+  RenderScene sc;
+  sc.kind = PreviewScene::sphere;
+  RenderLights l;
+  l.envmap_path = smooth_envmap();
+  l.spheres.push_back({Eigen::Vector3d(3, 3, 3), 1.5, Eigen::Vector3d(4, 4, 4)});
+  auto d = std::make_shared<GgxDistribution>(0.3);
+  auto b = std::make_shared<MicrofacetBrdf>(d, std::make_shared<ConductorFresnel>(metal("Cu")));
+  Eigen::Vector3d m[3];
+  int i = 0;
+  for (MisMode mode : {MisMode::mis, MisMode::brdf_only, MisMode::light_only}) {
+    auto o = small(16, 1024);
+    o.mis = mode;
+    m[i++] = mean_rgb(render(sc, one(b), l, o));
+  }
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(m[1][c] / m[0][c], 1.0, 0.02) << "brdf only, channel " << c;
+    EXPECT_NEAR(m[2][c] / m[0][c], 1.0, 0.02) << "light only, channel " << c;
+  }
+}
+
+TEST(Render, SameSeedSameImageWhateverTheThreads) {
+  RenderScene sc;
+  sc.kind = PreviewScene::cylinders;
+  RenderLights l;
+  l.envmap_path = kShared + "/envmaps/blender_courtyard.hdr";
+  auto b = std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(0.05, 0.2),
+                                            std::make_shared<ConductorFresnel>(metal("Al")));
+  auto o = small(16, 4);
+  o.threads = 1;
+  const auto a1 = render(sc, one(b), l, o);
+  o.threads = 2;
+  const auto a2 = render(sc, one(b), l, o);
+  EXPECT_EQ(a1.rgb, a2.rgb);
+  o.seed = 2;
+  const auto a3 = render(sc, one(b), l, o);
+  EXPECT_NE(a1.rgb, a3.rgb);
+}
+
+TEST(Render, BrushingDirectionTurnsTheHighlight) {
+  // Turning the tangent by 90 degrees (Dong Fig. 10's left vs right cylinder) changes the image
+  // of an anisotropic surface and leaves an isotropic one's unchanged up to noise. Measured on
+  // 4 x 4-pixel block means, against the difference between two seeds at the same angle.
+  RenderScene sc;
+  sc.kind = PreviewScene::cylinders;
+  RenderLights l;
+  l.envmap_path = kShared + "/envmaps/blender_courtyard.hdr";
+  auto f = std::make_shared<ConductorFresnel>(metal("Fe"));
+  auto aniso =
+      std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(0.007, 0.14), f);
+  auto iso = std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(0.07), f);
+  auto block_diff = [](const RenderImage& a, const RenderImage& c) {
+    double diff = 0, sum = 0;
+    for (int by = 0; by < 8; ++by)
+      for (int bx = 0; bx < 8; ++bx) {
+        double ma = 0, mc = 0;
+        for (int y = 4 * by; y < 4 * by + 4; ++y)
+          for (int x = 4 * bx; x < 4 * bx + 4; ++x)
+            for (int ch = 0; ch < 3; ++ch) {
+              ma += a.rgb[(y * 32 + x) * 3 + ch];
+              mc += c.rgb[(y * 32 + x) * 3 + ch];
+            }
+        diff += std::abs(ma - mc);
+        sum += ma;
+      }
+    return diff / sum;
+  };
+  auto run = [&](std::shared_ptr<const Brdf> b, double angle, std::uint64_t seed) {
+    auto o = small(32, 64);
+    o.seed = seed;
+    sc.brush_angle_rad = angle;
+    return render(sc, one(b), l, o);
+  };
+  const auto iso0 = run(iso, 0, 1), iso0b = run(iso, 0, 2), iso90 = run(iso, M_PI / 2, 3);
+  const auto an0 = run(aniso, 0, 1), an0b = run(aniso, 0, 2), an90 = run(aniso, M_PI / 2, 3);
+  const double noise_iso = block_diff(iso0, iso0b), noise_an = block_diff(an0, an0b);
+  const double d_iso = block_diff(iso0, iso90), d_an = block_diff(an0, an90);
+  EXPECT_LT(d_iso, 1.5 * noise_iso + 0.01) << "noise " << noise_iso;
+  EXPECT_GT(d_an, 0.15);
+  EXPECT_GT(d_an, 3 * noise_an) << "noise " << noise_an;
+}
+
+TEST(Render, RadianceHdrRoundTripAndExrAgreement) {
+  pt::RgbFloatImage img;
+  img.width = 9;
+  img.height = 4;
+  for (int i = 0; i < 36; ++i)
+    img.rgb.insert(img.rgb.end(), {float(0.01 * (i + 1)), float(i * 3.5), float(1e-3 * i)});
+  const std::string p = temp_dir() + "/rt.hdr";
+  pt::write_radiance_hdr(img, p);
+  const auto back = pt::read_envmap_image(p);
+  ASSERT_EQ(back.width, 9);
+  ASSERT_EQ(back.height, 4);
+  for (int i = 0; i < 36; ++i) {
+    const float m = std::max({img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]});
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(back.rgb[3 * i + c], img.rgb[3 * i + c], 0.008 * m);
+  }
+  // The shared map in both encodings (RLE RGBE and DWAB EXR) agrees to RGBE's precision.
+  const auto e = pt::read_envmap_image(kShared + "/envmaps/blender_studio.exr");
+  const auto h = pt::read_envmap_image(kShared + "/envmaps/blender_studio.hdr");
+  ASSERT_EQ(e.width, 1024);
+  ASSERT_EQ(h.width, 1024);
+  ASSERT_EQ(e.height, h.height);
+  double worst = 0;
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < e.rgb.size() / 3; ++i) {
+    const float m = std::max({e.rgb[3 * i], e.rgb[3 * i + 1], e.rgb[3 * i + 2], 1e-2f});
+    for (int c = 0; c < 3; ++c) {
+      const double err = std::abs(std::max(e.rgb[3 * i + c], 0.0f) - h.rgb[3 * i + c]) / m;
+      if (err > worst) worst = err, at = i;
+    }
+  }
+  EXPECT_LT(worst, 0.01) << "pixel " << at << ": exr " << e.rgb[3 * at] << " " << e.rgb[3 * at + 1]
+                         << " " << e.rgb[3 * at + 2] << ", hdr " << h.rgb[3 * at] << " "
+                         << h.rgb[3 * at + 1] << " " << h.rgb[3 * at + 2];
+}
+
+TEST(Render, CorruptRadianceFilesAreRefused) {
+  auto bad = [](const std::string& text) {
+    std::vector<std::uint8_t> d(text.begin(), text.end());
+    EXPECT_THROW(pt::read_radiance_hdr_bytes(d, "bad.hdr"), FileError) << text;
+  };
+  bad("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 2\n");      // no pixels
+  bad("#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 1\nabcd");  // XYZE
+  bad("#?RADIANCE\n\n+Y 1 +X 1\nabcd");                          // orientation
+  bad("#?RADIANCE\n\n-Y 100000 +X 100000\nabcd");                // huge
+  bad("#?RADIANCE\n\n-Y 1 +X 8\n\x02\x02\x00\x08\xff\x01"s);     // run overflows
+  bad("#?RADIANCE\nFORMAT=32-bit_rle_rgbe");                     // truncated header
+  std::vector<std::uint8_t> ok = {'#', '?', 'R', 'G', 'B', 'E', '\n', '\n', '-', 'Y', ' ',
+                                  '1', ' ', '+', 'X', ' ', '1', '\n', 128,  64,  32,  129};
+  const auto img = pt::read_radiance_hdr_bytes(ok, "ok.hdr");
+  EXPECT_NEAR(img.rgb[0], (128 + 0.5) / 128.0, 1e-6);
+}
+
+TEST(Render, EnvironmentSamplingPdfIntegratesToOne) {
+  const pt::EnvironmentMap map(pt::read_envmap_image(kShared + "/envmaps/blender_courtyard.hdr"));
+  // Integral of pdf over the sphere (midpoint rule on a fine grid) and the pdf of sampled
+  // directions matching pdf().
+  double sum = 0;
+  const int nt = 1024, np = 2048;
+  for (int i = 0; i < nt; ++i)
+    for (int j = 0; j < np; ++j) {
+      const double th = M_PI * (i + 0.5) / nt, ph = 2 * M_PI * (j + 0.5) / np;
+      const Eigen::Vector3d d(std::sin(th) * std::cos(ph), std::cos(th),
+                              std::sin(th) * std::sin(ph));
+      sum += map.pdf(d) * std::sin(th) * (M_PI / nt) * (2 * M_PI / np);
+    }
+  EXPECT_NEAR(sum, 1.0, 2e-3);
+  for (int k = 0; k < 100; ++k) {
+    double pdf;
+    const auto d = map.sample((k + 0.5) / 100, std::fmod(k * 0.618, 1.0), pdf);
+    EXPECT_NEAR(map.pdf(d), pdf, 1e-6 * pdf + 1e-9);
+  }
+}
+
+TEST(Render, BadInputsAreRefused) {
+  RenderScene sc;
+  RenderLights none;
+  auto m = one(std::make_shared<LambertianBrdf>(0.5));
+  EXPECT_THROW(render(sc, m, none, small(8, 1)), InputError);  // no light
+  RenderLights l;
+  l.uniform_white_env = true;
+  auto three = m;
+  three.push_back(m[0]);
+  three.push_back(m[0]);
+  EXPECT_THROW(render(sc, three, l, small(8, 1)), InputError);  // cylinders take 1 or 2
+  EXPECT_THROW(parse_preview_scene("teapot"), InputError);
+  sc.kind = PreviewScene::obj;
+  sc.obj_path = "/nonexistent.obj";
+  EXPECT_THROW(render(sc, m, l, small(8, 1)), FileError);
+  l.uniform_white_env = false;
+  l.envmap_path = "/nonexistent.hdr";
+  sc.kind = PreviewScene::sphere;
+  EXPECT_THROW(render(sc, m, l, small(8, 1)), FileError);
+}
