@@ -52,7 +52,7 @@ struct PredictOptions {
   bool render = true;
   std::string envmap_path;  ///< equirectangular EXR/HDR; empty = a built-in set of area lights
   double envmap_scale = 1;
-  int render_width = 320;  ///< pixels of each render (height follows the scene's aspect)
+  int render_width = 256;  ///< pixels of each (square) render
   int render_spp = 32;     ///< samples per pixel
 
   /// Exemplar strips for texture synthesis (both or neither): scans along and across the

@@ -9,9 +9,6 @@
 #include "microbrdf/tabulated_distribution.hpp"
 #include "report/predict_stages.hpp"
 
-// TEMPORARY until the renderer is merged (helper C): the stage reports "not rendered".
-#define MICROBRDF_PREDICT_HAS_RENDERER 0
-
 namespace microbrdf::report {
 
 RenderLights predict_lights(const PredictOptions& o) {
@@ -36,12 +33,6 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalC
                             nlohmann::json& timing) {
   const auto& o = c.opt;
   if (!o.render) return {{"skipped", "rendering turned off (--no-render)"}};
-#if !MICROBRDF_PREDICT_HAS_RENDERER
-  (void)ndfs;
-  (void)material;
-  (void)timing;
-  return {{"skipped", "not rendered (renderer not built yet)"}};
-#else
   auto fresnel = std::make_shared<ConductorFresnel>(material);
   auto brdf = std::make_shared<MicrofacetBrdf>(
       std::make_shared<TabulatedDistribution>(*ndfs.filtered), fresnel);
@@ -58,11 +49,11 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalC
       {PreviewScene::cylinders, "cylinders",
        "Cylinder pair (Dong 2015 Fig. 10): the same measured BRDF, the brushing direction turned "
        "90 degrees between the two",
-       w, (w * 3) / 4},
+       w, w},
       {PreviewScene::sphere, "sphere",
        "Sphere with the measured BRDF (brushing along the camera's "
        "horizontal)",
-       (w * 3) / 4, (w * 3) / 4}};
+       w, w}};
   nlohmann::json out = nlohmann::json::array();
   for (const auto& j : jobs) {
     c.log(std::string("renders: ") + j.name + " " + std::to_string(j.width) + " x " +
@@ -102,7 +93,6 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalC
                                                     : "environment map " + o.envmap_path}});
   }
   return out;
-#endif
 }
 
 }  // namespace microbrdf::report

@@ -311,9 +311,11 @@ void section_renders(Page& p, const json& s) {
   }
   p << "<div class=\"grid\">";
   for (const auto& im : r) {
-    p << "<figure>" << p.image(str(im["file"]), str(im["scene"])) << "<figcaption>"
-      << escape(str(im["caption"])) << ". " << std::to_string(im["width"].get<long>())
-      << " &times; " << std::to_string(im["height"].get<long>()) << " px, "
+    p << "<figure>"
+      << p.image(str(im["file"]), str(im["scene"]), std::max(384, im["width"].get<int>()))
+      << "<figcaption>" << escape(str(im["caption"])) << ". "
+      << std::to_string(im["width"].get<long>()) << " &times; "
+      << std::to_string(im["height"].get<long>()) << " px, "
       << std::to_string(im["spp"].get<long>()) << " samples/pixel, path depth &le; "
       << std::to_string(im["max_depth"].get<long>()) << ", seed "
       << std::to_string(im["seed"].get<long>()) << "; lights: " << escape(str(im["lights"]))
