@@ -68,6 +68,10 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
   for_each_scan(paths, o.read, [&](std::size_t i, const std::string& path, Surface& s) {
     c.log("inputs: [" + std::to_string(i + 1) + "/" + std::to_string(paths.size()) + "] " + path +
           " (" + std::to_string(s.nx) + " x " + std::to_string(s.ny) + ")");
+    if (o.filter_sigma_m < std::max(s.dx, s.dy))
+      c.log("inputs: warning: filter sigma " + format_length(o.filter_sigma_m) +
+            " is below the sample spacing " + format_length(std::max(s.dx, s.dy)) + " of " + path +
+            ": the filtered NDF approaches the naive one");
     const LevelingResult lev = level_surface(s, o.leveling);
     const SurfaceStats st = compute_stats(s);
     char preview[64];
