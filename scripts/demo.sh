@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# `make demo`: the main job, `microbrdf predict`, on a real Zygo MetroPro scan and on a synthetic
+# `make demo`: the main job, `microbrdf predict`, on a real metal scan (a bullet's land-engraved
+# area, Sensofar S neox, tests/data/sample-land.x3p) and on a synthetic
 # brushed stainless #4 surface, each ending in a self-contained HTML report; headless Chromium
 # then screenshots each report (scripts/screenshot-report.sh) so it is checked as a person sees it.
 #
@@ -30,12 +31,16 @@ echo "== 1. A synthetic brushed stainless #4 surface (Dong 2015 Fig. 12 widths)"
 
 echo
 echo "== 2. Statistics of the bundled real scans"
-"$BIN" info "$DATA/metropro-1.dat"
+"$BIN" info "$DATA/sample-land.x3p" --level poly3
 "$BIN" info --json "$DATA"/*.x3p "$DATA"/*.dat "$DATA"/*.datx "$DATA"/*.sur "$DATA"/*.gwy >"$OUT/statistics.json"
 
 echo
-echo "== 3. predict: a real Zygo MetroPro scan (plane levelled), iron"
-"$BIN" predict "$DATA/metropro-1.dat" --metal Fe "${ENVFLAG[@]}" -o "$OUT/predict-metropro"
+# The land is a strip of a cylinder (the bullet): a 3rd-order polynomial takes the form out. The
+# spacing is 2.58 um, so the filtered NDF uses a 5 um filter (two samples); the metal is not
+# recorded in the file (a copper-alloy jacket is typical): Cu is an assumption.
+echo "== 3. predict: a real scan, striated metal (bullet land, Sensofar S neox), copper assumed"
+"$BIN" predict "$DATA/sample-land.x3p" --level poly3 --filter-sigma 5um --resolution 513 --metal Cu \
+  "${ENVFLAG[@]}" -o "$OUT/predict-land"
 
 echo
 echo "== 4. predict: the brushed surface, stainless steel, with the Kirchhoff D_K (wave optics)"
@@ -45,7 +50,7 @@ echo "== 4. predict: the brushed surface, stainless steel, with the Kirchhoff D_
 echo
 echo "== 5. Screenshots of the reports in headless Chromium"
 SHOTS=()
-for r in predict-metropro predict-brushed; do
+for r in predict-land predict-brushed; do
   if "$ROOT/scripts/screenshot-report.sh" "$OUT/$r/report.html" "$OUT/$r/report.png" >/dev/null; then
     SHOTS+=("$OUT/$r/report.png")
   else
@@ -55,8 +60,8 @@ done
 
 echo
 echo "Done in $((SECONDS - START)) s. Reports (open in a browser):"
-echo "  $OUT/predict-metropro/report.html"
+echo "  $OUT/predict-land/report.html"
 echo "  $OUT/predict-brushed/report.html"
-echo "Summaries: $OUT/predict-metropro/summary.json $OUT/predict-brushed/summary.json"
+echo "Summaries: $OUT/predict-land/summary.json $OUT/predict-brushed/summary.json"
 [ ${#SHOTS[@]} -gt 0 ] && echo "Screenshots: ${SHOTS[*]}"
 echo "Also: $OUT/brushed_stainless4.x3p (+ .png preview), $OUT/statistics.json"
