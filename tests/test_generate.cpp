@@ -79,13 +79,19 @@ TEST(Generate, FilteredSlopeFormulaMatchesRealisation) {
 }
 
 TEST(Generate, BrushedPresetsHitDongWidths) {
+  // The presets' base is solved for rms widths 1.6x along / 1.8x across Dong's Fig. 12 ellipsoid
+  // widths (the depth modulation makes the NDF a scale mixture whose fitted width is narrower
+  // than its rms width; the fitted widths are checked in fit.BrushedPresetsFig12).
   for (auto [name, along, across] :
        {std::tuple{"stainless4", 0.007, 0.14}, std::tuple{"aluminium4", 0.02, 0.47}}) {
     auto p = brushed_preset(name);
-    EXPECT_NEAR(predicted_filtered_alpha(p.sigma, p.tau_along, p.tau_across, 1e-6), along, 1e-9)
+    EXPECT_NEAR(predicted_filtered_alpha(p.sigma, p.tau_along, p.tau_across, 1e-6), 1.6 * along,
+                1e-9)
         << name;
-    EXPECT_NEAR(predicted_filtered_alpha(p.sigma, p.tau_across, p.tau_along, 1e-6), across, 1e-9)
+    EXPECT_NEAR(predicted_filtered_alpha(p.sigma, p.tau_across, p.tau_along, 1e-6), 1.8 * across,
+                1e-9)
         << name;
+    EXPECT_GT(p.modulation, 0) << name;
     p.nx = 2048;
     p.ny = 512;
     auto s = generate_brushed(p);
@@ -93,15 +99,50 @@ TEST(Generate, BrushedPresetsHitDongWidths) {
     // Brushing along x: slopes across (y) far exceed slopes along; so do the correlation lengths.
     EXPECT_GT(st.slope_rms_y, 5 * st.slope_rms_x) << name;
     EXPECT_GT(st.corr_length_x, 5 * st.corr_length_y) << name;
-    // Measured filtered widths (base + scratches), within 15% of the targets.
+    // Measured filtered rms widths: across within 15% of the base's (mean a^2 = 1 keeps the rms
+    // slope); along, the modulation's own gradient (height x grad a) adds up to ~40%.
     double a_along = filtered_slope_rms(s, 1e-6, 0) * std::sqrt(2.0);
     double a_across = filtered_slope_rms(s, 1e-6, M_PI / 2) * std::sqrt(2.0);
-    EXPECT_NEAR(a_along / along, 1.0, 0.15) << name;
-    EXPECT_NEAR(a_across / across, 1.0, 0.15) << name;
-    std::printf("%s: filtered alpha along %.4f (target %.3f), across %.4f (target %.3f)\n", name,
-                a_along, along, a_across, across);
+    EXPECT_NEAR(a_across / (1.8 * across), 1.0, 0.15) << name;
+    EXPECT_GT(a_along / (1.6 * along), 0.9) << name;
+    EXPECT_LT(a_along / (1.6 * along), 1.5) << name;
+    std::printf("%s: filtered rms width along %.4f (base %.4f), across %.4f (base %.4f)\n", name,
+                a_along, 1.6 * along, a_across, 1.8 * across);
   }
   EXPECT_THROW(brushed_preset("velvet"), InputError);
+}
+
+// The depth modulation: mean a^2 = 1 keeps the rms height, the roughness varies from place to
+// place (rms of 8 x 8 blocks spreads), and zero modulation is the plain surface.
+TEST(Generate, BrushedDepthModulationVariesRoughnessKeepsRms) {
+  BrushedParams p = brushed_preset("stainless4");
+  p.nx = 1024;
+  p.ny = 512;
+  p.scratch_density = 0;
+  BrushedParams q = p;
+  q.modulation = 0;
+  const Surface a = generate_brushed(p), b = generate_brushed(q);
+  double ra = 0, rb = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) ra += a.z[i] * a.z[i], rb += b.z[i] * b.z[i];
+  EXPECT_NEAR(std::sqrt(ra / rb), 1.0, 0.1);
+  auto block_rms_spread = [](const Surface& s) {
+    std::vector<double> r;
+    for (std::size_t by = 0; by < 8; ++by)
+      for (std::size_t bx = 0; bx < 8; ++bx) {
+        double acc = 0, n = 0;
+        for (std::size_t y = by * s.ny / 8; y < (by + 1) * s.ny / 8; ++y)
+          for (std::size_t x = bx * s.nx / 8; x < (bx + 1) * s.nx / 8; ++x, ++n)
+            acc += s.z[y * s.nx + x] * s.z[y * s.nx + x];
+        r.push_back(std::log(acc / n) / 2);
+      }
+    double m = 0, v = 0;
+    for (double x : r) m += x / 64;
+    for (double x : r) v += (x - m) * (x - m) / 64;
+    return std::sqrt(v);
+  };
+  EXPECT_GT(block_rms_spread(a), 1.5 * block_rms_spread(b));
+  p.modulation_across = 0;
+  EXPECT_THROW(generate_brushed(p), InputError);
 }
 
 TEST(Generate, MovingAverageProfilesHaveGaussianAcf) {

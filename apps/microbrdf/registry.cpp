@@ -22,6 +22,7 @@ void register_all(CLI::App& app) {
   register_fit(app);
   register_predict(app);
   register_render(app);
+  register_texture(app);
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {

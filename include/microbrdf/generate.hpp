@@ -52,7 +52,12 @@ Surface generate_profiles(const ProfileParams& p);
 
 /// Brushed metal: an anisotropic Gaussian base (long correlation along the brushing
 /// direction, short across) plus random scratches: grooves with Gaussian cross-section running
-/// along the brushing direction over the whole length.
+/// along the brushing direction over the whole length. Optionally the whole height field is
+/// multiplied by a slowly varying log-normal amplitude a(x, y) = exp(m h - c), h a unit Gaussian
+/// field with correlation lengths modulation_along / modulation_across, c such that mean a^2 = 1
+/// exactly (so the rms slope is kept): the depth of the brushing varies from place to place, as
+/// on real brushed metals (Dong 2015 Fig. 11). The NDF is then a scale mixture of Gaussian lobes,
+/// heavier-tailed than Beckmann (docs/fitting.md), and small texels differ in roughness.
 struct BrushedParams {
   std::size_t nx = 2048, ny = 1024;
   double dx = 110e-9, dy = 110e-9;
@@ -64,15 +69,20 @@ struct BrushedParams {
   double scratch_depth = 0;    ///< mean depth (exponentially distributed), m
   double scratch_width = 0;    ///< mean Gaussian sigma of the cross-section, m
   std::uint64_t seed = 1;
-  bool exact_spectrum = true;  ///< for the base, see GaussianSurfaceParams
+  bool exact_spectrum = true;    ///< for the base, see GaussianSurfaceParams
+  double modulation = 0;         ///< log-amplitude rms m of the depth modulation (0 = none)
+  double modulation_along = 0;   ///< its correlation length along the brushing, m
+  double modulation_across = 0;  ///< its correlation length across, m
 };
 Surface generate_brushed(const BrushedParams& p);
 
-/// A named brushed preset: "stainless4" or "aluminium4" (Dong 2015 Fig. 12 widths). The base
-/// statistics are solved so the Gaussian-filtered (filter sigma 1 um, Dong section 5.1)
-/// Beckmann widths alpha = sqrt(2 <slope^2>) are about 0.007 along / 0.14 across (stainless #4)
-/// or 0.02 / 0.47 (aluminium #4); the scratches add a little across. Throws InputError for an
-/// unknown name.
+/// A named brushed preset: "stainless4" or "aluminium4" (Dong 2015 Fig. 12). A Gaussian base,
+/// scratches and a log-normal depth modulation (so the filtered NDF has heavier-than-Beckmann
+/// tails and small texels differ); the ellipsoid fit of the Gaussian-filtered (1 um, Dong section
+/// 5.1) NDF has widths about 0.007 along / 0.14 across (stainless #4) or 0.02 / 0.47
+/// (aluminium #4), Dong's ellipsoid column. The base is solved (solve_brushed_base) for rms
+/// widths 1.6x along and 1.8x across those, the calibrated ratio of the mixture's rms width to its
+/// fitted width (docs/fitting.md). Throws InputError for an unknown name.
 BrushedParams brushed_preset(const std::string& name);
 std::vector<std::string> brushed_preset_names();
 

@@ -14,7 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/level.hpp"
 #include "microbrdf/microfacet.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/surface.hpp"
@@ -25,12 +27,22 @@ namespace microbrdf {
 /// A 5-channel ellipsoid parameter image, row-major, iy = 0 first, (ix, iy) -> ix + nx * iy.
 struct ParamTexture {
   std::size_t nx = 0, ny = 0;
-  double texel_m = 0;  ///< texel pitch (both axes)
+  double texel_m = 0;                         ///< texel pitch (both axes)
   std::array<std::vector<float>, 5> channel;  ///< alpha_x, alpha_y, theta_x, theta_y, theta_z
-  std::vector<std::uint8_t> valid;             ///< 1 = fitted / synthesised; 0 = failed
-  std::vector<std::string> why_invalid;        ///< per texel, empty where valid
-  nlohmann::json meta;                         ///< sources, seed, texel size, fit settings
+  std::vector<std::uint8_t> valid;            ///< 1 = fitted / synthesised; 0 = failed
+  std::vector<std::string> why_invalid;       ///< per texel, empty where valid
+  nlohmann::json meta;                        ///< sources, seed, texel size, fit settings
   EllipsoidParams at(std::size_t ix, std::size_t iy) const;
+
+  // Added by the texture implementation (docs/texture.md).
+  static constexpr const char* channel_names[5] = {"alpha_x", "alpha_y", "theta_x", "theta_y",
+                                                   "theta_z"};
+  std::size_t size() const { return nx * ny; }
+  std::size_t valid_count() const;
+  /// Mean of each channel over the valid texels (EllipsoidParams{} defaults if none is valid).
+  EllipsoidParams mean_valid() const;
+  /// An nx x ny texture, every texel invalid with NaN parameters and reason `why`.
+  static ParamTexture empty(std::size_t nx, std::size_t ny, double texel_m, const std::string& why);
 };
 
 /// Valid ranges the fits and the synthesis keep parameters in.
@@ -40,11 +52,23 @@ struct ParamRange {
 };
 
 struct TexelFitOptions {
-  double texel_m = 53e-6;          ///< texel size (square), m
-  double filter_sigma_m = 1e-6;    ///< filtered NDF kernel (Dong section 5.1)
+  double texel_m = 53e-6;        ///< texel size (square), m
+  double filter_sigma_m = 1e-6;  ///< filtered NDF kernel (Dong section 5.1)
   std::size_t ndf_resolution = 129;
   int threads = 0;
   std::function<void(double)> progress;
+
+  // Added by the texture implementation.
+  LevelingSpec leveling;       ///< applied to each scan before its texels are cut (default plane)
+  bool stack_along_y = false;  ///< lay successive scans' texels along y (a 1 x N "across" strip)
+  double min_valid_fraction = 0.5;  ///< a texel needs filtered normals at this fraction of samples
+  double min_area_fraction = 0.98;  ///< a border texel this much inside the scan still counts
+  /// How the model meets the texel table (fit.hpp). Node (default): D at the nodes with a fitted
+  /// amplitude, 10-80 ms per texel. Tent: the exact histogram operator, ~100x slower, because a
+  /// brushed texel's lobe along the scratches is narrower than a node at any affordable
+  /// resolution (docs/texture.md) and tent mode then refines its quadrature to the limit.
+  FitSampling sampling = FitSampling::Node;
+  int max_iterations = 200;  ///< Levenberg-Marquardt iterations per texel
 };
 
 /// Cuts every scan of the set into whole texels (partial texels at the borders are dropped, the
@@ -68,24 +92,49 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
 /// The same from any 2D exemplar (its 1D spectra along both axes).
 ParamTexture synthesize_texture(const ParamTexture& exemplar, const SynthesisOptions& options);
 
+/// Per-parameter statistics and 1-D spectra (what synthesis keeps; docs/texture.md).
+struct ChannelStats {
+  double mean = 0, variance = 0, min = 0, max = 0;
+  std::size_t count = 0;  ///< valid texels
+};
+ChannelStats channel_stats(const ParamTexture& t, int channel);
+/// One-sided power spectrum of a channel along x (axis 0, rows) or y (axis 1, columns), averaged
+/// over the lines: invalid texels take the channel mean, the channel mean is subtracted, and
+/// P[k] = c_k |X_k|^2 / n^2 (c_k = 2 for 0 < k < n/2, else 1) for k = 0..n/2, so sum_{k>0} P[k]
+/// is the variance along a line. Bin k is the spatial frequency k / (n texel_m) (1/m).
+std::vector<double> line_power_spectrum(const ParamTexture& t, int channel, int axis);
+
 /// 5-channel float EXR (+ a 6th "valid" channel) with meta in a header attribute; atomic.
 void write_param_texture(const ParamTexture& t, const std::string& path);
 ParamTexture read_param_texture(const std::string& path);
+/// True if `path` is an EXR holding a parameter texture (an "alpha_x" channel); false for other
+/// files (height-map EXRs, other formats). Never throws.
+bool is_param_texture_file(const std::string& path);
+/// One PNG with a panel per channel (false colour between the channel's 1st and 99th
+/// percentile, range printed under it) and the validity mask (failed texels red); long side at
+/// most max_panel pixels per panel. Atomic; throws FileError.
+void write_param_preview(const ParamTexture& t, const std::string& path,
+                         std::size_t max_panel = 512);
 
 /// Ellipsoid microfacet BRDF (Dong eq. 1 with eq. 14 shadowing) with each texel's parameters
 /// (nearest texel; (u, v) in texture repeats) and a Fresnel term; invalid texels use the mean.
 class EllipsoidTextureSvbrdf final : public Svbrdf {
  public:
   EllipsoidTextureSvbrdf(std::shared_ptr<const ParamTexture> tex, std::shared_ptr<const Fresnel> f);
-  double eval(double u, double v, const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
+  double eval(double u, double v, const Vec3& wi, const Vec3& wo,
+              double wavelength_m) const override;
   std::optional<BrdfSample> sample(double u, double v, const Vec3& wi, double u1, double u2,
                                    double wavelength_m) const override;
   double pdf(double u, double v, const Vec3& wi, const Vec3& wo) const override;
   std::string describe() const override;
+  /// The parameters used at (u, v): the nearest texel's, or the mean where it is invalid.
+  EllipsoidParams params_at(double u, double v) const;
+  const ParamTexture& texture() const { return *tex_; }
 
  private:
   std::shared_ptr<const ParamTexture> tex_;
   std::shared_ptr<const Fresnel> f_;
+  EllipsoidParams mean_;
 };
 
 }  // namespace microbrdf

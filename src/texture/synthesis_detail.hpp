@@ -1,0 +1,32 @@
+#pragma once
+// Pieces of the separable Fourier texture synthesis, exposed for tests and benchmarks.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace microbrdf::detail {
+
+/// The exemplar band (bin spacings 1/(n pitch); band j = [j - 1/2, j + 1/2)) that output bin k
+/// of an m-bin line at pitch_out falls in (exact integer arithmetic when the pitches agree).
+std::size_t exemplar_band(std::size_t k, std::size_t n, double pitch, std::size_t m,
+                          double pitch_out);
+
+/// Resamples an exemplar's one-sided line spectrum P (line_power_spectrum: bins k/(n pitch)) to
+/// the m/2 + 1 bins k/(m pitch_out) of the output, band-preserving: the power p[j] of exemplar
+/// band j >= 1 is shared evenly by the output bins that fall in it (exemplar_band), so every
+/// band keeps its power exactly; a band no bin falls in (output coarser in frequency) goes to the
+/// nearest bin. Band 0 (the mean) and frequencies beyond the exemplar's Nyquist frequency get
+/// nothing: structure larger than the exemplar or finer than its texels is not invented.
+std::vector<double> resample_line_spectrum(const std::vector<double>& p, std::size_t n,
+                                           double pitch, std::size_t m, double pitch_out);
+
+/// A real nx x ny field with the half-spectrum amplitudes amp[ky * (nx/2+1) + kx] and phases
+/// uniformly random from (seed, stream) (Hermitian symmetry kept on the self-conjugate columns
+/// kx = 0 and nx/2, whose entries ky and ny - ky share the modulus of the lower one),
+/// by an inverse FFT (FFTW); direct = true evaluates the same sum as a naive 2-D inverse DFT
+/// (the brute-force reference, O(N^2) per texel).
+std::vector<double> random_phase_field(const std::vector<double>& amp, std::size_t nx,
+                                       std::size_t ny, std::uint64_t seed, std::uint64_t stream,
+                                       bool direct = false);
+
+}  // namespace microbrdf::detail

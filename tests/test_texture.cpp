@@ -1,0 +1,430 @@
+// Spatially varying ellipsoid textures (issue 7, acceptance 3 and 4): per-texel fits, the skew of
+// small-area NDFs, separable Fourier synthesis against its brute-force reference and its
+// exemplars' statistics, EXR round trip, the SVBRDF against the uniform microfacet BRDF.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+#include <random>
+
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/error.hpp"
+#include "microbrdf/fit.hpp"
+#include "microbrdf/generate.hpp"
+#include "microbrdf/io.hpp"
+#include "microbrdf/ndf_estimate.hpp"
+#include "microbrdf/texture.hpp"
+#include "texture/synthesis_detail.hpp"
+
+using namespace microbrdf;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  auto d = fs::temp_directory_path() / ("microbrdf_texture_" + name + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+// A ParamTexture whose channels are smooth random fields with realistic brushed-metal values
+// (Gaussian ACF, correlation `cx` texels along x and `cy` along y), all valid.
+ParamTexture random_exemplar(std::size_t nx, std::size_t ny, double cx, double cy,
+                             std::uint64_t seed) {
+  ParamTexture t = ParamTexture::empty(nx, ny, 53e-6, "");
+  std::fill(t.valid.begin(), t.valid.end(), 1);
+  const double mean[5] = {0.007, 0.14, 0.0, 0.0, 0.0}, sd[5] = {0.0015, 0.03, 0.01, 0.002, 0.005};
+  for (int c = 0; c < 5; ++c) {
+    GaussianSurfaceParams g;
+    g.nx = nx;
+    g.ny = ny;
+    g.dx = g.dy = 1;
+    g.sigma = sd[c];
+    g.tau_x = cx;
+    g.tau_y = cy;
+    g.seed = seed * 10 + static_cast<std::uint64_t>(c);
+    g.exact_spectrum = false;
+    const Surface s = generate_gaussian(g);
+    for (std::size_t i = 0; i < t.size(); ++i)
+      t.channel[static_cast<std::size_t>(c)][i] = static_cast<float>(mean[c] + s.z[i]);
+  }
+  t.meta = {{"sources", {"random"}}};
+  return t;
+}
+
+// Relative L2 distance of the band amplitude spectra: the synthesised power gathered into the
+// exemplar's bands (detail::exemplar_band, the synthesis' own assignment of output bins to
+// bands), both normalised to unit total, then square-rooted.
+double band_spectrum_error(const std::vector<double>& pe, std::size_t ne, double pitch_e,
+                           const std::vector<double>& ps, std::size_t ns, double pitch_s) {
+  std::vector<double> band(pe.size(), 0.0);
+  for (std::size_t k = 1; k < ps.size(); ++k) {
+    const std::size_t j = detail::exemplar_band(k, ne, pitch_e, ns, pitch_s);
+    if (j >= 1 && j < band.size()) band[j] += ps[k];
+  }
+  double se = 0, ss = 0;
+  for (std::size_t j = 1; j < pe.size(); ++j) se += pe[j], ss += band[j];
+  double num = 0, den = 0;
+  for (std::size_t j = 1; j < pe.size(); ++j) {
+    const double a = std::sqrt(pe[j] / se), b = std::sqrt(band[j] / ss);
+    num += (a - b) * (a - b);
+    den += a * a;
+  }
+  return std::sqrt(num / den);
+}
+
+bool in_range(const ParamTexture& t) {
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    for (int c = 0; c < 2; ++c) {
+      const float a = t.channel[static_cast<std::size_t>(c)][i];
+      if (!(a >= ParamRange::alpha_min && a <= ParamRange::alpha_max)) return false;
+    }
+    for (int c = 2; c < 4; ++c)
+      if (!(std::fabs(t.channel[static_cast<std::size_t>(c)][i]) <= ParamRange::tilt_max))
+        return false;
+    if (!(std::fabs(t.channel[4][i]) <= std::numbers::pi / 2 + 1e-6)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST(texture, RandomPhaseFieldFftMatchesDirectDft) {
+  for (auto [nx, ny] : {std::pair<std::size_t, std::size_t>{12, 10}, {9, 7}, {8, 5}}) {
+    const std::size_t h = nx / 2 + 1;
+    std::vector<double> amp(h * ny);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0.1, 1.0);
+    for (auto& a : amp) a = u(rng);
+    // A real field's spectrum: equal moduli at ky and ny - ky on the self-conjugate columns.
+    for (std::size_t kx : {std::size_t{0}, nx / 2})
+      if (kx == 0 || 2 * kx == nx)
+        for (std::size_t ky = 1; ky < ny; ++ky) amp[ky * h + kx] = amp[(ny - ky) * h + kx];
+    const auto fast = detail::random_phase_field(amp, nx, ny, 42, 1);
+    const auto slow = detail::random_phase_field(amp, nx, ny, 42, 1, true);
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < fast.size(); ++i) {
+      num += (fast[i] - slow[i]) * (fast[i] - slow[i]);
+      den += slow[i] * slow[i];
+    }
+    EXPECT_LT(std::sqrt(num / den), 1e-12) << nx << " x " << ny;
+    // Parseval: the field's mean square is the sum of |X|^2 over the full spectrum.
+    double ms = 0, power = 0;
+    for (double v : fast) ms += v * v;
+    ms /= static_cast<double>(fast.size());
+    for (std::size_t ky = 0; ky < ny; ++ky)
+      for (std::size_t kx = 0; kx < h; ++kx) {
+        const bool self = kx == 0 || 2 * kx == nx;
+        power += (self ? 1.0 : 2.0) * amp[ky * h + kx] * amp[ky * h + kx];
+      }
+    EXPECT_NEAR(ms / power, 1.0, 1e-9);
+  }
+}
+
+TEST(texture, LinePowerSpectrumIsParseval) {
+  const ParamTexture t = random_exemplar(40, 30, 4, 2, 1);
+  for (int c = 0; c < 5; ++c)
+    for (int axis = 0; axis < 2; ++axis) {
+      const auto p = line_power_spectrum(t, c, axis);
+      // Mean over lines of the variance about the channel mean = sum of all bins.
+      double s = 0;
+      for (double v : p) s += v;
+      const ChannelStats st = channel_stats(t, c);
+      EXPECT_NEAR(s / st.variance, 1.0, 1e-9) << c << " " << axis;
+    }
+}
+
+// Acceptance 3: mean, variance and 1-D amplitude spectra of the exemplar within 5 % (over
+// seeds), every parameter inside its range; reproducible from the seed.
+TEST(texture, SynthesisFromTwoDimensionalExemplarKeepsStatistics) {
+  const ParamTexture ex = random_exemplar(64, 48, 5, 2, 7);
+  SynthesisOptions o;
+  o.size = 256;
+  double err[5][2] = {};
+  const int seeds = 3;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    o.seed = static_cast<std::uint64_t>(seed);
+    const ParamTexture t = synthesize_texture(ex, o);
+    ASSERT_EQ(t.nx, 256u);
+    EXPECT_DOUBLE_EQ(t.texel_m, ex.texel_m);
+    EXPECT_TRUE(in_range(t));
+    EXPECT_EQ(t.valid_count(), t.size());
+    for (int c = 0; c < 5; ++c) {
+      const ChannelStats a = channel_stats(ex, c), b = channel_stats(t, c);
+      EXPECT_NEAR(b.mean, a.mean, 0.05 * std::sqrt(a.variance) + 1e-12) << c;
+      EXPECT_NEAR(b.variance / a.variance, 1.0, 0.05) << c;
+      err[c][0] += band_spectrum_error(line_power_spectrum(ex, c, 0), ex.nx, ex.texel_m,
+                                       line_power_spectrum(t, c, 0), t.nx, t.texel_m) /
+                   seeds;
+      err[c][1] += band_spectrum_error(line_power_spectrum(ex, c, 1), ex.ny, ex.texel_m,
+                                       line_power_spectrum(t, c, 1), t.ny, t.texel_m) /
+                   seeds;
+    }
+  }
+  for (int c = 0; c < 5; ++c) {
+    std::printf("%s: band amplitude spectrum error x %.2e y %.2e\n", ParamTexture::channel_names[c],
+                err[c][0], err[c][1]);
+    EXPECT_LT(err[c][0], 0.05) << c;
+    EXPECT_LT(err[c][1], 0.05) << c;
+  }
+  o.seed = 5;
+  const ParamTexture a = synthesize_texture(ex, o), b = synthesize_texture(ex, o);
+  EXPECT_EQ(a.channel[1], b.channel[1]);
+  o.seed = 6;
+  EXPECT_NE(synthesize_texture(ex, o).channel[1], a.channel[1]);
+  EXPECT_EQ(a.meta.at("seed"), 5);
+}
+
+TEST(texture, SynthesisFromStripsUsesEachAxis) {
+  // Dong's exemplars: a 100 x 1 strip along the brushing, a 1 x 100 strip across; different
+  // correlation lengths along x and y, so each axis' spectrum must come from its own strip.
+  const ParamTexture along = random_exemplar(100, 1, 8, 1, 3);
+  const ParamTexture across = random_exemplar(1, 100, 1, 2, 4);
+  SynthesisOptions o;
+  o.size = 400;
+  o.seed = 2;
+  const ParamTexture t = synthesize_texture(along, across, o);
+  EXPECT_TRUE(in_range(t));
+  for (int c = 0; c < 5; ++c) {
+    const double ex = band_spectrum_error(line_power_spectrum(along, c, 0), 100, along.texel_m,
+                                          line_power_spectrum(t, c, 0), t.nx, t.texel_m);
+    const double ey = band_spectrum_error(line_power_spectrum(across, c, 1), 100, across.texel_m,
+                                          line_power_spectrum(t, c, 1), t.ny, t.texel_m);
+    EXPECT_LT(ex, 0.05) << c;
+    EXPECT_LT(ey, 0.05) << c;
+    // ... and not from the other strip.
+    EXPECT_GT(band_spectrum_error(line_power_spectrum(across, c, 1), 100, across.texel_m,
+                                  line_power_spectrum(t, c, 0), t.nx, t.texel_m),
+              0.2)
+        << c;
+  }
+  EXPECT_THROW(synthesize_texture(across, along, o), InputError);  // strips the wrong way round
+}
+
+TEST(texture, SynthesisAtAnotherPitchKeepsPhysicalFrequencies) {
+  // Output texels twice as large: the spectrum in cycles per metre is kept up to the new Nyquist
+  // frequency (half the exemplar's); band j of the output holds exemplar bands 2j-1.. folded in.
+  const ParamTexture ex = random_exemplar(64, 64, 6, 6, 9);
+  SynthesisOptions o;
+  o.size = 128;
+  o.texel_m = 2 * ex.texel_m;
+  const ParamTexture t = synthesize_texture(ex, o);
+  EXPECT_DOUBLE_EQ(t.texel_m, 2 * ex.texel_m);
+  // Physical length covered: output 128 * 2 p = 4x the exemplar; the output's correlation length
+  // in texels is half the exemplar's: compare lag-1 autocorrelations along x via the spectra.
+  auto lag1 = [](const std::vector<double>& p, std::size_t n) {
+    double s = 0, c = 0;
+    for (std::size_t k = 1; k < p.size(); ++k) {
+      s += p[k];
+      c += p[k] * std::cos(2 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(n));
+    }
+    return c / s;
+  };
+  const double r_ex2 = [&] {  // exemplar autocorrelation at lag 2 texels = 1 output texel
+    const auto p = line_power_spectrum(ex, 1, 0);
+    double s = 0, c = 0;
+    for (std::size_t k = 1; k < p.size(); ++k) {
+      s += p[k];
+      c += p[k] * std::cos(4 * std::numbers::pi * static_cast<double>(k) / 64.0);
+    }
+    return c / s;
+  }();
+  EXPECT_NEAR(lag1(line_power_spectrum(t, 1, 0), t.nx), r_ex2, 0.05);
+}
+
+TEST(texture, ParamTextureExrRoundTrip) {
+  const auto dir = temp_dir("exr");
+  ParamTexture t = random_exemplar(17, 9, 3, 2, 5);
+  t.valid[4] = 0;
+  t.why_invalid[4] = "fit did not converge: test";
+  t.channel[2][4] = std::numeric_limits<float>::quiet_NaN();
+  t.meta["seed"] = 12;
+  const std::string path = (dir / "t.exr").string();
+  write_param_texture(t, path);
+  EXPECT_TRUE(is_param_texture_file(path));
+  const ParamTexture r = read_param_texture(path);
+  ASSERT_EQ(r.nx, 17u);
+  ASSERT_EQ(r.ny, 9u);
+  EXPECT_DOUBLE_EQ(r.texel_m, t.texel_m);
+  for (int c = 0; c < 5; ++c)
+    for (std::size_t i = 0; i < t.size(); ++i)
+      if (i != 4) {
+        EXPECT_EQ(r.channel[static_cast<std::size_t>(c)][i],
+                  t.channel[static_cast<std::size_t>(c)][i]);
+      }
+  EXPECT_EQ(r.valid, t.valid);
+  EXPECT_EQ(r.why_invalid[4], "fit did not converge: test");
+  EXPECT_EQ(r.meta.at("seed"), 12);
+  write_param_preview(t, (dir / "t.png").string());
+  EXPECT_TRUE(fs::file_size(dir / "t.png") > 100);
+  // Not a parameter texture: a height map, a missing file.
+  Surface s(8, 8, 1e-6, 1e-6);
+  write_surface(s, (dir / "h.npy").string());
+  EXPECT_FALSE(is_param_texture_file((dir / "h.npy").string()));
+  EXPECT_FALSE(is_param_texture_file((dir / "missing.exr").string()));
+  EXPECT_THROW(read_param_texture((dir / "missing.exr").string()), FileError);
+  EXPECT_THROW(read_param_texture((dir / "h.npy").string()), FileError);
+  fs::remove_all(dir);
+}
+
+// Acceptance 4 (Dong Fig. 11): small-area NDFs of a brushed surface are skewed: their peaks lean
+// away from n by the texel's mean tilt, which the ellipsoid's theta_x / theta_y capture, while
+// the whole area's NDF is centred.
+TEST(texture, BrushedTexelsAreSkewedLikeTheirMeanNormal) {
+  BrushedParams bp = brushed_preset("stainless4");
+  bp.nx = 768;
+  bp.ny = 384;
+  bp.seed = 3;
+  const Surface s = generate_brushed(bp);
+  TexelFitOptions o;
+  o.texel_m = 14e-6;  // 127 samples: 6 x 3 texels
+  const ParamTexture t = fit_texels(s, o);
+  ASSERT_EQ(t.nx, 6u);
+  ASSERT_EQ(t.ny, 3u);
+  EXPECT_EQ(t.valid_count(), t.size()) << t.why_invalid[0];
+  // The texels' own mean normals (filtered normals of the levelled surface, as fit_texels uses).
+  Surface lv = s;
+  level_surface(lv, LevelingSpec{});
+  const NormalField nf = filtered_normals(lv, o.filter_sigma_m);
+  const double per = o.texel_m / s.dx;
+  double tilt2 = 0, miss2 = 0, alpha_y = 0;
+  std::vector<double> py, my;
+  for (std::size_t ty = 0; ty < t.ny; ++ty)
+    for (std::size_t tx = 0; tx < t.nx; ++tx) {
+      Vec3 m(0, 0, 0);
+      for (auto y = static_cast<std::size_t>(std::llround(ty * per));
+           y < static_cast<std::size_t>(std::llround((ty + 1) * per)); ++y)
+        for (auto x = static_cast<std::size_t>(std::llround(tx * per));
+             x < static_cast<std::size_t>(std::llround((tx + 1) * per)); ++x) {
+          const std::size_t j = y * s.nx + x;
+          if (nf.mz[j] > 0) m += Vec3(nf.mx[j], nf.my[j], nf.mz[j]);
+        }
+      m.normalize();
+      const EllipsoidParams p = t.at(tx, ty);
+      const Vec3 peak = EllipsoidDistribution(p).peak();
+      // Peak tilt across the brushing (y) against the texel's mean normal.
+      miss2 += (peak.y() - m.y()) * (peak.y() - m.y());
+      py.push_back(peak.y());
+      my.push_back(m.y());
+      tilt2 += p.theta_x * p.theta_x;
+      alpha_y += p.alpha_y / static_cast<double>(t.size());
+    }
+  const double tilt_rms = std::sqrt(tilt2 / static_cast<double>(t.size()));
+  const double miss_rms = std::sqrt(miss2 / static_cast<double>(t.size()));
+  // Whole area: the same NDF fitted over the whole surface is centred.
+  NdfEstimateOptions eo;
+  eo.resolution = 257;
+  const FitResult whole = fit_ndf(estimate_ndf(lv, eo), FitOptions{});
+  std::printf(
+      "texel theta_x rms %.4f rad (peak vs mean normal rms %.4f), whole-area theta_x %.4f, "
+      "mean texel alpha_y %.3f\n",
+      tilt_rms, miss_rms, whole.params.theta_x, alpha_y);
+  // The peak leans the way the texel leans (correlation of peak and mean-normal tilts), by more
+  // than the whole area's peak does.
+  double sa = 0, sb = 0, sab = 0, saa = 0, sbb = 0;
+  for (std::size_t i = 0; i < py.size(); ++i) {
+    sa += py[i], sb += my[i], sab += py[i] * my[i], saa += py[i] * py[i], sbb += my[i] * my[i];
+  }
+  const double nn = static_cast<double>(py.size());
+  const double corr = (sab - sa * sb / nn) / std::sqrt((saa - sa * sa / nn) * (sbb - sb * sb / nn));
+  std::printf("correlation of peak and mean-normal tilt across the brushing: %.3f\n", corr);
+  EXPECT_GT(tilt_rms, 0.01);
+  EXPECT_GT(tilt_rms, 3 * std::fabs(whole.params.theta_x));
+  EXPECT_GT(corr, 0.8);
+}
+
+TEST(texture, TexelLayoutValidityAndScanSets) {
+  const auto dir = temp_dir("scans");
+  GaussianSurfaceParams g;
+  g.nx = 200;
+  g.ny = 110;
+  g.sigma = 0.05e-6;
+  g.tau_x = g.tau_y = 2e-6;
+  std::vector<std::string> paths;
+  for (int k = 0; k < 2; ++k) {
+    g.seed = static_cast<std::uint64_t>(k + 1);
+    Surface s = generate_gaussian(g);
+    if (k == 1)  // a hole over the first texel of the second scan
+      for (std::size_t y = 0; y < 50; ++y)
+        for (std::size_t x = 0; x < 50; ++x) s.invalidate(y * s.nx + x);
+    paths.push_back((dir / ("s" + std::to_string(k) + ".x3p")).string());
+    write_surface(s, paths.back());
+  }
+  TexelFitOptions o;
+  o.texel_m = 5.5e-6;  // 50 samples: 4 x 2 texels per scan, 10 columns dropped
+  o.ndf_resolution = 65;
+  const ParamTexture t = fit_texels(paths, ReadOptions{}, o);
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (!t.valid[i]) std::printf("texel %zu: %s\n", i, t.why_invalid[i].c_str());
+  EXPECT_EQ(t.nx, 8u);
+  EXPECT_EQ(t.ny, 2u);
+  EXPECT_EQ(t.valid[4], 0);
+  EXPECT_NE(t.why_invalid[4].find("too few filtered normals"), std::string::npos);
+  EXPECT_EQ(t.valid_count(), 15u);
+  EXPECT_EQ(t.meta.at("scans").size(), 2u);
+  EXPECT_EQ(t.meta.at("scans")[1].at("offset"), 4);
+  EXPECT_EQ(t.meta.at("failed"), 1);
+  // Isotropic Gaussian: the texels' alphas agree on average, and lie below the whole area's
+  // filtered Beckmann width (a small area holds only part of the slope variance, and the
+  // GGX-tailed ellipsoid is narrower than Beckmann at equal variance).
+  const double expect = predicted_filtered_alpha(g.sigma, g.tau_x, g.tau_y, o.filter_sigma_m);
+  const double ax = channel_stats(t, 0).mean, ay = channel_stats(t, 1).mean;
+  std::printf("texel alphas %.4f %.4f, whole-area filtered Beckmann width %.4f\n", ax, ay, expect);
+  EXPECT_NEAR(ax / ay, 1.0, 0.2);
+  EXPECT_GT(ax, 0.3 * expect);
+  EXPECT_LT(ax, 1.0 * expect);
+  o.stack_along_y = true;
+  const ParamTexture ty = fit_texels(paths, ReadOptions{}, o);
+  EXPECT_EQ(ty.nx, 4u);
+  EXPECT_EQ(ty.ny, 4u);
+  EXPECT_EQ(ty.valid[0 + 4 * 2], 0);
+  o.texel_m = 30e-6;  // larger than the scan
+  EXPECT_THROW(fit_texels(paths, ReadOptions{}, o), InputError);
+  fs::remove_all(dir);
+}
+
+TEST(texture, SvbrdfMatchesUniformMicrofacetBrdf) {
+  ParamTexture t = ParamTexture::empty(4, 3, 53e-6, "");
+  const EllipsoidParams p0{0.1, 0.3, 0.05, -0.03, 0.2}, p1{0.2, 0.15, -0.04, 0.02, -0.1};
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const EllipsoidParams& p = (i % 2) ? p1 : p0;
+    const double v[5] = {p.alpha_x, p.alpha_y, p.theta_x, p.theta_y, p.theta_z};
+    for (int c = 0; c < 5; ++c)
+      t.channel[static_cast<std::size_t>(c)][i] = static_cast<float>(v[c]);
+    t.valid[i] = 1;
+  }
+  t.valid[2] = 0;  // invalid: drawn with the mean
+  auto tex = std::make_shared<const ParamTexture>(t);
+  auto fres = std::make_shared<const ConductorFresnel>(metal("Al"));
+  const EllipsoidTextureSvbrdf sv(tex, fres);
+  auto params_of = [&](std::size_t i) {
+    const auto q = tex->at(i % 4, i / 4);
+    return EllipsoidParams{q.alpha_x, q.alpha_y, q.theta_x, q.theta_y, q.theta_z};
+  };
+  const Vec3 wi = Vec3(0.3, -0.2, 0.9).normalized(), wo = Vec3(-0.25, 0.3, 0.8).normalized();
+  // Texel 1 = (1, 0): u in [0.25, 0.5), v in [0, 1/3); also one repeat over.
+  const MicrofacetBrdf ref(std::make_shared<EllipsoidDistribution>(params_of(1)), fres, true);
+  for (double du : {0.0, 1.0, -2.0}) {
+    EXPECT_NEAR(sv.eval(0.3 + du, 0.1, wi, wo, 550e-9), ref.eval(wi, wo, 550e-9),
+                1e-12 * ref.eval(wi, wo, 550e-9));
+    EXPECT_NEAR(sv.pdf(0.3 + du, 0.1, wi, wo), ref.pdf(wi, wo), 1e-12 * ref.pdf(wi, wo));
+  }
+  const auto a = sv.sample(0.3, 0.1, wi, 0.3, 0.7, 550e-9);
+  const auto b = ref.sample(wi, 0.3, 0.7, 550e-9);
+  ASSERT_TRUE(a && b);
+  EXPECT_NEAR((a->wo - b->wo).norm(), 0, 1e-12);
+  EXPECT_NEAR(a->weight, b->weight, 1e-12);
+  // Weight = f cos / pdf.
+  EXPECT_NEAR(a->weight, sv.eval(0.3, 0.1, wi, a->wo, 550e-9) * a->wo.z() / a->pdf, 1e-9);
+  // Neighbouring texels differ; the invalid texel uses the mean of the valid ones.
+  EXPECT_NE(sv.eval(0.05, 0.1, wi, wo, 550e-9), sv.eval(0.3, 0.1, wi, wo, 550e-9));
+  const EllipsoidParams m = sv.params_at(0.6, 0.1);  // texel (2, 0) = index 2
+  EXPECT_NEAR(m.alpha_x, tex->mean_valid().alpha_x, 1e-12);
+  EXPECT_NE(sv.describe().find("ellipsoid-NDF texture 4 x 3"), std::string::npos);
+  // Energy: the albedo of each texel's lobe is at most 1 (F <= 1, G <= 1).
+  const double alb = directional_albedo_sampled(ref, wi, 550e-9, 64);
+  EXPECT_LE(alb, 1.0 + 1e-6);
+  EXPECT_GT(alb, 0.5);
+}
