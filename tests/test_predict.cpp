@@ -21,6 +21,7 @@
 #include "microbrdf/predict.hpp"
 #include "microbrdf/statistics.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
+#include "microbrdf/texture.hpp"
 
 using namespace microbrdf;
 namespace fs = std::filesystem;
@@ -244,4 +245,45 @@ TEST(Predict, ReplacesItsOwnOutputButNoOtherFolder) {
   { std::ofstream(t / "mine/notes.txt") << "keep"; }
   EXPECT_THROW(predict(o, t / "mine"), FileError);
   EXPECT_EQ(slurp(t / "mine/notes.txt"), "keep");
+}
+
+TEST(Predict, StripsGiveASynthesisedTexture) {
+  TempDir t;
+  auto strip = [&](std::size_t nx, std::size_t ny, std::uint64_t seed, const std::string& name) {
+    BrushedParams b = brushed_preset("stainless4");
+    b.nx = nx;
+    b.ny = ny;
+    b.dx = b.dy = 0.25e-6;
+    b.seed = seed;
+    const std::string path = t / name;
+    write_surface(generate_brushed(b), path);
+    return path;
+  };
+  PredictOptions o = small_options(make_scan(t));
+  o.strips_along = {strip(256, 40, 2, "along.x3p")};    // 8 x 1 texels of 8 um
+  o.strips_across = {strip(40, 256, 3, "across.x3p")};  // 1 x 8 texels
+  o.texel_m = 8e-6;
+  o.texel_resolution = 65;
+  o.texture_size = 16;
+  o.render = true;
+  o.render_width = 16;
+  o.render_spp = 1;
+  const PredictResult r = predict(o, t / "out");
+  const auto& tx = r.summary["texture"];
+  ASSERT_FALSE(tx.contains("skipped")) << tx.dump();
+  EXPECT_EQ(tx["along"]["nx"], 8);
+  EXPECT_EQ(tx["along"]["ny"], 1);
+  EXPECT_EQ(tx["across"]["nx"], 1);
+  EXPECT_EQ(tx["across"]["ny"], 8);
+  EXPECT_EQ(tx["synthesised"]["nx"], 16);
+  // The file holds what the summary describes.
+  const ParamTexture back = read_param_texture(t / "out/texture.exr");
+  ASSERT_EQ(back.nx, 16u);
+  const ChannelStats st = channel_stats(back, 1);
+  EXPECT_NEAR(tx["synthesised"]["channels"]["alpha_y"]["mean"].get<double>(), st.mean,
+              1e-6 * st.mean);
+  // Brushed: smoother along the brushing (x) than across, in the exemplar fits.
+  EXPECT_LT(tx["along"]["channels"]["alpha_x"]["mean"].get<double>(),
+            tx["along"]["channels"]["alpha_y"]["mean"].get<double>());
+  EXPECT_TRUE(fs::exists(t / "out/img/render_texture.png"));
 }

@@ -18,14 +18,14 @@ RenderLights predict_lights(const PredictOptions& o) {
     l.envmap_scale = o.envmap_scale;
     return l;
   }
-  // A small studio: two large round softboxes high left and right and a dim one behind the
-  // camera, so a metal shows its highlights and their shape (no map needed).
+  // No map: a dim uniform sky (shows the shape) and two round softboxes high left and right
+  // (show the highlights and their anisotropy).
+  l.uniform_white_env = true;
+  l.envmap_scale = 0.25 * o.envmap_scale;
   l.disks.push_back({Eigen::Vector3d(-4, 4, 3), Eigen::Vector3d(1, -1, -0.75).normalized(), 1.2,
                      Eigen::Vector3d(6, 6, 6)});
   l.disks.push_back({Eigen::Vector3d(4, 3, 2), Eigen::Vector3d(-1, -0.75, -0.5).normalized(), 0.8,
                      Eigen::Vector3d(4, 4, 4)});
-  l.disks.push_back({Eigen::Vector3d(0, 1, 10), Eigen::Vector3d(0, -0.1, -1).normalized(), 3,
-                     Eigen::Vector3d(0.3, 0.3, 0.3)});
   return l;
 }
 
@@ -89,8 +89,9 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalC
                    {"seed", ro.seed},
                    {"rays", img.rays},
                    {"material", brdf->describe()},
-                   {"lights", o.envmap_path.empty() ? "built-in: three disk area lights"
-                                                    : "environment map " + o.envmap_path}});
+                   {"lights", o.envmap_path.empty()
+                                  ? "built-in: dim uniform sky (0.25) and two disk area lights"
+                                  : "environment map " + o.envmap_path}});
   }
   return out;
 }

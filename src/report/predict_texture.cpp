@@ -1,6 +1,7 @@
 // predict stage 6 (with --strips ALONG ACROSS): per-texel ellipsoid fits of exemplar strips
 // scanned along and across the brushing direction, separable synthesis of a parameter texture
-// (Dong 2015 section 9), false-colour images of its channels and a render of the textured plate.
+// (Dong 2015 section 9), false-colour images of its channels and a render of the textured cylinder
+// pair.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,35 +11,23 @@
 #include "microbrdf/texture.hpp"
 #include "report/predict_stages.hpp"
 
-// TEMPORARY until the texture module is merged (helper A): the stage reports "not synthesised".
-#define MICROBRDF_PREDICT_HAS_TEXTURE 0
-
 namespace microbrdf::report {
 
-RenderLights predict_lights(const PredictOptions& o);
+RenderLights predict_lights(const PredictOptions& o);  // predict_render.cpp
 
-#if MICROBRDF_PREDICT_HAS_TEXTURE
 namespace {
 
 const char* kChannel[5] = {"alpha_x", "alpha_y", "theta_x", "theta_y", "theta_z"};
 
-/// Mean, std, min, max of one channel over the valid texels.
-nlohmann::json channel_stats(const ParamTexture& t, int ch) {
-  double s = 0, s2 = 0, lo = 1e300, hi = -1e300;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < t.nx * t.ny; ++i) {
-    if (!t.valid.empty() && !t.valid[i]) continue;
-    const double v = t.channel[ch][i];
-    if (!std::isfinite(v)) continue;
-    s += v;
-    s2 += v * v;
-    lo = std::min(lo, v);
-    hi = std::max(hi, v);
-    ++n;
-  }
-  if (n == 0) return {{"valid_texels", 0}};
-  const double mean = s / n, var = std::max(0.0, s2 / n - mean * mean);
-  return {{"valid_texels", n}, {"mean", mean}, {"std", std::sqrt(var)}, {"min", lo}, {"max", hi}};
+/// Mean, std, min, max of one channel over the valid texels (texture.hpp channel_stats).
+nlohmann::json channel_json(const ParamTexture& t, int ch) {
+  const ChannelStats st = channel_stats(t, ch);
+  if (st.count == 0) return {{"valid_texels", 0}};
+  return {{"valid_texels", st.count},
+          {"mean", st.mean},
+          {"std", std::sqrt(std::max(0.0, st.variance))},
+          {"min", st.min},
+          {"max", st.max}};
 }
 
 /// Channel `ch` in false colour over [lo, hi], nearest-neighbour enlarged to >= 192 px.
@@ -65,7 +54,7 @@ nlohmann::json describe_texture(const Context& c, const ParamTexture& t, const s
   for (auto v : t.valid) invalid += v ? 0 : 1;
   j["invalid_texels"] = invalid;
   for (int ch = 0; ch < 5; ++ch) {
-    auto st = channel_stats(t, ch);
+    auto st = channel_json(t, ch);
     j["channels"][kChannel[ch]] = st;
     if (ch < 2 && st.contains("min")) {
       const std::string file = "img/texture_" + name + "_" + kChannel[ch] + ".png";
@@ -77,25 +66,21 @@ nlohmann::json describe_texture(const Context& c, const ParamTexture& t, const s
 }
 
 }  // namespace
-#endif
 
 nlohmann::json stage_texture(const Context& c, const OpticalConstants& material,
                              nlohmann::json& timing) {
   const auto& o = c.opt;
   if (o.strips_along.empty()) return {{"skipped", "no --strips given"}};
-#if !MICROBRDF_PREDICT_HAS_TEXTURE
-  (void)material;
-  (void)timing;
-  return {{"skipped", "not synthesised (texture module not built yet)"}};
-#else
   TexelFitOptions to;
   to.texel_m = o.texel_m;
   to.filter_sigma_m = o.filter_sigma_m;
   to.ndf_resolution = o.texel_resolution;
   to.threads = o.threads;
+  to.leveling = o.leveling;
   c.log("texture: per-texel fits of the strip along the brushing");
   const ParamTexture along = fit_texels(o.strips_along, o.read, to);
   c.log("texture: per-texel fits of the strip across the brushing");
+  to.stack_along_y = true;  // the across strip's texels run along y (Dong's 1 x N strip)
   const ParamTexture across = fit_texels(o.strips_across, o.read, to);
   SynthesisOptions so;
   so.size = o.texture_size;
@@ -114,12 +99,12 @@ nlohmann::json stage_texture(const Context& c, const OpticalConstants& material,
                         {"across", describe_texture(c, across, "across")},
                         {"synthesised", describe_texture(c, *synth, "synthesised")}};
   if (o.render) {
-    c.log("texture: render of the textured plate");
+    c.log("texture: render of the textured cylinder pair");
     auto svbrdf = std::make_shared<EllipsoidTextureSvbrdf>(
         synth, std::make_shared<ConductorFresnel>(material));
     RenderScene scene;
-    scene.kind = PreviewScene::plate;
-    // The plate is 10 cm wide and 2 scene units: a scene unit is 5 cm of real surface.
+    scene.kind = PreviewScene::cylinders;
+    // Scene units read as 5 cm of real surface (as the 10 cm plate of Dong Fig. 13, 2 units).
     scene.uv_scale = 0.05 / std::max(1e-12, synth->texel_m * static_cast<double>(synth->nx));
     RenderOptions ro;
     ro.width = o.render_width;
@@ -128,14 +113,13 @@ nlohmann::json stage_texture(const Context& c, const OpticalConstants& material,
     ro.seed = o.seed;
     ro.threads = o.threads;
     const RenderImage img = render(scene, {svbrdf}, predict_lights(o), ro);
-    write_render_png(img, c.path("img/render_texture_plate.png"), 0);
-    timing["render_texture_plate_s"] = img.seconds;
-    out["render"] = {{"scene", "plate"},   {"file", "img/render_texture_plate.png"},
-                     {"width", img.width}, {"height", img.height},
-                     {"spp", ro.spp},      {"uv_scale", scene.uv_scale}};
+    write_render_png(img, c.path("img/render_texture.png"), 0);
+    timing["render_texture_s"] = img.seconds;
+    out["render"] = {{"scene", "cylinders"}, {"file", "img/render_texture.png"},
+                     {"width", img.width},   {"height", img.height},
+                     {"spp", ro.spp},        {"uv_scale", scene.uv_scale}};
   }
   return out;
-#endif
 }
 
 }  // namespace microbrdf::report

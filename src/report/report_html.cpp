@@ -368,10 +368,15 @@ void section_texture(Page& p, const json& s) {
   texture_block(p, t["across"], "Exemplar strip across the brushing");
   texture_block(p, t["synthesised"], "Synthesised texture");
   if (t.contains("render"))
-    p << "<figure>" << p.image(str(t["render"]["file"]), "textured plate")
-      << "<figcaption>The synthesised SVBRDF on a 10 cm plate (Dong 2015 Fig. 13 set-up), "
+    p << "<figure>"
+      << p.image(str(t["render"]["file"]), "textured cylinders",
+                 std::max(384, t["render"]["width"].get<int>()))
+      << "<figcaption>The synthesised SVBRDF (ellipsoid NDF per texel, exact Fresnel) on the "
+         "cylinder pair, a scene unit read as 5 cm (the texture repeats "
+      << report::num(d(t["render"]["uv_scale"])) << " times per unit); "
       << std::to_string(t["render"]["spp"].get<long>())
-      << " samples/pixel.</figcaption></figure>\n";
+      << " samples/pixel; lights: " << escape(str(t["render"]["lights"]))
+      << ".</figcaption></figure>\n";
 }
 
 void section_settings(Page& p, const json& s) {
