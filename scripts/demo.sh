@@ -48,7 +48,11 @@ echo "== 4. predict: the brushed surface, stainless steel, with the Kirchhoff D_
   "${ENVFLAG[@]}" -o "$OUT/predict-brushed"
 
 echo
-echo "== 5. Screenshots of the reports in headless Chromium"
+echo "== 5. Checks a reader would make: no broken image, no missing number (scripts/check-report.py)"
+python3 "$ROOT/scripts/check-report.py" "$OUT/predict-land" "$OUT/predict-brushed"
+
+echo
+echo "== 6. Screenshots of the reports in headless Chromium"
 SHOTS=()
 for r in predict-land predict-brushed; do
   if "$ROOT/scripts/screenshot-report.sh" "$OUT/$r/report.html" "$OUT/$r/report.png" >/dev/null; then

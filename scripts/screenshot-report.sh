@@ -4,7 +4,7 @@
 #
 #   scripts/screenshot-report.sh REPORT.html OUT.png [WIDTHxHEIGHT]
 #
-# Default window 1280x6000 px (the whole report, top to bottom). Chromium is Debian's package
+# Default window 1280x9000 px (the whole report, top to bottom). Chromium is Debian's package
 # (`scripts/install-deps.sh --report` installs it); CHROMIUM=/path/to/chromium overrides.
 # A fresh empty profile directory is used and removed afterwards; no network, no GPU.
 set -euo pipefail
@@ -12,7 +12,7 @@ if [ $# -lt 2 ]; then
   echo "usage: $0 REPORT.html OUT.png [WIDTHxHEIGHT]" >&2
   exit 2
 fi
-REPORT=$1 OUT=$2 SIZE=${3:-1280x6000}
+REPORT=$1 OUT=$2 SIZE=${3:-1280x9000}
 CHROMIUM=${CHROMIUM:-/usr/bin/chromium}
 if ! [ -x "$CHROMIUM" ]; then
   CHROMIUM=$(command -v chromium || command -v chromium-browser || true)
@@ -50,5 +50,6 @@ if ! [ -s "$TMP_OUT" ]; then
   echo "screenshot-report: chromium wrote no screenshot for $REPORT" >&2
   exit 1
 fi
+chmod 644 "$TMP_OUT"
 mv -f "$TMP_OUT" "$ABS_OUT"
 echo "$ABS_OUT"

@@ -14,33 +14,20 @@ $BIN predict "$T/b.x3p" --level none --resolution 257 --theta-i 30,60 --render-w
 [ -s "$T/out/report.html" ] && [ -s "$T/out/summary.json" ] || fail "report or summary missing"
 grep -q "renders" "$T/stderr.txt" || fail "no progress on stderr"
 
-python3 - "$T/out" "$T/stdout.json" <<'PY' || fail "report / summary checks"
+# The reader's checks (scripts/check-report.py): strict JSON, listed outputs exist, every <img>
+# a non-empty data: URI, renders present, no nan/inf/null and no empty cell in the text.
+python3 "$(dirname "$0")/../../scripts/check-report.py" "$T/out" >"$T/check.txt" || { cat "$T/check.txt"; fail "check-report"; }
+python3 - "$T/out" "$T/stdout.json" <<'PY' || fail "summary contents"
 import json, re, sys, os
 d, out = sys.argv[1], json.load(open(sys.argv[2]))
 assert out["report"].endswith("report.html") and os.path.exists(out["report"]), out
-# Strict JSON: Python accepts NaN/Infinity unless told not to.
-def strict(x): raise ValueError("non-finite number in summary.json: " + x)
-s = json.load(open(os.path.join(d, "summary.json")), parse_constant=strict)
-for k in ["versions", "settings", "material", "inputs", "ndf", "fits", "ndf_cuts", "brdf",
-          "renders", "texture", "outputs", "timing"]:
-    assert k in s, k
+s = json.load(open(os.path.join(d, "summary.json")))
 assert [f["model"] for f in s["fits"]] == ["ellipsoid", "beckmann", "ggx"]
-assert isinstance(s["renders"], list) and {r["scene"] for r in s["renders"]} == {"cylinders", "sphere"}
+assert {r["scene"] for r in s["renders"]} == {"cylinders", "sphere"}
 assert [round(a["theta_i_deg"]) for a in s["brdf"]["albedo"]] == [30, 60]
-for f in s["outputs"]:
-    assert os.path.exists(os.path.join(d, f)), f
 html = open(os.path.join(d, "report.html")).read()
-imgs = re.findall(r'<img [^>]*src="([^"]*)"', html)
-assert len(imgs) >= 6, len(imgs)  # height map, 2 NDFs, fit comparison, 2 renders
-for src in imgs:
-    assert src.startswith("data:image/png;base64,") and len(src) > 200, src[:60]
-assert "<svg" in html and 'src="http' not in html and "href=\"http" not in html
-text = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)  # glyph outlines are not numbers
-text = re.sub(r'src="data:[^"]*"', "", text)
-for bad in [r"\bnan\b", r"\bNaN\b", r"\binf\b", r"\bInfinity\b", r"\bnull\b", r"\bundefined\b"]:
-    m = re.search(bad, text)
-    assert not m, (bad, text[max(0, m.start() - 80):m.end() + 80])
-assert not re.search(r"<td[^>]*>\s*</td>", text), "empty table cell"
+assert len(re.findall(r"<img ", html)) >= 6  # height map, 2 NDFs, fit comparison, 2 renders
+assert html.count("<svg") == 2 + 2 * 2       # NDF cuts x, y; in/out slices at 2 angles
 PY
 
 # Same inputs and seed: the same summary apart from timing.
