@@ -391,8 +391,19 @@ void section_settings(Page& p, const json& s) {
         text += (text.empty() ? "" : ", ") + report::num(d(t) * kDeg) + " deg";
     } else if (k == "kirchhoff_patch_m") {
       text = len(v[0]) + " &times; " + len(v[1]);
+    } else if (k == "spacing_override_m") {
+      auto one = [](const json& x) { return x.is_number() ? len(x) : escape(str(x)); };
+      text = "dx " + one(v[0]) + ", dy " + one(v[1]);
+    } else if (v.is_array()) {
+      for (const auto& x : v) text += (text.empty() ? "" : ", ") + escape(str(x));
+      if (text.empty()) text = "none";
+    } else if (v.is_object()) {
+      for (const auto& [kk, x] : v.items())
+        text += (text.empty() ? "" : "; ") + escape(kk) + ": " + escape(str(x));
+    } else if (v.is_boolean()) {
+      text = v.get<bool>() ? "yes" : "no";
     } else {
-      text = escape(v.is_string() ? v.get<std::string>() : v.dump());
+      text = escape(str(v));
     }
     p << row({escape(k), text});
   }
