@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/ndf_io.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/sun2002.hpp"
@@ -25,6 +26,7 @@ struct RenderArgs : ModelFlags {
   double uv_scale = 1;
   // material
   std::string ndf, metal, nk_csv;
+  std::vector<std::string> kirchhoff;
   double r0 = -1, lambertian = -1, sun_s = 0;
   bool mirror = false, separable = false;
   // (the coordinator adds --sh FILE.shbrdf and --texture TEX.exr here: see make_materials)
@@ -81,11 +83,15 @@ std::shared_ptr<const Fresnel> fresnel_of(const RenderArgs& a) {
 /// One material for the whole scene (the cylinder pair turns it by 90 degrees on the right).
 std::vector<std::shared_ptr<const Svbrdf>> make_materials(const RenderArgs& a) {
   const bool analytic = a.model_given || a.alpha > 0 || a.alpha_x > 0 || a.alpha_y > 0;
-  const int kinds = analytic + !a.ndf.empty() + (a.lambertian >= 0) + a.mirror + (a.sun_s > 0);
+  // --kirchhoff may come with an analytic model: that model then supplies the shadowing G.
+  const bool kirchhoff = !a.kirchhoff.empty();
+  const int kinds = (analytic && !kirchhoff) + !a.ndf.empty() + (a.lambertian >= 0) + a.mirror +
+                    (a.sun_s > 0) + kirchhoff;
   if (kinds != 1)
     throw InputError(
         "give exactly one material: --model/--alpha (microfacet), --ndf FILE (tabulated NDF), "
-        "--sun S, --lambertian ALBEDO or --mirror");
+        "--kirchhoff DK (+ optional --model for shadowing), --sun S, --lambertian ALBEDO or "
+        "--mirror");
   // Spatially varying materials (--texture) and SH-matrix BRDFs (--sh) plug in here as further
   // Svbrdf / Brdf kinds.
   std::shared_ptr<const Brdf> b;
@@ -93,6 +99,12 @@ std::vector<std::shared_ptr<const Svbrdf>> make_materials(const RenderArgs& a) {
     b = std::make_shared<LambertianBrdf>(a.lambertian);
   } else if (a.mirror) {
     b = std::make_shared<SpecularMirrorBrdf>(fresnel_of(a));
+  } else if (kirchhoff) {
+    std::vector<TabulatedNdf> tables;
+    for (const auto& f : a.kirchhoff) tables.push_back(read_ndf(f));
+    std::shared_ptr<const MicrofacetDistribution> g;
+    if (analytic) g = make_distribution(ndf_spec(a));
+    b = std::make_shared<KirchhoffBrdf>(std::move(tables), fresnel_of(a), g);
   } else if (a.sun_s > 0) {
     b = std::make_shared<sun2002::SunBrdf>(a.sun_s, sun2002::BrdfForm::Standard, fresnel_of(a));
   } else {
@@ -245,7 +257,8 @@ void register_render(CLI::App& app) {
       "--sphere-light X,Y,Z,RADIUS:R,G,B and --disk-light X,Y,Z,NX,NY,NZ,RADIUS:R,G,B (radiance);\n"
       "with no light at all, a uniform white sky. Radiance 1 = D65 white of luminance 1.\n"
       "Materials: microfacet (--model/--alpha* or --ndf FILE) with a metal's Fresnel term\n"
-      "(--metal, default Al; --nk-csv; --r0), Sun 2002 (--sun S), --lambertian A, --mirror.\n"
+      "(--metal, default Al; --nk-csv; --r0), Kirchhoff (--kirchhoff DK.npy), Sun 2002 (--sun S),\n"
+      "--lambertian A, --mirror.\n"
       "The BRDF's x axis follows --brushing linear (the image's horizontal turned by\n"
       "--brush-angle about the normal) or rotational (circles about the object's axis).\n\n"
       "Examples:\n"
@@ -267,6 +280,9 @@ void register_render(CLI::App& app) {
   add_model_flags(c, *a)->each([a](const std::string&) { a->model_given = true; });
   c->add_option("--ndf", a->ndf,
                 "Tabulated NDF (.npy + .json sidecar or .exr) from `microbrdf ndf`");
+  c->add_option("--kirchhoff", a->kirchhoff,
+                "Kirchhoff BRDF (Dong eq. 8) from D_K tables of `microbrdf ndf --method kirchhoff` "
+                "(repeat for several wavelengths); shadowing from --model/--alpha if given");
   c->add_option("--metal", a->metal, "Optical constants of a built-in metal (default Al)");
   c->add_option("--nk-csv", a->nk_csv, "CSV 'wavelength_nm,n,k' optical constants");
   c->add_option("--r0", a->r0, "Normal-incidence reflectance (eta = 1, Sun 2002 5.2)");

@@ -96,7 +96,10 @@ struct RenderImage {
 
 /// `materials` holds one entry (applied to every object) or one per object of the scene (the
 /// cylinder pair takes two: the second is what the first is with the tangent turned 90 degrees,
-/// so passing one material there is the Dong Fig. 10 set-up).
+/// so passing one material there is the Dong Fig. 10 set-up; with two, the left cylinder takes
+/// the first and the right one the second, and the right one's tangent is still turned by 90
+/// degrees). Throws InputError (bad options, no light, wrong material count) or FileError
+/// (unreadable environment map or OBJ). Method and conventions: docs/render.md.
 RenderImage render(const RenderScene& scene,
                    const std::vector<std::shared_ptr<const Svbrdf>>& materials,
                    const RenderLights& lights, const RenderOptions& options);

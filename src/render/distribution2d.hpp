@@ -1,83 +1,83 @@
 #pragma once
-// Piecewise-constant 1D and 2D distributions (sampling by inverting the CDF), as used for
-// environment-map importance sampling (PBRT 3rd ed. 13.6.7).
+// A piecewise-constant 2D distribution over [0,1)^2 on an nu x nv grid of cells (environment-map
+// importance sampling), drawn in O(1) with Walker's alias method (Vose's construction): one
+// table access picks the cell, two more uniforms place the point inside it. (The classic
+// marginal/conditional CDF inversion needs two binary searches over megabytes of CDFs per
+// sample, each step a cache miss; the alias table needs one or two.)
 
 #include <algorithm>
-#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace microbrdf::pt {
 
-/// Density over [0, 1) proportional to f[i] on cell i (cells of width 1/n).
-class Distribution1D {
+class PiecewiseConstant2D {
  public:
-  Distribution1D() = default;
-  explicit Distribution1D(const std::vector<double>& f) : f_(f), cdf_(f.size() + 1, 0.0) {
-    const std::size_t n = f.size();
-    for (std::size_t i = 0; i < n; ++i) cdf_[i + 1] = cdf_[i] + std::max(f[i], 0.0) / double(n);
-    integral_ = cdf_[n];
-    if (integral_ > 0) {
-      for (auto& c : cdf_) c /= integral_;
-    } else {
-      for (std::size_t i = 0; i <= n; ++i) cdf_[i] = double(i) / double(n);
+  PiecewiseConstant2D() = default;
+  /// f[row * nu + col] >= 0 (negative and non-finite values count as 0). All zero: uniform.
+  PiecewiseConstant2D(const std::vector<double>& f, std::size_t nu, std::size_t nv)
+      : nu_(nu), nv_(nv), cells_(nu * nv) {
+    const std::size_t n = nu * nv;
+    double sum = 0;
+    std::vector<double> w(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      w[i] = f[i] > 0 && f[i] < 1e300 ? f[i] : 0.0;
+      sum += w[i];
     }
-    cdf_[n] = 1;
+    if (!(sum > 0)) {
+      w.assign(n, 1.0);
+      sum = double(n);
+    }
+    // Density per unit area of [0,1)^2 is w_i n / sum; scaled weights q_i = w_i n / sum have
+    // mean 1.
+    std::vector<double> q(n);
+    std::vector<std::uint32_t> small, large;
+    for (std::size_t i = 0; i < n; ++i) {
+      q[i] = w[i] * double(n) / sum;
+      cells_[i].density = float(q[i]);
+      (q[i] < 1 ? small : large).push_back(std::uint32_t(i));
+    }
+    while (!small.empty() && !large.empty()) {
+      const std::uint32_t s = small.back(), l = large.back();
+      small.pop_back();
+      cells_[s].prob = float(q[s]);
+      cells_[s].alias = l;
+      q[l] -= 1 - q[s];
+      if (q[l] < 1) {
+        large.pop_back();
+        small.push_back(l);
+      }
+    }
+    for (auto i : large) cells_[i].prob = 1, cells_[i].alias = i;
+    for (auto i : small) cells_[i].prob = 1, cells_[i].alias = i;  // rounding leftovers
   }
-  /// Returns x in [0, 1) and its density; `cell` is the index drawn.
-  double sample(double u, double& pdf, std::size_t& cell) const {
-    const std::size_t n = f_.size();
-    auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
-    std::size_t i = static_cast<std::size_t>(
-        std::clamp<std::ptrdiff_t>((it - cdf_.begin()) - 1, 0, static_cast<std::ptrdiff_t>(n) - 1));
-    double du = u - cdf_[i];
-    const double w = cdf_[i + 1] - cdf_[i];
-    if (w > 0) du /= w;
-    pdf = density(i);
-    cell = i;
-    return std::min((double(i) + du) / double(n), 1.0 - 1e-12);
+
+  /// (u, v) in [0,1)^2 from three uniforms, with its density per unit area; returns the cell
+  /// index (row * nu + col).
+  std::size_t sample(double u1, double u2, double u3, double& u, double& v, double& pdf) const {
+    const std::size_t n = cells_.size();
+    const double x = u1 * double(n);
+    std::size_t j = std::min(std::size_t(x), n - 1);
+    const double frac = x - double(j);
+    if (frac >= cells_[j].prob) j = cells_[j].alias;
+    const std::size_t row = j / nu_, col = j % nu_;
+    u = (double(col) + u2) / double(nu_);
+    v = (double(row) + u3) / double(nv_);
+    pdf = cells_[j].density;
+    return j;
   }
-  /// Density of cell i (per unit of x).
-  double density(std::size_t i) const {
-    return integral_ > 0 ? std::max(f_[i], 0.0) / integral_ : 1.0;
-  }
-  double integral() const { return integral_; }
-  std::size_t size() const { return f_.size(); }
+  /// Density per unit area in cell (col, row).
+  double pdf(std::size_t col, std::size_t row) const { return cells_[row * nu_ + col].density; }
+  bool empty() const { return cells_.empty(); }
 
  private:
-  std::vector<double> f_, cdf_;
-  double integral_ = 0;
-};
-
-/// Density over [0,1)^2 proportional to f[row * nu + col]: a marginal over rows (v) and a
-/// conditional per row (u).
-class Distribution2D {
- public:
-  Distribution2D() = default;
-  Distribution2D(const std::vector<double>& f, std::size_t nu, std::size_t nv) {
-    rows_.reserve(nv);
-    std::vector<double> marg(nv);
-    for (std::size_t r = 0; r < nv; ++r) {
-      rows_.emplace_back(std::vector<double>(f.begin() + r * nu, f.begin() + (r + 1) * nu));
-      marg[r] = rows_.back().integral();
-    }
-    marginal_ = Distribution1D(marg);
-  }
-  /// (u, v) in [0,1)^2 with density pdf (per unit area of [0,1)^2).
-  void sample(double u1, double u2, double& u, double& v, double& pdf) const {
-    double pv, pu;
-    std::size_t row, col;
-    v = marginal_.sample(u2, pv, row);
-    u = rows_[row].sample(u1, pu, col);
-    pdf = pu * pv;
-  }
-  double pdf(std::size_t col, std::size_t row) const {
-    return marginal_.density(row) * rows_[row].density(col);
-  }
-  bool empty() const { return rows_.empty(); }
-
- private:
-  std::vector<Distribution1D> rows_;
-  Distribution1D marginal_;
+  struct Cell {
+    float prob = 1;           // keep this cell with probability prob, else take alias
+    std::uint32_t alias = 0;  // the cell that fills the rest of this slot
+    float density = 0;        // density per unit area of [0,1)^2 (w_i n / sum)
+  };
+  std::size_t nu_ = 0, nv_ = 0;
+  std::vector<Cell> cells_;
 };
 
 }  // namespace microbrdf::pt

@@ -38,7 +38,7 @@ EnvironmentMap::EnvironmentMap(RgbFloatImage img, double scale, double rotation_
       f[r * w + c] = std::max({p[0], p[1], p[2]}) * s;
     }
   }
-  dist_ = Distribution2D(f, w, h);
+  dist_ = PiecewiseConstant2D(f, w, h);
 }
 
 EnvironmentMap EnvironmentMap::uniform(const Eigen::Vector3d& rgb) {
@@ -70,14 +70,21 @@ Eigen::Vector3d EnvironmentMap::rgb(const Eigen::Vector3d& d) const {
   return {p[0], p[1], p[2]};
 }
 
-Eigen::Vector3d EnvironmentMap::sample(double u1, double u2, double& pdf) const {
+Eigen::Vector3d EnvironmentMap::sample(double u1, double u2, double u3, double& pdf,
+                                       Eigen::Vector3d* rgb) const {
   if (uniform_) {
     const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * M_PI * u2;
     pdf = 1 / (4 * M_PI);
+    if (rgb) *rgb = uniform_rgb_;
     return {r * std::cos(phi), z, r * std::sin(phi)};
   }
   double u, v, p;
-  dist_.sample(u1, u2, u, v, p);
+  const std::size_t cell = dist_.sample(u1, u2, u3, u, v, p);
+  if (rgb) {
+    // Cells index the stored image (the rotation acts in direction()).
+    const float* q = &img_.rgb[cell * 3];
+    *rgb = Eigen::Vector3d(q[0], q[1], q[2]);
+  }
   const double st = std::sin(M_PI * v);
   pdf = st > 0 ? p / (2 * M_PI * M_PI * st) : 0;
   return direction(u, v);
@@ -89,6 +96,19 @@ double EnvironmentMap::pdf(const Eigen::Vector3d& d) const {
   pixel_of(d, c, r);
   const double st = std::sqrt(std::max(0.0, 1 - d.y() * d.y()));
   return st > 0 ? dist_.pdf(c, r) / (2 * M_PI * M_PI * st) : 0;
+}
+
+Eigen::Vector3d EnvironmentMap::rgb_and_pdf(const Eigen::Vector3d& d, double& pdf) const {
+  if (uniform_) {
+    pdf = 1 / (4 * M_PI);
+    return uniform_rgb_;
+  }
+  int c, r;
+  pixel_of(d, c, r);
+  const double st = std::sqrt(std::max(0.0, 1 - d.y() * d.y()));
+  pdf = st > 0 ? dist_.pdf(c, r) / (2 * M_PI * M_PI * st) : 0;
+  const float* p = &img_.rgb[(std::size_t(r) * img_.width + c) * 3];
+  return {p[0], p[1], p[2]};
 }
 
 }  // namespace microbrdf::pt

@@ -49,9 +49,13 @@ class EnvironmentMap {
   /// Linear sRGB radiance in direction d (unit, world frame).
   Eigen::Vector3d rgb(const Eigen::Vector3d& d) const;
   /// Draws a direction with density pdf(d) per steradian (proportional to the pixel's largest
-  /// channel times its solid angle); returns the pdf through `pdf`.
-  Eigen::Vector3d sample(double u1, double u2, double& pdf) const;
+  /// channel times its solid angle) from three uniforms; returns the pdf through `pdf`.
+  /// `rgb`, when given, receives the radiance in that direction (saves a lookup).
+  Eigen::Vector3d sample(double u1, double u2, double u3, double& pdf,
+                         Eigen::Vector3d* rgb = nullptr) const;
   double pdf(const Eigen::Vector3d& d) const;
+  /// rgb(d) and pdf(d) with one pixel look-up.
+  Eigen::Vector3d rgb_and_pdf(const Eigen::Vector3d& d, double& pdf) const;
 
   int width() const { return img_.width; }
   int height() const { return img_.height; }
@@ -67,7 +71,7 @@ class EnvironmentMap {
   bool uniform_ = false;
   Eigen::Vector3d uniform_rgb_ = Eigen::Vector3d::Zero();
   double rotation_u_ = 0;  // rotation / (2 pi)
-  Distribution2D dist_;
+  PiecewiseConstant2D dist_;
 };
 
 }  // namespace microbrdf::pt

@@ -57,7 +57,8 @@ LightSet::LightSet(const RenderLights& lights) : l_(lights) {
   count_ = (env_ ? 1 : 0) + int(l_.points.size() + l_.spheres.size() + l_.disks.size());
 }
 
-std::optional<LightSample> LightSet::sample(const V3& x, double uc, double u1, double u2) const {
+std::optional<LightSample> LightSet::sample(const V3& x, double uc, double u1, double u2,
+                                            double u3) const {
   if (count_ == 0) return std::nullopt;
   int i = std::min(int(uc * count_), count_ - 1);
   const double choose = 1.0 / count_;
@@ -65,9 +66,8 @@ std::optional<LightSample> LightSet::sample(const V3& x, double uc, double u1, d
   if (env_) {
     if (i == 0) {
       double pdf;
-      s.dir = env_->sample(u1, u2, pdf);
+      s.dir = env_->sample(u1, u2, u3, pdf, &s.rgb);
       if (!(pdf > 0)) return std::nullopt;
-      s.rgb = env_->rgb(s.dir);
       s.pdf = pdf * choose;
       s.distance = kInf;
       return s;
@@ -158,8 +158,9 @@ V3 LightSet::env_rgb(const V3& d, double& pdf) const {
     pdf = 0;
     return V3::Zero();
   }
-  pdf = env_->pdf(d) / count_;
-  return env_->rgb(d);
+  const V3 rgb = env_->rgb_and_pdf(d, pdf);
+  pdf /= count_;
+  return rgb;
 }
 
 }  // namespace microbrdf::pt

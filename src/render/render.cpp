@@ -25,6 +25,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "render/lights.hpp"
+#include "render/material.hpp"
 #include "render/scene.hpp"
 #include "render/spectral.hpp"
 
@@ -63,7 +64,7 @@ double power_heuristic(double a, double b) {
 struct PathContext {
   const pt::PreviewGeometry& geo;
   const pt::LightSet& lights;
-  const std::vector<std::shared_ptr<const Svbrdf>>& mats;
+  const std::vector<pt::SpectralMaterial>& mats;
   const RenderOptions& opt;
   const pt::SpectralTables& spec;
 };
@@ -106,15 +107,16 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
       return rays;
     }
     if (depth >= c.opt.max_depth) return rays;
-    const Svbrdf& m = *c.mats[c.mats.size() == 1 ? 0 : sp.object];
+    const pt::SpectralMaterial& mat = c.mats[c.mats.size() == 1 ? 0 : sp.object];
+    const Svbrdf& m = mat.svbrdf();
     const V3 wv = sp.to_local(-d);  // towards the viewer
     if (!(wv.z() > 0)) return rays;
     const V3 origin = sp.p + eps * sp.ng;
 
     // Next-event estimation.
     if (use_nee && c.lights.count() > 0) {
-      const double uc = rng.next(), u1 = rng.next(), u2 = rng.next();
-      if (auto ls = c.lights.sample(origin, uc, u1, u2)) {
+      const double uc = rng.next(), u1 = rng.next(), u2 = rng.next(), u3 = rng.next();
+      if (auto ls = c.lights.sample(origin, uc, u1, u2, u3)) {
         const V3 wl = sp.to_local(ls->dir);
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
           ++rays;
@@ -127,10 +129,10 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
             if (!ls->delta && c.opt.mis == MisMode::mis)
               w = power_heuristic(ls->pdf, m.pdf(sp.u, sp.v, wv, wl));
             const double scale = w * wl.z() / ls->pdf;
-            for (int k = 0; k < n; ++k) {
-              const double f = m.eval(sp.u, sp.v, wl, wv, lm[k]);
-              if (f != 0) L[k] += T[k] * f * scale * c.spec.upsample(ls->rgb, lambda_nm[k]);
-            }
+            double f[pt::kMaxWavelengths];
+            mat.eval(sp.u, sp.v, wl, wv, lm, n, f);
+            for (int k = 0; k < n; ++k)
+              if (f[k] != 0) L[k] += T[k] * f[k] * scale * c.spec.upsample(ls->rgb, lambda_nm[k]);
           }
         }
       }
@@ -142,7 +144,9 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
     if (!s || !(s->weight > 0) || !(s->wo.z() > 0)) return rays;
     const V3 wl = s->wo;
     if (s->pdf > 0 && std::isfinite(s->pdf)) {
-      for (int k = 0; k < n; ++k) T[k] *= m.eval(sp.u, sp.v, wl, wv, lm[k]) * wl.z() / s->pdf;
+      double f[pt::kMaxWavelengths];
+      mat.eval(sp.u, sp.v, wl, wv, lm, n, f);
+      for (int k = 0; k < n; ++k) T[k] *= f[k] * wl.z() / s->pdf;
       specular = false;
       prev_pdf = s->pdf;
     } else {
@@ -196,7 +200,9 @@ RenderImage render(const RenderScene& scene,
   const pt::LightSet ls(lights);
   if (ls.count() == 0) throw InputError("render: no light (give an environment map or lights)");
   const auto& spec = pt::SpectralTables::get();
-  const PathContext ctx{geo, ls, materials, opt, spec};
+  std::vector<pt::SpectralMaterial> mats;
+  for (const auto& m : materials) mats.emplace_back(m);
+  const PathContext ctx{geo, ls, mats, opt, spec};
   const Eigen::Matrix3d to_rgb = xyz_to_linear_srgb_matrix();
 
   RenderImage img;

@@ -64,29 +64,36 @@ Camera preview_camera(PreviewScene s) {
 PreviewGeometry::PreviewGeometry(const RenderScene& scene) : scene_(scene) {
   device_ = rtcNewDevice("threads=1");
   if (!device_) throw std::runtime_error("Embree: cannot create a device");
-  rtc_ = rtcNewScene(device_);
-  rtcSetSceneFlags(rtc_, RTC_SCENE_FLAG_ROBUST);
-  camera_ = preview_camera(scene.kind);
-  switch (scene.kind) {
-    case PreviewScene::cylinders:
-      build_cylinder(V3(-kCylX, 0, 0), kCylR, kCylHalf, 0);
-      build_cylinder(V3(kCylX, 0, 0), kCylR, kCylHalf, M_PI / 2);
-      break;
-    case PreviewScene::plate:
-      build_plate(kPlateHalf);
-      break;
-    case PreviewScene::sphere:
-    case PreviewScene::furnace_sphere:
-      add_sphere(V3::Zero(), 1);
-      break;
-    case PreviewScene::vase:
-      build_vase();
-      break;
-    case PreviewScene::obj:
-      build_obj(scene.obj_path);
-      break;
+  try {
+    rtc_ = rtcNewScene(device_);
+    rtcSetSceneFlags(rtc_, RTC_SCENE_FLAG_ROBUST);
+    camera_ = preview_camera(scene.kind);
+    switch (scene.kind) {
+      case PreviewScene::cylinders:
+        build_cylinder(V3(-kCylX, 0, 0), kCylR, kCylHalf, 0);
+        build_cylinder(V3(kCylX, 0, 0), kCylR, kCylHalf, M_PI / 2);
+        break;
+      case PreviewScene::plate:
+        build_plate(kPlateHalf);
+        break;
+      case PreviewScene::sphere:
+      case PreviewScene::furnace_sphere:
+        add_sphere(V3::Zero(), 1);
+        break;
+      case PreviewScene::vase:
+        build_vase();
+        break;
+      case PreviewScene::obj:
+        build_obj(scene.obj_path);
+        break;
+    }
+    rtcCommitScene(rtc_);
+  } catch (...) {
+    // The destructor does not run for a constructor that throws (an unreadable OBJ).
+    if (rtc_) rtcReleaseScene(rtc_);
+    rtcReleaseDevice(device_);
+    throw;
   }
-  rtcCommitScene(rtc_);
 }
 
 PreviewGeometry::~PreviewGeometry() {

@@ -26,7 +26,7 @@ SpectralTables::SpectralTables() {
   // Three in-gamut colours c_i (columns of M, rows summing to 1) and smooth spectra T_i with
   // those colours; T_3 = 1 - T_1 - T_2 has colour 1 - c_1 - c_2 = c_3 by linearity. The basis
   // S = T M^-1 then has colours e_r, e_g, e_b and S_r + S_g + S_b = T M^-1 1 = T 1 = 1.
-  const double a = 0.6, b = 0.2;
+  const double a = 0.8, b = 0.1;
   Eigen::Matrix3d m;
   m << a, b, b, b, a, b, b, b, a;
   const Spectrum t1 = smooth_reflectance_from_linear_srgb(Eigen::Vector3d(a, b, b));
