@@ -177,6 +177,47 @@ TEST(texture, SynthesisFromTwoDimensionalExemplarKeepsStatistics) {
   EXPECT_EQ(a.meta.at("seed"), 5);
 }
 
+// Exemplars whose alphas crowd the lower bound (narrow brushed texels, skewed distribution):
+// clamping at alpha_min must not cost the mean, the variance or the spectra their 5 %.
+TEST(texture, SynthesisNearTheRangeLimitKeepsStatistics) {
+  ParamTexture ex = random_exemplar(48, 48, 4, 3, 11);
+  for (auto& v : ex.channel[0])
+    v = static_cast<float>(std::exp(std::log(0.003) + (v - 0.007) / 0.0015 * 0.6));
+  SynthesisOptions o;
+  o.size = 192;
+  double dm = 0, dv = 0, ds = 0;
+  for (int seed = 1; seed <= 3; ++seed) {
+    o.seed = static_cast<std::uint64_t>(seed);
+    const ParamTexture t = synthesize_texture(ex, o);
+    EXPECT_TRUE(in_range(t));
+    const ChannelStats a = channel_stats(ex, 0), b = channel_stats(t, 0);
+    dm += std::fabs(b.mean / a.mean - 1) / 3;
+    dv += std::fabs(b.variance / a.variance - 1) / 3;
+    ds += band_spectrum_error(line_power_spectrum(ex, 0, 0), ex.nx, ex.texel_m,
+                              line_power_spectrum(t, 0, 0), t.nx, t.texel_m) /
+          3;
+    EXPECT_GT(t.meta.at("clamped_texels").at("alpha_x").get<std::size_t>(), 0u);
+  }
+  std::printf("alpha_x near alpha_min: mean %.2e, variance %.2e, spectrum %.2e off\n", dm, dv, ds);
+  EXPECT_LT(dm, 0.05);
+  EXPECT_LT(dv, 0.05);
+  EXPECT_LT(ds, 0.05);
+  // The log-normal option: whichever field is kept, the same guarantees.
+  o.lognormal_alpha = true;
+  o.seed = 1;
+  const ParamTexture t = synthesize_texture(ex, o);
+  const std::string kind = t.meta.at("field").at("alpha_x");
+  EXPECT_TRUE(kind == "log-normal" || kind == "gaussian") << kind;
+  const ChannelStats a = channel_stats(ex, 0), b = channel_stats(t, 0);
+  EXPECT_NEAR(b.mean / a.mean, 1.0, 0.05);
+  EXPECT_NEAR(b.variance / a.variance, 1.0, 0.05);
+  EXPECT_LT(band_spectrum_error(line_power_spectrum(ex, 0, 0), ex.nx, ex.texel_m,
+                                line_power_spectrum(t, 0, 0), t.nx, t.texel_m),
+            0.05);
+  EXPECT_TRUE(in_range(t));
+  std::printf("log-normal option kept the %s field for alpha_x\n", kind.c_str());
+}
+
 TEST(texture, SynthesisFromStripsUsesEachAxis) {
   // Dong's exemplars: a 100 x 1 strip along the brushing, a 1 x 100 strip across; different
   // correlation lengths along x and y, so each axis' spectrum must come from its own strip.

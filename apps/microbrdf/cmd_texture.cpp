@@ -26,7 +26,9 @@ struct TextureArgs {
   std::uint64_t seed = 1;
   std::string output, texels_out, preview;
   bool no_preview = false;
+  std::size_t preview_size = 512;
   bool tent = false;
+  bool lognormal = false;
   bool json = false;
   ReadFlags read;
 };
@@ -113,6 +115,7 @@ void run(const TextureArgs& a) {
     SynthesisOptions so;
     so.size = a.size;
     so.seed = a.seed;
+    so.lognormal_alpha = a.lognormal;
     so.texel_m = a.pitch.empty() ? 0.0 : parse_length(a.pitch);
     if (strips) {
       const ParamTexture along = exemplar(a.along, a, false, "along");
@@ -138,7 +141,7 @@ void run(const TextureArgs& a) {
   }
   write_param_texture(out, a.output);
   const std::string pv = preview_path(a);
-  if (!pv.empty()) write_param_preview(out, pv);
+  if (!pv.empty()) write_param_preview(out, pv, a.preview_size);
   j["output"] = a.output;
   j["preview"] = pv;
   j.update(summary(out));
@@ -213,12 +216,16 @@ void register_texture(CLI::App& app) {
   c->add_option("--size", a->size, "Synthesise an N x N texture (omit: fit only)");
   c->add_option("--pitch", a->pitch, "Output texel pitch (default: the exemplar's)");
   c->add_option("--seed", a->seed, "Random phases' seed")->capture_default_str();
+  c->add_flag("--lognormal-alpha", a->lognormal,
+              "Also try log-normal alpha fields; keep whichever matches the spectra better");
   c->add_option("-o,--output", a->output, "Output parameter texture (.exr)")->required();
   c->add_option("--texels-out", a->texels_out,
                 "Synthesis: also write the fitted exemplar texels (strips: FILE.along.exr, "
                 "FILE.across.exr)");
   c->add_option("--preview", a->preview, "Preview PNG (default: OUT with .png)");
   c->add_flag("--no-preview", a->no_preview, "Write no preview");
+  c->add_option("--preview-size", a->preview_size, "Longest side of each preview panel, pixels")
+      ->capture_default_str();
   c->add_flag("--json", a->json, "Print a JSON summary on stdout");
   add_read_flags(c, a->read, "plane");
   c->callback([a] { run_guarded("texture", [&] { run(*a); }); });

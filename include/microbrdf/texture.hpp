@@ -83,6 +83,11 @@ struct SynthesisOptions {
   std::size_t size = 2048;  ///< output is size x size texels
   double texel_m = 0;       ///< output pitch; 0 = the exemplars' pitch
   std::uint64_t seed = 1;
+  /// Added: synthesise alpha_x, alpha_y as log-normal fields (exp of a Gaussian field whose
+  /// correlation is pre-distorted so that the alphas get the exemplar's spectrum, mean and
+  /// variance): positive and right-skewed like the fitted alphas, so far fewer texels are clamped
+  /// at alpha_min than with a Gaussian field (docs/texture.md). false = D15's Gaussian field.
+  bool lognormal_alpha = false;
 };
 /// Separable synthesis from an exemplar strip along the brushing direction (its 1D spectra along
 /// x) and one across (along y): per-parameter amplitude spectra, outer product, resampling to the

@@ -153,11 +153,10 @@ ParamTexture read_param_texture(const std::string& path) {
 
 void write_param_preview(const ParamTexture& t, const std::string& path, std::size_t max_panel) {
   if (t.size() == 0) throw FileError(path, "cannot preview an empty parameter texture");
-  // Panel size: nearest-texel resampling so that the long side is at most max_panel (and at
-  // least 64 pixels for tiny exemplars).
+  // Panel size: nearest-texel resampling so that the long side is max_panel pixels (small
+  // exemplars are enlarged, large textures reduced).
   const double longest = static_cast<double>(std::max(t.nx, t.ny));
-  const double scale =
-      std::clamp(static_cast<double>(max_panel) / longest, 1e-6, std::max(1.0, 64.0 / longest));
+  const double scale = static_cast<double>(std::max<std::size_t>(max_panel, 16)) / longest;
   const auto pw = std::max<std::size_t>(1, static_cast<std::size_t>(t.nx * scale));
   const auto ph = std::max<std::size_t>(1, static_cast<std::size_t>(t.ny * scale));
   const int ts = 2;

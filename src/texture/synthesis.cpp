@@ -139,6 +139,40 @@ std::vector<double> random_phase_field(const std::vector<double>& amp, std::size
   return f;
 }
 
+std::vector<double> lognormal_amplitudes(const std::vector<double>& amp, std::size_t nx,
+                                         std::size_t ny, double mean, double variance) {
+  // A log-normal field L = exp(G), G Gaussian with variance s^2, has the normalised correlation
+  // rho_L = (exp(s^2 rho_G) - 1) / (exp(s^2) - 1). For L to have the designed spectrum amp^2
+  // (correlation rho_L), G needs rho_G = ln(1 + rho_L (e^{s^2} - 1)) / s^2: correlation from the
+  // spectrum (inverse FFT), transformed, back to a spectrum (FFT), negative rounding clipped.
+  const std::size_t h = nx / 2 + 1;
+  const double s2 = std::log(1 + variance / (mean * mean));
+  if (!(s2 > 1e-12)) return amp;
+  std::vector<std::complex<double>> p(h * ny);
+  for (std::size_t i = 0; i < p.size(); ++i) p[i] = amp[i] * amp[i];
+  std::vector<double> acf = fft2_c2r(nx, ny, std::move(p));
+  const double r0 = acf[0];
+  if (!(r0 > 0)) return amp;
+  const double e = std::expm1(s2);
+  for (double& v : acf) v = std::log(std::max(1e-12, 1 + (v / r0) * e)) / s2;
+  const auto g = fft2_r2c(nx, ny, acf);
+  std::vector<double> out(h * ny);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = std::sqrt(std::max(0.0, g[i].real()));
+  out[0] = 0;  // the mean is set separately
+  return out;
+}
+
+void to_lognormal(std::vector<double>& f, double mean, double variance) {
+  const double s2 = std::log(1 + variance / (mean * mean));
+  double m = 0, v = 0;
+  for (double x : f) m += x;
+  m /= static_cast<double>(f.size());
+  for (double x : f) v += (x - m) * (x - m);
+  const double sd = std::sqrt(v / static_cast<double>(f.size()));
+  const double mu = std::log(mean) - s2 / 2, s = std::sqrt(s2);
+  for (double& x : f) x = std::exp(mu + s * (sd > 0 ? (x - m) / sd : 0.0));
+}
+
 }  // namespace detail
 
 namespace {
@@ -167,6 +201,136 @@ void clamp_range(int c, double& v) {
     v = std::clamp(v, -half_pi, half_pi);
 }
 
+// Shift and scale f to the target mean and variance, clamp to the valid range; clamping a tail
+// moves the mean and variance (alphas are skewed: a Gaussian field reaches alpha_min where the
+// exemplar does not), so offset and gain are re-solved until the clamped values have them (to
+// 1e-4). Returns the number of clamped values.
+std::size_t match_clamp(const std::vector<double>& f, int c, const ChannelStats& target,
+                        std::vector<float>& ch) {
+  double mean = 0, var = 0;
+  for (double v : f) mean += v;
+  mean /= static_cast<double>(f.size());
+  for (double v : f) var += (v - mean) * (v - mean);
+  var /= static_cast<double>(f.size());
+  const double sd = std::sqrt(var), want_sd = std::sqrt(target.variance);
+  double offset = target.mean, gain = sd > 0 ? want_sd / sd : 0.0;
+  ch.assign(f.size(), 0.0f);
+  std::size_t clipped = 0;
+  for (int pass = 0; pass < 8; ++pass) {
+    clipped = 0;
+    double m = 0, m2 = 0;
+#pragma omp parallel for reduction(+ : clipped, m) schedule(static)
+    for (long i = 0; i < static_cast<long>(f.size()); ++i) {
+      double v = offset + (f[static_cast<std::size_t>(i)] - mean) * gain;
+      const double before = v;
+      clamp_range(c, v);
+      clipped += v != before;
+      ch[static_cast<std::size_t>(i)] = static_cast<float>(v);
+      m += v;
+    }
+    m /= static_cast<double>(f.size());
+#pragma omp parallel for reduction(+ : m2) schedule(static)
+    for (long i = 0; i < static_cast<long>(f.size()); ++i) {
+      const double d = ch[static_cast<std::size_t>(i)] - m;
+      m2 += d * d;
+    }
+    const double got_sd = std::sqrt(m2 / static_cast<double>(f.size()));
+    if (clipped == 0 || !(got_sd > 0) ||
+        (std::fabs(m - target.mean) <= 1e-4 * want_sd && std::fabs(got_sd / want_sd - 1) < 1e-4))
+      break;
+    offset += target.mean - m;
+    gain *= want_sd / got_sd;
+  }
+  return clipped;
+}
+
+struct Candidate {
+  std::vector<float> values;
+  std::size_t clipped = 0;
+  bool lognormal = false;
+  double spectrum_error = 0;
+};
+
+// Exemplar grids of the two axes (bands the spectra are compared in).
+struct Grids {
+  std::size_t nx_e, ny_e;
+  double px_e, py_e, pitch;
+};
+
+// Relative L2 distance between the output's line amplitude spectra along x and y and the design
+// (sx, sy: one-sided power per output bin), gathered into the exemplar's bands (what acceptance
+// measures), each normalised to unit power.
+double design_error(const std::vector<float>& v, std::size_t n, const std::vector<double>& sx,
+                    const std::vector<double>& sy, const Grids& g) {
+  double mean = 0;
+  for (float x : v) mean += x;
+  mean /= static_cast<double>(v.size());
+  double err = 0;
+  for (int axis = 0; axis < 2; ++axis) {
+    std::vector<double> a(v.size());
+    for (std::size_t iy = 0; iy < n; ++iy)
+      for (std::size_t ix = 0; ix < n; ++ix)
+        a[axis == 0 ? ix + n * iy : iy + n * ix] = v[ix + n * iy] - mean;
+    const auto spec = detail::fft2_r2c(n, n, a);
+    const std::size_t h = n / 2 + 1;
+    const auto& design = axis == 0 ? sx : sy;
+    std::vector<double> p(h, 0.0);
+    for (std::size_t l = 0; l < n; ++l)
+      for (std::size_t k = 1; k < h; ++k) p[k] += std::norm(spec[l * h + k]);
+    const std::size_t ne = axis == 0 ? g.nx_e : g.ny_e;
+    const double pe = axis == 0 ? g.px_e : g.py_e;
+    std::vector<double> bp(ne / 2 + 1, 0.0), bd(ne / 2 + 1, 0.0);
+    double sp = 0, sd = 0;
+    for (std::size_t k = 1; k < h; ++k) {
+      p[k] *= (2 * k == n) ? 1.0 : 2.0;
+      const std::size_t j = detail::exemplar_band(k, ne, pe, n, g.pitch);
+      if (j >= 1 && j < bp.size()) {
+        bp[j] += p[k];
+        bd[j] += design[k];
+        sp += p[k];
+        sd += design[k];
+      }
+    }
+    if (!(sp > 0) || !(sd > 0)) continue;
+    double num = 0, den = 0;
+    for (std::size_t j = 1; j < bp.size(); ++j) {
+      const double x = std::sqrt(bp[j] / sp), y = std::sqrt(bd[j] / sd);
+      num += (x - y) * (x - y);
+      den += y * y;
+    }
+    err += std::sqrt(num / den);
+  }
+  return err;
+}
+
+Candidate make_candidate(const std::vector<double>& amp, std::size_t n, int c,
+                         const ChannelStats& target, std::uint64_t seed, bool lognormal,
+                         const std::vector<double>& sx, const std::vector<double>& sy,
+                         const Grids& g, bool compare) {
+  Candidate out;
+  out.lognormal = lognormal;
+  std::vector<double> f = detail::random_phase_field(
+      lognormal ? detail::lognormal_amplitudes(amp, n, n, target.mean, target.variance) : amp, n, n,
+      seed, static_cast<std::uint64_t>(c));
+  if (lognormal) detail::to_lognormal(f, target.mean, target.variance);
+  out.clipped = match_clamp(f, c, target, out.values);
+  // A clamped tail changes the spectrum too (clipping whitens it). Iterative amplitude adjustment
+  // (Schreiber & Schmitz 1996): put the designed moduli back under the field's own phases, invert,
+  // match and clamp again; a few rounds bring spectrum, mean, variance and range together.
+  for (int round = 0; round < 6 && out.clipped > 0; ++round) {
+    std::vector<double> v(out.values.begin(), out.values.end());
+    auto spec = detail::fft2_r2c(n, n, v);
+    for (std::size_t i = 0; i < spec.size(); ++i) {
+      const double m = std::abs(spec[i]);
+      spec[i] = m > 0 ? spec[i] * (amp[i] / m) : std::complex<double>(amp[i], 0.0);
+    }
+    out.clipped = match_clamp(detail::fft2_c2r(n, n, std::move(spec)), c, target, out.values);
+  }
+  // Only when there are two candidates to choose from (two FFTs).
+  out.spectrum_error = compare ? design_error(out.values, n, sx, sy, g) : 0.0;
+  return out;
+}
+
 }  // namespace
 
 ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& across,
@@ -187,7 +351,9 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
   ParamTexture out = ParamTexture::empty(n, n, pitch, "");
   std::fill(out.valid.begin(), out.valid.end(), 1);
   const std::size_t h = n / 2 + 1;
-  nlohmann::json stats = nlohmann::json::object(), clamped = nlohmann::json::object();
+  nlohmann::json stats = nlohmann::json::object(), clamped = nlohmann::json::object(),
+                 field = nlohmann::json::object();
+  const Grids grids{along.nx, across.ny, along.texel_m, across.texel_m, pitch};
   for (int c = 0; c < 5; ++c) {
     const ChannelStats target = &along == &across
                                     ? channel_stats(along, c)
@@ -208,46 +374,17 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
       const double wy = two_sided(sy, ky);
       for (std::size_t kx = 0; kx < h; ++kx) amp[ky * h + kx] = std::sqrt(two_sided(sx, kx) * wy);
     }
-    std::vector<double> f =
-        detail::random_phase_field(amp, n, n, options.seed, static_cast<std::uint64_t>(c));
-    double mean = 0, var = 0;
-    for (double v : f) mean += v;
-    mean /= static_cast<double>(f.size());
-    for (double v : f) var += (v - mean) * (v - mean);
-    var /= static_cast<double>(f.size());
-    // Mean and variance of the exemplar, then the valid range. Clamping a tail moves the mean and
-    // variance (alphas are skewed: a Gaussian field reaches alpha_min where the exemplar does
-    // not), so offset and gain are re-solved a few times until the clamped texture has them.
-    const double sd = std::sqrt(var);
-    double offset = target.mean, gain = sd > 0 ? std::sqrt(target.variance) / sd : 0.0;
-    std::size_t clipped = 0;
-    auto& ch = out.channel[static_cast<std::size_t>(c)];
-    for (int pass = 0; pass < 8; ++pass) {
-      clipped = 0;
-      double m = 0, m2 = 0;
-#pragma omp parallel for reduction(+ : clipped, m) schedule(static)
-      for (long i = 0; i < static_cast<long>(f.size()); ++i) {
-        double v = offset + (f[static_cast<std::size_t>(i)] - mean) * gain;
-        const double before = v;
-        clamp_range(c, v);
-        clipped += v != before;
-        ch[static_cast<std::size_t>(i)] = static_cast<float>(v);
-        m += v;
-      }
-      m /= static_cast<double>(f.size());
-#pragma omp parallel for reduction(+ : m2) schedule(static)
-      for (long i = 0; i < static_cast<long>(f.size()); ++i) {
-        const double d = ch[static_cast<std::size_t>(i)] - m;
-        m2 += d * d;
-      }
-      const double got_sd = std::sqrt(m2 / static_cast<double>(f.size()));
-      const double want_sd = std::sqrt(target.variance);
-      if (clipped == 0 || !(got_sd > 0) ||
-          (std::fabs(m - target.mean) <= 1e-4 * want_sd && std::fabs(got_sd / want_sd - 1) < 1e-4))
-        break;
-      offset += target.mean - m;
-      gain *= want_sd / got_sd;
+    // D15's Gaussian field; for alphas optionally also a log-normal field, keeping the one whose
+    // line spectra are nearer the design (docs/texture.md).
+    const bool both = options.lognormal_alpha && c < 2 && target.mean > 0;
+    Candidate best = make_candidate(amp, n, c, target, options.seed, false, sx, sy, grids, both);
+    if (both) {
+      Candidate ln = make_candidate(amp, n, c, target, options.seed, true, sx, sy, grids, true);
+      if (ln.spectrum_error < best.spectrum_error) best = std::move(ln);
     }
+    out.channel[static_cast<std::size_t>(c)] = std::move(best.values);
+    const std::size_t clipped = best.clipped;
+    field[ParamTexture::channel_names[c]] = best.lognormal ? "log-normal" : "gaussian";
     stats[ParamTexture::channel_names[c]] = {
         {"mean", target.mean}, {"variance", target.variance}, {"texels", target.count}};
     clamped[ParamTexture::channel_names[c]] = clipped;
@@ -267,6 +404,7 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
       {"exemplar_size", {{"along", {along.nx, along.ny}}, {"across", {across.nx, across.ny}}}},
       {"exemplar_stats", stats},
       {"clamped_texels", clamped},
+      {"field", field},
       {"sources", sources}};
   return out;
 }

@@ -29,4 +29,12 @@ std::vector<double> random_phase_field(const std::vector<double>& amp, std::size
                                        std::size_t ny, std::uint64_t seed, std::uint64_t stream,
                                        bool direct = false);
 
+/// Half-spectrum amplitudes of the Gaussian field G whose exponential exp(G), with the log-normal
+/// mean and variance given, has the power spectrum amp^2 (up to a constant): the correlation is
+/// pre-distorted as rho_G = ln(1 + rho_L (e^{s^2} - 1)) / s^2, s^2 = ln(1 + variance / mean^2).
+std::vector<double> lognormal_amplitudes(const std::vector<double>& amp, std::size_t nx,
+                                         std::size_t ny, double mean, double variance);
+/// Standardises f and maps it to exp(mu + s z) with the log-normal mean and variance given.
+void to_lognormal(std::vector<double>& f, double mean, double variance);
+
 }  // namespace microbrdf::detail
