@@ -241,6 +241,12 @@ TEST(Predict, ReplacesItsOwnOutputButNoOtherFolder) {
   const PredictResult r = predict(o, t / "out");  // an earlier report: replaced
   EXPECT_EQ(nlohmann::json::parse(slurp(r.summary_path))["material"]["name"], "Al");
 
+  // A trailing slash names the same folder (the staging folder goes beside it, not into it).
+  predict(o, t / "out/");
+  EXPECT_TRUE(fs::exists(t / "out/summary.json"));
+  EXPECT_EQ(entries(t.path), 2u);  // scan.x3p and out
+  EXPECT_THROW(predict(o, t / "."), InputError);
+
   fs::create_directories(t / "mine");
   { std::ofstream(t / "mine/notes.txt") << "keep"; }
   EXPECT_THROW(predict(o, t / "mine"), FileError);

@@ -193,10 +193,17 @@ void check_predict_options(const PredictOptions& o) {
   check_inputs_exist(paths, "scan");
 }
 
-PredictResult predict(const PredictOptions& o, const std::string& out_dir) {
+PredictResult predict(const PredictOptions& o, const std::string& out_dir_given) {
   const auto t_start = Clock::now();
   check_predict_options(o);
+  // "out/" names the folder "out": the staging folder goes beside it, not into it.
+  std::string out_dir = out_dir_given;
+  while (out_dir.size() > 1 && out_dir.back() == '/') out_dir.pop_back();
   if (out_dir.empty()) throw InputError("no output folder given");
+  const std::string leaf = fs::path(out_dir).filename().string();
+  if (leaf == "." || leaf == ".." || out_dir == "/")
+    throw InputError("output folder '" + out_dir_given +
+                     "': give the folder a name (e.g. -o report)");
   if (!replaceable(out_dir))
     throw FileError(out_dir,
                     "exists and is not a predict output (no summary.json/report.html); "
