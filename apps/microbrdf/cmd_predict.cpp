@@ -133,7 +133,8 @@ void register_predict(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--seed", a->seed, "Seed of the renders and the texture synthesis")
       ->capture_default_str();
-  c->add_option("--threads", a->threads, "Threads (0 = all cores); the same count gives bit-identical numbers")
+  c->add_option("--threads", a->threads,
+                "Threads (0 = all cores); the same count gives bit-identical numbers")
       ->capture_default_str();
   c->add_flag("--quiet", a->quiet, "No progress on stderr");
   c->add_flag("--json", a->json, "Print a JSON object (paths, fits, timing) on stdout");
