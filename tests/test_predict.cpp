@@ -293,3 +293,43 @@ TEST(Predict, StripsGiveASynthesisedTexture) {
             tx["along"]["channels"]["alpha_y"]["mean"].get<double>());
   EXPECT_TRUE(fs::exists(t / "out/img/render_texture.png"));
 }
+
+// A real Zygo MetroPro scan (tests/data/metropro-1.dat, provenance in tests/data/README.md):
+// its ACF never falls to 1/e along y within the scan, so that correlation length does not exist;
+// the summary says null and the report says so in words, never "nan".
+TEST(Predict, RealScanWithACorrelationLengthBeyondTheScan) {
+  TempDir t;
+  PredictOptions o = small_options(std::string(MICROBRDF_TEST_DATA) + "/metropro-1.dat");
+  o.ndf_resolution = 129;
+  const PredictResult r = predict(o, t / "out");
+  const auto& in = r.summary["inputs"][0];
+  EXPECT_EQ(in["stats"]["nx"], 640);
+  EXPECT_NEAR(in["stats"]["dx_m"].get<double>(), 1.0982520e-6, 1e-12);
+  // Plane removed: Sq 13.3 nm (tests/data/README.md reference: 1.3335e-08 m).
+  EXPECT_NEAR(in["stats"]["sq_m"].get<double>(), 1.3335e-8, 2e-11);
+  EXPECT_TRUE(in["stats"]["corr_length_y_m"].is_null());
+  EXPECT_TRUE(in["stats"]["corr_length_x_m"].is_number());
+  EXPECT_NE(in["instrument"].get<std::string>().find("Zygo"), std::string::npos);
+  const std::string html = slurp(r.report_path);
+  EXPECT_NE(html.find("not reached (ACF stays above 1/e over the scan)"), std::string::npos);
+  EXPECT_EQ(html.find(">nan"), std::string::npos);
+}
+
+// A perfectly flat scan: every normal is n and the NDF is one node (moments 0/0 where a formula
+// divides by Sq). The summary is strict JSON, equal in memory and on disk; the report shows no nan.
+TEST(Predict, FlatScanGivesNoNan) {
+  TempDir t;
+  Surface s(64, 48, 0.5e-6, 0.5e-6);
+  for (auto& z : s.z) z = 0;
+  write_surface(s, t / "flat.x3p");
+  PredictOptions o = small_options(t / "flat.x3p");
+  o.leveling = LevelingSpec::parse("none");
+  o.ndf_resolution = 129;
+  const PredictResult r = predict(o, t / "out");
+  const std::string html = slurp(r.report_path);
+  for (const char* bad : {">nan", ">-nan", ">inf", "nan<", "inf<"})
+    EXPECT_EQ(html.find(bad), std::string::npos) << bad;
+  EXPECT_EQ(nlohmann::json::parse(slurp(r.summary_path)), r.summary);
+  EXPECT_EQ(r.summary["inputs"][0]["stats"]["sq_m"], 0.0);
+  EXPECT_NEAR(r.summary["ndf"]["filtered"]["slope_rms_x"].get<double>(), 0.0, 1e-12);
+}

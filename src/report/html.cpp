@@ -100,7 +100,7 @@ std::string inline_svg(const std::string& path, const std::string& prefix) {
 }
 
 std::string num(double v, int digits) {
-  if (!std::isfinite(v)) throw std::logic_error("report: non-finite number");
+  if (!std::isfinite(v)) return "— (not defined for this input)";
   if (v == 0) return "0";
   char buf[48];
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);
@@ -108,7 +108,7 @@ std::string num(double v, int digits) {
 }
 
 std::string length(double metres, int digits) {
-  if (!std::isfinite(metres)) throw std::logic_error("report: non-finite length");
+  if (!std::isfinite(metres)) return "— (not defined for this input)";
   return format_length(metres, digits);
 }
 

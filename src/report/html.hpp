@@ -1,7 +1,6 @@
 #pragma once
 // Small pieces for writing the HTML report: escaping, base64 data URIs, inline SVG with unique
-// ids, and numbers printed with their units (never "nan" or "inf": callers pass a text for
-// values that do not exist).
+// ids, and numbers printed with their units (never "nan" or "inf").
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -23,8 +22,9 @@ std::string data_uri(const std::string& path, const std::string& mime);
 /// Throws FileError.
 std::string inline_svg(const std::string& path, const std::string& prefix);
 
-/// A number with `digits` significant digits ("0.0123", "1.23e+05"); non-finite values throw
-/// std::logic_error (the report never shows nan/inf: the caller decides what to say instead).
+/// A number with `digits` significant digits ("0.0123", "1.23e+05"); a non-finite value reads
+/// "— (not defined for this input)" (the report never shows nan/inf; callers that know why a
+/// value is missing say so themselves).
 std::string num(double v, int digits = 4);
 /// A length with an SI prefix ("110 nm").
 std::string length(double metres, int digits = 4);

@@ -142,6 +142,16 @@ nlohmann::json material_json(const OpticalConstants& m) {
           {"srgb_hex", srgb8_hex(c8)}};
 }
 
+/// Non-finite numbers become null, so the summary in memory is what summary.json holds (JSON has
+/// no NaN; nlohmann would write null anyway).
+void nulls_for_nonfinite(nlohmann::json& j) {
+  if (j.is_number_float() && !std::isfinite(j.get<double>())) {
+    j = nullptr;
+  } else if (j.is_structured()) {
+    for (auto& e : j) nulls_for_nonfinite(e);
+  }
+}
+
 }  // namespace
 
 namespace report {
@@ -251,6 +261,7 @@ PredictResult predict(const PredictOptions& o, const std::string& out_dir_given)
   timing["total_s"] = seconds_since(t_start);
   summary["timing"] = timing;
 
+  nulls_for_nonfinite(summary);
   const std::string html = render_report_html(summary, staging.dir().string());
   write_file_atomic(c.path("summary.json"), summary.dump(2) + "\n");
   write_file_atomic(c.path("report.html"), html);

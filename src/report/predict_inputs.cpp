@@ -17,6 +17,12 @@
 namespace microbrdf::report {
 namespace {
 
+/// A number, or null where it does not exist (a correlation length beyond the scan is NaN):
+/// the same in memory as in summary.json.
+nlohmann::json number_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
 nlohmann::json stats_record(const Surface& s, const SurfaceStats& st) {
   return {{"nx", st.nx},
           {"ny", st.ny},
@@ -35,9 +41,9 @@ nlohmann::json stats_record(const Surface& s, const SurfaceStats& st) {
           {"kurtosis", st.kurtosis},
           {"slope_rms_x", st.slope_rms_x},
           {"slope_rms_y", st.slope_rms_y},
-          {"corr_length_x_m", st.corr_length_x},
-          {"corr_length_y_m", st.corr_length_y},
-          {"corr_length_m", st.corr_length}};
+          {"corr_length_x_m", number_or_null(st.corr_length_x)},
+          {"corr_length_y_m", number_or_null(st.corr_length_y)},
+          {"corr_length_m", number_or_null(st.corr_length)}};
 }
 
 std::string file_name(const std::string& path) {

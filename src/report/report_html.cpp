@@ -16,10 +16,14 @@ using report::escape;
 
 constexpr double kDeg = 180.0 / M_PI;
 
-double d(const json& v) { return v.get<double>(); }
+// A quantity that does not exist for this input (null in the summary, e.g. the skewness of a
+// flat scan) reads "— (not defined for this input)" (report::num), never nan.
+double d(const json& v) { return v.is_number() ? v.get<double>() : std::nan(""); }
 std::string n4(const json& v) { return report::num(d(v)); }
 std::string len(const json& v) { return report::length(d(v)); }
-std::string deg(const json& v) { return report::num(d(v) * kDeg) + " deg"; }
+std::string deg(const json& v) {
+  return std::isfinite(d(v)) ? report::num(d(v) * kDeg) + " deg" : report::num(d(v));
+}
 std::string str(const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
 std::string or_dash(const json& v, const std::string& missing) {
   const std::string s = v.is_string() ? v.get<std::string>() : "";
