@@ -17,6 +17,7 @@ void register_plot(CLI::App& app);
 void register_brdf(CLI::App& app);
 void register_sun(CLI::App& app);
 void register_fit(CLI::App& app);
+void register_predict(CLI::App& app);
 void register_render(CLI::App& app);
 void register_texture(CLI::App& app);
 

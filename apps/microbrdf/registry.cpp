@@ -20,6 +20,7 @@ void register_all(CLI::App& app) {
   register_brdf(app);
   register_sun(app);
   register_fit(app);
+  register_predict(app);
   register_render(app);
   register_texture(app);
 }
