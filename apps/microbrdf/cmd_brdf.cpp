@@ -1,9 +1,12 @@
-// `microbrdf brdf slice|color`: the microfacet BRDF (Dong 2015 eq. 1) of a metal for an analytic
-// NDF, along in-plane / out-of-plane cuts, and the normal-incidence colour of a material.
+// `microbrdf brdf slice|color|info|sh-project`: the microfacet BRDF (Dong 2015 eq. 1) of a metal
+// for an analytic NDF, or a spherical-harmonic BRDF file (Westin 1992, --sh), along in-plane /
+// out-of-plane cuts; the normal-incidence colour of a material; a summary of a .shbrdf file; and
+// the projection of an analytic BRDF onto spherical harmonics.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 
@@ -14,6 +17,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/ndf_io.hpp"
 #include "microbrdf/plot.hpp"
+#include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "microbrdf/units.hpp"
 
@@ -28,6 +32,10 @@ struct MaterialArgs {
 struct BrdfArgs : ModelFlags {
   MaterialArgs mat;
   std::string ndf;  ///< tabulated NDF file (.npy/.exr) instead of an analytic model
+  std::string sh;   ///< spherical-harmonic BRDF file (.shbrdf) instead of model + material
+  int l_filter = -1;
+  double filter_width = 0;
+  int lmax = 12, n_theta = 0;
   bool model_given = false;
   std::string theta_i = "30deg", plane = "in", wavelength = "555nm", output, plot;
   bool log_y = false;
@@ -101,10 +109,13 @@ void check_plot_name(const std::string& path) {
     throw InputError("--plot " + path + ": plots are written as .png or .svg");
 }
 
-void run_slice(const BrdfArgs& a) {
-  if (a.output.empty() && a.plot.empty())
-    throw InputError("give an output: -o slice.csv and/or --plot slice.png|svg");
-  check_plot_name(a.plot);
+bool material_given(const MaterialArgs& m) {
+  return !m.metal.empty() || m.n > 0 || m.k >= 0 || !m.nk_csv.empty() || m.r0 >= 0 ||
+         !m.rgb.empty();
+}
+
+// The microfacet BRDF the model / --ndf / material flags describe.
+std::shared_ptr<MicrofacetBrdf> microfacet_brdf(const BrdfArgs& a) {
   auto d = distribution(a);
   auto mat = material(a.mat);
   std::shared_ptr<const Fresnel> f;
@@ -114,7 +125,44 @@ void run_slice(const BrdfArgs& a) {
     f = std::make_shared<SchlickFresnel>(mat.normal_reflectance_spectrum());
   else
     throw InputError("--fresnel must be exact or schlick");
-  MicrofacetBrdf b(d, f, a.separable);
+  return std::make_shared<MicrofacetBrdf>(d, f, a.separable);
+}
+
+// A .shbrdf file, optionally Gibbs-damped (--l-filter/--filter-width).
+std::shared_ptr<ShBrdf> sh_brdf(const BrdfArgs& a) {
+  auto b = std::make_shared<ShBrdf>(ShBrdf::load(a.sh));
+  if (a.l_filter >= 0 || a.filter_width > 0) {
+    if (a.l_filter < 0 || !(a.filter_width > 0))
+      throw InputError("--l-filter and --filter-width go together (l_filter >= 0, width > 0)");
+    b = std::make_shared<ShBrdf>(b->damped(a.l_filter, a.filter_width));
+  }
+  return b;
+}
+
+void run_slice(const BrdfArgs& a) {
+  if (a.output.empty() && a.plot.empty())
+    throw InputError("give an output: -o slice.csv and/or --plot slice.png|svg");
+  check_plot_name(a.plot);
+  std::shared_ptr<const Brdf> bp;
+  std::shared_ptr<const ShBrdf> sh;
+  std::string label;
+  if (!a.sh.empty()) {
+    if (a.model_given || a.alpha > 0 || a.alpha_x > 0 || a.alpha_y > 0 || !a.ndf.empty() ||
+        material_given(a.mat))
+      throw InputError(
+          "--sh replaces the model and the material: do not combine it with --model, --alpha*, "
+          "--ndf or material flags");
+    sh = sh_brdf(a);
+    bp = sh;
+    label = "SH BRDF " + a.sh;
+  } else {
+    if (a.l_filter >= 0 || a.filter_width > 0)
+      throw InputError("--l-filter/--filter-width apply to --sh only");
+    auto mf = microfacet_brdf(a);
+    label = a.ndf.empty() ? mf->distribution().describe() : "tabulated NDF " + a.ndf;
+    bp = mf;
+  }
+  const Brdf& b = *bp;
   const double ti = parse_angle(a.theta_i), lambda = parse_length(a.wavelength);
   if (!(ti >= 0 && ti < M_PI / 2)) throw InputError("--theta-i must lie in [0, 90) deg");
   if (a.plane != "in" && a.plane != "out") throw InputError("--plane must be in or out");
@@ -151,7 +199,6 @@ void run_slice(const BrdfArgs& a) {
     p.x.max = 90;
     if (a.log_y) p.y.scale = AxisScale::Log;
     PlotSeries series;
-    std::string label = a.ndf.empty() ? d->describe() : "tabulated NDF " + a.ndf;
     if (label.size() > 70) label = label.substr(0, 67) + "...";
     series.label = label;
     for (std::size_t i = 0; i < s.value.size(); ++i) {
@@ -164,11 +211,13 @@ void run_slice(const BrdfArgs& a) {
     p.write(a.plot);
   }
   Vec3 wi(-std::sin(ti), 0, std::cos(ti));
-  const double albedo = directional_albedo_sampled(b, wi, lambda, 256);
+  // The SH expansion has an exact albedo (hemisphere integrals of the basis).
+  const double albedo = sh ? sh->albedo(wi) : directional_albedo_sampled(b, wi, lambda, 256);
   if (a.json) {
     print_json({{"output", a.output},
                 {"plot", a.plot},
                 {"ndf", a.ndf},
+                {"sh", a.sh},
                 {"model", b.describe()},
                 {"theta_i_rad", ti},
                 {"wavelength_m", lambda},
@@ -187,6 +236,107 @@ void run_slice(const BrdfArgs& a) {
             .c_str(),
         peak, peak_angle, albedo);
   }
+}
+
+// Albedo a(theta_i) of an SH BRDF at azimuth 0 for a few angles (the expansion's exact integral).
+nlohmann::json albedo_table(const ShBrdf& b) {
+  nlohmann::json t = nlohmann::json::array();
+  for (double deg : {0.0, 30.0, 45.0, 60.0, 75.0, 85.0}) {
+    const double r = deg * M_PI / 180;
+    t.push_back({{"theta_i_deg", deg}, {"albedo", b.albedo(Vec3(std::sin(r), 0, std::cos(r)))}});
+  }
+  return t;
+}
+
+void run_info(const BrdfArgs& a) {
+  if (a.sh.empty()) throw InputError("give the file: brdf info --sh FILE.shbrdf");
+  const auto b = sh_brdf(a);
+  const auto& basis = b->basis();
+  const int n = basis.size();
+  const Eigen::Map<const Eigen::VectorXd> h(basis.hemisphere_integrals().data(), n);
+  const double hemi = h.dot(b->matrix() * h) / M_PI;
+  // Ringing diagnostic: where is the truncated f = rho cos cos negative? Grid of 9 x 8 incident
+  // and 18 x 36 outgoing directions (cell centres), as one matrix product.
+  std::vector<Vec3> wi, wo;
+  for (int t = 0; t < 9; ++t)
+    for (int p = 0; p < 8; ++p) {
+      const double th = (t + 0.5) * M_PI / 18, ph = p * M_PI / 4;
+      wi.emplace_back(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+    }
+  for (int t = 0; t < 18; ++t)
+    for (int p = 0; p < 36; ++p) {
+      const double th = (t + 0.5) * M_PI / 36, ph = (p + 0.5) * M_PI / 18;
+      wo.emplace_back(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+    }
+  Eigen::MatrixXd yi(n, wi.size()), yo(n, wo.size());
+  for (std::size_t k = 0; k < wi.size(); ++k) basis.eval(wi[k], yi.col(k).data());
+  for (std::size_t k = 0; k < wo.size(); ++k) basis.eval(wo[k], yo.col(k).data());
+  const Eigen::MatrixXd f = yi.transpose() * b->matrix() * yo;
+  const double neg = static_cast<double>((f.array() < 0).count()) / static_cast<double>(f.size());
+  const double fmin = f.minCoeff(), fmax = f.maxCoeff();
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(a.sh, ec);
+  const auto alb = albedo_table(*b);
+  if (a.json) {
+    print_json({{"path", a.sh},
+                {"lmax", b->lmax()},
+                {"size", n},
+                {"coefficients", static_cast<long long>(n) * n},
+                {"file_bytes", ec ? 0 : bytes},
+                {"isotropic", b->isotropic()},
+                {"albedo", alb},
+                {"hemispherical_albedo", hemi},
+                {"negative_fraction", neg},
+                {"min_cosine_weighted", fmin},
+                {"max_cosine_weighted", fmax},
+                {"describe", b->describe()},
+                {"meta", b->meta()}});
+    return;
+  }
+  std::printf("%s\n  %s\n", a.sh.c_str(), b->describe().c_str());
+  std::printf("  %d x %d coefficients (%lld in the full basis would be %d x %d), %s\n", n, n,
+              static_cast<long long>(n) * n, sh_count(b->lmax()), sh_count(b->lmax()),
+              ec ? "size unknown" : (std::to_string(bytes) + " bytes").c_str());
+  std::printf("  directional albedo:");
+  for (const auto& e : alb)
+    std::printf(" %g deg %.4f;", e["theta_i_deg"].get<double>(), e["albedo"].get<double>());
+  std::printf("\n  hemispherical albedo %.4f\n", hemi);
+  std::printf("  rho cos cos on a 72 x 648 direction grid: %.2f %% negative (min %.4g, max %.4g)\n",
+              100 * neg, fmin, fmax);
+  if (b->meta().contains("q"))
+    std::printf("  convergence Q (W92 eq. 27, 1/J^2) %.4g\n", b->meta()["q"].get<double>());
+  std::printf("  meta %s\n", b->meta().dump().c_str());
+}
+
+void run_project(const BrdfArgs& a) {
+  if (a.output.empty()) throw InputError("give the output: -o FILE.shbrdf");
+  if (a.lmax < 1 || a.lmax > kShMaxL)
+    throw InputError("--lmax must lie in [1, " + std::to_string(kShMaxL) + "]");
+  auto mf = microfacet_brdf(a);
+  const double lambda = parse_length(a.wavelength);
+  const int nt = a.n_theta > 0 ? a.n_theta : a.lmax + 8;
+  std::fprintf(stderr, "brdf sh-project: lmax %d, %d x %d quadrature nodes per hemisphere...\n",
+               a.lmax, nt, 2 * nt);
+  auto b = ShBrdf::project(*mf, a.lmax, lambda, nt,
+                           {{"ndf", a.ndf}, {"fresnel", a.fresnel}, {"separable_g", a.separable}});
+  b.save(a.output);
+  const auto alb = albedo_table(b);
+  if (a.json) {
+    print_json({{"output", a.output},
+                {"lmax", b.lmax()},
+                {"size", b.basis().size()},
+                {"model", mf->describe()},
+                {"wavelength_m", lambda},
+                {"n_theta", nt},
+                {"isotropic", b.isotropic()},
+                {"albedo", alb}});
+    return;
+  }
+  std::printf(
+      "%s\n  wrote %s: lmax %d, %d x %d coefficients; albedo at 0/45/75 deg %.4f %.4f %.4f\n",
+      mf->describe().c_str(), a.output.c_str(), b.lmax(), b.basis().size(), b.basis().size(),
+      alb[0]["albedo"].get<double>(), alb[2]["albedo"].get<double>(),
+      alb[4]["albedo"].get<double>());
 }
 
 void run_color(const BrdfArgs& a) {
@@ -221,7 +371,9 @@ void run_color(const BrdfArgs& a) {
 void register_brdf(CLI::App& app) {
   auto a = std::make_shared<BrdfArgs>();
   auto* brdf = app.add_subcommand(
-      "brdf", "Microfacet BRDF of a metal (Dong 2015 eq. 1) and material colours");
+      "brdf",
+      "Microfacet BRDF of a metal (Dong 2015 eq. 1), spherical-harmonic BRDF files (Westin 1992) "
+      "and material colours");
   brdf->require_subcommand(1);
   brdf->footer(
       "Frame: n = +z, light and view point away from the surface, BRDF in 1/sr. The light lies at\n"
@@ -234,6 +386,9 @@ void register_brdf(CLI::App& app) {
       "  microbrdf brdf slice --model ellipsoid --alpha-x 0.05 --alpha-y 0.2 --theta-x 5deg "
       "--metal Al \\\n"
       "      --theta-i 45 --plane out --wavelength 633nm -o out.csv --json\n"
+      "  microbrdf brdf sh-project --model ggx --alpha 0.3 --metal Al --lmax 16 -o ggx.shbrdf\n"
+      "  microbrdf brdf slice --sh ggx.shbrdf --theta-i 45deg -o sh.csv --plot sh.png\n"
+      "  microbrdf brdf info --sh sim.shbrdf --json\n"
       "  microbrdf brdf color --metal Au\n"
       "  microbrdf brdf color --rgb '#e6c27a' --json");
 
@@ -243,6 +398,14 @@ void register_brdf(CLI::App& app) {
   sl->add_option("--ndf", a->ndf,
                  "Tabulated NDF (.npy with its .json sidecar, or .exr; from `microbrdf ndf` or "
                  "`tabulate`) instead of --model/--alpha");
+  sl->add_option("--sh", a->sh,
+                 "Spherical-harmonic BRDF file (.shbrdf, Westin 1992; from `simulate` or "
+                 "`brdf sh-project`) instead of a model and a material; grey, so --wavelength is "
+                 "ignored");
+  sl->add_option("--l-filter", a->l_filter,
+                 "With --sh: Gibbs damping, keep l <= L_FILTER, attenuate above by "
+                 "exp(-(l-L_FILTER)^2/(2 WIDTH^2))");
+  sl->add_option("--filter-width", a->filter_width, "With --sh: the damping width WIDTH (in l)");
   add_material_flags(sl, a->mat);
   sl->add_option("--fresnel", a->fresnel, "exact (complex-index Fresnel) or schlick")
       ->capture_default_str();
@@ -260,6 +423,43 @@ void register_brdf(CLI::App& app) {
   sl->add_flag("--log-y", a->log_y, "Logarithmic BRDF axis in the plot");
   sl->add_flag("--json", a->json, "Print a JSON summary on stdout");
   sl->callback([a] { run_guarded("brdf slice", [&] { run_slice(*a); }); });
+
+  auto* in = brdf->add_subcommand(
+      "info", "Summary of a spherical-harmonic BRDF file: lmax, size, albedos, ringing, metadata");
+  in->add_option("--sh", a->sh, "The .shbrdf file")->required();
+  in->add_option("--l-filter", a->l_filter,
+                 "Gibbs damping: keep l <= L_FILTER (with --filter-width)");
+  in->add_option("--filter-width", a->filter_width, "Gibbs damping width (in l)");
+  in->add_flag("--json", a->json, "Print JSON on stdout");
+  in->footer(
+      "Albedo a(theta_i) = integral rho cos(theta_o) dw_o of the truncated expansion (exact, at\n"
+      "azimuth 0); hemispherical albedo = (1/pi) integral a cos(theta_i) dw_i; 'negative' is the\n"
+      "fraction of a direction grid where the expansion of rho cos cos rings below 0.\n"
+      "Example: microbrdf brdf info --sh sim.shbrdf --json");
+  in->callback([a] { run_guarded("brdf info", [&] { run_info(*a); }); });
+
+  auto* pj = brdf->add_subcommand(
+      "sh-project", "Project a microfacet BRDF onto spherical harmonics (a .shbrdf file)");
+  add_model_flags(pj, *a)->each([a](const std::string&) { a->model_given = true; });
+  pj->add_option("--ndf", a->ndf, "Tabulated NDF file instead of --model/--alpha");
+  add_material_flags(pj, a->mat);
+  pj->add_option("--fresnel", a->fresnel, "exact or schlick")->capture_default_str();
+  pj->add_flag("--separable-g", a->separable, "Separable Smith G1 G1 (Dong eq. 13)");
+  pj->add_option("--wavelength", a->wavelength, "Wavelength (with unit)")->capture_default_str();
+  pj->add_option("--lmax", a->lmax, "Highest SH order l (1..128); lmax (lmax+1)/2 functions kept")
+      ->capture_default_str();
+  pj->add_option(
+      "--n-theta", a->n_theta,
+      "Gauss-Legendre nodes in cos(theta) per hemisphere (x 2 in phi); default lmax + 8");
+  pj->add_option("-o,--output", a->output, "Output .shbrdf file")->required();
+  pj->add_flag("--json", a->json, "Print a JSON summary on stdout");
+  pj->footer(
+      "Stores M with rho cos(theta_i) cos(theta_o) = Y(wi)^T M Y(wo) (odd completion, theory "
+      "6.3);\n"
+      "cost ~ (2 n_theta^2)^2 BRDF evaluations (threads).\n"
+      "Example: microbrdf brdf sh-project --model beckmann --alpha 0.31 --metal Al --lmax 20 "
+      "-o b.shbrdf");
+  pj->callback([a] { run_guarded("brdf sh-project", [&] { run_project(*a); }); });
 
   auto* co =
       brdf->add_subcommand("color", "Normal-incidence colour of a material (D65, CIE 1931, sRGB)");

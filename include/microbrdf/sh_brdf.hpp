@@ -7,7 +7,10 @@
 // f(wi, wo) = Y(wi)^T M Y(wo) over that kept basis; M is symmetric (reciprocity by construction).
 // The BRDF is grey (one matrix); a simulation at one wavelength says which in its metadata.
 
+#include <cstdint>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -15,17 +18,25 @@
 
 namespace microbrdf {
 
+/// Largest lmax the evaluators accept (recurrence tables are precomputed up to it).
+constexpr int kShMaxL = 128;
 /// Index of Y_lm in the full real basis, k = l^2 + l + m (-l <= m <= l).
 constexpr int sh_index(int l, int m) { return l * l + l + m; }
 /// Number of functions in the full basis up to lmax: (lmax + 1)^2.
 constexpr int sh_count(int lmax) { return (lmax + 1) * (lmax + 1); }
 /// All real spherical harmonics Y_k(w), k < sh_count(lmax), orthonormal on the sphere, by the
 /// normalised recurrence (stable to lmax >= 40). `out` must hold sh_count(lmax) values.
+/// Convention: Y_l0 = Kbar P_l, Y_lm = sqrt2 Kbar P_l^|m| cos(m phi) (m > 0), sin(|m| phi) (m < 0),
+/// without the Condon-Shortley phase; phi = atan2(w_y, w_x) (0 at the pole); w need not be unit.
+/// Throws InputError for lmax outside [0, kShMaxL].
 void sh_eval(int lmax, const Vec3& w, double* out);
+/// Position of (l, m), l + m odd, in the kept basis: l (l - 1) / 2 + (m + l - 1) / 2.
+constexpr int sh_odd_index(int l, int m) { return l * (l - 1) / 2 + (m + l - 1) / 2; }
 
 /// The basis kept after the odd completion: the (l, m) with l + m odd, l <= lmax, in increasing k.
 class ShOddBasis {
  public:
+  /// Throws InputError for lmax outside [1, kShMaxL].
   explicit ShOddBasis(int lmax);
   int lmax() const { return lmax_; }
   int size() const { return static_cast<int>(l_.size()); }  ///< lmax (lmax + 1) / 2
@@ -33,7 +44,7 @@ class ShOddBasis {
   int m(int j) const { return m_[j]; }
   /// Y_j(w) for the kept functions; `out` holds size() values. Cost O(lmax^2).
   void eval(const Vec3& w, double* out) const;
-  /// Integral of Y_j over the upper hemisphere (for albedos).
+  /// Integral of Y_j over the upper hemisphere (for albedos); 0 unless m = 0.
   const std::vector<double>& hemisphere_integrals() const { return hemi_; }
 
  private:
@@ -63,8 +74,8 @@ class ShEstimator {
   Eigen::MatrixXd raw() const;
   /// W92 eqs. 26-27 with the J^2 normalisation of theory 6.5: Q = sum |M~ - M~^T| / J^2.
   double q() const;
-  /// Mean exit energy per ray, averaged with weight cos(theta_U)/p_U (= hemispherical-average albedo
-  /// estimate); diagnostics only.
+  /// Mean exit energy per ray, averaged with weight cos(theta_U)/p_U (= hemispherical-average
+  /// albedo estimate); diagnostics only.
   double mean_energy() const;
 
  private:
@@ -79,8 +90,15 @@ class ShBrdf final : public Brdf {
   /// `m` is over the kept basis of lmax (symmetrised here: M = (m + m^T)/2). `meta` is carried
   /// into save() (scene, rays, seed, Q, wavelength...).
   ShBrdf(int lmax, const Eigen::MatrixXd& m, nlohmann::json meta = {});
-  /// The symmetrised result of an estimator.
+  /// The symmetrised result of an estimator; meta gains incident_count, ray_count, q,
+  /// mean_energy (unless already set).
   static ShBrdf from_estimator(const ShEstimator& e, nlohmann::json meta = {});
+  /// Projection of any BRDF by product quadrature over both hemispheres (Gauss-Legendre in
+  /// cos(theta) x midpoint rule in phi, n_theta x 2 n_theta nodes each; n_theta <= 0 picks
+  /// lmax + 8): m_jk = 4 sum w_a w_b rho(a, b) cos_a cos_b Y_j(a) Y_k(b). For tests, comparisons
+  /// with analytic models and `microbrdf brdf sh-project`.
+  static ShBrdf project(const Brdf& brdf, int lmax, double wavelength_m, int n_theta = 0,
+                        nlohmann::json meta = {});
 
   int lmax() const { return basis_.lmax(); }
   const ShOddBasis& basis() const { return basis_; }
@@ -90,8 +108,14 @@ class ShBrdf final : public Brdf {
   /// f = rho cos(theta_i) cos(theta_o) = Y(wi)^T M Y(wo), unclamped (may be slightly negative).
   double cosine_weighted(const Vec3& wi, const Vec3& wo) const;
   /// rho in 1/sr, clamped at 0; near the horizon the division by the cosines amplifies the
-  /// truncation error (W92 section 5.1), so the cosines are clamped at `horizon_cos` (default 1e-3).
+  /// truncation error (W92 section 5.1), so the cosines are clamped at `horizon_cos` (default
+  /// 1e-3).
   double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
+  /// Importance sampling from a table of CDFs over outgoing cells (theta_o x phi_o), one per
+  /// incident node (theta_i, and phi_i unless isotropic()), interpolated between nodes and mixed
+  /// with a cosine lobe (10 %); pdf() is exactly the density drawn from. Where the expansion is
+  /// <= 0 the sample comes back with weight 0. The table is built once on first use
+  /// (std::call_once); sample()/pdf()/eval() are safe from many threads.
   std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
                                    double wavelength_m) const override;
   double pdf(const Vec3& wi, const Vec3& wo) const override;
@@ -100,8 +124,8 @@ class ShBrdf final : public Brdf {
   /// Directional albedo a(wi) = integral over the upper hemisphere of rho cos(theta_o) dwo, exact
   /// for the truncated expansion (hemisphere integrals of the basis).
   double albedo(const Vec3& wi) const;
-  /// Gibbs attenuation (theory 6.6): w(l) = 1 for l <= l_filter, exp(-(l - l_filter)^2 / (2 width^2))
-  /// above; m_jk <- w(l_j) w(l_k) m_jk.
+  /// Gibbs attenuation (theory 6.6): w(l) = 1 for l <= l_filter, exp(-(l - l_filter)^2 / (2
+  /// width^2)) above; m_jk <- w(l_j) w(l_k) m_jk.
   ShBrdf damped(int l_filter, double width) const;
 
   /// Binary file: magic "MBSHBRDF", uint32 JSON header length, JSON header (lmax, size, basis
@@ -109,6 +133,15 @@ class ShBrdf final : public Brdf {
   void save(const std::string& path) const;
   /// Throws FileError naming the file on a short, corrupt or inconsistent file.
   static ShBrdf load(const std::string& path);
+  /// The same from bytes in memory (`name` is used in error messages).
+  static ShBrdf load_bytes(std::span<const std::uint8_t> bytes, const std::string& name);
+  /// The file image save() writes.
+  std::vector<std::uint8_t> to_bytes() const;
+
+  /// True when M commutes with rotations about n (rho depends on phi_o - phi_i only), to a
+  /// relative Frobenius tolerance of 2e-2 (so noisy estimates of isotropic surfaces qualify); the
+  /// sampler then tabulates theta_i only. Only the sampler's efficiency depends on it.
+  bool isotropic() const { return isotropic_; }
 
   void set_horizon_cos(double c) { horizon_cos_ = c; }
 
@@ -117,8 +150,11 @@ class ShBrdf final : public Brdf {
   Eigen::MatrixXd m_;
   nlohmann::json meta_;
   double horizon_cos_ = 1e-3;
-  struct SamplingTable;  // tabulated CDFs for sample()/pdf(), built on first use
-  mutable std::shared_ptr<const SamplingTable> table_;
+  bool isotropic_ = false;
+  struct SamplingTable;  // tabulated CDFs for sample()/pdf()
+  struct LazyTable;      // built once on first use under std::call_once (thread-safe)
+  std::shared_ptr<LazyTable> lazy_;
+  const SamplingTable& table() const;
 };
 
 }  // namespace microbrdf

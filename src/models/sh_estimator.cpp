@@ -1,0 +1,65 @@
+// The Monte Carlo estimator of the SH coefficient matrix (W92 eqs. 17 and 25, constants of
+// theory notes 6.4) and the convergence measure Q (eqs. 26-27 with 1/J^2, theory 6.5).
+#include <cmath>
+#include <string>
+
+#include "microbrdf/error.hpp"
+#include "microbrdf/sh_brdf.hpp"
+
+namespace microbrdf {
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+ShEstimator::ShEstimator(int lmax) : basis_(lmax) {
+  sum_ = Eigen::MatrixXd::Zero(basis_.size(), basis_.size());
+}
+
+void ShEstimator::add_incident(const Vec3& u, double pdf_u, const double* exit_sum,
+                               std::size_t rays, double energy) {
+  if (!(pdf_u > 0) || !std::isfinite(pdf_u))
+    throw InputError("ShEstimator: incident density must be positive and finite, got " +
+                     std::to_string(pdf_u));
+  if (rays == 0) throw InputError("ShEstimator: an incident direction needs at least one ray");
+  ++n_incident_;
+  n_rays_ += rays;
+  const double cos_u = u.z() / u.norm();
+  if (!(cos_u > 0)) return;  // a direction below the horizon contributes nothing (counts in N)
+  // m~ = (1/N) sum_U [cos/p] 4 Y(U) (sum_exits R Y(V)) / rays  (theory 6.4: the 4 is the odd
+  // completion in both arguments, cos/p the measure of the incident directions).
+  const double w = 4 * cos_u / pdf_u / static_cast<double>(rays);
+  const int n = basis_.size();
+  Eigen::VectorXd yu(n);
+  basis_.eval(u, yu.data());
+  Eigen::Map<const Eigen::VectorXd> v(exit_sum, n);
+  sum_.noalias() += (w * yu) * v.transpose();
+  // Hemispherical-average albedo: (1/pi) int a(U) cos dU, a(U) = energy / rays.
+  energy_sum_ += cos_u / (kPi * pdf_u) * energy / static_cast<double>(rays);
+}
+
+void ShEstimator::merge(const ShEstimator& other) {
+  if (other.basis_.lmax() != basis_.lmax())
+    throw InputError("ShEstimator::merge: lmax " + std::to_string(other.basis_.lmax()) +
+                     " differs from " + std::to_string(basis_.lmax()));
+  sum_ += other.sum_;
+  n_incident_ += other.n_incident_;
+  n_rays_ += other.n_rays_;
+  energy_sum_ += other.energy_sum_;
+}
+
+Eigen::MatrixXd ShEstimator::raw() const {
+  if (n_incident_ == 0) return Eigen::MatrixXd::Zero(basis_.size(), basis_.size());
+  return sum_ / static_cast<double>(n_incident_);
+}
+
+double ShEstimator::q() const {
+  const Eigen::MatrixXd r = raw();
+  const double j = basis_.size();
+  return (r - r.transpose()).cwiseAbs().sum() / (j * j);
+}
+
+double ShEstimator::mean_energy() const {
+  return n_incident_ == 0 ? 0.0 : energy_sum_ / static_cast<double>(n_incident_);
+}
+
+}  // namespace microbrdf
