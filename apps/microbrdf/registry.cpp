@@ -20,6 +20,7 @@ void register_all(CLI::App& app) {
   register_brdf(app);
   register_sun(app);
   register_fit(app);
+  register_simulate(app);
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {

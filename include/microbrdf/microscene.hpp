@@ -20,6 +20,7 @@
 // and planes).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>

@@ -116,6 +116,9 @@ struct SimulateOptions {
   TraceOptions trace;
   std::uint64_t seed = 1;
   int threads = 0;  ///< 0 = OpenMP default
+  /// Stratify the incident directions in rounds of 1024 (32 x 32 cells in cos(theta) and phi);
+  /// false = independent uniform draws as in W92.
+  bool stratify = true;
   /// Called about once a second from one thread: directions done, rays, seconds, Q.
   std::function<void(std::uint64_t, std::uint64_t, double, double)> progress;
 };
@@ -131,7 +134,9 @@ struct SimulateStats {
 };
 
 /// Runs the estimator. Deterministic for a seed and thread count when incident_directions is
-/// used (directions are handed out in fixed blocks; one ShEstimator per thread, merged in order).
+/// used (direction k always gets random stream k; blocks of directions go to threads in a fixed
+/// order; one ShEstimator per thread, merged in order, so other thread counts differ only by
+/// rounding).
 ShEstimator simulate(const MicroScene& scene, const SimulateOptions& options,
                      SimulateStats* stats = nullptr);
 
@@ -139,10 +144,14 @@ ShEstimator simulate(const MicroScene& scene, const SimulateOptions& options,
 /// cosine-weighted mean of rho over a cone of half-angle `half_angle` (rad) around each of
 /// `dirs` (BRDF frame, cones above the horizon): rho_cap = sum of R in the cone /
 /// (N pi sin^2(half_angle) cos(theta_c)). Threads with fixed blocks; deterministic.
+/// `average_azimuth`: for statistically isotropic scenes, each block of rays turns the plane of
+/// incidence (and the cones with it) to a stratified random azimuth, so one finite realisation
+/// of the surface is sampled in all orientations (its own anisotropy averages out).
 std::vector<double> cap_brdf(const MicroScene& scene, const Eigen::Vector3d& u,
                              const std::vector<Eigen::Vector3d>& dirs, double half_angle,
                              std::uint64_t rays, const TraceOptions& trace, std::uint64_t seed,
-                             TraceCounters* counters = nullptr, int points_per_block = 64);
+                             TraceCounters* counters = nullptr, bool average_azimuth = false,
+                             int points_per_block = 64);
 
 /// He, Torrance, Sillion & Greenberg 1991 directional-diffuse term in its geometric-optics limit
 /// (theory 6.7): F(wi.h) S(theta_i) S(theta_r) D_Beckmann(h; alpha = 2 sigma_0 / tau) /

@@ -143,8 +143,9 @@ MicroMaterial material(const Ctx& c, const std::string& name, const json& m) {
     out.uniform_sampling = text(c, m, "sampling", "brdf") == "uniform";
   } else if (type == "shbrdf") {
     out.kind = MicroMaterial::Kind::brdf;
-    out.brdf = nullptr;  // PRE-MERGE: ShBrdf::load(c.path(text(c, m, "file", "")))
-    c.fail("shbrdf materials need the ShBrdf implementation");
+    const std::string file = text(c, m, "file", "");
+    if (file.empty()) c.fail("material '" + name + "': shbrdf needs \"file\"");
+    out.brdf = std::make_shared<ShBrdf>(ShBrdf::load(c.path(file)));
     out.uniform_sampling = text(c, m, "sampling", "brdf") == "uniform";
   } else if (type == "absorber") {
     out.kind = MicroMaterial::Kind::absorber;

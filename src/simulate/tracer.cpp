@@ -171,7 +171,8 @@ bool MicroTracer::follow(Path& path, SimRng& rng, TraceCounters& c, Vec& v) {
 
 std::vector<double> cap_brdf(const MicroScene& scene, const Vec& u, const std::vector<Vec>& dirs,
                              double half_angle, std::uint64_t rays, const TraceOptions& trace,
-                             std::uint64_t seed, TraceCounters* counters, int points_per_block) {
+                             std::uint64_t seed, TraceCounters* counters, bool average_azimuth,
+                             int points_per_block) {
   const std::size_t nc = dirs.size();
   const double cos_half = std::cos(half_angle);
   const std::uint64_t nblocks = (rays + points_per_block - 1) / points_per_block;
@@ -188,9 +189,15 @@ std::vector<double> cap_brdf(const MicroScene& scene, const Vec& u, const std::v
       SimRng rng(seed, static_cast<std::uint64_t>(blk));
       const int n = static_cast<int>(
           std::min<std::uint64_t>(points_per_block, rays - std::uint64_t(blk) * points_per_block));
+      // Stratified azimuth of the plane of incidence for this block (isotropic surfaces).
+      const double phi =
+          average_azimuth ? 2 * M_PI * (double(blk) + rng.uniform()) / double(nblocks) : 0.0;
+      const double cp = std::cos(phi), sp = std::sin(phi);
+      const Vec ur(cp * u.x() - sp * u.y(), sp * u.x() + cp * u.y(), u.z());
       tracer.trace(
-          u, n, rng,
-          [&](const Vec& v, double r) {
+          ur, n, rng,
+          [&](const Vec& w, double r) {
+            const Vec v(cp * w.x() + sp * w.y(), -sp * w.x() + cp * w.y(), w.z());
             for (std::size_t k = 0; k < nc; ++k)
               if (v.dot(dirs[k]) >= cos_half) acc[k] += r;
           },
