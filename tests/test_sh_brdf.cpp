@@ -273,3 +273,39 @@ TEST(sh_brdf, ConcurrentSamplingIsDeterministic) {
   for (auto& t : th) t.join();
   for (int t = 0; t < 8; ++t) EXPECT_EQ(par[t], run(t));
 }
+
+TEST(sh_brdf, IsotropicAverageIsTheRotationMeanAndEvaluatesByBlocks) {
+  const auto s = ShBrdf::project(ggx(0.2, 0.5, 0.6), 10, 0);
+  EXPECT_FALSE(s.block_diagonal_in_m());
+  const auto avg = s.isotropic_average();
+  EXPECT_TRUE(avg.block_diagonal_in_m());
+  EXPECT_TRUE(avg.isotropic());
+  EXPECT_EQ(avg.meta()["isotropic_average"], true);
+  auto rot = [](const Vec3& w, double a) {
+    return Vec3(std::cos(a) * w.x() - std::sin(a) * w.y(),
+                std::sin(a) * w.x() + std::cos(a) * w.y(), w.z());
+  };
+  for (int k = 0; k < 10; ++k) {
+    const Vec3 wi = dir(5 + 8 * k, 31 * k), wo = dir(75 - 7 * k, 200 - 19 * k);
+    double mean = 0;
+    const int na = 200;
+    for (int i = 0; i < na; ++i) {
+      const double a = 2 * kPi * i / na;
+      mean += s.cosine_weighted(rot(wi, a), rot(wo, a)) / na;
+    }
+    EXPECT_NEAR(avg.cosine_weighted(wi, wo), mean, 1e-12);
+    // the block evaluation equals the dense product
+    const int n = avg.basis().size();
+    Eigen::VectorXd yi(n), yo(n);
+    avg.basis().eval(wi, yi.data());
+    avg.basis().eval(wo, yo.data());
+    EXPECT_NEAR(avg.cosine_weighted(wi, wo), yi.dot(avg.matrix() * yo), 1e-13);
+    // ...and is invariant under rotations about n
+    EXPECT_NEAR(avg.cosine_weighted(rot(wi, 0.7), rot(wo, 0.7)), avg.cosine_weighted(wi, wo),
+                1e-12);
+  }
+  // An isotropic lobe is its own average (up to the phi quadrature of the projection).
+  const auto iso = ShBrdf::project(ggx(0.3, 0.3, 0), 10, 0);
+  EXPECT_LT((iso.isotropic_average().matrix() - iso.matrix()).norm(), 1e-6 * iso.matrix().norm());
+  EXPECT_TRUE(ShBrdf(4, lambert_matrix(4, 1)).block_diagonal_in_m());
+}

@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <sstream>
+#include <vector>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -36,6 +38,11 @@ struct BrdfArgs : ModelFlags {
   int l_filter = -1;
   double filter_width = 0;
   int lmax = 12, n_theta = 0;
+  bool iso_average = false;
+  double lambert = -1;
+  std::size_t incident = 100000;
+  int rays = 1;
+  std::uint64_t seed = 1;
   bool model_given = false;
   std::string theta_i = "30deg", plane = "in", wavelength = "555nm", output, plot;
   bool log_y = false;
@@ -136,6 +143,7 @@ std::shared_ptr<ShBrdf> sh_brdf(const BrdfArgs& a) {
       throw InputError("--l-filter and --filter-width go together (l_filter >= 0, width > 0)");
     b = std::make_shared<ShBrdf>(b->damped(a.l_filter, a.filter_width));
   }
+  if (a.iso_average) b = std::make_shared<ShBrdf>(b->isotropic_average());
   return b;
 }
 
@@ -156,8 +164,8 @@ void run_slice(const BrdfArgs& a) {
     bp = sh;
     label = "SH BRDF " + a.sh;
   } else {
-    if (a.l_filter >= 0 || a.filter_width > 0)
-      throw InputError("--l-filter/--filter-width apply to --sh only");
+    if (a.l_filter >= 0 || a.filter_width > 0 || a.iso_average)
+      throw InputError("--l-filter, --filter-width and --isotropic-average apply to --sh only");
     auto mf = microfacet_brdf(a);
     label = a.ndf.empty() ? mf->distribution().describe() : "tabulated NDF " + a.ndf;
     bp = mf;
@@ -339,6 +347,84 @@ void run_project(const BrdfArgs& a) {
       alb[4]["albedo"].get<double>());
 }
 
+// A Lambertian reflector of albedo a (cosine-weighted sampling, weight a), the exact reference
+// of theory 6.3 for `brdf sh-estimate --lambert`.
+class LambertBrdf final : public Brdf {
+ public:
+  explicit LambertBrdf(double a) : a_(a) {}
+  double eval(const Vec3& wi, const Vec3& wo, double) const override {
+    return wi.z() > 0 && wo.z() > 0 ? a_ / M_PI : 0.0;
+  }
+  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2, double) const override {
+    if (!(wi.z() > 0)) return std::nullopt;
+    const double r = std::sqrt(u1), p = 2 * M_PI * u2, z = std::sqrt(std::max(0.0, 1 - u1));
+    if (!(z > 0)) return std::nullopt;
+    return BrdfSample{Vec3(r * std::cos(p), r * std::sin(p), z), a_, z / M_PI};
+  }
+  double pdf(const Vec3& wi, const Vec3& wo) const override {
+    return wi.z() > 0 && wo.z() > 0 ? wo.z() / M_PI : 0.0;
+  }
+  std::string describe() const override { return "Lambertian, albedo " + std::to_string(a_); }
+
+ private:
+  double a_;
+};
+
+void run_estimate(const BrdfArgs& a) {
+  if (a.lmax < 1 || a.lmax > kShMaxL)
+    throw InputError("--lmax must lie in [1, " + std::to_string(kShMaxL) + "]");
+  if (a.incident < 1 || a.rays < 1) throw InputError("--incident and --rays must be >= 1");
+  std::shared_ptr<const Brdf> src;
+  if (a.lambert >= 0) {
+    if (a.model_given || a.alpha > 0 || a.alpha_x > 0 || !a.ndf.empty() || material_given(a.mat))
+      throw InputError("--lambert replaces the model and the material");
+    src = std::make_shared<LambertBrdf>(a.lambert);
+  } else {
+    src = microfacet_brdf(a);
+  }
+  const double lambda = parse_length(a.wavelength);
+  // 16 chunks with seeds seed*1000003 + c, estimated in parallel and merged in order: the result
+  // depends on the seed only, not on the thread count.
+  const int chunks = static_cast<int>(std::min<std::size_t>(16, a.incident));
+  std::vector<ShEstimator> part(chunks, ShEstimator(a.lmax));
+  int done = 0;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int c = 0; c < chunks; ++c) {
+    const std::size_t n = a.incident / chunks + (static_cast<std::size_t>(c) < a.incident % chunks);
+    sh_estimate_by_sampling(part[c], *src, n, a.rays, a.seed * 1000003ull + c, lambda);
+#pragma omp critical
+    progress("brdf sh-estimate", static_cast<std::size_t>(done++), chunks, "chunk");
+  }
+  for (int c = 1; c < chunks; ++c) part[0].merge(part[c]);
+  const ShEstimator& e = part[0];
+  auto b = ShBrdf::from_estimator(e, {{"source", "synthetic estimate from " + src->describe()},
+                                      {"seed", a.seed},
+                                      {"wavelength_m", lambda},
+                                      {"rays_per_incident", a.rays}});
+  if (!a.output.empty()) b.save(a.output);
+  const auto alb = albedo_table(b);
+  const double m10 = b.matrix()(sh_odd_index(1, 0), sh_odd_index(1, 0));
+  if (a.json) {
+    print_json({{"output", a.output},
+                {"source", src->describe()},
+                {"lmax", b.lmax()},
+                {"size", b.basis().size()},
+                {"incident_count", e.incident_count()},
+                {"ray_count", e.ray_count()},
+                {"q", e.q()},
+                {"mean_energy", e.mean_energy()},
+                {"m_10_10", m10},
+                {"albedo", alb}});
+    return;
+  }
+  std::printf(
+      "%s\n  %zu incident directions x %d rays, lmax %d: Q = %.4g, mean energy %.5f, "
+      "m_(1,0),(1,0) = %.5f\n  albedo at 0/45/75 deg %.4f %.4f %.4f%s%s\n",
+      src->describe().c_str(), e.incident_count(), a.rays, b.lmax(), e.q(), e.mean_energy(), m10,
+      alb[0]["albedo"].get<double>(), alb[2]["albedo"].get<double>(),
+      alb[4]["albedo"].get<double>(), a.output.empty() ? "" : "; wrote ", a.output.c_str());
+}
+
 void run_color(const BrdfArgs& a) {
   auto mat = material(a.mat);
   auto r = mat.normal_reflectance_spectrum();
@@ -406,6 +492,8 @@ void register_brdf(CLI::App& app) {
                  "With --sh: Gibbs damping, keep l <= L_FILTER, attenuate above by "
                  "exp(-(l-L_FILTER)^2/(2 WIDTH^2))");
   sl->add_option("--filter-width", a->filter_width, "With --sh: the damping width WIDTH (in l)");
+  sl->add_flag("--isotropic-average", a->iso_average,
+               "With --sh: average over rotations about n (for surfaces known to be isotropic)");
   add_material_flags(sl, a->mat);
   sl->add_option("--fresnel", a->fresnel, "exact (complex-index Fresnel) or schlick")
       ->capture_default_str();
@@ -430,6 +518,7 @@ void register_brdf(CLI::App& app) {
   in->add_option("--l-filter", a->l_filter,
                  "Gibbs damping: keep l <= L_FILTER (with --filter-width)");
   in->add_option("--filter-width", a->filter_width, "Gibbs damping width (in l)");
+  in->add_flag("--isotropic-average", a->iso_average, "Average over rotations about n first");
   in->add_flag("--json", a->json, "Print JSON on stdout");
   in->footer(
       "Albedo a(theta_i) = integral rho cos(theta_o) dw_o of the truncated expansion (exact, at\n"
@@ -460,6 +549,33 @@ void register_brdf(CLI::App& app) {
       "Example: microbrdf brdf sh-project --model beckmann --alpha 0.31 --metal Al --lmax 20 "
       "-o b.shbrdf");
   pj->callback([a] { run_guarded("brdf sh-project", [&] { run_project(*a); }); });
+
+  auto* es = brdf->add_subcommand(
+      "sh-estimate",
+      "Westin's Monte Carlo estimator fed by exits sampled from a known BRDF (no geometry)");
+  add_model_flags(es, *a)->each([a](const std::string&) { a->model_given = true; });
+  es->add_option("--ndf", a->ndf, "Tabulated NDF file instead of --model/--alpha");
+  add_material_flags(es, a->mat);
+  es->add_option("--fresnel", a->fresnel, "exact or schlick")->capture_default_str();
+  es->add_option("--lambert", a->lambert,
+                 "A Lambertian reflector of this albedo instead of a model and a material");
+  es->add_option("--wavelength", a->wavelength, "Wavelength (with unit)")->capture_default_str();
+  es->add_option("--lmax", a->lmax, "Highest SH order l (1..128)")->capture_default_str();
+  es->add_option("--incident", a->incident, "Number of incident directions N (cosine-weighted)")
+      ->capture_default_str();
+  es->add_option("--rays", a->rays, "Exits drawn per incident direction")->capture_default_str();
+  es->add_option("--seed", a->seed, "Random seed (result independent of the thread count)")
+      ->capture_default_str();
+  es->add_option("-o,--output", a->output, "Output .shbrdf file (optional)");
+  es->add_flag("--json", a->json, "Print a JSON summary on stdout");
+  es->footer(
+      "Checks the estimator of W92 eqs. 17/25 with the constants of theory 6.4 and its\n"
+      "convergence measure Q (eq. 27, 1/J^2), which falls as N^-1/2.\n"
+      "Examples:\n"
+      "  microbrdf brdf sh-estimate --lambert 1 --lmax 8 --incident 1000000 --json\n"
+      "  microbrdf brdf sh-estimate --model ggx --alpha 0.3 --metal Al --lmax 12 --incident 100000 "
+      "-o est.shbrdf");
+  es->callback([a] { run_guarded("brdf sh-estimate", [&] { run_estimate(*a); }); });
 
   auto* co =
       brdf->add_subcommand("color", "Normal-incidence colour of a material (D65, CIE 1931, sRGB)");

@@ -79,11 +79,24 @@ class ShEstimator {
   double mean_energy() const;
 
  private:
+  void flush() const;  // folds the pending batch into sum_ (one matrix product)
   ShOddBasis basis_;
-  Eigen::MatrixXd sum_;  // sum over incident directions of w(U) Y(U) exit_sum^T / rays
+  // sum over incident directions of w(U) Y(U) exit_sum^T / rays; the last < kPending outer
+  // products wait in pend_u_/pend_v_ so that they are added as one GEMM (3-4x faster than
+  // rank-1 updates at lmax 30).
+  mutable Eigen::MatrixXd sum_, pend_u_, pend_v_;
+  mutable int n_pend_ = 0;
+  static constexpr int kPending = 32;
   std::size_t n_incident_ = 0, n_rays_ = 0;
   double energy_sum_ = 0;
 };
+
+/// A synthetic "ray tracer" for validating the estimator without geometry: `n_incident`
+/// directions U drawn cosine-weighted (p_U = cos/pi), and for each `rays` exits drawn with
+/// brdf.sample(U) carrying R = weight (f cos / pdf). E[estimate] = the projection of `brdf`.
+/// Deterministic for a seed. Used by tests and `microbrdf brdf sh-estimate`.
+void sh_estimate_by_sampling(ShEstimator& e, const Brdf& brdf, std::size_t n_incident, int rays,
+                             std::uint64_t seed, double wavelength_m);
 
 class ShBrdf final : public Brdf {
  public:
@@ -124,6 +137,13 @@ class ShBrdf final : public Brdf {
   /// Directional albedo a(wi) = integral over the upper hemisphere of rho cos(theta_o) dwo, exact
   /// for the truncated expansion (hemisphere integrals of the basis).
   double albedo(const Vec3& wi) const;
+  /// The average of M over rotations about n (exact: 2 lmax + 1 equally spaced angles), i.e. the
+  /// isotropic part of the BRDF; couplings between different |m| become exactly 0. For surfaces
+  /// known to be isotropic this removes the anisotropic part of the Monte Carlo noise, and
+  /// eval() then uses the block structure (~20x fewer operations at lmax 30).
+  ShBrdf isotropic_average() const;
+  /// True when every coefficient coupling different |m| is exactly 0 (eval uses the |m| blocks).
+  bool block_diagonal_in_m() const { return !blocks_.empty(); }
   /// Gibbs attenuation (theory 6.6): w(l) = 1 for l <= l_filter, exp(-(l - l_filter)^2 / (2
   /// width^2)) above; m_jk <- w(l_j) w(l_k) m_jk.
   ShBrdf damped(int l_filter, double width) const;
@@ -151,8 +171,13 @@ class ShBrdf final : public Brdf {
   nlohmann::json meta_;
   double horizon_cos_ = 1e-3;
   bool isotropic_ = false;
-  struct SamplingTable;  // tabulated CDFs for sample()/pdf()
-  struct LazyTable;      // built once on first use under std::call_once (thread-safe)
+  struct MBlock {  // kept functions with one |m|, and M restricted to them
+    std::vector<int> idx;
+    Eigen::MatrixXd m;
+  };
+  std::vector<MBlock> blocks_;  // empty unless M is exactly block diagonal in |m|
+  struct SamplingTable;         // tabulated CDFs for sample()/pdf()
+  struct LazyTable;             // built once on first use under std::call_once (thread-safe)
   std::shared_ptr<LazyTable> lazy_;
   const SamplingTable& table() const;
 };

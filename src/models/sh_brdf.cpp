@@ -2,6 +2,7 @@
 // (W92 sections 2.2-2.5, theory notes 6.3, 6.5, 6.6). Sampling: sh_sampling.cpp; files: sh_io.cpp.
 #include "microbrdf/sh_brdf.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -52,6 +53,46 @@ ShBrdf::ShBrdf(int lmax, const Eigen::MatrixXd& m, nlohmann::json meta)
   detail::sh_rotate_z(basis_, r, 1.0);  // 1 rad: m alpha is never a multiple of 2 pi
   const double norm = m_.norm();
   isotropic_ = norm == 0 || (r - m_).norm() <= 2e-2 * norm;
+  // Exact block structure in |m| (isotropic_average(), Lambertian, ...): evaluate per block.
+  bool blocky = true;
+  for (int j = 0; j < n && blocky; ++j)
+    for (int k = 0; k < n; ++k)
+      if (std::abs(basis_.m(j)) != std::abs(basis_.m(k)) && m_(j, k) != 0) {
+        blocky = false;
+        break;
+      }
+  if (blocky) {
+    blocks_.resize(lmax + 1);
+    for (int j = 0; j < n; ++j) blocks_[std::abs(basis_.m(j))].idx.push_back(j);
+    for (auto& b : blocks_) {
+      const int k = static_cast<int>(b.idx.size());
+      b.m.resize(k, k);
+      for (int a = 0; a < k; ++a)
+        for (int c = 0; c < k; ++c) b.m(a, c) = m_(b.idx[a], b.idx[c]);
+    }
+    std::erase_if(blocks_, [](const MBlock& b) { return b.idx.empty(); });
+  }
+}
+
+ShBrdf ShBrdf::isotropic_average() const {
+  // R(alpha)^T M R(alpha) holds cos/sin of (m +- m') alpha with |m +- m'| <= 2 lmax, so the
+  // equally spaced (2 lmax + 1)-point rule averages it exactly.
+  const int k = 2 * lmax() + 1, n = basis_.size();
+  Eigen::MatrixXd avg = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < k; ++i) {
+    Eigen::MatrixXd r = m_;
+    detail::sh_rotate_z(basis_, r, 2 * kPi * i / k);
+    avg += r;
+  }
+  avg /= k;
+  for (int j = 0; j < n; ++j)  // remove the rounding residue of the cancelled couplings
+    for (int c = 0; c < n; ++c)
+      if (std::abs(basis_.m(j)) != std::abs(basis_.m(c))) avg(j, c) = 0;
+  nlohmann::json meta = meta_;
+  meta["isotropic_average"] = true;
+  ShBrdf out(lmax(), avg, std::move(meta));
+  out.horizon_cos_ = horizon_cos_;
+  return out;
 }
 
 ShBrdf ShBrdf::from_estimator(const ShEstimator& e, nlohmann::json meta) {
@@ -101,6 +142,21 @@ double ShBrdf::cosine_weighted(const Vec3& wi, const Vec3& wo) const {
   Eigen::VectorXd yi(n), yo(n);
   basis_.eval(wi, yi.data());
   basis_.eval(wo, yo.data());
+  if (!blocks_.empty()) {
+    double f = 0;
+    Eigen::VectorXd a, b;
+    for (const auto& blk : blocks_) {
+      const int k = static_cast<int>(blk.idx.size());
+      a.resize(k);
+      b.resize(k);
+      for (int q = 0; q < k; ++q) {
+        a[q] = yi[blk.idx[q]];
+        b[q] = yo[blk.idx[q]];
+      }
+      f += a.dot(blk.m * b);
+    }
+    return f;
+  }
   return yi.dot(m_.selfadjointView<Eigen::Upper>() * yo);
 }
 

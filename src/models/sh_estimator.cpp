@@ -13,6 +13,14 @@ constexpr double kPi = 3.14159265358979323846;
 
 ShEstimator::ShEstimator(int lmax) : basis_(lmax) {
   sum_ = Eigen::MatrixXd::Zero(basis_.size(), basis_.size());
+  pend_u_.resize(basis_.size(), kPending);
+  pend_v_.resize(basis_.size(), kPending);
+}
+
+void ShEstimator::flush() const {
+  if (n_pend_ == 0) return;
+  sum_.noalias() += pend_u_.leftCols(n_pend_) * pend_v_.leftCols(n_pend_).transpose();
+  n_pend_ = 0;
 }
 
 void ShEstimator::add_incident(const Vec3& u, double pdf_u, const double* exit_sum,
@@ -29,10 +37,10 @@ void ShEstimator::add_incident(const Vec3& u, double pdf_u, const double* exit_s
   // completion in both arguments, cos/p the measure of the incident directions).
   const double w = 4 * cos_u / pdf_u / static_cast<double>(rays);
   const int n = basis_.size();
-  Eigen::VectorXd yu(n);
-  basis_.eval(u, yu.data());
-  Eigen::Map<const Eigen::VectorXd> v(exit_sum, n);
-  sum_.noalias() += (w * yu) * v.transpose();
+  basis_.eval(u, pend_u_.col(n_pend_).data());
+  pend_u_.col(n_pend_) *= w;
+  pend_v_.col(n_pend_) = Eigen::Map<const Eigen::VectorXd>(exit_sum, n);
+  if (++n_pend_ == kPending) flush();
   // Hemispherical-average albedo: (1/pi) int a(U) cos dU, a(U) = energy / rays.
   energy_sum_ += cos_u / (kPi * pdf_u) * energy / static_cast<double>(rays);
 }
@@ -41,6 +49,8 @@ void ShEstimator::merge(const ShEstimator& other) {
   if (other.basis_.lmax() != basis_.lmax())
     throw InputError("ShEstimator::merge: lmax " + std::to_string(other.basis_.lmax()) +
                      " differs from " + std::to_string(basis_.lmax()));
+  flush();
+  other.flush();
   sum_ += other.sum_;
   n_incident_ += other.n_incident_;
   n_rays_ += other.n_rays_;
@@ -49,6 +59,7 @@ void ShEstimator::merge(const ShEstimator& other) {
 
 Eigen::MatrixXd ShEstimator::raw() const {
   if (n_incident_ == 0) return Eigen::MatrixXd::Zero(basis_.size(), basis_.size());
+  flush();
   return sum_ / static_cast<double>(n_incident_);
 }
 

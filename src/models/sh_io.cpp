@@ -18,6 +18,7 @@ namespace {
 
 constexpr char kMagic[8] = {'M', 'B', 'S', 'H', 'B', 'R', 'D', 'F'};
 constexpr std::uint32_t kMaxHeader = 16u << 20;  // 16 MiB of JSON is more than any real header
+constexpr double kMaxCoefficient = 1e30;
 constexpr const char* kBasis =
     "real SH, Y_l0 = K P_l, Y_lm = sqrt2 K P_l^|m| cos(m phi) (m>0) / sin(|m| phi) (m<0), no "
     "Condon-Shortley phase, theta from n = +z, phi from +x; kept l + m odd, ordered by l^2+l+m";

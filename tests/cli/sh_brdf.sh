@@ -54,6 +54,32 @@ s20, s50 = load("s20.csv"), load("s50.csv")
 assert abs(s20[50.0] - s50[20.0]) < 1e-9 * max(1, s20[50.0]), (s20[50.0], s50[20.0])
 PY
 
+# sh-estimate: a white Lambertian plane gives albedo 1 within 1 % (theory 6.3), the same result
+# for any thread count, and Q falls as N^-1/2 over two decades.
+OMP_NUM_THREADS=2 $BIN brdf sh-estimate --lambert 1 --lmax 6 --incident 400000 --seed 3 --json \
+  -o "$T/lam.shbrdf" >"$T/lam.json" 2>/dev/null || fail "sh-estimate --lambert"
+OMP_NUM_THREADS=1 $BIN brdf sh-estimate --lambert 1 --lmax 6 --incident 400000 --seed 3 --json \
+  >"$T/lam1.json" 2>/dev/null || fail "sh-estimate one thread"
+for n in 400 4000 40000; do
+  $BIN brdf sh-estimate --model ggx --alpha 0.3 --metal Al --lmax 8 --incident $n --seed 5 \
+    --json >"$T/q$n.json" 2>/dev/null || fail "sh-estimate ggx $n"
+done
+python3 - "$T" <<'PY' || fail "sh-estimate results"
+import json, math, sys
+T = sys.argv[1]
+j, j1 = json.load(open(f"{T}/lam.json")), json.load(open(f"{T}/lam1.json"))
+assert j["q"] == j1["q"] and j["m_10_10"] == j1["m_10_10"], "thread count changed the result"
+assert abs(j["m_10_10"] - 4 / 3) < 0.01 * 4 / 3, j["m_10_10"]
+for e in j["albedo"]:
+    if e["theta_i_deg"] <= 60:
+        assert abs(e["albedo"] - 1) < 0.01, e
+q = [json.load(open(f"{T}/q{n}.json"))["q"] for n in (400, 4000, 40000)]
+slope = (math.log(q[2]) - math.log(q[0])) / math.log(100)
+assert abs(slope + 0.5) < 0.1, (q, slope)
+PY
+$BIN brdf info --sh "$T/lam.shbrdf" --json | python3 -c "import json,sys; j=json.load(sys.stdin); \
+assert j['meta']['incident_count'] == 400000 and 'q' in j['meta'], j['meta']" || fail "meta of estimate"
+
 # Errors: exit non-zero, a message naming the file, and no output written.
 $BIN brdf slice --sh "$T/missing.shbrdf" -o "$T/x.csv" 2>"$T/e1" && fail "missing file accepted"
 grep -q "missing.shbrdf" "$T/e1" || fail "error does not name the missing file"

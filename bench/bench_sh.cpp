@@ -1,0 +1,215 @@
+// Spherical-harmonic BRDF (Westin 1992): the basis evaluators against a brute-force reference in
+// the same run (std::sph_legendre / std::assoc_legendre from <cmath> per (l, m), plus cos/sin per
+// m), ShBrdf::eval / sample / pdf per second (isotropic and anisotropic sampling tables, table
+// built before timing), the one-off table build, and the estimator's add_incident.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/sh_brdf.hpp"
+
+using namespace microbrdf;
+
+namespace {
+
+constexpr std::size_t kBatch = 1024;
+constexpr double kPi = 3.14159265358979323846;
+
+std::vector<Vec3> directions(unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3> v(kBatch);
+  for (auto& d : v) {
+    double ct = u(rng), st = std::sqrt(1 - ct * ct), p = 2 * kPi * u(rng);
+    d = Vec3(st * std::cos(p), st * std::sin(p), ct);
+  }
+  return v;
+}
+
+void rate(benchmark::State& state, const char* name, double per_iteration = kBatch) {
+  state.counters[name] =
+      benchmark::Counter(per_iteration, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_ShEval(benchmark::State& state) {
+  const int L = static_cast<int>(state.range(0));
+  auto w = directions(1);
+  std::vector<double> y(sh_count(L));
+  for (auto _ : state)
+    for (const auto& d : w) {
+      sh_eval(L, d, y.data());
+      benchmark::DoNotOptimize(y.data());
+    }
+  rate(state, "dirs/s");
+}
+BENCHMARK(BM_ShEval)->Arg(15)->Arg(30);
+
+void BM_ShOddBasisEval(benchmark::State& state) {
+  const int L = static_cast<int>(state.range(0));
+  ShOddBasis b(L);
+  auto w = directions(1);
+  std::vector<double> y(b.size());
+  for (auto _ : state)
+    for (const auto& d : w) {
+      b.eval(d, y.data());
+      benchmark::DoNotOptimize(y.data());
+    }
+  rate(state, "dirs/s");
+}
+BENCHMARK(BM_ShOddBasisEval)->Arg(15)->Arg(30);
+
+// Reference: every Y_lm separately from std::sph_legendre (normalised, CS phase removed).
+void BM_ShEvalBruteSphLegendre(benchmark::State& state) {
+  const int L = static_cast<int>(state.range(0));
+  auto w = directions(1);
+  std::vector<double> y(sh_count(L));
+  for (auto _ : state)
+    for (const auto& d : w) {
+      const double th = std::acos(d.z()), ph = std::atan2(d.y(), d.x());
+      for (int l = 0; l <= L; ++l)
+        for (int m = 0; m <= l; ++m) {
+          const double p = (m % 2 ? -1.0 : 1.0) * std::sph_legendre(l, m, th);
+          if (m == 0) {
+            y[sh_index(l, 0)] = p;
+          } else {
+            y[sh_index(l, m)] = std::sqrt(2.0) * p * std::cos(m * ph);
+            y[sh_index(l, -m)] = std::sqrt(2.0) * p * std::sin(m * ph);
+          }
+        }
+      benchmark::DoNotOptimize(y.data());
+    }
+  rate(state, "dirs/s");
+}
+BENCHMARK(BM_ShEvalBruteSphLegendre)->Arg(15)->Arg(30);
+
+// Reference: std::assoc_legendre times K_l^m from lgamma (the textbook formula).
+void BM_ShEvalBruteAssocLegendre(benchmark::State& state) {
+  const int L = static_cast<int>(state.range(0));
+  auto w = directions(1);
+  std::vector<double> y(sh_count(L));
+  for (auto _ : state)
+    for (const auto& d : w) {
+      const double ph = std::atan2(d.y(), d.x());
+      for (int l = 0; l <= L; ++l)
+        for (int m = 0; m <= l; ++m) {
+          const double k = std::sqrt((2 * l + 1) / (4 * kPi) *
+                                     std::exp(std::lgamma(l - m + 1) - std::lgamma(l + m + 1)));
+          const double p = k * std::assoc_legendre(l, m, d.z());
+          if (m == 0) {
+            y[sh_index(l, 0)] = p;
+          } else {
+            y[sh_index(l, m)] = std::sqrt(2.0) * p * std::cos(m * ph);
+            y[sh_index(l, -m)] = std::sqrt(2.0) * p * std::sin(m * ph);
+          }
+        }
+      benchmark::DoNotOptimize(y.data());
+    }
+  rate(state, "dirs/s");
+}
+BENCHMARK(BM_ShEvalBruteAssocLegendre)->Arg(15)->Arg(30);
+
+// A projected GGX lobe (range(1) = 1: anisotropic, rotated), built once per lmax.
+const ShBrdf& brdf(int L, bool aniso) {
+  static std::vector<std::unique_ptr<ShBrdf>> cache(2 * (kShMaxL + 1));
+  auto& p = cache[2 * L + aniso];
+  if (!p) {
+    MicrofacetBrdf g(std::make_shared<GgxDistribution>(0.3, aniso ? 0.15 : 0.3, aniso ? 0.4 : 0),
+                     std::make_shared<PerfectMirrorFresnel>());
+    p = std::make_unique<ShBrdf>(ShBrdf::project(g, L, 555e-9, std::min(L + 8, 32)));
+  }
+  return *p;
+}
+
+void BM_ShBrdfEval(benchmark::State& state) {
+  const ShBrdf& b = brdf(static_cast<int>(state.range(0)), false);
+  auto wi = directions(2), wo = directions(3);
+  for (auto _ : state) {
+    double s = 0;
+    for (std::size_t k = 0; k < kBatch; ++k) s += b.eval(wi[k], wo[k], 555e-9);
+    benchmark::DoNotOptimize(s);
+  }
+  rate(state, "evals/s");
+}
+BENCHMARK(BM_ShBrdfEval)->Arg(15)->Arg(30);
+
+// The same lobe after isotropic_average(): M is block diagonal in |m|, eval works per block.
+void BM_ShBrdfEvalIsotropicBlocks(benchmark::State& state) {
+  const ShBrdf b = brdf(static_cast<int>(state.range(0)), false).isotropic_average();
+  auto wi = directions(2), wo = directions(3);
+  for (auto _ : state) {
+    double s = 0;
+    for (std::size_t k = 0; k < kBatch; ++k) s += b.eval(wi[k], wo[k], 555e-9);
+    benchmark::DoNotOptimize(s);
+  }
+  rate(state, "evals/s");
+}
+BENCHMARK(BM_ShBrdfEvalIsotropicBlocks)->Arg(15)->Arg(30);
+
+void BM_ShBrdfSample(benchmark::State& state) {
+  const ShBrdf& b = brdf(static_cast<int>(state.range(0)), state.range(1) != 0);
+  auto wi = directions(4);
+  b.pdf(wi[0], wi[1]);  // build the table outside the timing
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (auto _ : state) {
+    double s = 0;
+    for (const auto& d : wi)
+      if (auto smp = b.sample(d, u(rng), u(rng), 555e-9)) s += smp->weight;
+    benchmark::DoNotOptimize(s);
+  }
+  rate(state, "samples/s");
+}
+BENCHMARK(BM_ShBrdfSample)->Args({15, 0})->Args({15, 1})->Args({30, 0})->Args({30, 1});
+
+void BM_ShBrdfPdf(benchmark::State& state) {
+  const ShBrdf& b = brdf(static_cast<int>(state.range(0)), state.range(1) != 0);
+  auto wi = directions(6), wo = directions(7);
+  b.pdf(wi[0], wi[1]);
+  for (auto _ : state) {
+    double s = 0;
+    for (std::size_t k = 0; k < kBatch; ++k) s += b.pdf(wi[k], wo[k]);
+    benchmark::DoNotOptimize(s);
+  }
+  rate(state, "pdfs/s");
+}
+BENCHMARK(BM_ShBrdfPdf)->Args({30, 0})->Args({30, 1});
+
+// One-off: the sampling table (a fresh copy of M each iteration, so the table is rebuilt).
+void BM_ShBrdfTableBuild(benchmark::State& state) {
+  const ShBrdf& src = brdf(static_cast<int>(state.range(0)), state.range(1) != 0);
+  for (auto _ : state) {
+    ShBrdf b(src.lmax(), src.matrix());
+    benchmark::DoNotOptimize(b.pdf(Vec3(0, 0, 1), Vec3(0, 0, 1)));
+  }
+  rate(state, "tables/s", 1);
+}
+BENCHMARK(BM_ShBrdfTableBuild)
+    ->Args({15, 0})
+    ->Args({15, 1})
+    ->Args({30, 0})
+    ->Args({30, 1})
+    ->Unit(benchmark::kMillisecond);
+
+// add_incident with one precomputed exit sum: the O(size^2) outer product per incident direction,
+// batched 32 at a time into one matrix product
+// (the tracer's cost per exit is one ShOddBasis::eval, benchmarked above).
+void BM_ShEstimatorAddIncident(benchmark::State& state) {
+  const int L = static_cast<int>(state.range(0));
+  ShEstimator e(L);
+  auto w = directions(8);
+  std::vector<double> sum(e.basis().size());
+  e.basis().eval(w[1], sum.data());
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const Vec3& u = w[k++ % kBatch];
+    e.add_incident(u, u.z() / kPi, sum.data(), 64, 0.5);
+  }
+  benchmark::DoNotOptimize(e.raw()(0, 0));
+  rate(state, "incident/s", 1);
+}
+BENCHMARK(BM_ShEstimatorAddIncident)->Arg(15)->Arg(30);
+
+}  // namespace
