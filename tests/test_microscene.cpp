@@ -234,3 +234,31 @@ TEST(HeGeometricLimit, ReproducesTheReferenceTable) {
                                     Vec(std::sin(t), 0, std::cos(t)), sigma, tau, false),
               7.40, 0.02);
 }
+
+TEST(Visibility, TracedG1MatchesSmithAndFtpIsBracketed) {
+  // Gaussian surface, sigma = 10 um, tau = 65 um (Beckmann alpha = 0.3077, s = tau/sigma = 6.5).
+  GaussianSurfaceParams p;
+  p.nx = p.ny = 256;
+  p.dx = p.dy = 65e-6 / 8;
+  p.sigma = 10e-6;
+  p.tau_x = p.tau_y = 65e-6;
+  MicroSceneDesc d;
+  d.width = d.height = 256 * p.dx;
+  d.materials.push_back(mirror());
+  d.heightfields.push_back({generate_gaussian(p), 0, false});
+  MicroScene sc(std::move(d));
+  BeckmannDistribution beckmann(2 * 10.0 / 65.0);
+  for (double deg : {30.0, 60.0, 75.0, 85.0}) {
+    const double t = deg * M_PI / 180;
+    const auto g = visible_fraction(sc, t, 40000, 3);
+    const double smith = beckmann.G1(Vec(std::sin(t), 0, std::cos(t)));
+    EXPECT_NEAR(g.value, smith, 0.02 + 4 * g.std_error) << deg;
+  }
+  // At 80 deg a ray leaving the mean plane escapes more often than Smith's height-averaged G1
+  // says for points at any height, and less often than from the top: it lies between
+  // 2^-Lambda (Smith at h = 0) within noise.
+  const double t = 80 * M_PI / 180;
+  const auto f = free_travel_probability(sc, t, 0.05 * 10e-6, 20000, 5);
+  const double lambda = beckmann.lambda(Vec(std::sin(t), 0, std::cos(t)));
+  EXPECT_NEAR(f.value, std::pow(2.0, -lambda), 0.03 + 4 * f.std_error);
+}

@@ -13,6 +13,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/plot.hpp"
 #include "microbrdf/simulate.hpp"
+#include "microbrdf/sun2002.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
@@ -22,6 +23,9 @@ constexpr double kDeg = M_PI / 180;
 
 struct SimArgs {
   std::string scene, output, time = "", in_plane, cone = "4deg", he_sigma, he_tau, sh, plot, csv;
+  std::string phi_i = "0deg";
+  bool isotropic = false, visibility = false;
+  std::uint64_t vis_samples = 40000;
   int lmax = 15, points = 16, branches = 1, max_depth = 100, threads = 0;
   std::uint64_t rays = 2000000, seed = 1, gonio_rays = 1000000;
   bool json = false, quiet = false, single = false, independent = false;
@@ -139,16 +143,18 @@ void run_in_plane(const SimArgs& a, const MicroScene& scene) {
         std::make_unique<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(2 * sigma / tau),
                                          std::make_shared<PerfectMirrorFresnel>());
   const double lambda = scene.desc().wavelength_m;
+  // The plane of incidence at azimuth phi_i: light at phi_i + 180 deg, theta_r > 0 towards phi_i.
+  const double phi = parse_angle(a.phi_i), cp = std::cos(phi), sp = std::sin(phi);
   std::vector<double> tr;
   std::vector<Eigen::Vector3d> dirs;
   for (double t = -85; t <= 85 + 1e-9; t += 2.5) {
     if (std::abs(t) * kDeg + half >= M_PI / 2) continue;
     tr.push_back(t);
-    dirs.emplace_back(std::sin(t * kDeg), 0, std::cos(t * kDeg));
+    dirs.emplace_back(cp * std::sin(t * kDeg), sp * std::sin(t * kDeg), std::cos(t * kDeg));
   }
   // Cosine-weighted cone average of a model (what the simulation measures).
   auto cone_avg = [&](auto&& f, const Eigen::Vector3d& c) {
-    const Eigen::Vector3d t1 = Eigen::Vector3d(0, 1, 0).cross(c).normalized(), t2 = c.cross(t1);
+    const Eigen::Vector3d t1 = Eigen::Vector3d(-sp, cp, 0).cross(c).normalized(), t2 = c.cross(t1);
     double num = 0, den = 0;
     for (int i = 0; i < 6; ++i) {
       const double r = (i + 0.5) / 6 * half;
@@ -168,15 +174,15 @@ void run_in_plane(const SimArgs& a, const MicroScene& scene) {
   csv << "theta_i_deg,theta_r_deg,simulated,simulated_single,he1991,beckmann_smith,sh\n";
   for (std::size_t ia = 0; ia < thetas.size(); ++ia) {
     const double ti = thetas[ia];
-    const Eigen::Vector3d wi(-std::sin(ti), 0, std::cos(ti));
+    const Eigen::Vector3d wi(-cp * std::sin(ti), -sp * std::sin(ti), std::cos(ti));
     TraceCounters c;
-    const auto sim =
-        cap_brdf(scene, wi, dirs, half, a.gonio_rays, trace_options(a), a.seed + ia, &c, true);
+    const auto sim = cap_brdf(scene, wi, dirs, half, a.gonio_rays, trace_options(a), a.seed + ia,
+                              &c, a.isotropic);
     std::vector<double> single;
     if (a.single) {
       TraceOptions t1 = trace_options(a);
       t1.max_depth = 1;
-      single = cap_brdf(scene, wi, dirs, half, a.gonio_rays, t1, a.seed + ia, nullptr, true);
+      single = cap_brdf(scene, wi, dirs, half, a.gonio_rays, t1, a.seed + ia, nullptr, a.isotropic);
     }
     std::vector<double> he, sm, shv;
     for (std::size_t k = 0; k < dirs.size(); ++k) {
@@ -208,7 +214,9 @@ void run_in_plane(const SimArgs& a, const MicroScene& scene) {
       std::fprintf(stderr, "microbrdf simulate: theta_i = %.0f deg done (albedo %.4f)\n", ti / kDeg,
                    c.energy_out / double(c.incident_rays));
     Plot p;
-    p.title = "theta_i = " + std::to_string(int(std::lround(ti / kDeg))) + " deg";
+    p.title = "theta_i = " + std::to_string(int(std::lround(ti / kDeg))) + " deg" +
+              (phi != 0 ? ", plane at phi " + std::to_string(int(std::lround(phi / kDeg))) + " deg"
+                        : std::string());
     p.x.label = "theta_r (deg), + = forward";
     p.y.label = "BRDF (1/sr)";
     p.x.min = -90;
@@ -235,6 +243,68 @@ void run_in_plane(const SimArgs& a, const MicroScene& scene) {
     std::fputs(csv.str().c_str(), stdout);
 }
 
+// Ray-traced G1 and free travel probability against Smith and Sun 2002 (theory notes 2, 5).
+void run_visibility(const SimArgs& a, const MicroScene& scene) {
+  const bool ref = !a.he_sigma.empty() && !a.he_tau.empty();
+  const double sigma = ref ? parse_length(a.he_sigma) : 0, tau = ref ? parse_length(a.he_tau) : 0;
+  std::vector<double> th, g1, g1e, ftp, ftpe, smith, sun, smith0;
+  std::ostringstream csv;
+  csv << "theta_deg,g1_traced,g1_std_error,ftp_traced,ftp_std_error,smith_g1,sun_gamma0,"
+         "smith_mean_plane\n";
+  const double band = ref ? 0.05 * sigma : 0.01 * (scene.zmax() - scene.zmin());
+  for (double t = 0; t <= 88 + 1e-9; t += 4) {
+    const double r = t * kDeg;
+    const auto g = visible_fraction(scene, r, a.vis_samples, a.seed);
+    const auto f = free_travel_probability(scene, r, band, a.vis_samples, a.seed + 1);
+    th.push_back(t);
+    g1.push_back(g.value);
+    g1e.push_back(g.std_error);
+    ftp.push_back(f.value);
+    ftpe.push_back(f.std_error);
+    if (ref) {
+      smith.push_back(sun2002::smith_g1(r, tau / sigma));
+      sun.push_back(sun2002::ftp(r, tau / sigma));
+      smith0.push_back(sun2002::smith_at_mean_plane(r, tau / sigma));
+    }
+    csv << t << "," << g.value << "," << g.std_error << "," << f.value << "," << f.std_error;
+    if (ref) csv << "," << smith.back() << "," << sun.back() << "," << smith0.back();
+    csv << "\n";
+  }
+  if (!a.csv.empty()) write_file_atomic(a.csv, csv.str());
+  if (!a.plot.empty()) {
+    Plot p;
+    p.title = "Visibility on " + scene.desc().name;
+    p.x.label = "polar angle (deg)";
+    p.y.label = "fraction";
+    p.x.min = 0;
+    p.x.max = 90;
+    p.y.min = 0;
+    p.y.max = 1.05;
+    auto& s1 = p.add(PlotSeries(th, g1, "visible fraction G1 (traced)", PlotStyle::Markers));
+    s1.y_err = g1e;
+    auto& s2 = p.add(PlotSeries(th, ftp, "free travel from z = 0 (traced)", PlotStyle::Markers));
+    s2.y_err = ftpe;
+    s2.marker = MarkerShape::Triangle;
+    if (ref) {
+      p.add(PlotSeries(th, smith, "Smith G1 = 1/(1+Lambda)"));
+      p.add(PlotSeries(th, sun, "Sun Gamma_0 (eq. 3.4.23)", PlotStyle::Dashed));
+      p.add(PlotSeries(th, smith0, "Smith at z = 0: 2^-Lambda", PlotStyle::Dotted));
+    }
+    p.write(a.plot);
+  }
+  if (a.json)
+    print_json({{"theta_deg", th},
+                {"g1_traced", g1},
+                {"g1_std_error", g1e},
+                {"ftp_traced", ftp},
+                {"ftp_std_error", ftpe},
+                {"smith_g1", smith},
+                {"sun_gamma0", sun},
+                {"smith_mean_plane", smith0}});
+  else if (a.csv.empty())
+    std::fputs(csv.str().c_str(), stdout);
+}
+
 void run(const SimArgs& a) {
   MicroScene scene(load_micro_scene(a.scene));
   if (!a.quiet)
@@ -244,7 +314,9 @@ void run(const SimArgs& a) {
                  scene.desc().name.c_str(), format_length(scene.width()).c_str(),
                  format_length(scene.height()).c_str(), scene.triangle_count(),
                  scene.capsule_count());
-  if (!a.in_plane.empty())
+  if (a.visibility)
+    run_visibility(a, scene);
+  else if (!a.in_plane.empty())
     run_in_plane(a, scene);
   else
     run_sh(a, scene);
@@ -265,15 +337,15 @@ void register_simulate(CLI::App& app) {
       "1/J^2 normalisation) is printed as it converges; it falls as N^-1/2.\n"
       "Deterministic for a seed and --threads when --rays is used (not with --time).\n"
       "--in-plane: instead, a direct estimate of rho in the plane of incidence (cones of --cone\n"
-      "around theta_r every 2.5 deg, plane of incidence turned to all azimuths for isotropic\n"
-      "scenes), optionally with He 1991 / Beckmann-Smith references and an SH file overlaid.\n"
+      "around theta_r every 2.5 deg; --isotropic turns the plane to all azimuths), optionally\n"
+      "with He 1991 / Beckmann-Smith references and an SH file overlaid.\n"
       "Scene format: docs/westin.md; examples in examples/scenes/.\n\n"
       "Examples:\n"
       "  microbrdf simulate examples/scenes/westin_fig6.json --lmax 15 --time 60s -o w.shbrdf\n"
       "  microbrdf simulate examples/scenes/cylinders.json --rays 4000000 --seed 2 -o c.shbrdf "
       "--json\n"
       "  microbrdf simulate examples/scenes/westin_fig6.json --in-plane 0,30,45,60,75 "
-      "--he-sigma 10um --he-tau 65um --single-scatter --plot fig6.png");
+      "--isotropic --he-sigma 10um --he-tau 65um --single-scatter --plot fig6.png");
   c->add_option("scene", a->scene, "Micro-scene JSON file")->required();
   c->add_option("-o,--output", a->output, "Output .shbrdf file");
   c->add_option("--lmax", a->lmax, "Highest SH order l (matrix size lmax(lmax+1)/2 squared)")
@@ -299,12 +371,23 @@ void register_simulate(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--cone", a->cone, "--in-plane: half-angle of the exit cones")
       ->capture_default_str();
+  c->add_option("--phi-i", a->phi_i,
+                "--in-plane: azimuth of the plane of incidence (light at phi + 180 deg)")
+      ->capture_default_str();
+  c->add_flag("--isotropic", a->isotropic,
+              "--in-plane: the scene is statistically isotropic; turn the plane of incidence to "
+              "all azimuths (averages out one realisation's anisotropy)");
   c->add_flag("--single-scatter", a->single, "--in-plane: also the one-bounce part");
   c->add_option("--he-sigma", a->he_sigma, "--in-plane: reference surface rms height (He 1991)");
   c->add_option("--he-tau", a->he_tau, "--in-plane: reference correlation length (He 1991)");
   c->add_option("--sh", a->sh, "--in-plane: overlay this .shbrdf");
   c->add_option("--plot", a->plot, "--in-plane: figure, one panel per theta_i (.png/.svg)");
   c->add_option("--csv", a->csv, "--in-plane: CSV of every point (default: CSV on stdout)");
+  c->add_flag("--visibility", a->visibility,
+              "Instead: ray-traced visible fraction G1 and free travel probability from the mean "
+              "plane vs polar angle (0..88 deg), with Smith and Sun 2002 for --he-sigma/--he-tau");
+  c->add_option("--visibility-samples", a->vis_samples, "--visibility: samples per angle")
+      ->capture_default_str();
   c->add_flag("--json", a->json, "Print a summary as JSON on stdout");
   c->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
   c->callback([a] { run_guarded("simulate", [&] { run(*a); }); });

@@ -153,6 +153,25 @@ std::vector<double> cap_brdf(const MicroScene& scene, const Eigen::Vector3d& u,
                              TraceCounters* counters = nullptr, bool average_azimuth = false,
                              int points_per_block = 64);
 
+/// A fraction estimated from `samples` Bernoulli-weighted samples, with its standard error.
+struct FractionEstimate {
+  double value = 0, std_error = 0;
+  std::uint64_t samples = 0;
+};
+/// Ray-traced Smith visibility of a height-field scene seen from polar angle theta (rad; azimuth
+/// drawn uniformly per sample): the projected area of the surface facing the viewer that is not
+/// occluded, over all of it facing the viewer -- the G1(v) of microfacet theory (Smith's
+/// 1 / (1 + Lambda) for Gaussian surfaces), and Dong 2015 Fig. 6 left ("average fraction of the
+/// surface visible"). Surface points come from vertical rays at uniform points of the tile.
+FractionEstimate visible_fraction(const MicroScene& scene, double theta, std::uint64_t samples,
+                                  std::uint64_t seed);
+/// Sun 2002's free travel probability on a 2-D surface: rays leaving surface points within
+/// +-band of the mean plane z = 0 (band in metres), in directions at polar angle theta with
+/// uniform azimuth that the local facet faces, and the fraction that escape without hitting the
+/// surface (compare sun2002::ftp and sun2002::smith_at_mean_plane).
+FractionEstimate free_travel_probability(const MicroScene& scene, double theta, double band,
+                                         std::uint64_t samples, std::uint64_t seed);
+
 /// He, Torrance, Sillion & Greenberg 1991 directional-diffuse term in its geometric-optics limit
 /// (theory 6.7): F(wi.h) S(theta_i) S(theta_r) D_Beckmann(h; alpha = 2 sigma_0 / tau) /
 /// (4 cos theta_i cos theta_r), with He's shadowing S (errata form with exp(-a^2); `errata` =
