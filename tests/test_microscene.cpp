@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "microbrdf/error.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/microscene.hpp"
 #include "microbrdf/simulate.hpp"
@@ -261,4 +262,52 @@ TEST(Visibility, TracedG1MatchesSmithAndFtpIsBracketed) {
   const auto f = free_travel_probability(sc, t, 0.05 * 10e-6, 20000, 5);
   const double lambda = beckmann.lambda(Vec(std::sin(t), 0, std::cos(t)));
   EXPECT_NEAR(f.value, std::pow(2.0, -lambda), 0.03 + 4 * f.std_error);
+}
+
+TEST(SceneJson, ExampleScenesLoadAndBuild) {
+  const std::string dir = std::string(MICROBRDF_TEST_DATA) + "/../../examples/scenes/";
+  struct Case {
+    const char* file;
+    std::size_t triangles, primitives_at_least;
+  };
+  for (const Case& c :
+       {Case{"lambert_plane.json", 0, 1}, Case{"cylinders.json", 0, 11},
+        Case{"spheres.json", 0, 26}, Case{"velvet.json", 0, 601}, Case{"cloth_threads.json", 0, 11},
+        Case{"gaussian_aluminium.json", 524288, 0}}) {
+    MicroScene sc(load_micro_scene(dir + c.file));
+    EXPECT_EQ(sc.triangle_count(), c.triangles) << c.file;
+    EXPECT_GE(sc.capsule_count(), c.primitives_at_least) << c.file;
+    EXPECT_GT(sc.zmax(), sc.zmin()) << c.file;
+  }
+  // The aluminium facets carry a conductor Fresnel: normal-incidence albedo well below 1.
+  MicroScene al(load_micro_scene(dir + "gaussian_aluminium.json"));
+  EXPECT_LT(albedo(al, Vec(0, 0, 1), 2000), 0.95);
+  EXPECT_GT(albedo(al, Vec(0, 0, 1), 2000), 0.85);
+}
+
+TEST(SceneJson, ErrorsNameTheFileAndTheProblem) {
+  auto fails_with = [](const char* text, const char* what) {
+    try {
+      parse_micro_scene(nlohmann::json::parse(text), ".", "scene.json");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const FileError& e) {
+      EXPECT_NE(std::string(e.what()).find("scene.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  fails_with(R"({"objects": []})", "materials");
+  fails_with(R"({"materials": {"a": {"type": "glass"}}, "objects": []})", "type must be");
+  fails_with(R"({"tile": "1x1mm", "materials": {"a": {"type": "lambert"}},
+                "objects": [{"type": "plane", "z": 0, "material": "a"}]})",
+             "unit");
+  fails_with(R"({"materials": {"a": {"type": "lambert"}},
+                "objects": [{"type": "plane", "z": "0um", "material": "a"}]})",
+             "tile");
+  fails_with(R"({"tile": "1x1mm", "materials": {"a": {"type": "lambert", "albedo": 2}},
+                "objects": []})",
+             "albedo");
+  fails_with(R"({"tile": "100x100um", "materials": {"a": {"type": "lambert"}},
+                "objects": [{"type": "weave", "pitch": "30um", "radius": "10um",
+                             "material": "a"}]})",
+             "whole number");
 }
