@@ -5,7 +5,8 @@
 //  - Tracer: the micro-scene tracer alone (tile wrap, scattering, bookkeeping), exits dropped;
 //  - Simulate: the full estimator at l_max = 15 (exits projected on the SH basis, one outer
 //    product per incident direction).
-// Counters: Embree queries per second and exit rays per second, wall clock, all threads.
+// Counters: Embree queries and exit rays per second of CPU time of the calling thread: run with
+// OMP_NUM_THREADS=1 for per-core rates that a loaded machine does not distort (docs/benchmarks.md).
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 #include <omp.h>
@@ -77,7 +78,7 @@ void BM_SimulateBareEmbree(benchmark::State& state) {
   state.SetLabel(std::string(state.range(0) ? "grid" : "triangles") + ", 524288 triangles, " +
                  std::to_string(omp_get_max_threads()) + " threads");
 }
-BENCHMARK(BM_SimulateBareEmbree)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SimulateBareEmbree)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_SimulateTracer(benchmark::State& state) {
   const MicroScene& sc = scene(state.range(0) != 0);
@@ -109,7 +110,7 @@ void BM_SimulateTracer(benchmark::State& state) {
   state.counters["queries_per_ray"] = double(total.segments) / double(total.incident_rays);
   state.SetLabel(state.range(0) ? "grid" : "triangles");
 }
-BENCHMARK(BM_SimulateTracer)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SimulateTracer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_SimulateEstimator(benchmark::State& state) {
   const MicroScene& sc = scene(false);
@@ -131,6 +132,6 @@ void BM_SimulateEstimator(benchmark::State& state) {
                                                  benchmark::Counter::kIsIterationInvariantRate);
   state.SetLabel("lmax " + std::to_string(o.lmax) + ", 16 points per direction");
 }
-BENCHMARK(BM_SimulateEstimator)->Arg(15)->Arg(8)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SimulateEstimator)->Arg(15)->Arg(8)->Unit(benchmark::kMillisecond);
 
 }  // namespace
