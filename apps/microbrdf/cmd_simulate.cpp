@@ -137,11 +137,19 @@ void run_in_plane(const SimArgs& a, const MicroScene& scene) {
   }
   std::unique_ptr<ShBrdf> sh;
   if (!a.sh.empty()) sh = std::make_unique<ShBrdf>(ShBrdf::load(a.sh));
+  // The references use the Fresnel term of the first height field's mirror material (F = 1
+  // otherwise), at the half-vector angle, as the microfacet facets see it.
+  std::shared_ptr<const Fresnel> fresnel;
+  for (const auto& hf : scene.desc().heightfields) {
+    const MicroMaterial& m = scene.desc().materials[hf.material];
+    if (m.kind == MicroMaterial::Kind::mirror) fresnel = m.fresnel;
+    break;
+  }
   std::unique_ptr<MicrofacetBrdf> smith;
   if (ref)
-    smith =
-        std::make_unique<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(2 * sigma / tau),
-                                         std::make_shared<PerfectMirrorFresnel>());
+    smith = std::make_unique<MicrofacetBrdf>(
+        std::make_shared<BeckmannDistribution>(2 * sigma / tau),
+        fresnel ? fresnel : std::make_shared<const PerfectMirrorFresnel>());
   const double lambda = scene.desc().wavelength_m;
   // The plane of incidence at azimuth phi_i: light at phi_i + 180 deg, theta_r > 0 towards phi_i.
   const double phi = parse_angle(a.phi_i), cp = std::cos(phi), sp = std::sin(phi);
@@ -188,7 +196,9 @@ void run_in_plane(const SimArgs& a, const MicroScene& scene) {
     for (std::size_t k = 0; k < dirs.size(); ++k) {
       if (ref) {
         he.push_back(cone_avg(
-            [&](const Eigen::Vector3d& w) { return he1991_geometric_brdf(wi, w, sigma, tau); },
+            [&](const Eigen::Vector3d& w) {
+              return he1991_geometric_brdf(wi, w, sigma, tau, true, fresnel.get(), lambda);
+            },
             dirs[k]));
         sm.push_back(cone_avg([&](const Eigen::Vector3d& w) { return smith->eval(wi, w, lambda); },
                               dirs[k]));
@@ -378,7 +388,9 @@ void register_simulate(CLI::App& app) {
               "--in-plane: the scene is statistically isotropic; turn the plane of incidence to "
               "all azimuths (averages out one realisation's anisotropy)");
   c->add_flag("--single-scatter", a->single, "--in-plane: also the one-bounce part");
-  c->add_option("--he-sigma", a->he_sigma, "--in-plane: reference surface rms height (He 1991)");
+  c->add_option("--he-sigma", a->he_sigma,
+                "--in-plane: reference surface rms height (He 1991 and Beckmann-Smith, with the "
+                "Fresnel term of the height field's mirror material)");
   c->add_option("--he-tau", a->he_tau, "--in-plane: reference correlation length (He 1991)");
   c->add_option("--sh", a->sh, "--in-plane: overlay this .shbrdf");
   c->add_option("--plot", a->plot, "--in-plane: figure, one panel per theta_i (.png/.svg)");
