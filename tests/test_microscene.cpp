@@ -311,3 +311,21 @@ TEST(SceneJson, ErrorsNameTheFileAndTheProblem) {
                              "material": "a"}]})",
              "whole number");
 }
+
+TEST(SceneJson, CylindersAlongYAreCylindersAlongXTurned) {
+  // A scene with cylinders along y equals the along-x scene turned by 90 deg: same albedo for the
+  // correspondingly turned light.
+  auto scene = [](const char* extra) {
+    const std::string text = std::string(R"({"tile": "120x120um",
+      "materials": {"m": {"type": "mirror", "fresnel": "Al"}, "b": {"type": "absorber"}},
+      "objects": [{"type": "cylinders", "radius": "5um", "pitch": "12um", "material": "m")") +
+                             extra + R"(}, {"type": "plane", "z": "0um", "material": "b"}]})";
+    return MicroScene(parse_micro_scene(nlohmann::json::parse(text), ".", "t.json"));
+  };
+  MicroScene x = scene(""), y = scene(R"(, "angle": "90deg")");
+  EXPECT_EQ(x.capsule_count(), y.capsule_count());
+  const double ax = albedo(x, Vec(0.6, 0, 0.8), 20000), ay = albedo(y, Vec(0, 0.6, 0.8), 20000);
+  const double across = albedo(y, Vec(0.6, 0, 0.8), 20000);
+  EXPECT_NEAR(ax, ay, 0.01);
+  EXPECT_GT(std::abs(ax - across), 0.02);  // anisotropic
+}

@@ -90,11 +90,12 @@ struct MicroSceneDesc {
 
 // --- Builders (they append to desc.capsules; all lengths in metres, angles in radians) -------
 
-/// Parallel cylinders along the scene's x axis, `count` of them across the tile height (the pitch
-/// is height / count so the array is periodic), axes at height z_axis, each shifted across by a
-/// uniform random amount in [-jitter, jitter] * pitch.
+/// Parallel cylinders along the scene's x axis (y when `along_y`), `count` of them across the
+/// tile (the pitch is the tile size / count so the array is periodic), axes at height z_axis,
+/// each shifted across by a uniform random amount in [-jitter, jitter] * pitch. Other
+/// orientations: turn the whole scene (MicroSceneDesc::rotation).
 void add_cylinders(MicroSceneDesc& d, double radius, int count, double z_axis, double jitter,
-                   std::uint64_t seed, int material);
+                   std::uint64_t seed, int material, bool along_y = false);
 /// Spheres on a square grid of `pitch` (tile / pitch must be a whole number), centres at z,
 /// jittered by [-jitter, jitter] * pitch in x and y.
 void add_spheres(MicroSceneDesc& d, double radius, double pitch, double z, double jitter,

@@ -24,15 +24,18 @@ int periods(double length, double period, const char* what) {
 }  // namespace
 
 void add_cylinders(MicroSceneDesc& d, double radius, int count, double z_axis, double jitter,
-                   std::uint64_t seed, int material) {
+                   std::uint64_t seed, int material, bool along_y) {
   if (!(radius > 0) || count < 1) throw InputError("cylinders: radius > 0 and count >= 1");
-  const double pitch = d.height / count;
+  const double across = along_y ? d.width : d.height, along = along_y ? d.height : d.width;
+  const double pitch = across / count;
   SimRng rng(seed, 0x6379);
   // Ends well outside the tile: the tile clips them, so they act as infinite cylinders.
-  const double x0 = -2 * radius - 1e-3 * d.width, x1 = d.width + 2 * radius + 1e-3 * d.width;
+  const double s0 = -2 * radius - 1e-3 * along, s1 = along + 2 * radius + 1e-3 * along;
   for (int k = 0; k < count; ++k) {
-    const double y = (k + 0.5) * pitch + jitter * pitch * (2 * rng.uniform() - 1);
-    d.capsules.push_back(Capsule{Vec(x0, y, z_axis), Vec(x1, y, z_axis), radius, material});
+    const double c = (k + 0.5) * pitch + jitter * pitch * (2 * rng.uniform() - 1);
+    const Vec a = along_y ? Vec(c, s0, z_axis) : Vec(s0, c, z_axis);
+    const Vec b = along_y ? Vec(c, s1, z_axis) : Vec(s1, c, z_axis);
+    d.capsules.push_back(Capsule{a, b, radius, material});
   }
 }
 

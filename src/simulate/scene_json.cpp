@@ -1,4 +1,5 @@
 // The JSON micro-scene format (docs/westin.md, "Micro-scenes"; examples/scenes/*.json).
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -251,8 +252,22 @@ MicroSceneDesc parse_micro_scene(const json& j, const std::string& base_dir,
         d.planes.push_back({length(c, o, "z", 0.0), mat(o)});
       } else if (type == "cylinders") {
         const double r = length(c, o, "radius");
-        add_cylinders(d, r, integer(c, o, "count", 8), length(c, o, "z", r),
-                      number(c, o, "jitter", 0), integer(c, o, "seed", 1), mat(o));
+        // Along x (angle 0) or y (angle 90 deg); other orientations: the scene's "rotation".
+        const double ang = angle(c, o, "angle", 0);
+        const bool along_y = std::abs(ang - M_PI / 2) < 1e-9;
+        if (!along_y && std::abs(ang) > 1e-9)
+          c.fail("cylinders: angle must be 0 or 90 deg (turn the scene with \"rotation\")");
+        int count = integer(c, o, "count", 8);
+        if (o.contains("pitch")) {
+          const double across = along_y ? d.width : d.height;
+          const double n = across / length(c, o, "pitch");
+          count = static_cast<int>(std::lround(n));
+          if (count < 1 || std::abs(n - count) > 1e-6 * n)
+            c.fail("cylinders: the tile must be a whole number of pitches (" + std::to_string(n) +
+                   ")");
+        }
+        add_cylinders(d, r, count, length(c, o, "z", r), number(c, o, "jitter", 0),
+                      integer(c, o, "seed", 1), mat(o), along_y);
       } else if (type == "spheres") {
         const double r = length(c, o, "radius");
         add_spheres(d, r, length(c, o, "pitch"), length(c, o, "z", r), number(c, o, "jitter", 0),
