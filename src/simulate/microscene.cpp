@@ -230,15 +230,21 @@ MicroScene::MicroScene(MicroSceneDesc desc) : desc_(std::move(desc)) {
     for (double z : s.z)
       if (!std::isfinite(z))
         throw InputError("micro-scene: height field has invalid samples (fill them first)");
-    const std::size_t vx = s.nx + 1, vy = s.ny + 1;
-    // Vertices over the closed tile, the last row/column repeating the first (periodic).
+    // Vertices over the tile plus one cell all round, wrapped periodically: a ray that crosses
+    // the surface right at a tile wall then never meets the mesh's own boundary edge (where
+    // float round-off could let it slip through); hits in the margin are wrapped back.
+    const std::size_t vx = s.nx + 3, vy = s.ny + 3;
     std::vector<float> v(3 * vx * vy + 1);  // +1: Embree reads 16 bytes at the last vertex
+    const auto wrap = [](long i, std::size_t n) {
+      return static_cast<std::size_t>((i % long(n) + long(n)) % long(n));
+    };
     for (std::size_t j = 0; j < vy; ++j)
       for (std::size_t i = 0; i < vx; ++i) {
-        const double z = s.z[(j % s.ny) * s.nx + (i % s.nx)];
+        const long ii = long(i) - 1, jj = long(j) - 1;
+        const double z = s.z[wrap(jj, s.ny) * s.nx + wrap(ii, s.nx)];
         float* p = &v[3 * (j * vx + i)];
-        p[0] = float(i == s.nx ? W : i * s.dx);
-        p[1] = float(j == s.ny ? H : j * s.dy);
+        p[0] = float(ii == long(s.nx) ? W : double(ii) * s.dx);
+        p[1] = float(jj == long(s.ny) ? H : double(jj) * s.dy);
         p[2] = float(z);
         zmin_ = std::min(zmin_, z);
         zmax_ = std::max(zmax_, z);
@@ -259,11 +265,12 @@ MicroScene::MicroScene(MicroSceneDesc desc) : desc_(std::move(desc)) {
       g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
       rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, v.data(), 0,
                                  3 * sizeof(float), vx * vy);
+      const std::size_t cx = vx - 1, cy = vy - 1;
       auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-          g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2 * s.nx * s.ny));
+          g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2 * cx * cy));
       std::size_t k = 0;
-      for (std::size_t j = 0; j < s.ny; ++j)
-        for (std::size_t i = 0; i < s.nx; ++i) {
+      for (std::size_t j = 0; j < cy; ++j)
+        for (std::size_t i = 0; i < cx; ++i) {
           const auto v00 = unsigned(j * vx + i), v10 = v00 + 1, v01 = unsigned(v00 + vx),
                      v11 = v01 + 1;
           // Counter-clockwise seen from above: normals point up.
@@ -271,7 +278,7 @@ MicroScene::MicroScene(MicroSceneDesc desc) : desc_(std::move(desc)) {
           idx[k++] = v00, idx[k++] = v11, idx[k++] = v01;
         }
     }
-    triangles_ += 2 * s.nx * s.ny;
+    triangles_ += 2 * s.nx * s.ny;  // the tile's own (the margin repeats them)
     rtcCommitGeometry(g);
     const unsigned id = rtcAttachGeometry(scene, g);
     rtcReleaseGeometry(g);
@@ -327,6 +334,11 @@ TraceEnd MicroScene::trace(Eigen::Vector3d o, const Eigen::Vector3d& d, MicroHit
   rtcInitIntersectContext(&ctx);
   double travelled = 0;
   constexpr double inf = std::numeric_limits<double>::infinity();
+  // Origins offset from a hit next to a wall may lie just outside the tile: wrap them in.
+  if (o.x() < 0) o.x() += W;
+  if (o.x() >= W) o.x() -= W;
+  if (o.y() < 0) o.y() += H;
+  if (o.y() >= H) o.y() -= H;
   const double tx = d.x() > 0 ? 1 / d.x() : d.x() < 0 ? -1 / d.x() : inf;
   const double ty = d.y() > 0 ? 1 / d.y() : d.y() < 0 ? -1 / d.y() : inf;
   for (int seg = 0; seg < 100000; ++seg) {
