@@ -18,7 +18,8 @@ constexpr double kDeg = M_PI / 180;
 MicroSceneDesc flat(MicroMaterial m) {
   MicroSceneDesc d;
   d.width = d.height = 16e-6;
-  m.name = std::string(1, 'm');  // (operator=(const char*) trips a GCC 12 -Wrestrict false positive)
+  m.name =
+      std::string(1, 'm');  // (operator=(const char*) trips a GCC 12 -Wrestrict false positive)
   d.materials.push_back(std::move(m));
   d.heightfields.push_back({Surface(16, 16, 1e-6, 1e-6), 0, false});
   return d;
