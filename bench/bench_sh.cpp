@@ -135,6 +135,22 @@ void BM_ShBrdfEval(benchmark::State& state) {
 }
 BENCHMARK(BM_ShBrdfEval)->Arg(15)->Arg(30);
 
+// One direction bound per 64 evaluations (a shading point with 64 light directions).
+void BM_ShBrdfEvalBound(benchmark::State& state) {
+  const ShBrdf& b = brdf(static_cast<int>(state.range(0)), false);
+  auto wi = directions(2), wo = directions(3);
+  for (auto _ : state) {
+    double s = 0;
+    for (std::size_t k = 0; k < kBatch; k += 64) {
+      const auto bound = b.bind(wi[k]);
+      for (std::size_t j = k; j < k + 64; ++j) s += b.eval_bound(bound, wo[j]);
+    }
+    benchmark::DoNotOptimize(s);
+  }
+  rate(state, "evals/s");
+}
+BENCHMARK(BM_ShBrdfEvalBound)->Arg(15)->Arg(30);
+
 // The same lobe after isotropic_average(): M is block diagonal in |m|, eval works per block.
 void BM_ShBrdfEvalIsotropicBlocks(benchmark::State& state) {
   const ShBrdf b = brdf(static_cast<int>(state.range(0)), false).isotropic_average();

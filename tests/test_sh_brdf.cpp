@@ -309,3 +309,18 @@ TEST(sh_brdf, IsotropicAverageIsTheRotationMeanAndEvaluatesByBlocks) {
   EXPECT_LT((iso.isotropic_average().matrix() - iso.matrix()).norm(), 1e-6 * iso.matrix().norm());
   EXPECT_TRUE(ShBrdf(4, lambert_matrix(4, 1)).block_diagonal_in_m());
 }
+
+TEST(sh_brdf, BoundEvaluationEqualsEval) {
+  const auto s = ShBrdf::project(ggx(0.25, 0.5, 0.3), 12, 0);
+  for (int k = 0; k < 10; ++k) {
+    const Vec3 a = dir(4 + 8 * k, 37 * k);
+    const auto b = s.bind(a);
+    for (int q = 0; q < 10; ++q) {
+      const Vec3 c = dir(85 - 9 * q, 300 - 23 * q);
+      const double f = s.eval(a, c, 0);
+      EXPECT_NEAR(s.eval_bound(b, c), f, 1e-12 * std::max(1.0, f));
+      EXPECT_NEAR(s.eval_bound(b, c), s.eval(c, a, 0), 1e-12 * std::max(1.0, f));
+    }
+    EXPECT_EQ(s.eval_bound(b, dir(95, 0)), 0.0);
+  }
+}

@@ -169,6 +169,23 @@ double ShBrdf::eval(const Vec3& wi, const Vec3& wo, double) const {
   return f / (ci * co);
 }
 
+ShBrdf::Bound ShBrdf::bind(const Vec3& w) const {
+  Eigen::VectorXd y(basis_.size());
+  basis_.eval(w, y.data());
+  return Bound{w, m_ * y};
+}
+
+double ShBrdf::eval_bound(const Bound& b, const Vec3& other) const {
+  if (!(b.w.z() > 0) || !(other.z() > 0)) return 0.0;
+  Eigen::VectorXd y(basis_.size());
+  basis_.eval(other, y.data());
+  const double f = y.dot(b.c);
+  if (!(f > 0)) return 0.0;
+  const double ci = std::max(b.w.z() / b.w.norm(), horizon_cos_);
+  const double co = std::max(other.z() / other.norm(), horizon_cos_);
+  return f / (ci * co);
+}
+
 double ShBrdf::albedo(const Vec3& wi) const {
   if (!(wi.z() > 0)) return 0.0;
   const int n = basis_.size();
