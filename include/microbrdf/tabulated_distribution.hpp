@@ -24,7 +24,7 @@
 //    coarse cells C (default 128 x 128 blocks) drawn with probability
 //      P(C | v) = (1 - eps) sum_k w_k(v) P_k(C) + eps M_C / Z,
 //    where P_k(C) = integral_C D <v_k.m>+ dw / sigma+(v_k) are visible-normal tables for view
-//    nodes v_k on a (theta, phi) grid (default 5 deg x 15 deg: 19 x 24 tables, float CDFs),
+//    nodes v_k on a (theta, phi) grid (default 5 deg x 15 deg: 19 x 24 tables),
 //    w_k(v) bilinear weights of the four nodes around v, M_C the interpolant's mass in C and
 //    eps (default 0.05) a defensive share of the plain D(m)(m.n) probabilities (positive pdf
 //    wherever D > 0, weights at most 1/eps times the plain sampler's); then a cell inside C

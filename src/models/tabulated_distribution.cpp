@@ -143,8 +143,8 @@ TabulatedDistribution::TabulatedDistribution(TabulatedNdf ndf,
   for (double& v : bm_) v /= s_n;
 
   if (opt_.sampling == TabulatedSampling::visible)
-    vn_ = std::make_unique<detail::VisibleNormalTables>(
-        *ndf_, opt_.vn_coarse, opt_.vn_theta_steps, opt_.vn_phi_steps, opt_.vn_defensive);
+    vn_ = std::make_unique<detail::VisibleNormalTables>(*ndf_, opt_.vn_coarse, opt_.vn_theta_steps,
+                                                        opt_.vn_phi_steps, opt_.vn_defensive);
 }
 
 double TabulatedDistribution::sigma_plus_direct(const Vec3& k) const {

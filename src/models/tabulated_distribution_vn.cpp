@@ -127,8 +127,8 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
       if (nx * nx + ny * ny >= 1) continue;
       const double a = t.at(cx, cy), b = t.at(cx + 1, cy), c = t.at(cx, cy + 1),
                    d = t.at(cx + 1, cy + 1);
-      const double m = fx * fx + fy * fy <= 1 ? 0.25 * (a + b + c + d) * h * h
-                                              : rim_mass(x0, y0, h, a, b, c, d);
+      const double m =
+          fx * fx + fy * fy <= 1 ? 0.25 * (a + b + c + d) * h * h : rim_mass(x0, y0, h, a, b, c, d);
       if (!(m > 0)) continue;  // (cells with negative values are never drawn)
       fm[cy * cells_ + cx] = m;
       ++count[(cy * nc_ / cells_) * nc_ + cx * nc_ / cells_];
@@ -195,7 +195,7 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
   // View tables: P_k(C) proportional to sum over its sub-blocks of M_s <v_k.z + v_k.x p + v_k.y q>+
   // (= integral_C D <v_k.m>+ dw where the horizon of v_k crosses no sub-block).
   const std::size_t tables = (nt_ + 1) * np_, block = nc_ * (nc_ + 1);
-  view_cdf_.assign(tables * block, 0.0f);
+  view_cdf_.assign(tables * block, 0.0);
   const auto nsub = sub_c.size();
 #pragma omp parallel
   {
@@ -210,9 +210,9 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
       std::fill(g.begin(), g.end(), 0.0);
       for (std::size_t s = 0; s < nsub; ++s)
         g[sub_c[s]] += sub_m[s] * std::max(0.0, vz + vx * sub_p[s] + vy * sub_q[s]);
-      float* out = &view_cdf_[static_cast<std::size_t>(k) * block];
+      double* out = &view_cdf_[static_cast<std::size_t>(k) * block];
       if (!cdf_2d(g, nc_, out))  // nothing visible from v_k (not for a positive table): Q
-        for (std::size_t i = 0; i < block; ++i) out[i] = static_cast<float>(q_cdf_[i]);
+        for (std::size_t i = 0; i < block; ++i) out[i] = q_cdf_[i];
     }
   }
 }
@@ -220,7 +220,7 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
 std::size_t VisibleNormalTables::memory_bytes() const {
   return fine_cdf_.size() * sizeof(double) + fine_id_.size() * sizeof(std::uint32_t) +
          offset_.size() * sizeof(std::uint32_t) + (mass_.size() + q_cdf_.size()) * sizeof(double) +
-         view_cdf_.size() * sizeof(float);
+         view_cdf_.size() * sizeof(double);
 }
 
 VisibleNormalTables::Mix VisibleNormalTables::mix(const Vec3& v) const {
@@ -232,8 +232,8 @@ VisibleNormalTables::Mix VisibleNormalTables::mix(const Vec3& v) const {
   const double a = ft - static_cast<double>(it);
   double p = std::atan2(v.y(), v.x());
   if (!(p >= 0)) p = p < 0 ? p + 2 * kPi : 0.0;
-  const double fp = std::clamp(p * (static_cast<double>(np_) / (2 * kPi)), 0.0,
-                               static_cast<double>(np_));
+  const double fp =
+      std::clamp(p * (static_cast<double>(np_) / (2 * kPi)), 0.0, static_cast<double>(np_));
   const auto ip = std::min(static_cast<std::size_t>(fp), np_ - 1);
   const double b = fp - static_cast<double>(ip);
   const std::size_t ip1 = ip + 1 == np_ ? 0 : ip + 1;
@@ -256,7 +256,7 @@ double VisibleNormalTables::coarse_probability(const Mix& x, std::size_t c) cons
   double p = eps_ * width(q, r) * width(q + nc_ + r * nc_, col);
   for (int k = 0; k < 4; ++k)
     if (x.w[k] > 0) {
-      const float* t = &view_cdf_[x.table[k] * block];
+      const double* t = &view_cdf_[x.table[k] * block];
       p += x.w[k] * width(t, r) * width(t + nc_ + r * nc_, col);
     }
   return p;
@@ -266,7 +266,7 @@ Vec3 VisibleNormalTables::sample(const Vec3& v, double u1, double u2) const {
   const Mix x = mix(v);
   const std::size_t block = nc_ * (nc_ + 1);
   // Component: view table k with probability w_k, else (probability eps) the plain Q.
-  const float* cdf_k = nullptr;
+  const double* cdf_k = nullptr;
   double lo = 0;
   for (int k = 0; k < 4; ++k) {
     if (x.w[k] > 0 && u1 < lo + x.w[k]) {

@@ -20,8 +20,9 @@
 //   pdf(m | v) = P(C(m) | v) eval(m) / M_C(m) * m_z      per steradian.
 // eps > 0 keeps the pdf positive wherever D > 0 (no bias when v lies between nodes and the
 // horizon moved), and bounds the weights by 1/eps times those of the plain sampler.
-// Coarse cells are drawn row first (u1), then within the row (u2). The view tables are float CDFs: the pdf uses the same float differences that the
-// sampler's search sees, so the two agree exactly.
+// Coarse cells are drawn row first (u1), then within the row (u2), which keeps the
+// stratification of (u1, u2) in two dimensions. The pdf uses the very CDF differences that the
+// sampler's searches see, so the two agree to rounding.
 
 #include <cstddef>
 #include <cstdint>
@@ -63,8 +64,8 @@ class VisibleNormalTables {
   // Coarse cells are drawn as a row (u1) and then a cell of the row (u2), which keeps the
   // stratification of (u1, u2) in two dimensions. Each CDF block: nc row CDF entries, then nc
   // conditional CDFs over the cells of each row (nc entries each), all inclusive, last = 1.
-  std::vector<double> q_cdf_;    // defensive: M_C / total
-  std::vector<float> view_cdf_;  // (nt + 1) * np view tables, nc (nc + 1) entries each
+  std::vector<double> q_cdf_;     // defensive: M_C / total
+  std::vector<double> view_cdf_;  // (nt + 1) * np view tables, nc (nc + 1) entries each
 };
 
 }  // namespace microbrdf::detail
