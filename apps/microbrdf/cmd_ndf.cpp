@@ -81,8 +81,19 @@ void run_kirchhoff(const NdfArgs& a) {
   if (!(o.wavelength_q > 0)) throw InputError("--wavelength must be > 0");
   if (!(o.accuracy > 0 && o.accuracy < 1)) throw InputError("--accuracy must be in (0, 1)");
   auto paths = expand_scan_inputs(a.inputs);
+  // D_K takes ~25 s per scan at 1025^2: report the overall fraction on stderr in 10 % steps.
+  std::size_t scan = 0;
+  int last_step = -1;
+  o.progress = [&](double f) {
+    const double all = (static_cast<double>(scan) + f) / static_cast<double>(paths.size());
+    const int step = static_cast<int>(std::floor(all * 10 + 1e-9));
+    if (step == last_step) return;
+    last_step = step;
+    std::fprintf(stderr, "microbrdf ndf: kirchhoff D_K %3d%%\n", step * 10);
+  };
   KirchhoffAccumulator acc(o);
   for (std::size_t i = 0; i < paths.size(); ++i) {
+    scan = i;
     progress("ndf", i, paths.size(), paths[i]);
     Surface s = load_surface(paths[i], a.read, nullptr);
     const double nyq = M_PI / std::max(s.dx, s.dy), qm = 4 * M_PI / o.wavelength_q;

@@ -26,6 +26,7 @@
 #include <Eigen/Core>
 #include <complex>
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -123,6 +124,10 @@ struct KirchhoffOptions {
   /// sampled-surface sum only repeats the band (aliases, e.g. a copy of the specular peak at
   /// q_y = 2 pi/dy). Only matters when a spacing exceeds lambda_q / 4 (|q| > pi / d).
   bool nyquist_mask = true;
+  /// Optional progress report: KirchhoffAccumulator::add calls it with the fraction (0..1) of
+  /// the current scan's patches done, once before the first patch (0) and after each patch
+  /// (the last call is 1). Called from the calling thread; empty = silent.
+  std::function<void(double)> progress;
 };
 
 /// Averages D_K over patches and scans (Dong App. A): each scan is cut into tiles of about

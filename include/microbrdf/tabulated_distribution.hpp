@@ -19,12 +19,25 @@
 //    not cross (the error of the crossed bins grows with the bin size relative to the lobe:
 //    max |G1 - Smith| 2e-5 for Beckmann alpha 0.3, 3e-4 for alpha 0.03 at 1025^2). The masses
 //    are scaled so that sigma+(n) = 1 exactly (G1(n) = 1).
-//  - Sampling: visible normals of a table would need a table per view direction; instead
-//    sample_visible(v, ...) ignores v and draws m with density D(m)(m.n) per steradian
-//    (NdfSampler, exact for the interpolant). sampling_pdf(v, m) returns that density, and
-//    MicrofacetBrdf uses sampling_pdf, so its pdf and weights are exact (the weights are
-//    F G2 (wi.m) / ((wi.n)(m.n)), larger variance at grazing than with visible normals).
-//    pdf_visible(v, m) still gives the true visible-normal density D_v.
+//  - Sampling (TabulatedSampling::visible, the default): approximately the visible normals
+//    D_v(m) = G1(v) <v.m>+ D(m) / (v.n), with an exact pdf. Two levels over the table's cells:
+//    coarse cells C (default 128 x 128 blocks) drawn with probability
+//      P(C | v) = (1 - eps) sum_k w_k(v) P_k(C) + eps M_C / Z,
+//    where P_k(C) = integral_C D <v_k.m>+ dw / sigma+(v_k) are visible-normal tables for view
+//    nodes v_k on a (theta, phi) grid (default 5 deg x 15 deg: 19 x 24 tables),
+//    w_k(v) bilinear weights of the four nodes around v, M_C the interpolant's mass in C and
+//    eps (default 0.05) a defensive share of the plain D(m)(m.n) probabilities (positive pdf
+//    wherever D > 0, weights at most 1/eps times the plain sampler's); then a cell inside C
+//    with probability m_f / M_C and the bilinear density inside it exactly. So
+//      sampling_pdf(v, m) = P(C(m) | v) eval(m) / M_C(m) * m_z     (per steradian)
+//    is exactly the density sample_visible draws from. Within a coarse cell the density is
+//    D(m)(m.n) (the factor <v.m>+ / m_z is replaced by its mean over the cell), so the weights
+//    of MicrofacetBrdf, F G2 D (wi.m) / ((wi.n) q), are close to F G2 / G1(wi). About 43 MB
+//    and ~0.2 s extra for a 1025^2 table (docs/benchmarks.md).
+//  - TabulatedSampling::ndf (the former sampler, kept for comparison): sample_visible ignores v
+//    and draws m with density D(m)(m.n) (NdfSampler); the weights are F G2 (wi.m) /
+//    ((wi.n)(m.n)), with a much larger variance at grazing wi.
+//    pdf_visible(v, m) gives the true visible-normal density D_v in both cases.
 
 #include <cstddef>
 #include <memory>
@@ -37,10 +50,28 @@
 
 namespace microbrdf {
 
+namespace detail {
+class VisibleNormalTables;
+}
+
+/// How sample_visible draws microfacet normals (see the header comment).
+enum class TabulatedSampling {
+  visible,  ///< approximate visible normals of v, exact pdf (default)
+  ndf,      ///< D(m)(m.n) whatever v (the plain table sampler)
+};
+/// "visible" | "ndf"; InputError otherwise.
+TabulatedSampling parse_tabulated_sampling(const std::string& name);
+std::string to_string(TabulatedSampling s);
+
 struct TabulatedDistributionOptions {
   std::size_t sigma_bins = 256;  ///< slope bins per side for the sigma+ sums (<= resolution)
   std::size_t theta_steps = 90;  ///< sigma+ grid steps over theta_k in [0, 90] deg
   std::size_t phi_steps = 180;   ///< sigma+ grid steps over phi_k in [0, 360) deg
+  TabulatedSampling sampling = TabulatedSampling::visible;
+  std::size_t vn_coarse = 128;      ///< visible sampling: coarse cells per side (<= cells)
+  std::size_t vn_theta_steps = 18;  ///< view-node steps over theta_v in [0, 90] deg
+  std::size_t vn_phi_steps = 24;    ///< view-node steps over phi_v in [0, 360) deg
+  double vn_defensive = 0.05;       ///< share eps of the plain D(m)(m.n) probabilities, (0, 1]
 };
 
 class TabulatedDistribution final : public MicrofacetDistribution {
@@ -48,15 +79,17 @@ class TabulatedDistribution final : public MicrofacetDistribution {
   /// Takes the table (need not be normalised: D is divided by its disk integral). Throws
   /// InputError for a table with no positive mass inside the disk or non-finite values.
   explicit TabulatedDistribution(TabulatedNdf ndf, const TabulatedDistributionOptions& opt = {});
+  ~TabulatedDistribution() override;
   TabulatedDistribution(const TabulatedDistribution&) = delete;
   TabulatedDistribution& operator=(const TabulatedDistribution&) = delete;
 
   double D(const Vec3& m) const override;
   /// sigma+(v)/(v.n) - 1 with sigma+ interpolated from the grid.
   double lambda(const Vec3& v) const override;
-  /// NOT visible normals: m with density D(m)(m.n), whatever v (see the header comment).
+  /// Approximate visible normals of v (sampling visible) or D(m)(m.n) whatever v (ndf); see
+  /// the header comment. Thread-safe (all tables are built in the constructor).
   Vec3 sample_visible(const Vec3& v, double u1, double u2) const override;
-  /// D(m)(m.n), the density of sample_visible.
+  /// Exactly the density per steradian of sample_visible(v, ...).
   double sampling_pdf(const Vec3& v, const Vec3& m) const override;
   std::string describe() const override;
 
@@ -68,10 +101,14 @@ class TabulatedDistribution final : public MicrofacetDistribution {
   /// Z: the integral of the table's interpolant over the disk (D = eval / Z).
   double normalisation() const { return z_; }
   std::size_t sigma_bins() const { return bins_; }
+  TabulatedSampling sampling() const { return opt_.sampling; }
+  /// Bytes held by the visible-normal tables (0 for sampling ndf).
+  std::size_t sampling_memory_bytes() const;
 
  private:
   std::unique_ptr<TabulatedNdf> ndf_;  // heap: the sampler keeps a pointer to it
   std::unique_ptr<NdfSampler> sampler_;
+  std::unique_ptr<detail::VisibleNormalTables> vn_;  // sampling visible only
   TabulatedDistributionOptions opt_;
   double z_ = 1, inv_z_ = 1;
   std::size_t bins_ = 0;

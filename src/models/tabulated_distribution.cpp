@@ -8,10 +8,27 @@
 #include <stdexcept>
 
 #include "microbrdf/error.hpp"
+#include "tabulated_distribution_vn.hpp"
 
 namespace microbrdf {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+}
+
+TabulatedSampling parse_tabulated_sampling(const std::string& name) {
+  if (name == "visible") return TabulatedSampling::visible;
+  if (name == "ndf") return TabulatedSampling::ndf;
+  throw InputError("unknown tabulated sampling '" + name + "' (visible | ndf)");
+}
+
+std::string to_string(TabulatedSampling s) {
+  return s == TabulatedSampling::visible ? "visible" : "ndf";
+}
+
+TabulatedDistribution::~TabulatedDistribution() = default;
+
+std::size_t TabulatedDistribution::sampling_memory_bytes() const {
+  return vn_ ? vn_->memory_bytes() : 0;
 }
 
 TabulatedDistribution::TabulatedDistribution(TabulatedNdf ndf,
@@ -124,6 +141,10 @@ TabulatedDistribution::TabulatedDistribution(TabulatedNdf ndf,
   const double s_n = sigma_[0];
   for (double& v : sigma_) v /= s_n;
   for (double& v : bm_) v /= s_n;
+
+  if (opt_.sampling == TabulatedSampling::visible)
+    vn_ = std::make_unique<detail::VisibleNormalTables>(*ndf_, opt_.vn_coarse, opt_.vn_theta_steps,
+                                                        opt_.vn_phi_steps, opt_.vn_defensive);
 }
 
 double TabulatedDistribution::sigma_plus_direct(const Vec3& k) const {
@@ -159,11 +180,12 @@ double TabulatedDistribution::lambda(const Vec3& v) const {
   return sigma_plus(v) / v.z() - 1.0;
 }
 
-Vec3 TabulatedDistribution::sample_visible(const Vec3&, double u1, double u2) const {
-  return sampler_->sample(u1, u2);
+Vec3 TabulatedDistribution::sample_visible(const Vec3& v, double u1, double u2) const {
+  return vn_ ? vn_->sample(v, u1, u2) : sampler_->sample(u1, u2);
 }
 
-double TabulatedDistribution::sampling_pdf(const Vec3&, const Vec3& m) const {
+double TabulatedDistribution::sampling_pdf(const Vec3& v, const Vec3& m) const {
+  if (vn_) return vn_->pdf(v, m);
   return m.z() > 0 ? D(m) * m.z() : 0.0;
 }
 
@@ -171,9 +193,10 @@ std::string TabulatedDistribution::describe() const {
   char b[256];
   std::snprintf(b, sizeof b,
                 "tabulated NDF %zux%zu%s%s (sigma+ on %zux%zu theta,phi nodes from %zu^2 slope "
-                "bins; samples D(m)(m.n))",
+                "bins; samples %s)",
                 ndf_->resolution(), ndf_->resolution(), ndf_->meta.method.empty() ? "" : " ",
-                ndf_->meta.method.c_str(), opt_.theta_steps + 1, opt_.phi_steps, bins_);
+                ndf_->meta.method.c_str(), opt_.theta_steps + 1, opt_.phi_steps, bins_,
+                vn_ ? "approximate visible normals, exact pdf" : "D(m)(m.n)");
   return b;
 }
 

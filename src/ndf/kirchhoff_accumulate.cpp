@@ -46,13 +46,23 @@ void KirchhoffAccumulator::add(const Surface& s) {
     all.resize(N * N);
     for (std::size_t i = 0; i < N * N; ++i) all[i] = i;
   }
+  const double n_tiles = static_cast<double>(cx * cy);
+  std::size_t done = 0;
+  auto tick = [&] {
+    ++done;
+    if (opt_.progress) opt_.progress(static_cast<double>(done) / n_tiles);
+  };
+  if (opt_.progress) opt_.progress(0.0);
   for (std::size_t ty = 0; ty < cy; ++ty)
     for (std::size_t tx = 0; tx < cx; ++tx) {
       KirchhoffPatch p =
           make_kirchhoff_patch(s, tx * lx, ty * ly, lx, ly, opt_.window, opt_.gauss_fraction);
       used_ += p.valid;
       skipped_ += p.invalid;
-      if (!(p.area_w2 > 0)) continue;
+      if (!(p.area_w2 > 0)) {
+        tick();
+        continue;
+      }
       std::vector<double> d =
           opt_.direct ? kirchhoff_nodes_direct(p, opt_.wavelength_q, N, all)
                       : kirchhoff_table_fast(p, opt_.wavelength_q, N, opt_.accuracy, &info_);
@@ -74,6 +84,7 @@ void KirchhoffAccumulator::add(const Surface& s) {
       area_w2_ += p.area_w2;
       valid_area_ += p.valid_area;
       ++patches_;
+      tick();
     }
 }
 

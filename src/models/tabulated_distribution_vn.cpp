@@ -1,0 +1,337 @@
+// Approximate visible-normal sampling of a tabulated NDF with an exact pdf
+// (tabulated_distribution_vn.hpp has the method).
+#include "tabulated_distribution_vn.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include "microbrdf/error.hpp"
+
+namespace microbrdf::detail {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kRimRows = 256;   // sub-rows per rim cell (as NdfSampler: same Z to ~1e-12)
+constexpr int kMaxTries = 256;  // redraws inside one rim cell before giving up
+
+// Inverse CDF of the linear density on [0, 1] with end values p0, p1 >= 0 (as NdfSampler).
+double sample_linear(double u, double p0, double p1) {
+  if (p0 == p1) return u;
+  const double denom = p0 + std::sqrt(p0 * p0 * (1 - u) + p1 * p1 * u);
+  if (!(denom > 0)) return 0.0;
+  const double t = u * (p0 + p1) / denom;
+  return std::min(t, std::nextafter(1.0, 0.0));
+}
+
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+double to_unit(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
+
+// Mass of the bilinear function (corners a, b, c, d) over the part of the cell
+// [x0, x0+h] x [y0, y0+h] inside the unit disk: midpoint rule in y, exact in x.
+double rim_mass(double x0, double y0, double h, double a, double b, double c, double d) {
+  double sum = 0;
+  const double dy = h / kRimRows;
+  for (int k = 0; k < kRimRows; ++k) {
+    const double y = y0 + (k + 0.5) * dy, s2 = 1 - y * y;
+    if (s2 <= 0) continue;
+    const double s = std::sqrt(s2);
+    const double xa = std::max(x0, -s), xb = std::min(x0 + h, s);
+    if (xb <= xa) continue;
+    const double ty = (y - y0) / h, tx = (0.5 * (xa + xb) - x0) / h;
+    sum += ((1 - ty) * ((1 - tx) * a + tx * b) + ty * ((1 - tx) * c + tx * d)) * (xb - xa);
+  }
+  return sum * dy;
+}
+
+// Index i of the interval [cdf[i-1], cdf[i]) of an inclusive CDF (last entry 1) holding u in
+// [0, 1); u rescaled to [0, 1) within it. The interval found by the search has positive width.
+template <class T>
+std::size_t pick(const T* cdf, std::size_t n, double u, double& rescaled) {
+  auto i = static_cast<std::size_t>(std::upper_bound(cdf, cdf + n, u) - cdf);
+  if (i >= n) i = n - 1;
+  double lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
+  while (i > 0 && static_cast<double>(cdf[i]) <= lo) {  // u >= last entry (rounding only)
+    --i;
+    lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
+  }
+  const double w = static_cast<double>(cdf[i]) - lo;
+  rescaled = w > 0 ? std::clamp((u - lo) / w, 0.0, std::nextafter(1.0, 0.0)) : 0.0;
+  return i;
+}
+
+template <class T>
+double width(const T* cdf, std::size_t i) {
+  return static_cast<double>(cdf[i]) - (i ? static_cast<double>(cdf[i - 1]) : 0.0);
+}
+
+// Fills out[0, nc) with the inclusive row CDF of the nc x nc masses g (row-major) and
+// out[nc + r nc, nc + (r+1) nc) with the conditional CDF of row r; last entries exactly 1.
+// Returns false if g has no mass.
+template <class T>
+bool cdf_2d(const std::vector<double>& g, std::size_t nc, T* out) {
+  double total = 0;
+  for (std::size_t r = 0; r < nc; ++r) {
+    const double* row = &g[r * nc];
+    double run = 0;
+    for (std::size_t c = 0; c < nc; ++c) run += row[c];
+    T* cond = out + nc + r * nc;
+    double acc = 0;
+    for (std::size_t c = 0; c < nc; ++c)
+      cond[c] = static_cast<T>(run > 0 ? (acc += row[c]) / run : 1.0);
+    cond[nc - 1] = 1;
+    out[r] = static_cast<T>(total += run);  // unnormalised row CDF for now
+  }
+  if (!(total > 0) || !std::isfinite(total)) return false;
+  double run = 0;
+  for (std::size_t r = 0; r < nc; ++r) {
+    for (std::size_t c = 0; c < nc; ++c) run += g[r * nc + c];
+    out[r] = static_cast<T>(run / total);
+  }
+  out[nc - 1] = 1;
+  return true;
+}
+
+}  // namespace
+
+VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coarse,
+                                         std::size_t theta_steps, std::size_t phi_steps,
+                                         double defensive)
+    : t_(&t), nt_(theta_steps), np_(phi_steps), eps_(defensive) {
+  if (coarse < 1 || theta_steps < 1 || phi_steps < 1)
+    throw InputError("tabulated distribution: visible-normal tables need >= 1 node per axis");
+  if (!(defensive > 0 && defensive <= 1))
+    throw InputError("tabulated distribution: the defensive fraction must be in (0, 1]");
+  const std::size_t n = t.resolution();
+  cells_ = n - 1;
+  nc_ = std::min(coarse, cells_);
+  const std::size_t ns = std::min(2 * nc_, cells_);  // sub-blocks per side (moments)
+  const double h = t.spacing();
+
+  // Fine masses (inside the disk), their coarse cells, and the sub-block slope moments.
+  std::vector<double> fm(cells_ * cells_, 0.0);
+  std::vector<double> s0(ns * ns, 0.0), sx(ns * ns, 0.0), sy(ns * ns, 0.0);
+  std::vector<std::uint32_t> count(nc_ * nc_ + 1, 0);
+  for (std::size_t cy = 0; cy < cells_; ++cy) {
+    const double y0 = t.node_y(cy), y1 = y0 + h;
+    const double ny = std::clamp(0.0, y0, y1), fy = std::max(std::fabs(y0), std::fabs(y1));
+    for (std::size_t cx = 0; cx < cells_; ++cx) {
+      const double x0 = t.node_x(cx), x1 = x0 + h;
+      const double nx = std::clamp(0.0, x0, x1), fx = std::max(std::fabs(x0), std::fabs(x1));
+      if (nx * nx + ny * ny >= 1) continue;
+      const double a = t.at(cx, cy), b = t.at(cx + 1, cy), c = t.at(cx, cy + 1),
+                   d = t.at(cx + 1, cy + 1);
+      const double m =
+          fx * fx + fy * fy <= 1 ? 0.25 * (a + b + c + d) * h * h : rim_mass(x0, y0, h, a, b, c, d);
+      if (!(m > 0)) continue;  // (cells with negative values are never drawn)
+      fm[cy * cells_ + cx] = m;
+      ++count[(cy * nc_ / cells_) * nc_ + cx * nc_ / cells_];
+      // Slope at the cell centre (pulled inside the disk for rim cells): only shapes the
+      // proposal, never the pdf.
+      double xc = x0 + 0.5 * h, yc = y0 + 0.5 * h;
+      const double r = std::hypot(xc, yc), rmax = 1 - 1e-3;
+      if (r > rmax) {
+        xc *= rmax / r;
+        yc *= rmax / r;
+      }
+      const double inv_z = 1 / std::sqrt(1 - xc * xc - yc * yc);
+      const std::size_t s = (cy * ns / cells_) * ns + cx * ns / cells_;
+      s0[s] += m;
+      sx[s] += m * xc * inv_z;
+      sy[s] += m * yc * inv_z;
+    }
+  }
+
+  // Fine cells grouped by coarse cell (counting sort), CDF per coarse cell.
+  const std::size_t ncc = nc_ * nc_;
+  offset_.assign(ncc + 1, 0);
+  for (std::size_t c = 0; c < ncc; ++c) offset_[c + 1] = offset_[c] + count[c];
+  fine_id_.assign(offset_[ncc], 0);
+  fine_cdf_.assign(offset_[ncc], 0.0);
+  std::vector<std::uint32_t> fill(offset_.begin(), offset_.end() - 1);
+  for (std::size_t cy = 0; cy < cells_; ++cy)
+    for (std::size_t cx = 0; cx < cells_; ++cx) {
+      const double m = fm[cy * cells_ + cx];
+      if (!(m > 0)) continue;
+      const std::size_t c = (cy * nc_ / cells_) * nc_ + cx * nc_ / cells_;
+      fine_id_[fill[c]] = static_cast<std::uint32_t>(cy * cells_ + cx);
+      fine_cdf_[fill[c]++] = m;
+    }
+  mass_.assign(ncc, 0.0);
+  double total = 0;
+  for (std::size_t c = 0; c < ncc; ++c) {
+    double run = 0;
+    for (std::uint32_t i = offset_[c]; i < offset_[c + 1]; ++i) fine_cdf_[i] = run += fine_cdf_[i];
+    for (std::uint32_t i = offset_[c]; i < offset_[c + 1]; ++i) fine_cdf_[i] /= run;
+    if (offset_[c + 1] > offset_[c]) fine_cdf_[offset_[c + 1] - 1] = 1.0;
+    mass_[c] = run;
+    total += run;
+  }
+  q_cdf_.assign(nc_ * (nc_ + 1), 0.0);
+  if (!cdf_2d(mass_, nc_, q_cdf_.data()))
+    throw InputError("tabulated NDF: no positive mass inside the unit disk");
+  total_ = total;
+
+  // Sub-blocks with mass: coarse cell, mass, mean slope (coarse of a sub-block = coarse of
+  // each of its fine cells, since ns is 2 nc or the cell count).
+  std::vector<std::uint32_t> sub_c;
+  std::vector<double> sub_m, sub_p, sub_q;
+  for (std::size_t by = 0; by < ns; ++by)
+    for (std::size_t bx = 0; bx < ns; ++bx) {
+      const std::size_t s = by * ns + bx;
+      if (!(s0[s] > 0)) continue;
+      sub_c.push_back(static_cast<std::uint32_t>((by * nc_ / ns) * nc_ + bx * nc_ / ns));
+      sub_m.push_back(s0[s]);
+      sub_p.push_back(sx[s] / s0[s]);
+      sub_q.push_back(sy[s] / s0[s]);
+    }
+
+  // View tables: P_k(C) proportional to sum over its sub-blocks of M_s <v_k.z + v_k.x p + v_k.y q>+
+  // (= integral_C D <v_k.m>+ dw where the horizon of v_k crosses no sub-block).
+  const std::size_t tables = (nt_ + 1) * np_, block = nc_ * (nc_ + 1);
+  view_cdf_.assign(tables * block, 0.0);
+  const auto nsub = sub_c.size();
+#pragma omp parallel
+  {
+    std::vector<double> g(ncc);
+#pragma omp for schedule(dynamic, 4)
+    for (long k = 0; k < static_cast<long>(tables); ++k) {
+      const auto it = static_cast<std::size_t>(k) / np_, ip = static_cast<std::size_t>(k) % np_;
+      const double th = 0.5 * kPi * static_cast<double>(it) / static_cast<double>(nt_),
+                   ph = 2 * kPi * static_cast<double>(ip) / static_cast<double>(np_);
+      const double vx = std::sin(th) * std::cos(ph), vy = std::sin(th) * std::sin(ph),
+                   vz = std::cos(th);
+      std::fill(g.begin(), g.end(), 0.0);
+      for (std::size_t s = 0; s < nsub; ++s)
+        g[sub_c[s]] += sub_m[s] * std::max(0.0, vz + vx * sub_p[s] + vy * sub_q[s]);
+      double* out = &view_cdf_[static_cast<std::size_t>(k) * block];
+      if (!cdf_2d(g, nc_, out))  // nothing visible from v_k (not for a positive table): Q
+        for (std::size_t i = 0; i < block; ++i) out[i] = q_cdf_[i];
+    }
+  }
+}
+
+std::size_t VisibleNormalTables::memory_bytes() const {
+  return fine_cdf_.size() * sizeof(double) + fine_id_.size() * sizeof(std::uint32_t) +
+         offset_.size() * sizeof(std::uint32_t) + (mass_.size() + q_cdf_.size()) * sizeof(double) +
+         view_cdf_.size() * sizeof(double);
+}
+
+VisibleNormalTables::Mix VisibleNormalTables::mix(const Vec3& v) const {
+  // theta in [0, 90] deg (v below the horizon: treated as grazing), phi periodic.
+  const double st = std::hypot(v.x(), v.y());
+  double ft = std::atan2(st, std::max(0.0, v.z())) * (static_cast<double>(nt_) / (0.5 * kPi));
+  ft = std::clamp(ft, 0.0, static_cast<double>(nt_));
+  const auto it = std::min(static_cast<std::size_t>(ft), nt_ - 1);
+  const double a = ft - static_cast<double>(it);
+  double p = std::atan2(v.y(), v.x());
+  if (!(p >= 0)) p = p < 0 ? p + 2 * kPi : 0.0;
+  const double fp =
+      std::clamp(p * (static_cast<double>(np_) / (2 * kPi)), 0.0, static_cast<double>(np_));
+  const auto ip = std::min(static_cast<std::size_t>(fp), np_ - 1);
+  const double b = fp - static_cast<double>(ip);
+  const std::size_t ip1 = ip + 1 == np_ ? 0 : ip + 1;
+  const double keep = 1 - eps_;
+  Mix x{};
+  x.table[0] = it * np_ + ip;
+  x.table[1] = it * np_ + ip1;
+  x.table[2] = (it + 1) * np_ + ip;
+  x.table[3] = (it + 1) * np_ + ip1;
+  x.w[0] = keep * (1 - a) * (1 - b);
+  x.w[1] = keep * (1 - a) * b;
+  x.w[2] = keep * a * (1 - b);
+  x.w[3] = keep * a * b;
+  return x;
+}
+
+double VisibleNormalTables::coarse_probability(const Mix& x, std::size_t c) const {
+  const std::size_t r = c / nc_, col = c % nc_, block = nc_ * (nc_ + 1);
+  const double* q = q_cdf_.data();
+  double p = eps_ * width(q, r) * width(q + nc_ + r * nc_, col);
+  for (int k = 0; k < 4; ++k)
+    if (x.w[k] > 0) {
+      const double* t = &view_cdf_[x.table[k] * block];
+      p += x.w[k] * width(t, r) * width(t + nc_ + r * nc_, col);
+    }
+  return p;
+}
+
+Vec3 VisibleNormalTables::sample(const Vec3& v, double u1, double u2) const {
+  const Mix x = mix(v);
+  const std::size_t block = nc_ * (nc_ + 1);
+  // Component: view table k with probability w_k, else (probability eps) the plain Q.
+  const double* cdf_k = nullptr;
+  double lo = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (x.w[k] > 0 && u1 < lo + x.w[k]) {
+      cdf_k = &view_cdf_[x.table[k] * block];
+      u1 = std::clamp((u1 - lo) / x.w[k], 0.0, std::nextafter(1.0, 0.0));
+      break;
+    }
+    lo += x.w[k];
+  }
+  if (!cdf_k) u1 = std::clamp((u1 - lo) / (1 - lo), 0.0, std::nextafter(1.0, 0.0));
+  // Coarse cell: row from u1, cell of the row from u2.
+  double r1 = 0, r2 = 0;
+  std::size_t row = 0, col = 0;
+  if (cdf_k) {
+    row = pick(cdf_k, nc_, u1, r1);
+    col = pick(cdf_k + nc_ + row * nc_, nc_, u2, r2);
+  } else {
+    row = pick(q_cdf_.data(), nc_, u1, r1);
+    col = pick(q_cdf_.data() + nc_ + row * nc_, nc_, u2, r2);
+  }
+  const std::size_t c = row * nc_ + col;
+  u2 = r2;
+  const std::uint32_t b = offset_[c], e = offset_[c + 1];
+  const std::size_t j = b + pick(&fine_cdf_[b], e - b, u2, r2);  // (e > b: C has mass)
+  const std::size_t f = fine_id_[j], cx = f % cells_, cy = f / cells_;
+  const TabulatedNdf& t = *t_;
+  const double h = t.spacing(), a = t.at(cx, cy), bb = t.at(cx + 1, cy), cc = t.at(cx, cy + 1),
+               d = t.at(cx + 1, cy + 1), x0 = t.node_x(cx), y0 = t.node_y(cy);
+  for (int attempt = 0; attempt < kMaxTries; ++attempt) {
+    const double ty = sample_linear(r1, 0.5 * (a + bb), 0.5 * (cc + d));
+    const double tx = sample_linear(r2, (1 - ty) * a + ty * cc, (1 - ty) * bb + ty * d);
+    const double px = x0 + tx * h, py = y0 + ty * h, rr = px * px + py * py;
+    if (rr < 1) return {px, py, std::sqrt(1 - rr)};
+    // Outside the disk (a rim cell): redraw inside the same cell from numbers derived from
+    // the inputs (sample stays a deterministic function of (v, u1, u2)).
+    const std::uint64_t k = std::bit_cast<std::uint64_t>(r1) ^
+                            std::rotl(std::bit_cast<std::uint64_t>(r2), 29) ^
+                            (static_cast<std::uint64_t>(attempt + 1) << 52);
+    r1 = to_unit(splitmix64(k));
+    r2 = to_unit(splitmix64(k ^ 0xD1B54A32D192ED03ull));
+  }
+  // Practically unreachable (a cell with almost all of its mass outside the disk is drawn
+  // with probability ~ its inside mass): the cell centre pulled inside the disk.
+  double px = x0 + 0.5 * h, py = y0 + 0.5 * h;
+  const double r = std::hypot(px, py), rmax = 1 - 1e-9;
+  if (r > rmax) {
+    px *= rmax / r;
+    py *= rmax / r;
+  }
+  return {px, py, std::sqrt(std::max(0.0, 1 - px * px - py * py))};
+}
+
+double VisibleNormalTables::pdf(const Vec3& v, const Vec3& m) const {
+  const double len = m.norm();
+  if (!(len > 0) || !(m.z() > 0)) return 0.0;
+  const double px = m.x() / len, py = m.y() / len;
+  const double e = t_->eval_disk(px, py);
+  if (!(e > 0)) return 0.0;
+  // The cell eval_disk used (same floor and clamp).
+  const double inv = 1 / t_->spacing(), top = static_cast<double>(cells_ - 1);
+  const auto cx = static_cast<std::size_t>(std::clamp(std::floor((px + 1) * inv), 0.0, top));
+  const auto cy = static_cast<std::size_t>(std::clamp(std::floor((py + 1) * inv), 0.0, top));
+  const std::size_t c = (cy * nc_ / cells_) * nc_ + cx * nc_ / cells_;
+  if (!(mass_[c] > 0)) return 0.0;
+  return coarse_probability(mix(v), c) * e / mass_[c] * (m.z() / len);
+}
+
+}  // namespace microbrdf::detail

@@ -1,0 +1,71 @@
+#pragma once
+// Approximate visible-normal sampling of a tabulated NDF with an exact pdf (private to
+// TabulatedDistribution; the method is described in tabulated_distribution.hpp and
+// docs/models.md).
+//
+// Two levels over the node grid of the table (disk coordinates (m_x, m_y)):
+//  - coarse cells (nc x nc blocks of fine cells, default 128^2 = 8 x 8 cells of a 1025 table)
+//    with masses M_C = integral over C inside the disk of the bilinear interpolant;
+//  - fine cells (the table's cells) inside each coarse cell, drawn with probability m_f / M_C
+//    (m_f: the interpolant's mass inside the disk), then the bilinear density inside the
+//    cell exactly (points outside the disk rejected and redrawn inside the same cell).
+// So, given the coarse cell, m has density eval(m) / M_C on the disk: the pdf is exact for any
+// coarse-cell probabilities P(C). These come from view tables: for view nodes v_k on a
+// (theta, phi) grid, P_k(C) = integral_C D <v_k.m>+ dw / sigma+(v_k), the visible-normal
+// probability of C, computed from slope moments of 2 x 2 sub-blocks per coarse cell (exact
+// where the horizon of v_k does not cross a sub-block). For a view v the tables of the four
+// surrounding nodes are mixed with bilinear weights w_k(v) and a defensive fraction eps of
+// the plain D(m)(m.n) probability Q(C) = M_C / sum M is added:
+//   P(C | v) = (1 - eps) sum_k w_k(v) P_k(C) + eps Q(C),
+//   pdf(m | v) = P(C(m) | v) eval(m) / M_C(m) * m_z      per steradian.
+// eps > 0 keeps the pdf positive wherever D > 0 (no bias when v lies between nodes and the
+// horizon moved), and bounds the weights by 1/eps times those of the plain sampler.
+// Coarse cells are drawn row first (u1), then within the row (u2), which keeps the
+// stratification of (u1, u2) in two dimensions. The pdf uses the very CDF differences that the
+// sampler's searches see, so the two agree to rounding.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "microbrdf/microfacet.hpp"
+#include "microbrdf/tabulated_ndf.hpp"
+
+namespace microbrdf::detail {
+
+class VisibleNormalTables {
+ public:
+  VisibleNormalTables(const TabulatedNdf& t, std::size_t coarse, std::size_t theta_steps,
+                      std::size_t phi_steps, double defensive);
+  /// u1, u2 uniform in [0,1). A unit m with m_z > 0.
+  Vec3 sample(const Vec3& v, double u1, double u2) const;
+  /// Density of sample(v, ...) per steradian of m.
+  double pdf(const Vec3& v, const Vec3& m) const;
+  /// Sum of the interpolant's masses inside the disk (Z).
+  double total_mass() const { return total_; }
+  std::size_t memory_bytes() const;
+  std::size_t coarse() const { return nc_; }
+
+ private:
+  struct Mix {
+    std::size_t table[4];
+    double w[4];  // (1 - eps) w_k; component 4 is the defensive Q with weight eps
+  };
+  Mix mix(const Vec3& v) const;
+  double coarse_probability(const Mix& x, std::size_t c) const;
+
+  const TabulatedNdf* t_;
+  std::size_t cells_ = 0, nc_ = 0, nt_ = 0, np_ = 0;
+  double eps_ = 0.05, total_ = 0;
+  std::vector<double> fine_cdf_;        // per coarse cell, inclusive, normalised to 1
+  std::vector<std::uint32_t> fine_id_;  // fine cell index cy * cells + cx, same order
+  std::vector<std::uint32_t> offset_;   // coarse cell -> first entry in fine_*, nc^2 + 1
+  std::vector<double> mass_;            // M_C
+  // Coarse cells are drawn as a row (u1) and then a cell of the row (u2), which keeps the
+  // stratification of (u1, u2) in two dimensions. Each CDF block: nc row CDF entries, then nc
+  // conditional CDFs over the cells of each row (nc entries each), all inclusive, last = 1.
+  std::vector<double> q_cdf_;     // defensive: M_C / total
+  std::vector<double> view_cdf_;  // (nt + 1) * np view tables, nc (nc + 1) entries each
+};
+
+}  // namespace microbrdf::detail
