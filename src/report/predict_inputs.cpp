@@ -68,6 +68,13 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
     ko.resolution = o.ndf_resolution;
     ko.patch_x = o.kirchhoff_patch_x_m;
     ko.patch_y = o.kirchhoff_patch_y_m;
+    // D_K is the slowest step (tens of seconds on a 2048 x 1024 scan): report it in 10 % steps.
+    ko.progress = [&c, last = -1](double f) mutable {
+      const int step = static_cast<int>(f * 10);
+      if (step == last) return;
+      last = step;
+      c.log("inputs: kirchhoff D_K " + std::to_string(step * 10) + "%");
+    };
     kirchhoff = std::make_unique<KirchhoffAccumulator>(ko);
   }
   nlohmann::json inputs = nlohmann::json::array();
