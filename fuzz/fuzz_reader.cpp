@@ -60,6 +60,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::FILE* f = std::fopen(scratch_path().c_str(), "wb");
     if (!f || std::fwrite(data, 1, size, f) != size || std::fclose(f) != 0) std::abort();
   }
+  (void)microbrdf::is_param_texture_file(scratch_path());  // never throws
   try {
     const auto t = microbrdf::read_param_texture(scratch_path());
     if (t.nx == 0 || t.ny == 0 || !(t.texel_m > 0) || t.valid.size() != t.size() ||
