@@ -43,7 +43,7 @@ $BIN texture "$T/ex.exr" --size 16 --seed 1 -o "$T/tex.exr" --no-preview --json 
 $BIN render --scene cylinders --texture "$T/tex.exr" --uv-scale 2 --metal Fe "${RENDER[@]}" \
   -o "$T/t.png" -o "$T/t.exr" >"$T/t.json" 2>"$T/err" || fail "render --texture: $(cat "$T/err")"
 [ -s "$T/t.png" ] && [ -s "$T/t.exr" ] || fail "no --texture images"
-grep -q "ellipsoid texture\|texture" "$T/t.json" || fail "settings do not name the texture"
+grep -q "ellipsoid-NDF texture 16 x 16 texels" "$T/t.json" || fail "settings do not name the texture"
 # The texture's mean parameters as one ellipsoid: the same scene within 10 % (measured 5.6 %: texels
 # differ in width and the mean of lobes is not the lobe of the mean; an ellipsoid (0.02, 0.4)
 # instead is 30 % off).
