@@ -167,11 +167,12 @@ void register_generate(CLI::App& app) {
   b->add_option("--preset", a->preset,
                 "stainless4 (alpha ~0.007 along / 0.14 across) or aluminium4 (0.02 / 0.47)");
   b->add_option("--alpha-along", a->alpha_along,
-                "Target width along the brushing: with --preset, of the ellipsoid fitted to the "
-                "filtered NDF (the preset's depth modulation is kept and the base solved for "
-                "1.6x this rms width); without, the rms width of the filtered Gaussian base");
+                "Target width along the brushing. With --preset: of the ellipsoid fitted to the "
+                "filtered NDF (the preset's depth modulation is kept and the base's rms width set "
+                "to 1.6x this, the presets' own calibration); without: the rms width of the "
+                "filtered Gaussian base");
   b->add_option("--alpha-across", a->alpha_across,
-                "Target width across (with --preset the base is solved for 1.8x)");
+                "Target width across (with --preset: base rms width 1.8x this)");
   b->add_option("--filter-sigma", a->filter_sigma, "Filter the target widths refer to")
       ->capture_default_str();
   b->add_option("--tau-across", a->tau_across, "Base correlation length across")
