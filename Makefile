@@ -22,7 +22,10 @@ test: build
 test-slow: build
 	ctest --test-dir build -L slow --output-on-failure -j $(JOBS)
 
+# predict on a real scan and a synthetic brushed surface -> HTML reports, screenshot in Chromium
+# (install-deps --report adds chromium; `make test` and CI do not need it).
 demo: build
+	@scripts/install-deps.sh --report
 	@scripts/demo.sh $(BIN) $(DEMO_OUT)
 
 bench: build

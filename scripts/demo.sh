@@ -1,41 +1,71 @@
 #!/usr/bin/env bash
-# `make demo`: the main job on bundled data: a synthetic brushed surface and a real scan through
-# statistics, height previews, naive and filtered NDFs and NDF slices. (It grows into
-# `microbrdf predict` with renders and a report.)
+# `make demo`: the main job, `microbrdf predict`, on a real metal scan (a bullet's land-engraved
+# area, Sensofar S neox, tests/data/sample-land.x3p) and on a synthetic
+# brushed stainless #4 surface, each ending in a self-contained HTML report; headless Chromium
+# then screenshots each report (scripts/screenshot-report.sh) so it is checked as a person sees it.
+#
+#   scripts/demo.sh [BIN] [OUT]     (defaults: build/bin/microbrdf, demo-out)
+#
+# Renders use the CC0 courtyard environment map from the shared data folder beside the checkout
+# (../shared/data/envmaps, or MICROBRDF_SHARED_DATA); without it, predict's built-in area lights.
 set -euo pipefail
 BIN=${1:-build/bin/microbrdf}
 OUT=${2:-demo-out}
-DATA=tests/data
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+DATA=$ROOT/tests/data
+SHARED=${MICROBRDF_SHARED_DATA:-$ROOT/../shared/data}
+ENVMAP=$SHARED/envmaps/blender_courtyard.exr
 mkdir -p "$OUT"
+START=$SECONDS
+
+ENVFLAG=()
+if [ -f "$ENVMAP" ]; then
+  ENVFLAG=(--envmap "$ENVMAP")
+else
+  echo "demo: $ENVMAP not found; renders use predict's built-in area lights" >&2
+fi
 
 echo "== 1. A synthetic brushed stainless #4 surface (Dong 2015 Fig. 12 widths)"
 "$BIN" generate brushed --preset stainless4 --seed 1 -o "$OUT/brushed_stainless4.x3p" \
   --preview "$OUT/brushed_stainless4.png"
 
 echo
-echo "== 2. A real Zygo MetroPro scan, converted to x3p (plane levelled)"
-"$BIN" convert "$DATA/metropro-1.dat" "$OUT/metropro-1.x3p" --level plane --preview "$OUT/metropro-1.png"
-
-echo
-echo "== 3. Statistics"
-"$BIN" info "$OUT/metropro-1.x3p" --level none
-"$BIN" info "$OUT/brushed_stainless4.x3p" --level none
+echo "== 2. Statistics of the bundled real scans"
+"$BIN" info "$DATA/sample-land.x3p" --level poly3
 "$BIN" info --json "$DATA"/*.x3p "$DATA"/*.dat "$DATA"/*.datx "$DATA"/*.sur "$DATA"/*.gwy >"$OUT/statistics.json"
 
 echo
-echo "== 4. Normal distribution functions (Dong 2015 sec. 5.1): naive vs filtered (1 um)"
-for m in naive filtered; do
-  "$BIN" ndf "$OUT/brushed_stainless4.x3p" --level none --method $m -o "$OUT/ndf_brushed_$m.npy" \
-    --preview "$OUT/ndf_brushed_$m.png" --zoom
-done
-"$BIN" slice "$OUT/ndf_brushed_naive.npy" "$OUT/ndf_brushed_filtered.npy" --label naive,filtered \
-  --azimuth 0,90 --log --theta-max 30deg -o "$OUT/ndf_brushed_slices.png"
-"$BIN" ndf "$DATA/metropro-1.dat" -o "$OUT/ndf_metropro-1.npy" --preview "$OUT/ndf_metropro-1.png" --zoom
+# The land is a strip of a cylinder (the bullet): a 3rd-order polynomial takes the form out. The
+# spacing is 2.58 um, so the filtered NDF uses a 5 um filter (two samples); the metal is not
+# recorded in the file (a copper-alloy jacket is typical): Cu is an assumption.
+echo "== 3. predict: a real scan, striated metal (bullet land, Sensofar S neox), copper assumed"
+"$BIN" predict "$DATA/sample-land.x3p" --level poly3 --filter-sigma 5um --resolution 513 --metal Cu \
+  "${ENVFLAG[@]}" -o "$OUT/predict-land"
 
 echo
-echo "Results are in $(cd "$OUT" && pwd):"
-for f in brushed_stainless4.x3p brushed_stainless4.png metropro-1.x3p metropro-1.png statistics.json \
-  ndf_brushed_naive.npy ndf_brushed_naive.png ndf_brushed_filtered.npy ndf_brushed_filtered.png \
-  ndf_brushed_slices.png ndf_metropro-1.npy ndf_metropro-1.png; do
-  echo "  $OUT/$f"
+echo "== 4. predict: the brushed surface, stainless steel, with the Kirchhoff D_K (wave optics)"
+"$BIN" predict "$OUT/brushed_stainless4.x3p" --level none --metal SS-austenitic --kirchhoff \
+  "${ENVFLAG[@]}" -o "$OUT/predict-brushed"
+
+echo
+echo "== 5. Checks a reader would make: no broken image, no missing number (scripts/check-report.py)"
+python3 "$ROOT/scripts/check-report.py" "$OUT/predict-land" "$OUT/predict-brushed"
+
+echo
+echo "== 6. Screenshots of the reports in headless Chromium"
+SHOTS=()
+for r in predict-land predict-brushed; do
+  if "$ROOT/scripts/screenshot-report.sh" "$OUT/$r/report.html" "$OUT/$r/report.png" >/dev/null; then
+    SHOTS+=("$OUT/$r/report.png")
+  else
+    echo "demo: no screenshot of $OUT/$r/report.html (see above)" >&2
+  fi
 done
+
+echo
+echo "Done in $((SECONDS - START)) s. Reports (open in a browser):"
+echo "  $OUT/predict-land/report.html"
+echo "  $OUT/predict-brushed/report.html"
+echo "Summaries: $OUT/predict-land/summary.json $OUT/predict-brushed/summary.json"
+[ ${#SHOTS[@]} -gt 0 ] && echo "Screenshots: ${SHOTS[*]}"
+echo "Also: $OUT/brushed_stainless4.x3p (+ .png preview), $OUT/statistics.json"

@@ -2,7 +2,26 @@
 # Installs the Debian packages microbrdf builds and tests with. Idempotent: when every package
 # is already installed it returns in well under a second and touches nothing; `apt-get update`
 # runs only when something is missing. Needs root (or sudo) only in that case.
+#
+#   scripts/install-deps.sh            build and test dependencies (what `make test` and CI need)
+#   scripts/install-deps.sh --report   the same plus headless Chromium, which `make demo` uses to
+#                                      screenshot the HTML report (scripts/screenshot-report.sh)
 set -euo pipefail
+
+REPORT=0
+for arg in "$@"; do
+  case "$arg" in
+    --report) REPORT=1 ;;
+    -h | --help)
+      sed -n '2,9p' "$0"
+      exit 0
+      ;;
+    *)
+      echo "install-deps: unknown option '$arg' (--report)" >&2
+      exit 2
+      ;;
+  esac
+done
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev clang-format
@@ -25,6 +44,14 @@ PACKAGES=(
   libtinyobjloader-dev # OBJ meshes for the renderer
   libgtest-dev libgmock-dev libbenchmark-dev
 )
+# Only for `make demo`: the report screenshot (kept out of the CI set, it is large).
+REPORT_PACKAGES=(
+  chromium             # headless browser for scripts/screenshot-report.sh
+  fonts-dejavu-core    # a font for the report's text in that browser
+)
+if [ "$REPORT" -eq 1 ]; then
+  PACKAGES+=("${REPORT_PACKAGES[@]}")
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do

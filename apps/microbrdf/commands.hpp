@@ -17,8 +17,10 @@ void register_plot(CLI::App& app);
 void register_brdf(CLI::App& app);
 void register_sun(CLI::App& app);
 void register_fit(CLI::App& app);
+void register_predict(CLI::App& app);
 void register_render(CLI::App& app);
 void register_texture(CLI::App& app);
+void register_simulate(CLI::App& app);
 
 /// Runs `body`, turning microbrdf errors into "microbrdf <cmd>: error: <message>" on stderr and
 /// a non-zero exit code.

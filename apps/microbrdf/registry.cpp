@@ -20,8 +20,10 @@ void register_all(CLI::App& app) {
   register_brdf(app);
   register_sun(app);
   register_fit(app);
+  register_predict(app);
   register_render(app);
   register_texture(app);
+  register_simulate(app);
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {

@@ -1,0 +1,144 @@
+// `microbrdf predict SCAN... -o DIR`: the whole pipeline (statistics, NDFs, fits, BRDF slices,
+// renders, texture synthesis) into DIR/report.html and DIR/summary.json. The work is
+// microbrdf::predict (predict.hpp); this file only maps flags to options.
+#include <cstdio>
+#include <memory>
+#include <sstream>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "microbrdf/error.hpp"
+#include "microbrdf/predict.hpp"
+#include "microbrdf/units.hpp"
+
+namespace microbrdf::cli {
+namespace {
+
+struct PredictArgs {
+  std::vector<std::string> inputs, strips;
+  ReadFlags read;
+  std::string output, metal = "Fe", filter_sigma = "1um", wavelength = "555nm";
+  std::string theta_i = "20,45,70", envmap, texel = "53um", patch = "70x53um";
+  std::size_t resolution = 1025, texture_size = 128;
+  double envmap_scale = 1;
+  int render_width = PredictOptions{}.render_width, spp = PredictOptions{}.render_spp;
+  int threads = 0;
+  std::uint64_t seed = 1;
+  bool kirchhoff = false, no_render = false, json = false, quiet = false;
+};
+
+void run(const PredictArgs& a) {
+  PredictOptions o;
+  o.inputs = a.inputs;
+  o.read = read_options(a.read);
+  o.leveling = LevelingSpec::parse(a.read.level);
+  o.metal = a.metal;
+  o.filter_sigma_m = parse_length(a.filter_sigma);
+  o.wavelength_m = parse_length(a.wavelength);
+  o.ndf_resolution = a.resolution;
+  o.kirchhoff = a.kirchhoff;
+  const LengthPair patch = parse_length_pair(a.patch);
+  o.kirchhoff_patch_x_m = patch.x;
+  o.kirchhoff_patch_y_m = patch.y;
+  o.slice_theta_i_rad.clear();
+  std::stringstream ss(a.theta_i);
+  for (std::string item; std::getline(ss, item, ',');)
+    o.slice_theta_i_rad.push_back(parse_angle(item));
+  o.render = !a.no_render;
+  o.envmap_path = a.envmap;
+  o.envmap_scale = a.envmap_scale;
+  o.render_width = a.render_width;
+  o.render_spp = a.spp;
+  if (!a.strips.empty()) {
+    if (a.strips.size() != 2) throw InputError("--strips takes two scans: ALONG ACROSS");
+    o.strips_along = {a.strips[0]};
+    o.strips_across = {a.strips[1]};
+  }
+  o.texel_m = parse_length(a.texel);
+  o.texture_size = a.texture_size;
+  o.seed = a.seed;
+  o.threads = a.threads;
+  if (!a.quiet)
+    o.log = [](const std::string& line) {
+      std::fprintf(stderr, "microbrdf predict: %s\n", line.c_str());
+    };
+  const PredictResult r = predict(o, a.output);
+  if (a.json) {
+    print_json({{"dir", r.dir},
+                {"report", r.report_path},
+                {"summary", r.summary_path},
+                {"scans", r.summary["inputs"].size()},
+                {"fits", r.summary["fits"]},
+                {"timing", r.summary["timing"]}});
+  } else {
+    std::printf("%s\n%s\n", r.report_path.c_str(), r.summary_path.c_str());
+  }
+}
+
+}  // namespace
+
+void register_predict(CLI::App& app) {
+  auto a = std::make_shared<PredictArgs>();
+  auto* c = app.add_subcommand(
+      "predict", "Everything from scans: statistics, NDFs, fits, BRDF slices, renders, report");
+  c->footer(
+      "Runs every stage that applies and writes DIR/report.html (self-contained: open it in a\n"
+      "browser) and DIR/summary.json (every number of the report, SI units; docs/report.md):\n"
+      "  1. inputs: read, level (--level, plane by default), statistics (Sq, Sa, skewness,\n"
+      "     kurtosis, rms slopes, correlation lengths), height previews;\n"
+      "  2. NDFs: naive and filtered (--filter-sigma, default 1um; Dong 2015 sec. 5.1), and the\n"
+      "     Kirchhoff D_K with --kirchhoff (at --wavelength, tiles of --patch; slower);\n"
+      "  3. fits: ellipsoid, Beckmann and GGX fits of the filtered NDF;\n"
+      "  4. BRDF slices in and out of the plane of incidence at --theta-i for the measured NDF,\n"
+      "     the fits (and D_K), with the optical constants of --metal;\n"
+      "  5. renders: the cylinder pair of Dong Fig. 10 and a sphere (--envmap FILE, else built-in\n"
+      "     area lights; --render-width, --spp; --no-render skips);\n"
+      "  6. with --strips ALONG ACROSS: per-texel fits (--texel) and a synthesised parameter\n"
+      "     texture (--texture-size texels, --seed), and a render of it.\n"
+      "Many scans are processed one at a time. Same inputs and --seed give the same summary.json\n"
+      "(apart from its \"timing\" object). On an error nothing is left in DIR; an earlier\n"
+      "predict output in DIR is replaced only on success.\n\n"
+      "Examples:\n"
+      "  microbrdf predict scan.x3p -o report/\n"
+      "  microbrdf predict 'scans/*.dat' --metal Al --filter-sigma 1um --kirchhoff -o out/\n"
+      "  microbrdf predict brushed.x3p --level none --envmap studio.exr --spp 64 -o out/\n"
+      "  microbrdf predict patch.x3p --strips along.x3p across.x3p --texel 53um -o out/");
+  c->add_option("files", a->inputs, "Height maps (files, directories, globs, @manifest)")
+      ->required();
+  add_read_flags(c, a->read, "plane");
+  c->add_option("-o,--output", a->output, "Output folder (created; an earlier report is replaced)")
+      ->required();
+  c->add_option("--metal", a->metal, "Optical constants for the BRDFs (Fe, Al, Au, Ag, Cu, ...)")
+      ->capture_default_str();
+  c->add_option("--filter-sigma", a->filter_sigma,
+                "Filtered NDF: Gaussian std of the local plane fit")
+      ->capture_default_str();
+  c->add_option("--resolution", a->resolution, "NDF table size N")->capture_default_str();
+  c->add_flag("--kirchhoff", a->kirchhoff, "Also compute the Kirchhoff D_K (wave optics)");
+  c->add_option("--wavelength", a->wavelength, "lambda_q of D_K and the wavelength of the slices")
+      ->capture_default_str();
+  c->add_option("--patch", a->patch, "D_K tile size (coherence area)")->capture_default_str();
+  c->add_option("--theta-i", a->theta_i, "Angles of incidence of the BRDF slices, comma-separated")
+      ->capture_default_str();
+  c->add_option("--envmap", a->envmap, "Equirectangular EXR/HDR environment map for the renders");
+  c->add_option("--envmap-scale", a->envmap_scale, "Multiplies the map")->capture_default_str();
+  c->add_option("--render-width", a->render_width, "Width of the renders, pixels")
+      ->capture_default_str();
+  c->add_option("--spp", a->spp, "Samples per pixel of the renders")->capture_default_str();
+  c->add_flag("--no-render", a->no_render, "Skip the renders");
+  c->add_option("--strips", a->strips, "Exemplar strips ALONG ACROSS the brushing (texture)")
+      ->expected(2);
+  c->add_option("--texel", a->texel, "Texel size of the per-texel fits")->capture_default_str();
+  c->add_option("--texture-size", a->texture_size, "Synthesised texture size, texels per side")
+      ->capture_default_str();
+  c->add_option("--seed", a->seed, "Seed of the renders and the texture synthesis")
+      ->capture_default_str();
+  c->add_option("--threads", a->threads,
+                "Threads (0 = all cores); the same count gives bit-identical numbers")
+      ->capture_default_str();
+  c->add_flag("--quiet", a->quiet, "No progress on stderr");
+  c->add_flag("--json", a->json, "Print a JSON object (paths, fits, timing) on stdout");
+  c->callback([a] { run_guarded("predict", [&] { run(*a); }); });
+}
+
+}  // namespace microbrdf::cli

@@ -1,0 +1,246 @@
+// predict stages 3-4: parametric fits of the filtered NDF, NDF cuts (measured vs fitted) and
+// BRDF slices / directional albedos of the measured, fitted and Kirchhoff models.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/plot.hpp"
+#include "microbrdf/tabulated_distribution.hpp"
+#include "microbrdf/units.hpp"
+#include "report/predict_stages.hpp"
+
+namespace microbrdf::report {
+namespace {
+
+constexpr double kDeg = 180.0 / M_PI;
+
+nlohmann::json finite_array(const std::vector<double>& v) {
+  // nlohmann writes NaN as null; the slices never hold one, but keep the JSON strict anyway.
+  nlohmann::json a = nlohmann::json::array();
+  for (double x : v) a.push_back(std::isfinite(x) ? x : 0.0);
+  return a;
+}
+
+/// f along the cut of tabulate_slice (brdf.hpp) at the given signed angles (deg).
+std::vector<double> slice_values(const Brdf& b, double ti, double lambda, SlicePlane plane,
+                                 const std::vector<double>& angles_deg) {
+  const Vec3 wi(-std::sin(ti), 0, std::cos(ti)), r(std::sin(ti), 0, std::cos(ti));
+  std::vector<double> v;
+  for (double a : angles_deg) {
+    const double t = a / kDeg;
+    const Vec3 wo = plane == SlicePlane::in ? Vec3(std::sin(t), 0, std::cos(t))
+                                            : Vec3(std::cos(t) * r + std::sin(t) * Vec3(0, 1, 0));
+    v.push_back(wo.z() > 1e-9 ? b.eval(wi, wo, lambda) : 0.0);
+  }
+  return v;
+}
+
+struct NamedBrdf {
+  std::string key, label;
+  std::shared_ptr<const Brdf> brdf;
+};
+
+}  // namespace
+
+nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitResult>& fits,
+                          nlohmann::json& timing) {
+  nlohmann::json out = nlohmann::json::array();
+  for (FitModel m : {FitModel::Ellipsoid, FitModel::Beckmann, FitModel::Ggx}) {
+    c.log("fits: " + fit_model_name(m) + " to the filtered NDF");
+    FitOptions fo;
+    fo.model = m;
+    fo.threads = c.opt.threads;
+    FitResult r = fit_ndf(*ndfs.filtered, fo);
+    nlohmann::json j = fit_result_json(r);
+    j.erase("seconds");  // wall time lives under "timing" only (determinism)
+    timing["fit_" + fit_model_name(m) + "_s"] = r.seconds;
+    j["source"] = "filtered";
+    if (m == FitModel::Ellipsoid) {
+      write_fit_report(*ndfs.filtered, r, c.path("fit_ellipsoid"));
+      j["compare_image"] = "fit_ellipsoid/compare.png";
+    }
+    out.push_back(std::move(j));
+    fits.push_back(r);
+  }
+  return out;
+}
+
+nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
+                                const std::vector<FitResult>& fits) {
+  c.log("NDF cuts along x and y");
+  nlohmann::json out = nlohmann::json::array();
+  const TabulatedNdf& f = *ndfs.filtered;
+  std::vector<std::shared_ptr<MicrofacetDistribution>> models;
+  for (const auto& r : fits) models.push_back(fitted_distribution(r));
+  for (int axis = 0; axis < 2; ++axis) {
+    const double phi = axis == 0 ? 0.0 : M_PI / 2;
+    const double rms = f.rms_slope(phi);
+    const double theta_max = std::clamp(std::atan(6 * rms) * kDeg, 2.0, 89.0);
+    const NdfSlice base = f.slice(phi, f.resolution());
+    std::vector<std::size_t> keep;
+    for (std::size_t i = 0; i < base.theta.size(); ++i)
+      if (std::abs(base.theta[i] * kDeg) <= theta_max) keep.push_back(i);
+    std::vector<double> theta_deg;
+    for (auto i : keep) theta_deg.push_back(base.theta[i] * kDeg);
+    nlohmann::json series = nlohmann::json::object();
+    Plot p;
+    p.title = std::string("NDF cut along ") + (axis == 0 ? "x" : "y") + " (log scale)";
+    p.x.label =
+        std::string("signed polar angle of m towards +") + (axis == 0 ? "x" : "y") + " (deg)";
+    p.y.label = "D(m) (1/sr)";
+    p.y.scale = AxisScale::Log;
+    double peak = 0;
+    auto add_table = [&](const char* key, const TabulatedNdf* t, PlotStyle style) {
+      if (!t) return;
+      const NdfSlice s = t->slice(phi, f.resolution());
+      std::vector<double> v;
+      for (auto i : keep) v.push_back(s.value[i]);
+      for (double x : v) peak = std::max(peak, x);
+      series[key] = finite_array(v);
+      p.add(PlotSeries(theta_deg, v, std::string(key) + " (table)", style));
+    };
+    add_table("naive", ndfs.naive.get(), PlotStyle::Dotted);
+    add_table("filtered", ndfs.filtered.get(), PlotStyle::Line);
+    add_table("kirchhoff", ndfs.kirchhoff.get(), PlotStyle::Line);
+    for (std::size_t k = 0; k < fits.size(); ++k) {
+      std::vector<double> v;
+      for (auto i : keep) {
+        const double t = base.t[i];
+        const Vec3 m(t * std::cos(phi), t * std::sin(phi), std::sqrt(std::max(0.0, 1 - t * t)));
+        v.push_back(models[k]->D(m));
+      }
+      const std::string key = fit_model_name(fits[k].model) + "_fit";
+      series[key] = finite_array(v);
+      p.add(PlotSeries(theta_deg, v, fit_model_name(fits[k].model) + " fit", PlotStyle::Dashed));
+    }
+    p.x.min = -theta_max;
+    p.x.max = theta_max;
+    if (peak > 0) {
+      p.y.min = peak * 1e-4;
+      p.y.max = peak * 3;
+    }
+    const std::string svg = std::string("img/ndf_cut_") + (axis == 0 ? "x" : "y") + ".svg";
+    p.write_svg(c.path(svg), 560, 380);
+    out.push_back({{"axis", axis == 0 ? "x" : "y"},
+                   {"azimuth_rad", phi},
+                   {"theta_deg", finite_array(theta_deg)},
+                   {"values_per_sr", series},
+                   {"plot", svg}});
+  }
+  return out;
+}
+
+nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vector<FitResult>& fits,
+                          const OpticalConstants& material) {
+  const auto& o = c.opt;
+  auto fresnel = std::make_shared<ConductorFresnel>(material);
+  std::vector<NamedBrdf> models;
+  c.log("BRDF: tabulated distribution of the filtered NDF (Smith shadowing)");
+  models.push_back({"measured", "measured (filtered NDF)",
+                    std::make_shared<MicrofacetBrdf>(
+                        std::make_shared<TabulatedDistribution>(*ndfs.filtered), fresnel)});
+  std::shared_ptr<MicrofacetDistribution> ellipsoid;
+  for (const auto& r : fits) {
+    auto d = fitted_distribution(r);
+    if (r.model == FitModel::Ellipsoid) ellipsoid = d;
+    models.push_back({fit_model_name(r.model), fit_model_name(r.model) + " fit",
+                      std::make_shared<MicrofacetBrdf>(d, fresnel)});
+  }
+  if (ndfs.kirchhoff)
+    models.push_back({"kirchhoff", "Kirchhoff D_K (Dong eq. 8)",
+                      std::make_shared<KirchhoffBrdf>(std::vector<TabulatedNdf>{*ndfs.kirchhoff},
+                                                      fresnel, ellipsoid)});
+  nlohmann::json jm = nlohmann::json::array();
+  for (const auto& m : models)
+    jm.push_back({{"key", m.key}, {"label", m.label}, {"description", m.brdf->describe()}});
+
+  nlohmann::json slices = nlohmann::json::array(), albedo = nlohmann::json::array();
+  for (double ti : o.slice_theta_i_rad) {
+    const Vec3 wi(-std::sin(ti), 0, std::cos(ti));
+    nlohmann::json a = {{"theta_i_rad", ti}, {"theta_i_deg", ti * kDeg}};
+    for (const auto& m : models)
+      a["albedo"][m.key] = directional_albedo_sampled(*m.brdf, wi, o.wavelength_m, 128);
+    albedo.push_back(std::move(a));
+    for (SlicePlane plane : {SlicePlane::in, SlicePlane::out}) {
+      const char* pname = plane == SlicePlane::in ? "in" : "out";
+      c.log(std::string("BRDF: ") + pname + "-plane slice, theta_i " + std::to_string(ti * kDeg) +
+            " deg");
+      Plot p;
+      char title[120];
+      std::snprintf(title, sizeof title, "BRDF %s-plane, θi = %.4g°, λ = %s", pname, ti * kDeg,
+                    format_length(o.wavelength_m).c_str());
+      p.title = title;
+      p.x.label = plane == SlicePlane::in
+                      ? "θo in the plane of incidence (deg; mirror at +θi)"
+                      : "angle from the mirror direction across the plane (deg)";
+      p.y.label = "BRDF (1/sr)";
+      p.y.scale = AxisScale::Log;
+      // The lobes of brushed metals are a fraction of a degree wide along the brushing: find
+      // where any model exceeds 1e-5 of the highest peak on a coarse cut, then sample that range
+      // densely (slice_samples points).
+      double top = 0, lo = 90, hi = -90;
+      std::vector<BrdfSlice> coarse;
+      for (const auto& m : models)
+        coarse.push_back(tabulate_slice(*m.brdf, ti, o.wavelength_m, plane, 1441));
+      for (const auto& cs : coarse)
+        for (double v : cs.value) top = std::max(top, v);
+      for (const auto& cs : coarse)
+        for (std::size_t i = 0; i < cs.value.size(); ++i)
+          if (cs.value[i] > top * 1e-5) {
+            lo = std::min(lo, cs.angle_deg[i]);
+            hi = std::max(hi, cs.angle_deg[i]);
+          }
+      if (!(hi > lo)) lo = -90, hi = 90;
+      lo = std::max(-89.9, lo - 1.0);
+      hi = std::min(89.9, hi + 1.0);
+      std::vector<double> angles(o.slice_samples);
+      for (std::size_t i = 0; i < angles.size(); ++i)
+        angles[i] =
+            lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(angles.size() - 1);
+      for (double& a : angles)
+        if (std::abs(a) < 1e-9) a = 0;  // the mirror direction, not -7e-15 deg
+      p.x.min = lo;
+      p.x.max = hi;
+      nlohmann::json values = nlohmann::json::object(), peaks = nlohmann::json::object();
+      top = 0;
+      for (std::size_t k = 0; k < models.size(); ++k) {
+        const std::vector<double> v =
+            slice_values(*models[k].brdf, ti, o.wavelength_m, plane, angles);
+        std::size_t imax = 0;
+        for (std::size_t i = 0; i < v.size(); ++i)
+          if (v[i] > v[imax]) imax = i;
+        top = std::max(top, v[imax]);
+        values[models[k].key] = finite_array(v);
+        peaks[models[k].key] = {{"value_per_sr", v[imax]}, {"angle_deg", angles[imax]}};
+        p.add(PlotSeries(angles, v, models[k].label, k == 0 ? PlotStyle::Line : PlotStyle::Dashed));
+      }
+      if (top > 0) {
+        p.y.min = top * 1e-5;
+        p.y.max = top * 3;
+      }
+      char svg[64];
+      std::snprintf(svg, sizeof svg, "img/brdf_%s_%02d.svg", pname,
+                    static_cast<int>(std::lround(ti * kDeg)));
+      p.write_svg(c.path(svg), 560, 380);
+      slices.push_back({{"theta_i_rad", ti},
+                        {"theta_i_deg", ti * kDeg},
+                        {"plane", pname},
+                        {"angle_deg", finite_array(angles)},
+                        {"range_deg", {lo, hi}},
+                        {"values_per_sr", values},
+                        {"peak", peaks},
+                        {"plot", svg}});
+    }
+  }
+  return {{"wavelength_m", o.wavelength_m},
+          {"fresnel", fresnel->describe()},
+          {"shadowing", "Smith height-correlated G2 of each model's distribution"},
+          {"models", jm},
+          {"albedo", albedo},
+          {"slices", slices}};
+}
+
+}  // namespace microbrdf::report

@@ -1,0 +1,59 @@
+#pragma once
+// The stages of `predict` (predict.hpp). Each writes its files into the staging folder and
+// returns its part of summary.json; paths in the JSON are relative to the output folder.
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "microbrdf/fit.hpp"
+#include "microbrdf/fresnel.hpp"
+#include "microbrdf/predict.hpp"
+#include "microbrdf/tabulated_ndf.hpp"
+
+namespace microbrdf::report {
+
+struct Context {
+  const PredictOptions& opt;
+  std::filesystem::path dir;  ///< staging folder (becomes the output folder)
+  void log(const std::string& line) const {
+    if (opt.log) opt.log(line);
+  }
+  std::string path(const std::string& rel) const { return (dir / rel).string(); }
+};
+
+/// What the input stage hands on: the NDFs of all scans together.
+struct NdfSet {
+  std::unique_ptr<TabulatedNdf> naive, filtered, kirchhoff;
+  double kirchhoff_raw_integral = 0, kirchhoff_aliased_fraction = 0;
+  std::size_t kirchhoff_patches = 0;
+};
+
+/// Reads, levels and describes every scan; accumulates the NDFs. Returns {"inputs": [...]}.
+nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs);
+/// Writes the tables and previews; returns the "ndf" object.
+nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs);
+/// Fits ellipsoid, Beckmann, GGX to the filtered NDF; returns the "fits" array (seconds of each
+/// fit go into `timing`).
+nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitResult>& fits,
+                          nlohmann::json& timing);
+/// NDF cuts (measured vs fits) along the principal axes; returns the "ndf_slices" object.
+nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
+                                const std::vector<FitResult>& fits);
+/// BRDF slices and albedos of every model; returns the "brdf" object.
+nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vector<FitResult>& fits,
+                          const OpticalConstants& material);
+/// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`.
+nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalConstants& material,
+                            nlohmann::json& timing);
+/// Texture synthesis from strips; returns the "texture" object.
+nlohmann::json stage_texture(const Context& c, const OpticalConstants& material,
+                             nlohmann::json& timing);
+
+/// Versions of the library and what it is built with.
+nlohmann::json versions();
+
+}  // namespace microbrdf::report

@@ -1,0 +1,466 @@
+// report.html from summary.json: every number shown comes from the summary (so summary.json holds
+// every number of the report), printed with its unit; images and plots are embedded.
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "microbrdf/error.hpp"
+#include "microbrdf/predict.hpp"
+#include "report/html.hpp"
+
+namespace microbrdf {
+namespace {
+
+using nlohmann::json;
+using report::escape;
+
+constexpr double kDeg = 180.0 / M_PI;
+
+// A quantity that does not exist for this input (null in the summary, e.g. the skewness of a
+// flat scan) reads "— (not defined for this input)" (report::num), never nan.
+double d(const json& v) { return v.is_number() ? v.get<double>() : std::nan(""); }
+std::string n4(const json& v) { return report::num(d(v)); }
+std::string len(const json& v) { return report::length(d(v)); }
+std::string deg(const json& v) {
+  return std::isfinite(d(v)) ? report::num(d(v) * kDeg) + " deg" : report::num(d(v));
+}
+std::string str(const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
+std::string or_dash(const json& v, const std::string& missing) {
+  const std::string s = v.is_string() ? v.get<std::string>() : "";
+  return s.empty() ? missing : s;
+}
+
+const char* kStyle = R"(
+body{font-family:"DejaVu Sans",Helvetica,Arial,sans-serif;margin:0 auto;max-width:1240px;
+  padding:16px 24px;color:#1d1d1f;background:#fff;font-size:14px;line-height:1.45}
+h1{font-size:26px;margin:8px 0 4px} h2{font-size:20px;margin:28px 0 8px;border-bottom:2px solid #ddd;
+  padding-bottom:4px} h3{font-size:16px;margin:16px 0 6px}
+table{border-collapse:collapse;margin:6px 0 4px} th,td{border:1px solid #ccc;padding:3px 8px;
+  text-align:left;vertical-align:top} th{background:#f2f2f5} td.n{text-align:right;
+  font-variant-numeric:tabular-nums;white-space:nowrap}
+.cap{color:#555;font-size:12.5px;margin:2px 0 12px;max-width:1100px}
+.grid{display:flex;flex-wrap:wrap;gap:14px;align-items:flex-start}
+figure{margin:0} figcaption{font-size:12.5px;color:#444;max-width:600px}
+.note{background:#fff7e0;border:1px solid #e8c96a;padding:6px 10px;display:inline-block}
+.swatch{display:inline-block;width:28px;height:16px;border:1px solid #888;vertical-align:middle}
+figure svg{width:600px;height:auto;display:block} figure img{max-width:100%;height:auto}
+)";
+
+class Page {
+ public:
+  explicit Page(std::string dir) : dir_(std::move(dir)) {}
+  Page& operator<<(const std::string& s) {
+    out_ << s;
+    return *this;
+  }
+  std::string image(const std::string& rel, const std::string& alt, int width = 0) {
+    const std::string p = (std::filesystem::path(dir_) / rel).string();
+    std::string w = width > 0 ? " width=\"" + std::to_string(width) + "\"" : "";
+    return "<img src=\"" + report::data_uri(p, "image/png") + "\" alt=\"" + escape(alt) + "\"" + w +
+           ">";
+  }
+  std::string svg(const std::string& rel) {
+    std::string prefix = "s";  // built in steps: GCC 12 warns (-Wrestrict) on "s" + to_string()
+    prefix += std::to_string(++svgs_);
+    prefix += '-';
+    return report::inline_svg((std::filesystem::path(dir_) / rel).string(), prefix);
+  }
+  std::string str() const { return out_.str(); }
+
+ private:
+  std::string dir_;
+  std::ostringstream out_;
+  int svgs_ = 0;
+};
+
+std::string row(std::initializer_list<std::string> cells, bool header = false) {
+  std::string r = "<tr>";
+  bool first = true;
+  for (const auto& c : cells) {
+    const bool numeric = !header && !first && !c.empty() && (std::isdigit(c[0]) || c[0] == '-');
+    r += header ? "<th>" : (numeric ? "<td class=\"n\">" : "<td>");
+    r += c;
+    r += header ? "</th>" : "</td>";
+    first = false;
+  }
+  return r + "</tr>\n";
+}
+
+std::string corr(const json& v) {
+  return v.is_number() && std::isfinite(d(v)) ? len(v)
+                                              : "not reached (ACF stays above 1/e over the scan)";
+}
+
+void section_inputs(Page& p, const json& s) {
+  p << "<h2 id=\"s1\">1. Inputs</h2>\n<table>\n"
+    << row({"#", "file", "format", "instrument", "date", "grid", "spacing dx &times; dy", "size",
+            "valid", "levelling"},
+           true);
+  int i = 0;
+  for (const auto& in : s["inputs"]) {
+    const auto& st = in["stats"];
+    p << row(
+        {std::to_string(++i), escape(str(in["path"])), escape(or_dash(in["format"], "—")),
+         escape(or_dash(in["instrument"], "not stated in the file")),
+         escape(or_dash(in["date"], "not stated")),
+         std::to_string(st["nx"].get<long>()) + " &times; " + std::to_string(st["ny"].get<long>()),
+         len(st["dx_m"]) + " &times; " + len(st["dy_m"]),
+         len(st["width_m"]) + " &times; " + len(st["height_m"]),
+         report::num(d(st["valid_fraction"]) * 100, 5) + " %",
+         escape(str(in["leveling_description"]))});
+  }
+  p << "</table>\n<p class=\"cap\">Provenance: read by microbrdf's own readers (format, instrument "
+       "and date as the file states them); levelled by least squares on the valid samples "
+       "(<code>level_surface</code>); heights in metres inside, shown with SI prefixes. Invalid "
+       "samples are excluded everywhere, never filled.</p>\n<div class=\"grid\">";
+  i = 0;
+  for (const auto& in : s["inputs"]) {
+    p << "<figure>" << p.image(str(in["preview"]), "height map " + str(in["name"]), 480)
+      << "<figcaption>Height map " << std::to_string(++i) << ": " << escape(str(in["name"]))
+      << " after levelling (false colour, 0.5&ndash;99.5th percentile, hill-shaded; grey = "
+         "invalid).</figcaption></figure>";
+  }
+  p << "</div>\n";
+}
+
+void section_stats(Page& p, const json& s) {
+  p << "<h2 id=\"s2\">2. Surface statistics</h2>\n<table>\n<tr><th>quantity</th><th>unit</th>";
+  int i = 0;
+  for (const auto& in : s["inputs"])
+    p << "<th>" + std::to_string(++i) + ": " + escape(str(in["name"])) + "</th>";
+  p << "<th>definition</th></tr>\n";
+  struct Q {
+    const char* key;
+    const char* label;
+    const char* unit;
+    int kind;  // 0 length, 1 plain, 2 percent of valid, 3 correlation length
+    const char* def;
+  };
+  const Q qs[] = {
+      {"sq_m", "Sq (rms height, sigma)", "m", 0, "rms of the heights about their mean"},
+      {"sa_m", "Sa (mean absolute height)", "m", 0, "mean |z - mean|"},
+      {"min_m", "lowest valid height", "m", 0, "relative to the levelled plane"},
+      {"max_m", "highest valid height", "m", 0, "relative to the levelled plane"},
+      {"skewness", "Ssk (skewness)", "1", 1, "third moment / Sq^3 (0 for Gaussian)"},
+      {"kurtosis", "Sku (kurtosis)", "1", 1, "fourth moment / Sq^4 (3 for Gaussian)"},
+      {"slope_rms_x", "rms slope dz/dx", "1", 1, "central differences"},
+      {"slope_rms_y", "rms slope dz/dy", "1", 1, "central differences"},
+      {"corr_length_x_m", "correlation length along x", "m", 3,
+       "lag where the normalised ACF falls to 1/e (tau of exp(-r^2/tau^2))"},
+      {"corr_length_y_m", "correlation length along y", "m", 3, "the same along y"},
+      {"corr_length_m", "correlation length, radial", "m", 3, "the same, annular average"},
+  };
+  for (const auto& q : qs) {
+    p << "<tr><td>" << q.label << "</td><td>" << q.unit << "</td>";
+    for (const auto& in : s["inputs"]) {
+      const json& v = in["stats"][q.key];
+      std::string cell = q.kind == 0 ? len(v) : q.kind == 3 ? corr(v) : n4(v);
+      p << "<td class=\"n\">" << cell << "</td>";
+    }
+    p << "<td>" << q.def << "</td></tr>\n";
+  }
+  p << "</table>\n<p class=\"cap\">Provenance: <code>compute_stats</code> on each levelled scan "
+       "(Sun 2002 sec. 3.1, Dong 2015 sec. 4); ACF by zero-padded FFTs, mask-aware.</p>\n";
+}
+
+void section_ndf(Page& p, const json& s) {
+  const json& ndf = s["ndf"];
+  p << "<h2 id=\"s3\">3. Normal distribution functions</h2>\n<div class=\"grid\">";
+  const std::pair<const char*, const char*> kinds[] = {
+      {"naive",
+       "Naive NDF: two triangles per grid cell, projected-area weighted (Dong 2015 "
+       "sec. 5.1)."},
+      {"filtered",
+       "Filtered NDF: normals of Gaussian-weighted local plane fits (Dong 2015 sec. "
+       "5.1); the table the BRDF and the fits use."},
+      {"kirchhoff", "Kirchhoff D_K (Dong 2015 eq. 6, App. A), wave optics at lambda_q."}};
+  for (const auto& [k, cap] : kinds) {
+    if (!ndf.contains(k)) continue;
+    p << "<figure>" << p.image(str(ndf[k]["preview"]), std::string("NDF ") + k, 600)
+      << "<figcaption>" << cap
+      << " Log colour scale (decades of 1/sr), m_x right, m_y up; right panel zoomed on "
+         "the peak.</figcaption></figure>";
+  }
+  p << "</div>\n<table>\n<tr><th>quantity</th><th>unit</th>";
+  for (const auto& [k, cap] : kinds)
+    if (ndf.contains(k)) p << "<th>" << k << "</th>";
+  p << "</tr>\n";
+  auto line = [&](const char* label, const char* unit, auto fmt) {
+    p << "<tr><td>" << label << "</td><td>" << unit << "</td>";
+    for (const auto& [k, cap] : kinds)
+      if (ndf.contains(k)) p << "<td class=\"n\">" << fmt(ndf[k]) << "</td>";
+    p << "</tr>\n";
+  };
+  line("table size", "nodes", [](const json& j) {
+    return std::to_string(j["resolution"].get<long>()) + " &times; " +
+           std::to_string(j["resolution"].get<long>());
+  });
+  line("integral of D(m)(m.n) dω", "1",
+       [](const json& j) { return report::num(d(j["integral"]), 8); });
+  line("rms slope along x", "1", [](const json& j) { return n4(j["slope_rms_x"]); });
+  line("rms slope along y", "1", [](const json& j) { return n4(j["slope_rms_y"]); });
+  line("Beckmann alpha_x = √2 rms slope", "1",
+       [](const json& j) { return n4(j["beckmann_alpha_x"]); });
+  line("Beckmann alpha_y = √2 rms slope", "1",
+       [](const json& j) { return n4(j["beckmann_alpha_y"]); });
+  line("anisotropy (rms slope max / min)", "1", [](const json& j) { return n4(j["anisotropy"]); });
+  line("smooth axis (scratches run along it), from +x", "deg",
+       [](const json& j) { return report::num(d(j["smooth_axis_angle_rad"]) * kDeg); });
+  line("tilt of the mean normal", "deg",
+       [](const json& j) { return report::num(d(j["mean_normal_tilt_rad"]) * kDeg); });
+  line("elements used", "count",
+       [](const json& j) { return std::to_string(j["samples_used"].get<long>()); });
+  line("elements skipped", "count",
+       [](const json& j) { return std::to_string(j["samples_skipped"].get<long>()); });
+  line("filter sigma", "m", [](const json& j) {
+    return d(j["filter_sigma_m"]) > 0 ? len(j["filter_sigma_m"]) : std::string("— (not filtered)");
+  });
+  line("wavelength lambda_q", "m", [](const json& j) {
+    return d(j["wavelength_m"]) > 0 ? len(j["wavelength_m"]) : std::string("— (geometric)");
+  });
+  p << "</table>\n<p class=\"cap\">Provenance: <code>NdfAccumulator</code> (naive, filtered) and "
+       "<code>KirchhoffAccumulator</code> over all scans, one scan in memory at a time, weighted "
+       "by projected area; tables on the orthographic disk, normalised to ∫D(m)(m.n)dω = 1; "
+       "slopes from the table's slope covariance. Files: ";
+  for (const auto& [k, cap] : kinds)
+    if (ndf.contains(k)) p << "<code>" << escape(str(ndf[k]["file"])) << "</code> ";
+  if (ndf.contains("kirchhoff"))
+    p << ". D_K: " << std::to_string(ndf["kirchhoff"]["patches"].get<long>()) << " patches of "
+      << len(ndf["kirchhoff"]["patch_m"][0]) << " &times; " << len(ndf["kirchhoff"]["patch_m"][1])
+      << ", integral before normalising " << n4(ndf["kirchhoff"]["raw_integral"])
+      << ", fraction beyond the Nyquist band " << n4(ndf["kirchhoff"]["aliased_fraction"]);
+  p << "</p>\n<h3>Cuts through the NDF, measured and fitted</h3>\n<div class=\"grid\">";
+  for (const auto& cut : s["ndf_cuts"]) p << "<figure>" << p.svg(str(cut["plot"])) << "</figure>";
+  p << "</div>\n";
+}
+
+void section_fits(Page& p, const json& s) {
+  p << "<h2 id=\"s4\">4. Parametric fits of the filtered NDF</h2>\n<table>\n"
+    << row({"model", "alpha_x", "alpha_y", "theta_x", "theta_y", "theta_z", "rms error (1/sr)",
+            "relative L2 error", "Hellinger distance", "iterations", "converged"},
+           true);
+  for (const auto& f : s["fits"]) {
+    const auto& q = f["params"];
+    const bool ell = str(f["model"]) == "ellipsoid";
+    p << row({escape(str(f["model"])), n4(q["alpha_x"]), n4(q["alpha_y"]),
+              ell ? deg(q["theta_x"]) : "— (none in this model)",
+              ell ? deg(q["theta_y"]) : "— (none in this model)", deg(q["theta_z"]),
+              n4(f["rms_error"]), n4(f["relative_l2_error"]), n4(f["hellinger"]),
+              std::to_string(f["iterations"].get<long>()),
+              f["converged"].get<bool>() ? "yes" : "NO"});
+  }
+  p << "</table>\n<p class=\"cap\">Provenance: <code>fit_ndf</code> (Ceres Levenberg-Marquardt; "
+       "least squares on sqrt(D), a Hellinger distance; model averaged over each node's tent "
+       "cell) of the filtered NDF. alpha dimensionless; angles in the ellipsoid convention "
+       "(Dong 2015 eqs. 10-12): theta_x, theta_y tilt the peak, the anisotropy axes are turned "
+       "by -theta_z (Beckmann/GGX phi = -theta_z). Errors over all disk nodes: rms = "
+       "sqrt(mean (T-M)^2), relative L2 = |T-M|/|T|.</p>\n";
+  for (const auto& f : s["fits"])
+    if (f.contains("compare_image"))
+      p << "<figure>" << p.image(str(f["compare_image"]), "ellipsoid fit comparison", 1100)
+        << "<figcaption>Ellipsoid fit: measured | fit | residual (M - T)/max T, zoomed on the "
+           "region of interest.</figcaption></figure>\n";
+}
+
+void section_brdf(Page& p, const json& s) {
+  const json& b = s["brdf"];
+  const json& m = s["material"];
+  p << "<h2 id=\"s5\">5. BRDF slices</h2>\n<p>Material: <b>" << escape(str(m["name"])) << "</b> ("
+    << escape(str(m["source"])) << "), n = " << n4(m["n_555nm"]) << ", k = " << n4(m["k_555nm"])
+    << " at 555 nm, normal-incidence reflectance " << n4(m["r0_555nm"])
+    << " at 555 nm; colour under D65 <span class=\"swatch\" style=\"background:"
+    << escape(str(m["srgb_hex"])) << "\"></span> " << escape(str(m["srgb_hex"]))
+    << ". Slices at λ = " << len(b["wavelength_m"]) << "; " << escape(str(b["fresnel"])) << "; "
+    << escape(str(b["shadowing"])) << ".</p>\n";
+  p << "<table>\n<tr><th>model</th><th>description</th>";
+  for (const auto& a : b["albedo"])
+    p << "<th>directional albedo, θi = " << report::num(d(a["theta_i_deg"])) << " deg</th>";
+  p << "</tr>\n";
+  for (const auto& mod : b["models"]) {
+    p << "<tr><td>" << escape(str(mod["label"])) << "</td><td>" << escape(str(mod["description"]))
+      << "</td>";
+    for (const auto& a : b["albedo"])
+      p << "<td class=\"n\">" << n4(a["albedo"][str(mod["key"])]) << "</td>";
+    p << "</tr>\n";
+  }
+  p << "</table>\n<p class=\"cap\">Provenance: microfacet BRDF f = F D G / (4 |wi.n| |wo.n|) (Dong "
+       "2015 eq. 1; Kirchhoff: eq. 8 with the ellipsoid fit's shadowing); directional albedo "
+       "∫ f cos θo dω (dimensionless) by the BRDF's own sampler on a 128 &times; 128 stratified "
+       "grid (<code>directional_albedo_sampled</code>). Light at azimuth 180 deg; in-plane "
+       "angles signed, mirror at +θi.</p>\n";
+  p << "<table>\n<tr><th>slice</th>";
+  for (const auto& mod : b["models"]) p << "<th>" << escape(str(mod["label"])) << ": peak</th>";
+  p << "</tr>\n";
+  for (const auto& sl : b["slices"]) {
+    p << "<tr><td>" << str(sl["plane"]) << "-plane, θi = " << report::num(d(sl["theta_i_deg"]))
+      << " deg</td>";
+    for (const auto& mod : b["models"]) {
+      const json& pk = sl["peak"][str(mod["key"])];
+      p << "<td class=\"n\">" << n4(pk["value_per_sr"]) << " 1/sr at "
+        << report::num(d(pk["angle_deg"])) << " deg</td>";
+    }
+    p << "</tr>\n";
+  }
+  p << "</table>\n<div class=\"grid\">";
+  for (const auto& sl : b["slices"]) p << "<figure>" << p.svg(str(sl["plot"])) << "</figure>";
+  p << "</div>\n";
+}
+
+void section_renders(Page& p, const json& s) {
+  p << "<h2 id=\"s6\">6. Renders</h2>\n";
+  const json& r = s["renders"];
+  if (r.is_object() && r.contains("skipped")) {
+    p << "<p class=\"note\">" << escape(str(r["skipped"])) << "</p>\n";
+    return;
+  }
+  p << "<div class=\"grid\">";
+  for (const auto& im : r) {
+    p << "<figure>"
+      << p.image(str(im["file"]), str(im["scene"]), std::max(384, im["width"].get<int>()))
+      << "<figcaption>" << escape(str(im["caption"])) << ". "
+      << std::to_string(im["width"].get<long>()) << " &times; "
+      << std::to_string(im["height"].get<long>()) << " px, "
+      << std::to_string(im["spp"].get<long>()) << " samples/pixel, path depth &le; "
+      << std::to_string(im["max_depth"].get<long>()) << ", seed "
+      << std::to_string(im["seed"].get<long>()) << "; lights: " << escape(str(im["lights"]))
+      << ". Material: " << escape(str(im["material"])) << ".</figcaption></figure>";
+  }
+  p << "</div>\n<p class=\"cap\">Provenance: the spectral path tracer (<code>render</code>, "
+       "Embree 3), linear sRGB tone-mapped to 8-bit sRGB; the BRDF is the measured one "
+       "(filtered NDF as a tabulated distribution with Smith shadowing, exact conductor "
+       "Fresnel).</p>\n";
+}
+
+void texture_block(Page& p, const json& t, const char* title) {
+  p << "<h3>" << title << ": " << std::to_string(t["nx"].get<long>()) << " &times; "
+    << std::to_string(t["ny"].get<long>()) << " texels of " << len(t["texel_m"]) << ", "
+    << std::to_string(t["invalid_texels"].get<long>()) << " invalid</h3>\n<table>\n"
+    << row({"channel", "unit", "mean", "std", "min", "max"}, true);
+  for (const auto& [ch, st] : t["channels"].items()) {
+    const bool angle = ch.rfind("theta", 0) == 0;
+    if (!st.contains("mean")) {
+      p << row({ch, angle ? "deg" : "1", "no valid texel", "—", "—", "—"});
+      continue;
+    }
+    const double k = angle ? kDeg : 1.0;
+    p << row({ch, angle ? "deg" : "1", report::num(d(st["mean"]) * k),
+              report::num(d(st["std"]) * k), report::num(d(st["min"]) * k),
+              report::num(d(st["max"]) * k)});
+  }
+  p << "</table>\n";
+  if (t.contains("images")) {
+    p << "<div class=\"grid\">";
+    for (const auto& [ch, file] : t["images"].items())
+      p << "<figure>" << p.image(str(file), ch) << "<figcaption>" << ch
+        << " (false colour, min to max of the table above)</figcaption></figure>";
+    p << "</div>\n";
+  }
+}
+
+void section_texture(Page& p, const json& s) {
+  p << "<h2 id=\"s7\">7. Texture synthesis</h2>\n";
+  const json& t = s["texture"];
+  if (t.contains("skipped")) {
+    p << "<p class=\"note\">" << escape(str(t["skipped"])) << "</p>\n";
+    return;
+  }
+  p << "<p>Per-texel ellipsoid fits of filtered NDFs of texels " << len(t["texel_m"])
+    << " wide, separable spectrum synthesis (Dong 2015 sec. 9), seed "
+    << std::to_string(t["seed"].get<long>()) << "; parameter texture in <code>"
+    << escape(str(t["file"])) << "</code>.</p>\n";
+  texture_block(p, t["along"], "Exemplar strip along the brushing");
+  texture_block(p, t["across"], "Exemplar strip across the brushing");
+  texture_block(p, t["synthesised"], "Synthesised texture");
+  if (t.contains("render"))
+    p << "<figure>"
+      << p.image(str(t["render"]["file"]), "textured cylinders",
+                 std::max(384, t["render"]["width"].get<int>()))
+      << "<figcaption>The synthesised SVBRDF (ellipsoid NDF per texel, exact Fresnel) on the "
+         "cylinder pair, a scene unit read as 5 cm (the texture repeats "
+      << report::num(d(t["render"]["uv_scale"])) << " times per unit); "
+      << std::to_string(t["render"]["spp"].get<long>())
+      << " samples/pixel; lights: " << escape(str(t["render"]["lights"]))
+      << ".</figcaption></figure>\n";
+}
+
+void section_settings(Page& p, const json& s) {
+  p << "<h2 id=\"s8\">8. Settings and versions</h2>\n<table>\n" << row({"setting", "value"}, true);
+  for (const auto& [k, v] : s["settings"].items()) {
+    std::string text;
+    if (v.is_number_float()) {
+      const bool metres = k.size() > 2 && k.substr(k.size() - 2) == "_m";
+      text = metres ? report::length(d(v)) : report::num(d(v));
+    } else if (k == "slice_theta_i_rad") {
+      for (const auto& t : v)
+        text += (text.empty() ? "" : ", ") + report::num(d(t) * kDeg) + " deg";
+    } else if (k == "kirchhoff_patch_m") {
+      text = len(v[0]) + " &times; " + len(v[1]);
+    } else if (k == "spacing_override_m") {
+      auto one = [](const json& x) { return x.is_number() ? len(x) : escape(str(x)); };
+      text = "dx " + one(v[0]) + ", dy " + one(v[1]);
+    } else if (v.is_array()) {
+      for (const auto& x : v) text += (text.empty() ? "" : ", ") + escape(str(x));
+      if (text.empty()) text = "none";
+    } else if (v.is_object()) {
+      for (const auto& [kk, x] : v.items())
+        text += (text.empty() ? "" : "; ") + escape(kk) + ": " + escape(str(x));
+    } else if (v.is_boolean()) {
+      text = v.get<bool>() ? "yes" : "no";
+    } else {
+      text = escape(str(v));
+    }
+    p << row({escape(k), text});
+  }
+  p << "</table>\n<table>\n" << row({"component", "version"}, true);
+  for (const auto& [k, v] : s["versions"].items()) p << row({escape(k), escape(str(v))});
+  p << "</table>\n";
+}
+
+void section_timing(Page& p, const json& s) {
+  p << "<h2 id=\"s9\">9. Timings</h2>\n<table>\n" << row({"step", "wall time"}, true);
+  for (const auto& [k, v] : s["timing"].items()) {
+    if (k.size() > 2 && k.substr(k.size() - 2) == "_s")
+      p << row({escape(k.substr(0, k.size() - 2)), report::num(d(v), 3) + " s"});
+    else
+      p << row({escape(k), report::num(d(v), 3)});
+  }
+  p << "</table>\n<p class=\"cap\">Wall-clock seconds on this machine (the only numbers that "
+       "change between identical runs).</p>\n<h2 id=\"s10\">10. Files in this folder</h2>\n<p>";
+  for (const auto& f : s["outputs"]) p << "<code>" << escape(str(f)) << "</code> ";
+  p << "</p>\n";
+}
+
+}  // namespace
+
+std::string render_report_html(const json& s, const std::string& dir) {
+  Page p(dir);
+  p << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+       "<title>microbrdf predict report</title>\n<style>"
+    << kStyle << "</style></head>\n<body>\n<h1>microbrdf predict report</h1>\n";
+  const json& f = s["ndf"]["filtered"];
+  std::string fit_line;
+  for (const auto& fit : s["fits"])
+    if (str(fit["model"]) == "ellipsoid")
+      fit_line = "ellipsoid fit alpha_x " + n4(fit["params"]["alpha_x"]) + ", alpha_y " +
+                 n4(fit["params"]["alpha_y"]);
+  p << "<p>" << std::to_string(s["inputs"].size()) << " scan(s); metal "
+    << escape(str(s["material"]["name"])) << "; filtered NDF (filter sigma "
+    << len(s["settings"]["filter_sigma_m"]) << ") rms slopes " << n4(f["slope_rms_x"])
+    << " along x and " << n4(f["slope_rms_y"]) << " along y (anisotropy " << n4(f["anisotropy"])
+    << ", smooth axis at " << report::num(d(f["smooth_axis_angle_rad"]) * kDeg) << " deg from +x); "
+    << fit_line
+    << ". Every number below is in <code>summary.json</code> (SI units; docs/report.md).</p>\n";
+  section_inputs(p, s);
+  section_stats(p, s);
+  section_ndf(p, s);
+  section_fits(p, s);
+  section_brdf(p, s);
+  section_renders(p, s);
+  section_texture(p, s);
+  section_settings(p, s);
+  section_timing(p, s);
+  p << "</body></html>\n";
+  return p.str();
+}
+
+}  // namespace microbrdf

@@ -1,0 +1,322 @@
+// The JSON micro-scene format (docs/westin.md, "Micro-scenes"; examples/scenes/*.json).
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "microbrdf/error.hpp"
+#include "microbrdf/generate.hpp"
+#include "microbrdf/io.hpp"
+#include "microbrdf/microscene.hpp"
+#include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/units.hpp"
+
+namespace microbrdf {
+namespace {
+
+using nlohmann::json;
+
+struct Ctx {
+  std::string origin;    // file name for messages
+  std::string base_dir;  // for relative paths
+  [[noreturn]] void fail(const std::string& what) const { throw FileError(origin, what); }
+  std::string path(const std::string& p) const {
+    if (p.empty() || std::filesystem::path(p).is_absolute()) return p;
+    return (std::filesystem::path(base_dir) / p).string();
+  }
+};
+
+double length(const Ctx& c, const json& o, const char* key, std::optional<double> def = {}) {
+  if (!o.contains(key)) {
+    if (def) return *def;
+    c.fail(std::string("missing length '") + key + "'");
+  }
+  const json& v = o.at(key);
+  if (!v.is_string())
+    c.fail(std::string("'") + key + "' must be a length with a unit, e.g. \"10um\"");
+  try {
+    return parse_length(v.get<std::string>());
+  } catch (const InputError& e) {
+    c.fail(std::string("'") + key + "': " + e.what());
+  }
+}
+
+double angle(const Ctx& c, const json& o, const char* key, double def) {
+  if (!o.contains(key)) return def;
+  const json& v = o.at(key);
+  if (v.is_number()) return v.get<double>() * M_PI / 180;
+  if (!v.is_string()) c.fail(std::string("'") + key + "' must be an angle (\"30deg\" or 30)");
+  try {
+    return parse_angle(v.get<std::string>());
+  } catch (const InputError& e) {
+    c.fail(std::string("'") + key + "': " + e.what());
+  }
+}
+
+double number(const Ctx& c, const json& o, const char* key, double def) {
+  if (!o.contains(key)) return def;
+  if (!o.at(key).is_number()) c.fail(std::string("'") + key + "' must be a number");
+  return o.at(key).get<double>();
+}
+
+int integer(const Ctx& c, const json& o, const char* key, int def) {
+  if (!o.contains(key)) return def;
+  if (!o.at(key).is_number_integer()) c.fail(std::string("'") + key + "' must be an integer");
+  return o.at(key).get<int>();
+}
+
+std::string text(const Ctx& c, const json& o, const char* key, const std::string& def) {
+  if (!o.contains(key)) return def;
+  if (!o.at(key).is_string()) c.fail(std::string("'") + key + "' must be a string");
+  return o.at(key).get<std::string>();
+}
+
+// "one" | metal name | {"metal": name} | {"n": .., "k": ..} | {"dielectric": eta} |
+// {"file": csv} | {"schlick": r0}
+std::shared_ptr<const Fresnel> fresnel(const Ctx& c, const json& v) {
+  try {
+    if (v.is_string()) {
+      const std::string s = v.get<std::string>();
+      if (s == "one" || s == "1" || s == "perfect") return nullptr;
+      return std::make_shared<ConductorFresnel>(metal(s));
+    }
+    if (v.is_object()) {
+      if (v.contains("metal"))
+        return std::make_shared<ConductorFresnel>(metal(v.at("metal").get<std::string>()));
+      if (v.contains("n"))
+        return std::make_shared<ConductorFresnel>(
+            constant_index(v.at("n").get<double>(), v.value("k", 0.0)));
+      if (v.contains("dielectric"))
+        return std::make_shared<DielectricFresnel>(
+            Spectrum::constant(v.at("dielectric").get<double>()));
+      if (v.contains("file"))
+        return std::make_shared<ConductorFresnel>(
+            read_optical_constants_csv(c.path(v.at("file").get<std::string>())));
+      if (v.contains("schlick"))
+        return std::make_shared<SchlickFresnel>(Spectrum::constant(v.at("schlick").get<double>()));
+    }
+  } catch (const InputError& e) {
+    c.fail(std::string("fresnel: ") + e.what());
+  } catch (const json::exception& e) {
+    c.fail(std::string("fresnel: ") + e.what());
+  }
+  c.fail(
+      "fresnel must be \"one\", a metal name, {\"n\",\"k\"}, {\"dielectric\"}, {\"file\"} or "
+      "{\"schlick\"}");
+}
+
+MicroMaterial material(const Ctx& c, const std::string& name, const json& m) {
+  if (!m.is_object()) c.fail("material '" + name + "' must be an object");
+  MicroMaterial out;
+  out.name = name;
+  const std::string type = text(c, m, "type", "");
+  if (type == "mirror") {
+    out.kind = MicroMaterial::Kind::mirror;
+    if (m.contains("fresnel")) out.fresnel = fresnel(c, m.at("fresnel"));
+  } else if (type == "dielectric") {
+    out.kind = MicroMaterial::Kind::dielectric;
+    out.eta = number(c, m, "eta", 1.5);
+    if (!(out.eta > 0)) c.fail("material '" + name + "': eta must be > 0");
+    out.absorption = m.contains("absorption") ? 1 / length(c, m, "absorption") : 0;
+    // "absorption" is the Beer length 1/kappa (e.g. "2mm"); "absorption_per_m" the coefficient.
+    if (m.contains("absorption_per_m")) out.absorption = number(c, m, "absorption_per_m", 0);
+  } else if (type == "lambert") {
+    out.kind = MicroMaterial::Kind::lambert;
+    out.albedo = number(c, m, "albedo", 1.0);
+    if (!(out.albedo >= 0 && out.albedo <= 1))
+      c.fail("material '" + name + "': albedo must be in [0, 1]");
+  } else if (type == "microfacet") {
+    out.kind = MicroMaterial::Kind::brdf;
+    NdfSpec spec;
+    spec.model = text(c, m, "distribution", "beckmann");
+    const double alpha = number(c, m, "alpha", 0.1);
+    spec.alpha_x = number(c, m, "alpha_x", alpha);
+    spec.alpha_y = number(c, m, "alpha_y", spec.alpha_x);
+    spec.phi = angle(c, m, "phi", 0);
+    std::shared_ptr<const Fresnel> f =
+        m.contains("fresnel") ? fresnel(c, m.at("fresnel")) : nullptr;
+    if (!f) f = std::make_shared<PerfectMirrorFresnel>();
+    try {
+      out.brdf = std::make_shared<MicrofacetBrdf>(make_distribution(spec), f);
+    } catch (const InputError& e) {
+      c.fail("material '" + name + "': " + e.what());
+    }
+    out.uniform_sampling = text(c, m, "sampling", "brdf") == "uniform";
+  } else if (type == "shbrdf") {
+    out.kind = MicroMaterial::Kind::brdf;
+    const std::string file = text(c, m, "file", "");
+    if (file.empty()) c.fail("material '" + name + "': shbrdf needs \"file\"");
+    out.brdf = std::make_shared<ShBrdf>(ShBrdf::load(c.path(file)));
+    out.uniform_sampling = text(c, m, "sampling", "brdf") == "uniform";
+  } else if (type == "absorber") {
+    out.kind = MicroMaterial::Kind::absorber;
+  } else {
+    c.fail("material '" + name +
+           "': type must be mirror, dielectric, lambert, microfacet, shbrdf "
+           "or absorber (got '" +
+           type + "')");
+  }
+  return out;
+}
+
+Surface heightfield_surface(const Ctx& c, const json& o) {
+  Surface s;
+  if (o.contains("file")) {
+    ReadOptions ro;
+    if (o.contains("spacing")) ro.dx = ro.dy = length(c, o, "spacing");
+    s = read_surface(c.path(text(c, o, "file", "")), ro);
+    // Heights about their mean (the notional plane is z = 0).
+    const double mean = s.valid_mean();
+    for (double& z : s.z) z -= mean;
+  } else if (o.contains("generate")) {
+    const json& g = o.at("generate");
+    const std::string kind = text(c, g, "kind", "gaussian");
+    if (kind == "gaussian") {
+      GaussianSurfaceParams p;
+      p.nx = static_cast<std::size_t>(integer(c, g, "nx", 512));
+      p.ny = static_cast<std::size_t>(integer(c, g, "ny", static_cast<int>(p.nx)));
+      p.dx = p.dy = length(c, g, "spacing");
+      p.sigma = length(c, g, "sigma");
+      p.tau_x = length(c, g, "tau");
+      p.tau_y = g.contains("tau_y") ? length(c, g, "tau_y") : p.tau_x;
+      p.angle = angle(c, g, "angle", 0);
+      p.seed = static_cast<std::uint64_t>(integer(c, g, "seed", 1));
+      p.exact_spectrum = g.value("exact_spectrum", true);
+      s = generate_gaussian(p);
+    } else {
+      c.fail("heightfield generate.kind must be \"gaussian\" (got '" + kind + "')");
+    }
+  } else {
+    c.fail("heightfield needs \"file\" or \"generate\"");
+  }
+  const double zs = number(c, o, "z_scale", 1.0);
+  if (zs != 1)
+    for (double& z : s.z) z *= zs;
+  const std::string tiling = text(c, o, "tiling", "periodic");
+  if (tiling == "mirror")
+    s = mirror_tile(s);
+  else if (tiling != "periodic")
+    c.fail("heightfield tiling must be \"periodic\" or \"mirror\"");
+  s.x0 = s.y0 = 0;
+  return s;
+}
+
+}  // namespace
+
+MicroSceneDesc parse_micro_scene(const json& j, const std::string& base_dir,
+                                 const std::string& origin) {
+  const Ctx c{origin, base_dir};
+  if (!j.is_object()) c.fail("a micro-scene is a JSON object");
+  MicroSceneDesc d;
+  d.source = j;
+  d.name = text(c, j, "name", std::filesystem::path(origin).stem().string());
+  d.wavelength_m = j.contains("wavelength") ? length(c, j, "wavelength") : 550e-9;
+  d.rotation = angle(c, j, "rotation", 0);
+  if (!j.contains("materials") || !j.at("materials").is_object())
+    c.fail("missing \"materials\" object");
+  for (const auto& [name, m] : j.at("materials").items())
+    d.materials.push_back(material(c, name, m));
+  if (!j.contains("objects") || !j.at("objects").is_array()) c.fail("missing \"objects\" array");
+  const json& objects = j.at("objects");
+  auto mat = [&](const json& o, const char* key = "material") {
+    try {
+      return d.material_index(text(c, o, key, ""));
+    } catch (const InputError& e) {
+      c.fail(e.what());
+    }
+  };
+  // Height fields first: they may define the tile.
+  for (const json& o : objects)
+    if (text(c, o, "type", "") == "heightfield")
+      d.heightfields.push_back(
+          {heightfield_surface(c, o), mat(o), text(c, o, "mesh", "triangles") == "grid"});
+  if (j.contains("tile")) {
+    try {
+      const LengthPair t = parse_length_pair(j.at("tile").get<std::string>());
+      d.width = t.x;
+      d.height = t.y;
+    } catch (const std::exception& e) {
+      c.fail(std::string("tile: give \"WxHunit\", e.g. \"1x1mm\": ") + e.what());
+    }
+  } else if (!d.heightfields.empty()) {
+    d.width = d.heightfields[0].surface.width();
+    d.height = d.heightfields[0].surface.height();
+  } else {
+    c.fail("no \"tile\" and no height field to take it from");
+  }
+  try {
+    for (const json& o : objects) {
+      const std::string type = text(c, o, "type", "");
+      if (type == "heightfield") continue;
+      if (type == "plane") {
+        d.planes.push_back({length(c, o, "z", 0.0), mat(o)});
+      } else if (type == "cylinders") {
+        const double r = length(c, o, "radius");
+        // Along x (angle 0) or y (angle 90 deg); other orientations: the scene's "rotation".
+        const double ang = angle(c, o, "angle", 0);
+        const bool along_y = std::abs(ang - M_PI / 2) < 1e-9;
+        if (!along_y && std::abs(ang) > 1e-9)
+          c.fail("cylinders: angle must be 0 or 90 deg (turn the scene with \"rotation\")");
+        int count = integer(c, o, "count", 8);
+        if (o.contains("pitch")) {
+          const double across = along_y ? d.width : d.height;
+          const double n = across / length(c, o, "pitch");
+          count = static_cast<int>(std::lround(n));
+          if (count < 1 || std::abs(n - count) > 1e-6 * n)
+            c.fail("cylinders: the tile must be a whole number of pitches (" + std::to_string(n) +
+                   ")");
+        }
+        add_cylinders(d, r, count, length(c, o, "z", r), number(c, o, "jitter", 0),
+                      integer(c, o, "seed", 1), mat(o), along_y);
+      } else if (type == "spheres") {
+        const double r = length(c, o, "radius");
+        add_spheres(d, r, length(c, o, "pitch"), length(c, o, "z", r), number(c, o, "jitter", 0),
+                    integer(c, o, "seed", 1), mat(o));
+      } else if (type == "fibers") {
+        FiberParams p;
+        p.count = integer(c, o, "count", p.count);
+        p.radius = length(c, o, "radius", p.radius);
+        p.length = length(c, o, "length", p.length);
+        p.tilt = angle(c, o, "tilt", p.tilt);
+        p.tilt_spread = angle(c, o, "tilt_spread", p.tilt_spread);
+        p.tilt_azimuth = angle(c, o, "tilt_azimuth", p.tilt_azimuth);
+        p.azimuth_spread = angle(c, o, "azimuth_spread", p.azimuth_spread);
+        p.seed = integer(c, o, "seed", 1);
+        p.material = mat(o);
+        add_fibers(d, p);
+      } else if (type == "weave") {
+        WeaveParams p;
+        p.pitch = length(c, o, "pitch", p.pitch);
+        p.radius = length(c, o, "radius", p.radius);
+        p.crimp = length(c, o, "crimp", p.radius);
+        p.segments_per_pitch = integer(c, o, "segments", p.segments_per_pitch);
+        if (o.contains("material")) p.warp_material = p.weft_material = mat(o);
+        if (o.contains("warp_material")) p.warp_material = mat(o, "warp_material");
+        if (o.contains("weft_material")) p.weft_material = mat(o, "weft_material");
+        add_weave(d, p);
+      } else {
+        c.fail(
+            "object type must be heightfield, plane, cylinders, spheres, fibers or weave (got '" +
+            type + "')");
+      }
+    }
+  } catch (const InputError& e) {
+    c.fail(e.what());
+  }
+  return d;
+}
+
+MicroSceneDesc load_micro_scene(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw FileError(path, "cannot open the scene file");
+  json j;
+  try {
+    j = json::parse(in, nullptr, true, /*ignore_comments=*/true);
+  } catch (const json::exception& e) {
+    throw FileError(path, std::string("not valid JSON: ") + e.what());
+  }
+  const auto dir = std::filesystem::path(path).parent_path().string();
+  return parse_micro_scene(j, dir.empty() ? "." : dir, path);
+}
+
+}  // namespace microbrdf

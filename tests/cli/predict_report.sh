@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# `microbrdf predict` as a user runs it: report and summary exist, every <img> carries a
+# non-empty data: URI, no nan/inf and no empty table cell in the report, the summary is strict
+# JSON (no NaN) with the keys docs/report.md lists, --json on stdout, errors leave no folder.
+set -u
+BIN=$1
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+$BIN generate gaussian --nx 256 --ny 192 --spacing 0.25um --sigma 0.1um --tau 8um --tau-y 1.5um \
+  --seed 3 -o "$T/b.x3p" 2>/dev/null || fail generate
+$BIN predict "$T/b.x3p" --level none --resolution 257 --theta-i 30,60 --render-width 32 --spp 2 \
+  -o "$T/out" --json >"$T/stdout.json" 2>"$T/stderr.txt" || { cat "$T/stderr.txt"; fail predict; }
+[ -s "$T/out/report.html" ] && [ -s "$T/out/summary.json" ] || fail "report or summary missing"
+grep -q "renders" "$T/stderr.txt" || fail "no progress on stderr"
+
+# The reader's checks (scripts/check-report.py): strict JSON, listed outputs exist, every <img>
+# a non-empty data: URI, renders present, no nan/inf/null and no empty cell in the text.
+python3 "$(dirname "$0")/../../scripts/check-report.py" "$T/out" >"$T/check.txt" || { cat "$T/check.txt"; fail "check-report"; }
+python3 - "$T/out" "$T/stdout.json" <<'PY' || fail "summary contents"
+import json, re, sys, os
+d, out = sys.argv[1], json.load(open(sys.argv[2]))
+assert out["report"].endswith("report.html") and os.path.exists(out["report"]), out
+s = json.load(open(os.path.join(d, "summary.json")))
+assert [f["model"] for f in s["fits"]] == ["ellipsoid", "beckmann", "ggx"]
+assert {r["scene"] for r in s["renders"]} == {"cylinders", "sphere"}
+assert [round(a["theta_i_deg"]) for a in s["brdf"]["albedo"]] == [30, 60]
+html = open(os.path.join(d, "report.html")).read()
+assert len(re.findall(r"<img ", html)) >= 6  # height map, 2 NDFs, fit comparison, 2 renders
+assert html.count("<svg") == 2 + 2 * 2       # NDF cuts x, y; in/out slices at 2 angles
+PY
+
+# Same inputs and seed: the same summary apart from timing.
+$BIN predict "$T/b.x3p" --level none --resolution 257 --theta-i 30,60 --render-width 32 --spp 2 \
+  -o "$T/again" --quiet >/dev/null || fail "second run"
+python3 - "$T/out/summary.json" "$T/again/summary.json" <<'PY' || fail "not deterministic"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+a.pop("timing"); b.pop("timing")
+assert a == b
+PY
+
+# Errors: exit code, message naming the file, no output folder, no staging folder.
+$BIN predict "$T/nope.x3p" -o "$T/bad" 2>"$T/err.txt"; rc=$?
+[ $rc -ne 0 ] && grep -q "nope.x3p" "$T/err.txt" && [ ! -e "$T/bad" ] || fail "missing input"
+$BIN predict "$T/b.x3p" --metal Xx -o "$T/bad" 2>"$T/err.txt"; rc=$?
+[ $rc -eq 2 ] && [ ! -e "$T/bad" ] || fail "unknown metal: rc $rc"
+$BIN predict "$T/b.x3p" --strips "$T/b.x3p" -o "$T/bad" 2>/dev/null && fail "--strips with one file"
+[ ! -e "$T/bad" ] || fail "partial output"
+ls -a "$T" | grep -q partial && fail "staging folder left behind"
+mkdir "$T/mine" && echo keep >"$T/mine/notes.txt"
+$BIN predict "$T/b.x3p" --no-render --resolution 129 -o "$T/mine" 2>/dev/null && fail "replaced a foreign folder"
+[ "$(cat "$T/mine/notes.txt")" = keep ] || fail "foreign folder touched"
+$BIN predict --help | grep -q "summary.json" || fail "--help"
+echo ok

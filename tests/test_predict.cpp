@@ -1,0 +1,335 @@
+// `predict` (issue 8): the summary holds what the library computes directly, the same inputs and
+// seed give the same summary, bad inputs leave no output folder behind, and the report embeds
+// every image it shows.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/error.hpp"
+#include "microbrdf/fit.hpp"
+#include "microbrdf/fresnel.hpp"
+#include "microbrdf/generate.hpp"
+#include "microbrdf/io.hpp"
+#include "microbrdf/level.hpp"
+#include "microbrdf/ndf_estimate.hpp"
+#include "microbrdf/predict.hpp"
+#include "microbrdf/statistics.hpp"
+#include "microbrdf/tabulated_distribution.hpp"
+#include "microbrdf/texture.hpp"
+
+using namespace microbrdf;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A fresh folder under the system temp dir, removed at the end of the test.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() /
+           ("microbrdf-predict-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+
+/// An anisotropic Gaussian surface (long correlation along x, as a brushed metal) with a tilt,
+/// so the default plane levelling has something to remove.
+std::string make_scan(const TempDir& t) {
+  GaussianSurfaceParams g;
+  g.nx = 192;
+  g.ny = 160;
+  g.dx = g.dy = 0.25e-6;
+  g.sigma = 0.05e-6;
+  g.tau_x = 6e-6;
+  g.tau_y = 1.5e-6;
+  g.seed = 7;
+  Surface s = generate_gaussian(g);
+  for (std::size_t iy = 0; iy < s.ny; ++iy)
+    for (std::size_t ix = 0; ix < s.nx; ++ix) s.at(ix, iy) += 0.01 * ix * s.dx - 0.02 * iy * s.dy;
+  const std::string path = t / "scan.x3p";
+  write_surface(s, path);
+  return path;
+}
+
+PredictOptions small_options(const std::string& scan) {
+  PredictOptions o;
+  o.inputs = {scan};
+  o.ndf_resolution = 257;
+  o.slice_theta_i_rad = {0.5};
+  o.slice_samples = 101;
+  o.render = false;
+  return o;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+nlohmann::json without_timing(nlohmann::json j) {
+  j.erase("timing");
+  return j;
+}
+
+/// Files and folders in `dir` (to see that nothing was left behind).
+std::size_t entries(const fs::path& dir) {
+  return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), {}));
+}
+
+}  // namespace
+
+TEST(Predict, SummaryHoldsWhatTheLibraryComputes) {
+  TempDir t;
+  const std::string scan = make_scan(t);
+  const PredictOptions o = small_options(scan);
+  const PredictResult r = predict(o, t / "out");
+  const auto& s = r.summary;
+  ASSERT_TRUE(fs::exists(r.report_path));
+  ASSERT_TRUE(fs::exists(r.summary_path));
+  EXPECT_EQ(nlohmann::json::parse(slurp(r.summary_path)), s);
+
+  // The same steps by hand.
+  Surface surf = read_surface(scan);
+  level_surface(surf, LevelingSpec{});
+  const SurfaceStats st = compute_stats(surf);
+  const auto& js = s["inputs"][0]["stats"];
+  EXPECT_DOUBLE_EQ(js["sq_m"].get<double>(), st.sq);
+  EXPECT_DOUBLE_EQ(js["sa_m"].get<double>(), st.sa);
+  EXPECT_DOUBLE_EQ(js["slope_rms_x"].get<double>(), st.slope_rms_x);
+  EXPECT_DOUBLE_EQ(js["corr_length_y_m"].get<double>(), st.corr_length_y);
+  EXPECT_EQ(s["inputs"][0]["leveling"], "plane");
+
+  NdfEstimateOptions no;
+  no.resolution = 257;
+  no.filter_sigma = 1e-6;
+  const TabulatedNdf ndf = estimate_ndf(surf, no);
+  const auto& jf = s["ndf"]["filtered"];
+  EXPECT_NEAR(jf["slope_rms_x"].get<double>(), ndf.rms_slope(0), 1e-12);
+  EXPECT_NEAR(jf["slope_rms_y"].get<double>(), ndf.rms_slope(M_PI / 2), 1e-12);
+  EXPECT_NEAR(jf["integral"].get<double>(), 1.0, 1e-9);
+  // Long correlation along x: smoother along x, and the report says the smooth axis is x.
+  EXPECT_LT(jf["slope_rms_x"].get<double>(), 0.5 * jf["slope_rms_y"].get<double>());
+  EXPECT_NEAR(jf["smooth_axis_angle_rad"].get<double>(), 0.0, 0.05);
+
+  FitOptions fo;
+  fo.model = FitModel::Ellipsoid;
+  const FitResult fr = fit_ndf(ndf, fo);
+  const auto& jfit = s["fits"][0];
+  EXPECT_EQ(jfit["model"], "ellipsoid");
+  EXPECT_NEAR(jfit["params"]["alpha_x"].get<double>(), fr.params.alpha_x, 1e-9 * fr.params.alpha_x);
+  EXPECT_NEAR(jfit["params"]["alpha_y"].get<double>(), fr.params.alpha_y, 1e-9 * fr.params.alpha_y);
+  EXPECT_LT(fr.params.alpha_x, fr.params.alpha_y);
+  EXPECT_FALSE(jfit.contains("seconds"));  // wall time only under "timing"
+
+  // Directional albedo of the measured BRDF: the library's estimator on the same BRDF, and
+  // physically between a good fraction of R0 and 1 for a metal.
+  auto f = std::make_shared<ConductorFresnel>(metal("Fe"));
+  MicrofacetBrdf b(std::make_shared<TabulatedDistribution>(ndf), f);
+  const Vec3 wi(-std::sin(0.5), 0, std::cos(0.5));
+  const double a = directional_albedo_sampled(b, wi, 555e-9, 128);
+  const double a_report = s["brdf"]["albedo"][0]["albedo"]["measured"].get<double>();
+  EXPECT_NEAR(a_report, a, 1e-12);
+  const double r0 = s["material"]["r0_555nm"].get<double>();
+  EXPECT_GT(a_report, 0.8 * r0);
+  EXPECT_LT(a_report, 1.0);
+
+  // The peak of the in-plane slice sits at the mirror direction (within the slice step and the
+  // NDF's tilt) and the slices of every model are in the summary.
+  for (const auto& sl : s["brdf"]["slices"]) {
+    EXPECT_EQ(sl["values_per_sr"].size(), 4u);  // measured + three fits
+    if (sl["plane"] == "in") {
+      EXPECT_NEAR(sl["peak"]["measured"]["angle_deg"].get<double>(), 0.5 * 180 / M_PI, 1.0);
+    }
+  }
+  EXPECT_TRUE(s["renders"].contains("skipped"));
+  EXPECT_TRUE(s["texture"].contains("skipped"));
+  EXPECT_TRUE(s["timing"].contains("total_s"));
+}
+
+TEST(Predict, ReportEmbedsEveryImageAndShowsNoNan) {
+  TempDir t;
+  PredictOptions o = small_options(make_scan(t));
+  const PredictResult r = predict(o, t / "out");
+  const std::string html = slurp(r.report_path);
+  std::size_t imgs = 0, pos = 0;
+  while ((pos = html.find("<img ", pos)) != std::string::npos) {
+    ++imgs;
+    const auto src = html.find("src=\"", pos);
+    ASSERT_NE(src, std::string::npos);
+    EXPECT_EQ(html.compare(src + 5, 22, "data:image/png;base64,"), 0);
+    EXPECT_NE(html[src + 27], '"');  // non-empty payload
+    pos = src;
+  }
+  EXPECT_GE(imgs, 4u);  // height map, two NDFs, fit comparison
+  EXPECT_NE(html.find("<svg"), std::string::npos);
+  for (const char* bad : {">nan", ">NaN", ">inf", " nan ", " inf ", "null"})
+    EXPECT_EQ(html.find(bad), std::string::npos) << bad;
+  // Every SVG's ids are unique in the page (glyphs of one plot must not show in another).
+  EXPECT_EQ(html.find("id=\"glyph"), std::string::npos);
+}
+
+TEST(Predict, SameInputsAndSeedGiveTheSameSummary) {
+  TempDir t;
+  PredictOptions o = small_options(make_scan(t));
+  o.render = true;
+  o.render_width = 24;
+  o.render_spp = 2;
+  const PredictResult a = predict(o, t / "a");
+  const PredictResult b = predict(o, t / "b");
+  ASSERT_TRUE(a.summary["renders"].is_array());
+  EXPECT_EQ(without_timing(a.summary).dump(), without_timing(b.summary).dump());
+  EXPECT_EQ(slurp(t / "a/img/render_sphere.png"), slurp(t / "b/img/render_sphere.png"));
+  // And the seed matters for the renders only where they sample: another seed, other pixels.
+  o.seed = 2;
+  const PredictResult c = predict(o, t / "c");
+  EXPECT_NE(slurp(t / "a/img/render_sphere.png"), slurp(t / "c/img/render_sphere.png"));
+}
+
+TEST(Predict, BadInputsLeaveNoOutput) {
+  TempDir t;
+  const std::string scan = make_scan(t);
+  const std::size_t before = entries(t.path);
+  auto expect_nothing_left = [&] {
+    EXPECT_FALSE(fs::exists(t / "out"));
+    EXPECT_EQ(entries(t.path), before);  // no staging folder either
+  };
+  PredictOptions o = small_options(t / "missing.x3p");
+  EXPECT_THROW(predict(o, t / "out"), FileError);
+  expect_nothing_left();
+
+  o = small_options(scan);
+  o.metal = "unobtainium";
+  EXPECT_THROW(predict(o, t / "out"), InputError);
+  expect_nothing_left();
+
+  o = small_options(scan);
+  o.strips_along = {scan};
+  EXPECT_THROW(predict(o, t / "out"), InputError);
+  expect_nothing_left();
+
+  // A corrupt scan fails in the middle of the run: the staging folder goes away.
+  { std::ofstream(t / "corrupt.x3p") << "not a zip archive"; }
+  o = small_options(t / "corrupt.x3p");
+  try {
+    predict(o, t / "out");
+    ADD_FAILURE() << "corrupt input accepted";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("corrupt.x3p"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(t / "out"));
+  EXPECT_EQ(entries(t.path), before + 1);  // just the corrupt file we made
+}
+
+TEST(Predict, ReplacesItsOwnOutputButNoOtherFolder) {
+  TempDir t;
+  const std::string scan = make_scan(t);
+  PredictOptions o = small_options(scan);
+  predict(o, t / "out");
+  o.metal = "Al";
+  const PredictResult r = predict(o, t / "out");  // an earlier report: replaced
+  EXPECT_EQ(nlohmann::json::parse(slurp(r.summary_path))["material"]["name"], "Al");
+
+  // A trailing slash names the same folder (the staging folder goes beside it, not into it).
+  predict(o, t / "out/");
+  EXPECT_TRUE(fs::exists(t / "out/summary.json"));
+  EXPECT_EQ(entries(t.path), 2u);  // scan.x3p and out
+  EXPECT_THROW(predict(o, t / "."), InputError);
+
+  fs::create_directories(t / "mine");
+  { std::ofstream(t / "mine/notes.txt") << "keep"; }
+  EXPECT_THROW(predict(o, t / "mine"), FileError);
+  EXPECT_EQ(slurp(t / "mine/notes.txt"), "keep");
+}
+
+TEST(Predict, StripsGiveASynthesisedTexture) {
+  TempDir t;
+  auto strip = [&](std::size_t nx, std::size_t ny, std::uint64_t seed, const std::string& name) {
+    BrushedParams b = brushed_preset("stainless4");
+    b.nx = nx;
+    b.ny = ny;
+    b.dx = b.dy = 0.25e-6;
+    b.seed = seed;
+    const std::string path = t / name;
+    write_surface(generate_brushed(b), path);
+    return path;
+  };
+  PredictOptions o = small_options(make_scan(t));
+  o.strips_along = {strip(256, 40, 2, "along.x3p")};    // 8 x 1 texels of 8 um
+  o.strips_across = {strip(40, 256, 3, "across.x3p")};  // 1 x 8 texels
+  o.texel_m = 8e-6;
+  o.texel_resolution = 65;
+  o.texture_size = 16;
+  o.render = true;
+  o.render_width = 16;
+  o.render_spp = 1;
+  const PredictResult r = predict(o, t / "out");
+  const auto& tx = r.summary["texture"];
+  ASSERT_FALSE(tx.contains("skipped")) << tx.dump();
+  EXPECT_EQ(tx["along"]["nx"], 8);
+  EXPECT_EQ(tx["along"]["ny"], 1);
+  EXPECT_EQ(tx["across"]["nx"], 1);
+  EXPECT_EQ(tx["across"]["ny"], 8);
+  EXPECT_EQ(tx["synthesised"]["nx"], 16);
+  // The file holds what the summary describes.
+  const ParamTexture back = read_param_texture(t / "out/texture.exr");
+  ASSERT_EQ(back.nx, 16u);
+  const ChannelStats st = channel_stats(back, 1);
+  EXPECT_NEAR(tx["synthesised"]["channels"]["alpha_y"]["mean"].get<double>(), st.mean,
+              1e-6 * st.mean);
+  // Brushed: smoother along the brushing (x) than across, in the exemplar fits.
+  EXPECT_LT(tx["along"]["channels"]["alpha_x"]["mean"].get<double>(),
+            tx["along"]["channels"]["alpha_y"]["mean"].get<double>());
+  EXPECT_TRUE(fs::exists(t / "out/img/render_texture.png"));
+}
+
+// A real Zygo MetroPro scan (tests/data/metropro-1.dat, provenance in tests/data/README.md):
+// its ACF never falls to 1/e along y within the scan, so that correlation length does not exist;
+// the summary says null and the report says so in words, never "nan".
+TEST(Predict, RealScanWithACorrelationLengthBeyondTheScan) {
+  TempDir t;
+  PredictOptions o = small_options(std::string(MICROBRDF_TEST_DATA) + "/metropro-1.dat");
+  o.ndf_resolution = 129;
+  const PredictResult r = predict(o, t / "out");
+  const auto& in = r.summary["inputs"][0];
+  EXPECT_EQ(in["stats"]["nx"], 640);
+  EXPECT_NEAR(in["stats"]["dx_m"].get<double>(), 1.0982520e-6, 1e-12);
+  // Plane removed: Sq 13.3 nm (tests/data/README.md reference: 1.3335e-08 m).
+  EXPECT_NEAR(in["stats"]["sq_m"].get<double>(), 1.3335e-8, 2e-11);
+  EXPECT_TRUE(in["stats"]["corr_length_y_m"].is_null());
+  EXPECT_TRUE(in["stats"]["corr_length_x_m"].is_number());
+  EXPECT_NE(in["instrument"].get<std::string>().find("Zygo"), std::string::npos);
+  const std::string html = slurp(r.report_path);
+  EXPECT_NE(html.find("not reached (ACF stays above 1/e over the scan)"), std::string::npos);
+  EXPECT_EQ(html.find(">nan"), std::string::npos);
+}
+
+// A perfectly flat scan: every normal is n and the NDF is one node (moments 0/0 where a formula
+// divides by Sq). The summary is strict JSON, equal in memory and on disk; the report shows no nan.
+TEST(Predict, FlatScanGivesNoNan) {
+  TempDir t;
+  Surface s(64, 48, 0.5e-6, 0.5e-6);
+  for (auto& z : s.z) z = 0;
+  write_surface(s, t / "flat.x3p");
+  PredictOptions o = small_options(t / "flat.x3p");
+  o.leveling = LevelingSpec::parse("none");
+  o.ndf_resolution = 129;
+  const PredictResult r = predict(o, t / "out");
+  const std::string html = slurp(r.report_path);
+  for (const char* bad : {">nan", ">-nan", ">inf", "nan<", "inf<"})
+    EXPECT_EQ(html.find(bad), std::string::npos) << bad;
+  EXPECT_EQ(nlohmann::json::parse(slurp(r.summary_path)), r.summary);
+  EXPECT_EQ(r.summary["inputs"][0]["stats"]["sq_m"], 0.0);
+  EXPECT_NEAR(r.summary["ndf"]["filtered"]["slope_rms_x"].get<double>(), 0.0, 1e-12);
+}
