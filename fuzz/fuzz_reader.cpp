@@ -2,17 +2,81 @@
 // (-DFUZZ_FORMAT=X3p, ...), so every reader shares this one harness.
 // A reader may reject input only with FileError or InputError; anything else (a crash, an
 // ASan/UBSan report, a leak, a hang, another exception) is a bug.
+#include <unistd.h>
+
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <span>
+#include <string>
+#include <vector>
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/texture.hpp"
+#include "render/envmap.hpp"
+
+#ifdef FUZZ_PARAMTEX
+namespace {
+/// read_param_texture takes a path (OpenEXR opens the file itself): each input is written to one
+/// scratch file per process, in /dev/shm when it exists.
+const std::string& scratch_path() {
+  static const std::string path = [] {
+    std::string tmpl =
+        (access("/dev/shm", W_OK) == 0 ? std::string("/dev/shm") : std::string(P_tmpdir)) +
+        "/microbrdf-fuzz-paramtex-XXXXXX";
+    const int fd = mkstemp(tmpl.data());
+    if (fd < 0) std::abort();
+    close(fd);
+    std::atexit([] { std::remove(scratch_path().c_str()); });
+    return tmpl;
+  }();
+  return path;
+}
+}  // namespace
+#endif
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-#ifdef FUZZ_SHBRDF
+#if defined(FUZZ_HDR)
+  // The Radiance .hdr environment-map reader: what it accepts must be a consistent image.
+  try {
+    const std::vector<std::uint8_t> bytes(data, data + size);
+    const auto img = microbrdf::pt::read_radiance_hdr_bytes(bytes, "fuzz-input");
+    if (img.width <= 0 || img.height <= 0 ||
+        img.rgb.size() != std::size_t(img.width) * std::size_t(img.height) * 3)
+      __builtin_trap();
+    for (float v : img.rgb)
+      if (!(v >= 0) || !std::isfinite(v)) __builtin_trap();
+  } catch (const microbrdf::FileError&) {
+  } catch (const microbrdf::InputError&) {
+  }
+  return 0;
+#elif defined(FUZZ_PARAMTEX)
+  // The ellipsoid parameter-texture EXR reader: what it accepts must be a consistent texture.
+  {
+    std::FILE* f = std::fopen(scratch_path().c_str(), "wb");
+    if (!f || std::fwrite(data, 1, size, f) != size || std::fclose(f) != 0) std::abort();
+  }
+  (void)microbrdf::is_param_texture_file(scratch_path());  // never throws
+  try {
+    const auto t = microbrdf::read_param_texture(scratch_path());
+    if (t.nx == 0 || t.ny == 0 || !(t.texel_m > 0) || t.valid.size() != t.size() ||
+        t.why_invalid.size() != t.size())
+      __builtin_trap();
+    for (const auto& c : t.channel)
+      if (c.size() != t.size()) __builtin_trap();
+    for (std::size_t i = 0; i < t.size(); ++i)
+      if (t.valid[i])
+        for (const auto& c : t.channel)
+          if (!std::isfinite(c[i])) __builtin_trap();
+  } catch (const microbrdf::FileError&) {
+  } catch (const microbrdf::InputError&) {
+  }
+  return 0;
+#elif defined(FUZZ_SHBRDF)
   // The .shbrdf reader (-DFUZZ_SHBRDF): whatever it accepts must evaluate to finite numbers.
   try {
     auto b = microbrdf::ShBrdf::load_bytes(std::span<const std::uint8_t>(data, size), "fuzz-input");

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <utility>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -80,6 +81,18 @@ void add_common(CLI::App* c, GenArgs& a, const char* default_size) {
   c->add_flag("--json", a.json, "Print parameters and measured statistics as JSON on stdout");
 }
 
+/// Ratio of the base's rms width to the ellipsoid width fitted to the filtered NDF, along and
+/// across the brushing. Without depth modulation the base is Gaussian and the fit recovers its
+/// rms width (1, 1). The presets' log-normal modulation (m = 0.6, 50 um x 8 um) makes the NDF a
+/// scale mixture whose fitted peak is narrower than its rms width: brushed_preset()
+/// (src/surface/generate.cpp) solves its base for 1.6x / 1.8x the target widths, calibrated on
+/// 2048 x 1024 surfaces with a 1 um filter (docs/fitting.md). --alpha-along/--alpha-across with a
+/// preset mean the same thing as the preset's own widths, so they take the same factors.
+std::pair<double, double> modulation_calibration(const BrushedParams& p) {
+  if (p.modulation <= 0) return {1.0, 1.0};
+  return {1.6, 1.8};
+}
+
 }  // namespace
 
 void register_generate(CLI::App& app) {
@@ -154,8 +167,12 @@ void register_generate(CLI::App& app) {
   b->add_option("--preset", a->preset,
                 "stainless4 (alpha ~0.007 along / 0.14 across) or aluminium4 (0.02 / 0.47)");
   b->add_option("--alpha-along", a->alpha_along,
-                "Target filtered Beckmann width along the brushing");
-  b->add_option("--alpha-across", a->alpha_across, "Target filtered Beckmann width across");
+                "Target width along the brushing. With --preset: of the ellipsoid fitted to the "
+                "filtered NDF (the preset's depth modulation is kept and the base's rms width set "
+                "to 1.6x this, the presets' own calibration); without: the rms width of the "
+                "filtered Gaussian base");
+  b->add_option("--alpha-across", a->alpha_across,
+                "Target width across (with --preset: base rms width 1.8x this)");
   b->add_option("--filter-sigma", a->filter_sigma, "Filter the target widths refer to")
       ->capture_default_str();
   b->add_option("--tau-across", a->tau_across, "Base correlation length across")
@@ -178,8 +195,9 @@ void register_generate(CLI::App& app) {
         if (a->alpha_along.empty() || a->alpha_across.empty())
           throw InputError("--alpha-along and --alpha-across go together");
         p.tau_across = parse_length(a->tau_across);
-        solve_brushed_base(p, std::stod(a->alpha_along), std::stod(a->alpha_across),
-                           parse_length(a->filter_sigma));
+        const auto [k_along, k_across] = modulation_calibration(p);
+        solve_brushed_base(p, k_along * std::stod(a->alpha_along),
+                           k_across * std::stod(a->alpha_across), parse_length(a->filter_sigma));
       }
       if (!a->scratch_spacing.empty()) {
         double d = parse_length(a->scratch_spacing);

@@ -13,8 +13,10 @@
 #include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/ndf_io.hpp"
 #include "microbrdf/render.hpp"
+#include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/sun2002.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
+#include "microbrdf/texture.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
@@ -29,7 +31,7 @@ struct RenderArgs : ModelFlags {
   std::vector<std::string> kirchhoff;
   double r0 = -1, lambertian = -1, sun_s = 0;
   bool mirror = false, separable = false;
-  // (the coordinator adds --sh FILE.shbrdf and --texture TEX.exr here: see make_materials)
+  std::string sh, texture;  // SH-matrix BRDF (.shbrdf), ellipsoid parameter texture (.exr)
   // lights
   std::string envmap, env_rotation = "0";
   double env_scale = 1;
@@ -86,16 +88,27 @@ std::vector<std::shared_ptr<const Svbrdf>> make_materials(const RenderArgs& a) {
   // --kirchhoff may come with an analytic model: that model then supplies the shadowing G.
   const bool kirchhoff = !a.kirchhoff.empty();
   const int kinds = (analytic && !kirchhoff) + !a.ndf.empty() + (a.lambertian >= 0) + a.mirror +
-                    (a.sun_s > 0) + kirchhoff;
+                    (a.sun_s > 0) + kirchhoff + !a.sh.empty() + !a.texture.empty();
   if (kinds != 1)
     throw InputError(
         "give exactly one material: --model/--alpha (microfacet), --ndf FILE (tabulated NDF), "
-        "--kirchhoff DK (+ optional --model for shadowing), --sun S, --lambertian ALBEDO or "
-        "--mirror");
-  // Spatially varying materials (--texture) and SH-matrix BRDFs (--sh) plug in here as further
-  // Svbrdf / Brdf kinds.
+        "--kirchhoff DK (+ optional --model for shadowing), --sun S, --sh FILE.shbrdf, "
+        "--texture TEX.exr, --lambertian ALBEDO or --mirror");
+  if (!a.texture.empty()) {
+    // Each texel's ellipsoid parameters with the metal's Fresnel term; (u, v) wraps, --uv-scale
+    // sets the repeats per scene unit.
+    auto tex = std::make_shared<const ParamTexture>(read_param_texture(a.texture));
+    return {std::make_shared<EllipsoidTextureSvbrdf>(tex, fresnel_of(a))};
+  }
   std::shared_ptr<const Brdf> b;
-  if (a.lambertian >= 0) {
+  if (!a.sh.empty()) {
+    // A grey SH-matrix BRDF carries its own reflectance (Fresnel included in the simulation).
+    if (!a.metal.empty() || !a.nk_csv.empty() || a.r0 >= 0 || a.separable)
+      throw InputError(
+          "--sh: the SH BRDF is grey and complete; --metal/--nk-csv/--r0/"
+          "--separable-g do not apply");
+    b = std::make_shared<ShBrdf>(ShBrdf::load(a.sh));
+  } else if (a.lambertian >= 0) {
     b = std::make_shared<LambertianBrdf>(a.lambertian);
   } else if (a.mirror) {
     b = std::make_shared<SpecularMirrorBrdf>(fresnel_of(a));
@@ -258,7 +271,10 @@ void register_render(CLI::App& app) {
       "with no light at all, a uniform white sky. Radiance 1 = D65 white of luminance 1.\n"
       "Materials: microfacet (--model/--alpha* or --ndf FILE) with a metal's Fresnel term\n"
       "(--metal, default Al; --nk-csv; --r0), Kirchhoff (--kirchhoff DK.npy), Sun 2002 (--sun S),\n"
-      "--lambertian A, --mirror.\n"
+      "--lambertian A, --mirror; an SH-matrix BRDF (--sh FILE.shbrdf from `microbrdf simulate` or\n"
+      "`microbrdf brdf sh-project`, grey, its own reflectance); an ellipsoid parameter texture\n"
+      "(--texture TEX.exr from `microbrdf texture`, each texel's fit with the --metal Fresnel\n"
+      "term; --uv-scale = texture repeats per scene unit).\n"
       "The BRDF's x axis follows --brushing linear (the image's horizontal turned by\n"
       "--brush-angle about the normal) or rotational (circles about the object's axis).\n\n"
       "Examples:\n"
@@ -266,6 +282,9 @@ void register_render(CLI::App& app) {
       "      --metal Fe --envmap courtyard.exr --size 256 --spp 64 -o brushed.png\n"
       "  microbrdf render --scene plate --ndf stainless4_ndf.npy --metal SS-austenitic -o p.png\n"
       "  microbrdf render --scene sphere --sun 5 --metal Cu --point 0,0,4:20 -o cu.png --json\n"
+      "  microbrdf render --scene cylinders --texture ss4_tex.exr --uv-scale 2 --metal Fe -o "
+      "t.png\n"
+      "  microbrdf render --scene sphere --sh ggx.shbrdf --spp 64 -o sh.png\n"
       "  microbrdf render --scene vase --model ggx --alpha 0.2 --metal Au --brushing rotational "
       "\\\n"
       "      --envmap studio.hdr --spp 256 --threads 2 -o vase.exr -o vase.png");
@@ -287,6 +306,12 @@ void register_render(CLI::App& app) {
   c->add_option("--nk-csv", a->nk_csv, "CSV 'wavelength_nm,n,k' optical constants");
   c->add_option("--r0", a->r0, "Normal-incidence reflectance (eta = 1, Sun 2002 5.2)");
   c->add_option("--sun", a->sun_s, "Sun 2002 analytic BRDF with smoothness s = tau/sigma");
+  c->add_option("--sh", a->sh,
+                "SH-matrix BRDF (.shbrdf, Westin 1992) from `microbrdf simulate` or "
+                "`microbrdf brdf sh-project`");
+  c->add_option("--texture", a->texture,
+                "Ellipsoid parameter texture (.exr) from `microbrdf texture` (with --metal, "
+                "--uv-scale)");
   c->add_option("--lambertian", a->lambertian, "Lambertian albedo in [0, 1]");
   c->add_flag("--mirror", a->mirror, "Ideal mirror with the metal's Fresnel term");
   c->add_flag("--separable-g", a->separable, "Separable Smith G1 G1 (Dong eq. 13)");

@@ -30,37 +30,31 @@
 #include "core/byte_reader.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/units.hpp"
+#include "surface/exr_guard.hpp"
 #include "surface/formats.hpp"
 
 namespace microbrdf::detail {
+
+ExrMemIStream::ExrMemIStream(std::span<const std::uint8_t> data, const std::string& name)
+    : Imf::IStream(name.c_str()), data_(data) {}
+
+bool ExrMemIStream::read(char c[], int n) {
+  if (n < 0 || pos_ > data_.size() || static_cast<std::size_t>(n) > data_.size() - pos_)
+    throw std::runtime_error("unexpected end of file (truncated?)");
+  std::memcpy(c, data_.data() + pos_, static_cast<std::size_t>(n));
+  pos_ += static_cast<std::size_t>(n);
+  return pos_ < data_.size();
+}
+
+void ExrMemIStream::seekg(uint64_t pos) {
+  pos_ = pos > data_.size() ? data_.size() + 1 : static_cast<std::size_t>(pos);
+}
+
 namespace {
 
 constexpr int kMaxSide = 1 << 20;
 constexpr std::int64_t kMaxCoord = std::int64_t{1} << 30;
 constexpr std::uint64_t kMaxSamples = std::uint64_t{1} << 28;
-
-/// Imf::IStream over a byte span (no copy of the file).
-class MemIStream : public Imf::IStream {
- public:
-  MemIStream(Bytes data, const std::string& name) : Imf::IStream(name.c_str()), data_(data) {}
-
-  bool read(char c[], int n) override {
-    if (n < 0 || pos_ > data_.size() || static_cast<std::size_t>(n) > data_.size() - pos_)
-      throw std::runtime_error("unexpected end of file (truncated?)");
-    std::memcpy(c, data_.data() + pos_, static_cast<std::size_t>(n));
-    pos_ += static_cast<std::size_t>(n);
-    return pos_ < data_.size();
-  }
-  uint64_t tellg() override { return pos_; }
-  void seekg(uint64_t pos) override {
-    pos_ = pos > data_.size() ? data_.size() + 1 : static_cast<std::size_t>(pos);
-  }
-  void clear() override {}
-
- private:
-  Bytes data_;
-  std::size_t pos_ = 0;
-};
 
 // OpenEXR 3.1 allocates an attribute's claimed size before reading it (a 400-byte file can ask
 // for 2 GB), so walk the header(s) first and check every attribute size against the bytes
@@ -161,6 +155,8 @@ void check_exr_headers(const ByteReader& r) {
   }
 }
 
+}  // namespace
+
 void init_openexr_limits() {
   static std::once_flag once;
   std::call_once(once, [] {
@@ -170,24 +166,39 @@ void init_openexr_limits() {
   });
 }
 
+void check_exr_header_bytes(std::span<const std::uint8_t> data, const std::string& name) {
+  check_exr_headers(ByteReader(data, name));
+}
+
+std::uint64_t check_exr_data_window(const Imath::Box2i& dw, std::size_t file_bytes,
+                                    const std::string& name) {
+  auto absurd = [](int v) { return v < -kMaxCoord || v > kMaxCoord; };
+  if (absurd(dw.min.x) || absurd(dw.min.y) || absurd(dw.max.x) || absurd(dw.max.y))
+    throw FileError(name, "exr: data window has absurd coordinates");
+  const std::int64_t w = std::int64_t{dw.max.x} - dw.min.x + 1;
+  const std::int64_t h = std::int64_t{dw.max.y} - dw.min.y + 1;
+  if (w <= 0 || h <= 0) throw FileError(name, "exr: empty data window");
+  const std::uint64_t cap =
+      std::min<std::uint64_t>(kMaxSamples, 256 * std::uint64_t{file_bytes} + (1u << 16));
+  const std::uint64_t samples = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+  if (samples > cap)
+    throw FileError(name, "exr: data window " + std::to_string(w) + " x " + std::to_string(h) +
+                              " is too large for a " + std::to_string(file_bytes) + "-byte file");
+  return samples;
+}
+
+namespace {
+
 Surface read_exr_impl(Bytes data, const ByteReader& r, const ReadOptions& options) {
   if (!options.dx) r.fail("the exr format stores no sample spacing: pass --spacing (e.g. 110nm)");
   check_exr_headers(r);
-  MemIStream stream(data, r.name());
+  ExrMemIStream stream(data, r.name());
   Imf::InputFile file(stream, 0);  // 0 = no worker threads
   const Imf::Header& hdr = file.header();
   const Imath::Box2i dw = hdr.dataWindow();
-  auto absurd = [](int v) { return v < -kMaxCoord || v > kMaxCoord; };
-  if (absurd(dw.min.x) || absurd(dw.min.y) || absurd(dw.max.x) || absurd(dw.max.y))
-    r.fail("exr: data window has absurd coordinates");
+  check_exr_data_window(dw, data.size(), r.name());
   const std::int64_t w = std::int64_t{dw.max.x} - dw.min.x + 1;
   const std::int64_t h = std::int64_t{dw.max.y} - dw.min.y + 1;
-  if (w <= 0 || h <= 0) r.fail("exr: empty data window");
-  const std::uint64_t cap =
-      std::min<std::uint64_t>(kMaxSamples, 256 * std::uint64_t{data.size()} + (1u << 16));
-  if (static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > cap)
-    r.fail("exr: data window " + std::to_string(w) + " x " + std::to_string(h) +
-           " is too large for a " + std::to_string(data.size()) + "-byte file");
   check_grid(r, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), 0, 0);
 
   const Imf::ChannelList& channels = hdr.channels();

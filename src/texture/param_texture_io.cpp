@@ -16,14 +16,17 @@
 #include "core/bitmap_font.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/io.hpp"
 #include "microbrdf/preview.hpp"
 #include "microbrdf/texture.hpp"
+#include "surface/exr_guard.hpp"
 
 namespace microbrdf {
 namespace {
 
 constexpr const char* kAttr = "microbrdf_param_texture";
 constexpr std::size_t kMaxSide = 1 << 15;
+constexpr std::uint64_t kMaxFileBytes = std::uint64_t{1} << 32;
 
 }  // namespace
 
@@ -74,12 +77,19 @@ void write_param_texture(const ParamTexture& t, const std::string& path) {
 
 bool is_param_texture_file(const std::string& path) {
   try {
+    // Only the header matters: read at most the first 16 MB (header and line-offset table come
+    // first) and check it before OpenEXR parses it, as read_param_texture does.
     std::ifstream f(path, std::ios::binary);
-    char magic[4] = {};
-    if (!f.read(magic, 4) || static_cast<unsigned char>(magic[0]) != 0x76 || magic[1] != 0x2f ||
-        magic[2] != 0x31 || magic[3] != 0x01)
+    std::vector<std::uint8_t> head(static_cast<std::size_t>(
+        std::min<std::uintmax_t>(std::filesystem::file_size(path), std::uintmax_t{1} << 24)));
+    f.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(f.gcount()));
+    if (head.size() < 4 || head[0] != 0x76 || head[1] != 0x2f || head[2] != 0x31 || head[3] != 0x01)
       return false;
-    Imf::InputFile file(path.c_str(), 0);
+    detail::init_openexr_limits();
+    detail::check_exr_header_bytes(head, path);
+    detail::ExrMemIStream stream(head, path);
+    Imf::InputFile file(stream, 0);
     return file.header().channels().findChannel("alpha_x") != nullptr;
   } catch (...) {
     return false;
@@ -89,10 +99,18 @@ bool is_param_texture_file(const std::string& path) {
 ParamTexture read_param_texture(const std::string& path) {
   if (!std::filesystem::exists(path)) throw FileError(path, "no such file");
   ParamTexture t;
+  // The file is read into memory and its header checked as the height-map EXR reader does
+  // (src/surface/exr_guard.hpp) before OpenEXR parses it: OpenEXR allocates whatever an
+  // attribute claims (fuzz_paramtex: a 778-byte file asked for 2 GB) and trusts the data window.
+  const std::vector<std::uint8_t> bytes = read_file_bytes(path, kMaxFileBytes);
+  detail::init_openexr_limits();
+  detail::check_exr_header_bytes(bytes, path);
   try {
-    Imf::InputFile file(path.c_str(), 0);
+    detail::ExrMemIStream stream(bytes, path);
+    Imf::InputFile file(stream, 0);
     const Imf::Header& h = file.header();
     const Imath::Box2i dw = h.dataWindow();
+    detail::check_exr_data_window(dw, bytes.size(), path);
     const long w = static_cast<long>(dw.max.x) - dw.min.x + 1,
                ht = static_cast<long>(dw.max.y) - dw.min.y + 1;
     if (w <= 0 || ht <= 0 || static_cast<std::size_t>(w) > kMaxSide ||
