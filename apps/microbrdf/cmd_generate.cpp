@@ -81,18 +81,6 @@ void add_common(CLI::App* c, GenArgs& a, const char* default_size) {
   c->add_flag("--json", a.json, "Print parameters and measured statistics as JSON on stdout");
 }
 
-/// Ratio of the base's rms width to the ellipsoid width fitted to the filtered NDF, along and
-/// across the brushing. Without depth modulation the base is Gaussian and the fit recovers its
-/// rms width (1, 1). The presets' log-normal modulation (m = 0.6, 50 um x 8 um) makes the NDF a
-/// scale mixture whose fitted peak is narrower than its rms width: brushed_preset()
-/// (src/surface/generate.cpp) solves its base for 1.6x / 1.8x the target widths, calibrated on
-/// 2048 x 1024 surfaces with a 1 um filter (docs/fitting.md). --alpha-along/--alpha-across with a
-/// preset mean the same thing as the preset's own widths, so they take the same factors.
-std::pair<double, double> modulation_calibration(const BrushedParams& p) {
-  if (p.modulation <= 0) return {1.0, 1.0};
-  return {1.6, 1.8};
-}
-
 }  // namespace
 
 void register_generate(CLI::App& app) {
@@ -195,7 +183,7 @@ void register_generate(CLI::App& app) {
         if (a->alpha_along.empty() || a->alpha_across.empty())
           throw InputError("--alpha-along and --alpha-across go together");
         p.tau_across = parse_length(a->tau_across);
-        const auto [k_along, k_across] = modulation_calibration(p);
+        const auto [k_along, k_across] = brushed_modulation_calibration(p);
         solve_brushed_base(p, k_along * std::stod(a->alpha_along),
                            k_across * std::stod(a->alpha_across), parse_length(a->filter_sigma));
       }

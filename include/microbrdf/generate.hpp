@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "microbrdf/surface.hpp"
@@ -84,6 +85,12 @@ Surface generate_brushed(const BrushedParams& p);
 /// widths 1.6x along and 1.8x across those, the calibrated ratio of the mixture's rms width to its
 /// fitted width (docs/fitting.md). Throws InputError for an unknown name.
 BrushedParams brushed_preset(const std::string& name);
+/// Ratio of the base's rms slope width to the ellipsoid width fitted to the filtered NDF (1 um
+/// filter), {along, across}. (1, 1) without depth modulation (a Gaussian base: the fit recovers
+/// its rms width); with the presets' log-normal modulation (0.6, 50 um x 8 um) the NDF is a scale
+/// mixture whose fitted peak is narrower than its rms width: {1.6, 1.8}, calibrated on 2048 x 1024
+/// surfaces, seeds 1-3 (docs/fitting.md). brushed_preset() and `generate brushed --alpha-*` use it.
+std::pair<double, double> brushed_modulation_calibration(const BrushedParams& p);
 std::vector<std::string> brushed_preset_names();
 
 /// Base parameters that give the filtered widths alpha_along, alpha_across for a Gaussian

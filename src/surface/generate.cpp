@@ -147,6 +147,11 @@ void solve_brushed_base(BrushedParams& p, double alpha_along, double alpha_acros
 
 std::vector<std::string> brushed_preset_names() { return {"stainless4", "aluminium4"}; }
 
+std::pair<double, double> brushed_modulation_calibration(const BrushedParams& p) {
+  if (p.modulation <= 0) return {1.0, 1.0};
+  return {1.6, 1.8};
+}
+
 BrushedParams brushed_preset(const std::string& name) {
   // Depth modulation (log-amplitude rms 0.6; 50 um along, 8 um across): the brushing depth varies
   // over the surface, so the NDF is a scale mixture of Gaussian lobes with heavier tails than
@@ -155,12 +160,12 @@ BrushedParams brushed_preset(const std::string& name) {
   // the base is solved for rms widths kAlong / kAcross times the Fig. 12 ellipsoid widths; the
   // factors are calibrated so the ellipsoid fit of the filtered NDF (1 um, 2048 x 1024, seeds
   // 1-3) lands on them within ~7% (docs/fitting.md; tests fit.BrushedPresetsFig12).
-  constexpr double kAlong = 1.6, kAcross = 1.8;
   BrushedParams p;
   p.tau_across = 2e-6;
   p.modulation = 0.6;
   p.modulation_along = 50e-6;
   p.modulation_across = 8e-6;
+  const auto [kAlong, kAcross] = brushed_modulation_calibration(p);
   if (name == "stainless4") {
     solve_brushed_base(p, 0.007 * kAlong, 0.14 * kAcross, 1e-6);
     p.scratch_density = 2e4;  // 2 per 100 um
