@@ -13,6 +13,7 @@
 
 #include <memory>
 
+#include "core/embree_ray.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/simulate.hpp"
 
@@ -54,18 +55,9 @@ void BM_SimulateBareEmbree(benchmark::State& state) {
       RTCIntersectContext ctx;
       rtcInitIntersectContext(&ctx);
       RTCRayHit rh;
-      rh.ray.org_x = float(rng.uniform() * sc.width());
-      rh.ray.org_y = float(rng.uniform() * sc.height());
-      rh.ray.org_z = float(sc.zmax());
-      rh.ray.dir_x = float(-u.x());
-      rh.ray.dir_y = float(-u.y());
-      rh.ray.dir_z = float(-u.z());
-      rh.ray.tnear = 0;
-      rh.ray.tfar = 1e30f;
-      rh.ray.mask = ~0u;
-      rh.ray.flags = 0;
-      rh.ray.time = 0;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      const double ox = rng.uniform() * sc.width();  // (two statements: x drawn before y)
+      const double oy = rng.uniform() * sc.height();
+      detail::fill_rayhit(rh, Eigen::Vector3d(ox, oy, sc.zmax()), -u, 0, 1e30f);
       rtcIntersect1(rs, &ctx, &rh);
       h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     }
