@@ -16,6 +16,7 @@
 #include "core/embree_ray.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/simulate.hpp"
+#include "microscene_test_util.hpp"
 
 using namespace microbrdf;
 
@@ -24,19 +25,8 @@ namespace {
 const MicroScene& scene(bool grid) {
   static std::unique_ptr<MicroScene> s[2];
   if (!s[grid]) {
-    GaussianSurfaceParams p;
-    p.nx = p.ny = 512;
-    p.dx = p.dy = 65e-6 / 8;
-    p.sigma = 10e-6;
-    p.tau_x = p.tau_y = 65e-6;
-    MicroSceneDesc d;
-    d.width = d.height = 512 * p.dx;
-    MicroMaterial m;
-    m.kind = MicroMaterial::Kind::mirror;
-    m.name = "mirror";
-    d.materials.push_back(m);
-    d.heightfields.push_back({generate_gaussian(p), 0, grid});
-    s[grid] = std::make_unique<MicroScene>(std::move(d));
+    s[grid] = std::make_unique<MicroScene>(test_util::gaussian_mirror_desc(
+        512, 65e-6 / 8, 10e-6, 65e-6, GaussianSurfaceParams{}.seed, grid));
   }
   return *s[grid];
 }
