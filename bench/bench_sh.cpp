@@ -125,8 +125,8 @@ const ShBrdf& brdf(int L, bool aniso) {
   return *p;
 }
 
-void BM_ShBrdfEval(benchmark::State& state) {
-  const ShBrdf& b = brdf(static_cast<int>(state.range(0)), false);
+// kBatch evaluations of b over fixed pairs of directions.
+void eval_batch(benchmark::State& state, const ShBrdf& b) {
   auto wi = directions(2), wo = directions(3);
   for (auto _ : state) {
     double s = 0;
@@ -134,6 +134,10 @@ void BM_ShBrdfEval(benchmark::State& state) {
     benchmark::DoNotOptimize(s);
   }
   rate(state, "evals/s");
+}
+
+void BM_ShBrdfEval(benchmark::State& state) {
+  eval_batch(state, brdf(static_cast<int>(state.range(0)), false));
 }
 BENCHMARK(BM_ShBrdfEval)->Arg(15)->Arg(30);
 
@@ -155,14 +159,7 @@ BENCHMARK(BM_ShBrdfEvalBound)->Arg(15)->Arg(30);
 
 // The same lobe after isotropic_average(): M is block diagonal in |m|, eval works per block.
 void BM_ShBrdfEvalIsotropicBlocks(benchmark::State& state) {
-  const ShBrdf b = brdf(static_cast<int>(state.range(0)), false).isotropic_average();
-  auto wi = directions(2), wo = directions(3);
-  for (auto _ : state) {
-    double s = 0;
-    for (std::size_t k = 0; k < kBatch; ++k) s += b.eval(wi[k], wo[k], 555e-9);
-    benchmark::DoNotOptimize(s);
-  }
-  rate(state, "evals/s");
+  eval_batch(state, brdf(static_cast<int>(state.range(0)), false).isotropic_average());
 }
 BENCHMARK(BM_ShBrdfEvalIsotropicBlocks)->Arg(15)->Arg(30);
 

@@ -7,6 +7,7 @@
 
 #include "microbrdf/generate.hpp"
 #include "microbrdf/microscene.hpp"
+#include "surface_test_util.hpp"
 
 namespace microbrdf::test_util {
 
@@ -23,16 +24,10 @@ inline MicroMaterial mirror_material() {
 inline MicroSceneDesc gaussian_mirror_desc(std::size_t n, double dx, double sigma, double tau,
                                            std::uint64_t seed = GaussianSurfaceParams{}.seed,
                                            bool grid = false) {
-  GaussianSurfaceParams p;
-  p.nx = p.ny = n;
-  p.dx = p.dy = dx;
-  p.sigma = sigma;
-  p.tau_x = p.tau_y = tau;
-  p.seed = seed;
   MicroSceneDesc d;
-  d.width = d.height = n * p.dx;
+  d.width = d.height = n * dx;
   d.materials.push_back(mirror_material());
-  d.heightfields.push_back({generate_gaussian(p), 0, grid});
+  d.heightfields.push_back({isotropic_gaussian(n, dx, sigma, tau, seed), 0, grid});
   return d;
 }
 
