@@ -61,6 +61,23 @@ void BM_ShOddBasisEval(benchmark::State& state) {
 }
 BENCHMARK(BM_ShOddBasisEval)->Arg(15)->Arg(30);
 
+// The brute-force references: real Y_lm for l <= L at direction d from the normalised
+// associated Legendre value p(l, m) (Condon-Shortley phase removed) and the azimuth of d.
+template <class Legendre>
+void real_sh_brute(int L, const Vec3& d, double* y, Legendre p_lm) {
+  const double ph = std::atan2(d.y(), d.x());
+  for (int l = 0; l <= L; ++l)
+    for (int m = 0; m <= l; ++m) {
+      const double p = p_lm(l, m);
+      if (m == 0) {
+        y[sh_index(l, 0)] = p;
+      } else {
+        y[sh_index(l, m)] = std::sqrt(2.0) * p * std::cos(m * ph);
+        y[sh_index(l, -m)] = std::sqrt(2.0) * p * std::sin(m * ph);
+      }
+    }
+}
+
 // Reference: every Y_lm separately from std::sph_legendre (normalised, CS phase removed).
 void BM_ShEvalBruteSphLegendre(benchmark::State& state) {
   const int L = static_cast<int>(state.range(0));
@@ -68,17 +85,10 @@ void BM_ShEvalBruteSphLegendre(benchmark::State& state) {
   std::vector<double> y(sh_count(L));
   for (auto _ : state)
     for (const auto& d : w) {
-      const double th = std::acos(d.z()), ph = std::atan2(d.y(), d.x());
-      for (int l = 0; l <= L; ++l)
-        for (int m = 0; m <= l; ++m) {
-          const double p = (m % 2 ? -1.0 : 1.0) * std::sph_legendre(l, m, th);
-          if (m == 0) {
-            y[sh_index(l, 0)] = p;
-          } else {
-            y[sh_index(l, m)] = std::sqrt(2.0) * p * std::cos(m * ph);
-            y[sh_index(l, -m)] = std::sqrt(2.0) * p * std::sin(m * ph);
-          }
-        }
+      const double th = std::acos(d.z());
+      real_sh_brute(L, d, y.data(), [th](int l, int m) {
+        return (m % 2 ? -1.0 : 1.0) * std::sph_legendre(l, m, th);
+      });
       benchmark::DoNotOptimize(y.data());
     }
   rate(state, "dirs/s");
@@ -92,19 +102,11 @@ void BM_ShEvalBruteAssocLegendre(benchmark::State& state) {
   std::vector<double> y(sh_count(L));
   for (auto _ : state)
     for (const auto& d : w) {
-      const double ph = std::atan2(d.y(), d.x());
-      for (int l = 0; l <= L; ++l)
-        for (int m = 0; m <= l; ++m) {
-          const double k = std::sqrt((2 * l + 1) / (4 * kPi) *
-                                     std::exp(std::lgamma(l - m + 1) - std::lgamma(l + m + 1)));
-          const double p = k * std::assoc_legendre(l, m, d.z());
-          if (m == 0) {
-            y[sh_index(l, 0)] = p;
-          } else {
-            y[sh_index(l, m)] = std::sqrt(2.0) * p * std::cos(m * ph);
-            y[sh_index(l, -m)] = std::sqrt(2.0) * p * std::sin(m * ph);
-          }
-        }
+      real_sh_brute(L, d, y.data(), [z = d.z()](int l, int m) {
+        const double k = std::sqrt((2 * l + 1) / (4 * kPi) *
+                                   std::exp(std::lgamma(l - m + 1) - std::lgamma(l + m + 1)));
+        return k * std::assoc_legendre(l, m, z);
+      });
       benchmark::DoNotOptimize(y.data());
     }
   rate(state, "dirs/s");
@@ -123,8 +125,8 @@ const ShBrdf& brdf(int L, bool aniso) {
   return *p;
 }
 
-void BM_ShBrdfEval(benchmark::State& state) {
-  const ShBrdf& b = brdf(static_cast<int>(state.range(0)), false);
+// kBatch evaluations of b over fixed pairs of directions.
+void eval_batch(benchmark::State& state, const ShBrdf& b) {
   auto wi = directions(2), wo = directions(3);
   for (auto _ : state) {
     double s = 0;
@@ -132,6 +134,10 @@ void BM_ShBrdfEval(benchmark::State& state) {
     benchmark::DoNotOptimize(s);
   }
   rate(state, "evals/s");
+}
+
+void BM_ShBrdfEval(benchmark::State& state) {
+  eval_batch(state, brdf(static_cast<int>(state.range(0)), false));
 }
 BENCHMARK(BM_ShBrdfEval)->Arg(15)->Arg(30);
 
@@ -153,14 +159,7 @@ BENCHMARK(BM_ShBrdfEvalBound)->Arg(15)->Arg(30);
 
 // The same lobe after isotropic_average(): M is block diagonal in |m|, eval works per block.
 void BM_ShBrdfEvalIsotropicBlocks(benchmark::State& state) {
-  const ShBrdf b = brdf(static_cast<int>(state.range(0)), false).isotropic_average();
-  auto wi = directions(2), wo = directions(3);
-  for (auto _ : state) {
-    double s = 0;
-    for (std::size_t k = 0; k < kBatch; ++k) s += b.eval(wi[k], wo[k], 555e-9);
-    benchmark::DoNotOptimize(s);
-  }
-  rate(state, "evals/s");
+  eval_batch(state, brdf(static_cast<int>(state.range(0)), false).isotropic_average());
 }
 BENCHMARK(BM_ShBrdfEvalIsotropicBlocks)->Arg(15)->Arg(30);
 

@@ -13,8 +13,10 @@
 
 #include <memory>
 
+#include "core/embree_ray.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/simulate.hpp"
+#include "microscene_test_util.hpp"
 
 using namespace microbrdf;
 
@@ -23,19 +25,8 @@ namespace {
 const MicroScene& scene(bool grid) {
   static std::unique_ptr<MicroScene> s[2];
   if (!s[grid]) {
-    GaussianSurfaceParams p;
-    p.nx = p.ny = 512;
-    p.dx = p.dy = 65e-6 / 8;
-    p.sigma = 10e-6;
-    p.tau_x = p.tau_y = 65e-6;
-    MicroSceneDesc d;
-    d.width = d.height = 512 * p.dx;
-    MicroMaterial m;
-    m.kind = MicroMaterial::Kind::mirror;
-    m.name = "mirror";
-    d.materials.push_back(m);
-    d.heightfields.push_back({generate_gaussian(p), 0, grid});
-    s[grid] = std::make_unique<MicroScene>(std::move(d));
+    s[grid] = std::make_unique<MicroScene>(test_util::gaussian_mirror_desc(
+        512, 65e-6 / 8, 10e-6, 65e-6, GaussianSurfaceParams{}.seed, grid));
   }
   return *s[grid];
 }
@@ -54,18 +45,9 @@ void BM_SimulateBareEmbree(benchmark::State& state) {
       RTCIntersectContext ctx;
       rtcInitIntersectContext(&ctx);
       RTCRayHit rh;
-      rh.ray.org_x = float(rng.uniform() * sc.width());
-      rh.ray.org_y = float(rng.uniform() * sc.height());
-      rh.ray.org_z = float(sc.zmax());
-      rh.ray.dir_x = float(-u.x());
-      rh.ray.dir_y = float(-u.y());
-      rh.ray.dir_z = float(-u.z());
-      rh.ray.tnear = 0;
-      rh.ray.tfar = 1e30f;
-      rh.ray.mask = ~0u;
-      rh.ray.flags = 0;
-      rh.ray.time = 0;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      const double ox = rng.uniform() * sc.width();  // (two statements: x drawn before y)
+      const double oy = rng.uniform() * sc.height();
+      detail::fill_rayhit(rh, Eigen::Vector3d(ox, oy, sc.zmax()), -u, 0, 1e30f);
       rtcIntersect1(rs, &ctx, &rh);
       h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     }

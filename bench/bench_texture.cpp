@@ -12,6 +12,7 @@
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/texture.hpp"
 #include "texture/synthesis_detail.hpp"
+#include "texture_test_util.hpp"
 
 using namespace microbrdf;
 
@@ -72,23 +73,8 @@ BENCHMARK(BM_FitTexels_Scan)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 // Dong's exemplars: a 100 x 1 strip along and a 1 x 100 strip across.
 ParamTexture strip(std::size_t nx, std::size_t ny, std::uint64_t seed) {
-  ParamTexture t = ParamTexture::empty(nx, ny, 53e-6, "");
-  std::fill(t.valid.begin(), t.valid.end(), 1);
-  const double mean[5] = {0.007, 0.14, 0, 0, 0}, sd[5] = {0.002, 0.04, 0.01, 0.002, 0.006};
-  for (int c = 0; c < 5; ++c) {
-    GaussianSurfaceParams g;
-    g.nx = nx;
-    g.ny = ny;
-    g.dx = g.dy = 1;
-    g.sigma = sd[c];
-    g.tau_x = nx > 1 ? 6 : 1;
-    g.tau_y = ny > 1 ? 3 : 1;
-    g.seed = seed + static_cast<std::uint64_t>(c);
-    const Surface s = generate_gaussian(g);
-    for (std::size_t i = 0; i < t.size(); ++i)
-      t.channel[static_cast<std::size_t>(c)][i] = static_cast<float>(mean[c] + s.z[i]);
-  }
-  return t;
+  return test_util::gaussian_param_texture(nx, ny, nx > 1 ? 6 : 1, ny > 1 ? 3 : 1,
+                                           {0.002, 0.04, 0.01, 0.002, 0.006}, seed, true);
 }
 
 void BM_Synthesize(benchmark::State& state) {

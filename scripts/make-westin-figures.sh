@@ -17,6 +17,27 @@ S=examples/scenes
 W=$(mktemp -d); trap 'rm -rf "$W"' EXIT
 mkdir -p "$IMG"
 
+# Worst relative deviation per theta_i of the in-plane CSV columns A from REF, over points with
+# REF above 5 % of its peak and theta_r < 70 deg. Usage: inplane_table CSV TITLE A:REF...
+inplane_table() {
+  python3 - "$@" <<'PY'
+import csv, sys
+from collections import defaultdict
+g = defaultdict(list)
+for r in csv.DictReader(open(sys.argv[1])):
+    g[float(r["theta_i_deg"])].append(r)
+print(sys.argv[2])
+pairs = [p.split(":") for p in sys.argv[3:]]
+for ti, rs in sorted(g.items()):
+    col = lambda k: [float(r[k]) for r in rs]
+    tr = col("theta_r_deg")
+    def worst(a, ref):
+        pk = max(ref)
+        return max(abs(x / y - 1) for x, y, t in zip(a, ref, tr) if y > 0.05 * pk and t < 70)
+    print(f"{ti:5.0f} | " + " | ".join(f"{worst(col(a), col(ref)):.3f}" for a, ref in pairs))
+PY
+}
+
 # 1. Fig. 6
 "$BIN" simulate $S/westin_fig6.json --lmax 15 --rays 8000000 --seed 1 -o "$W/fig6.shbrdf" \
   --json >"$W/fig6.json"
@@ -24,44 +45,18 @@ python3 -c "import json; j=json.load(open('$W/fig6.json')); print('fig6 SH: Q %.
 "$BIN" simulate $S/westin_fig6.json --in-plane 0,30,45,60,75 --isotropic --gonio-rays 1000000 \
   --he-sigma 10um --he-tau 65um --single-scatter --sh "$W/fig6.shbrdf" \
   --plot "$IMG/westin_fig6.png" --csv "$IMG/westin_fig6.csv" -q
-python3 - "$IMG/westin_fig6.csv" <<'PY'
-import csv, sys
-from collections import defaultdict
-g = defaultdict(list)
-for r in csv.DictReader(open(sys.argv[1])):
-    g[float(r["theta_i_deg"])].append(r)
-print("theta_i | 1 bounce vs Smith | 1 bounce vs He | all vs Smith | all vs He | SH vs all  (worst, ref > 5 % of peak, theta_r < 70)")
-for ti, rs in sorted(g.items()):
-    col = lambda k: [float(r[k]) for r in rs]
-    tr = col("theta_r_deg")
-    def worst(a, ref):
-        pk = max(ref)
-        return max(abs(x / y - 1) for x, y, t in zip(a, ref, tr) if y > 0.05 * pk and t < 70)
-    sim, one, he, sm, sh = (col(k) for k in ("simulated", "simulated_single", "he1991", "beckmann_smith", "sh"))
-    print(f"{ti:5.0f} | {worst(one, sm):.3f} | {worst(one, he):.3f} | {worst(sim, sm):.3f} | {worst(sim, he):.3f} | {worst(sh, sim):.3f}")
-PY
+inplane_table "$IMG/westin_fig6.csv" \
+  "theta_i | 1 bounce vs Smith | 1 bounce vs He | all vs Smith | all vs He | SH vs all  (worst, ref > 5 % of peak, theta_r < 70)" \
+  simulated_single:beckmann_smith simulated_single:he1991 simulated:beckmann_smith \
+  simulated:he1991 sh:simulated
 
 # 1b. The same surface (512^2, 524 288 triangles) with aluminium facets at 550 nm; the references
 #     carry the same Fresnel term at the half-vector angle.
 "$BIN" simulate $S/gaussian_aluminium.json --in-plane 0,30,45,60,75 --isotropic --gonio-rays 1000000 \
   --he-sigma 10um --he-tau 65um --single-scatter --plot "$IMG/westin_fig6_al.png" \
   --csv "$W/fig6_al.csv" -q
-python3 - "$W/fig6_al.csv" <<'PY'
-import csv, sys
-from collections import defaultdict
-g = defaultdict(list)
-for r in csv.DictReader(open(sys.argv[1])):
-    g[float(r["theta_i_deg"])].append(r)
-print("aluminium: theta_i | 1 bounce vs Smith | 1 bounce vs He | all vs Smith")
-for ti, rs in sorted(g.items()):
-    col = lambda k: [float(r[k]) for r in rs]
-    tr = col("theta_r_deg")
-    def worst(a, ref):
-        pk = max(ref)
-        return max(abs(x / y - 1) for x, y, t in zip(a, ref, tr) if y > 0.05 * pk and t < 70)
-    sim, one, he, sm = (col(k) for k in ("simulated", "simulated_single", "he1991", "beckmann_smith"))
-    print(f"{ti:5.0f} | {worst(one, sm):.3f} | {worst(one, he):.3f} | {worst(sim, sm):.3f}")
-PY
+inplane_table "$W/fig6_al.csv" "aluminium: theta_i | 1 bounce vs Smith | 1 bounce vs He | all vs Smith" \
+  simulated_single:beckmann_smith simulated_single:he1991 simulated:beckmann_smith
 
 # 2. Q vs rays on the traced Fig. 6 surface at W92's polygon count (524 288 triangles), lmax 15.
 echo "rays,q" >"$IMG/westin_q.csv"

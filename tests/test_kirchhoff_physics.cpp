@@ -10,22 +10,13 @@
 #include "microbrdf/generate.hpp"
 #include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/ndf_estimate.hpp"
+#include "surface_test_util.hpp"
 
 using namespace microbrdf;
 
 namespace {
 
 constexpr double kLq = 555e-9;
-
-Surface gaussian(std::size_t n, double dx, double sigma, double tau, std::uint64_t seed) {
-  GaussianSurfaceParams p;
-  p.nx = p.ny = n;
-  p.dx = p.dy = dx;
-  p.sigma = sigma;
-  p.tau_x = p.tau_y = tau;
-  p.seed = seed;
-  return generate_gaussian(p);
-}
 
 TabulatedNdf table(const std::vector<double>& v, std::size_t n) {
   TabulatedNdf t(n);
@@ -90,7 +81,7 @@ TEST(kirchhoff, GratingOrdersFollowBesselWithObliquity) {
 // NDF of the same surface; compared by their slope moments.
 TEST(kirchhoff, RoughGaussianApproachesBeckmannAndGeometric) {
   const double sigma = 1e-6, tau = 5e-6;
-  Surface s = gaussian(512, 0.11e-6, sigma, tau, 3);
+  Surface s = test_util::isotropic_gaussian(512, 0.11e-6, sigma, tau, 3);
   KirchhoffOptions o;
   o.resolution = 257;
   o.patch_x = o.patch_y = 0;  // one patch
@@ -118,7 +109,7 @@ TEST(kirchhoff, RoughGaussianApproachesBeckmannAndGeometric) {
 // total.
 TEST(kirchhoff, SmoothGaussianSpecularFractionIsDebyeWaller) {
   for (double sigma : {0.01e-6, 0.02e-6, 0.035e-6}) {
-    Surface s = gaussian(512, 0.11e-6, sigma, 1e-6, 5);
+    Surface s = test_util::isotropic_gaussian(512, 0.11e-6, sigma, 1e-6, 5);
     const std::size_t N = 1025;
     auto p = make_kirchhoff_patch(s, KirchhoffWindow::Hann);
     auto t = table(kirchhoff_table_fast(p, kLq, N), N);

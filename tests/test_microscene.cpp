@@ -7,6 +7,7 @@
 #include "microbrdf/generate.hpp"
 #include "microbrdf/microscene.hpp"
 #include "microbrdf/simulate.hpp"
+#include "microscene_test_util.hpp"
 
 using namespace microbrdf;
 using Vec = Eigen::Vector3d;
@@ -18,12 +19,6 @@ MicroMaterial lambert(double albedo) {
   m.kind = MicroMaterial::Kind::lambert;
   m.name = "white";
   m.albedo = albedo;
-  return m;
-}
-MicroMaterial mirror() {
-  MicroMaterial m;
-  m.kind = MicroMaterial::Kind::mirror;
-  m.name = "mirror";
   return m;
 }
 
@@ -81,7 +76,7 @@ TEST(MicroScene, LambertExitsAreCosineDistributed) {
 }
 
 TEST(MicroScene, FlatMirrorReflectsIntoTheMirrorDirection) {
-  MicroScene sc(flat_heightfield(mirror()));
+  MicroScene sc(flat_heightfield(test_util::mirror_material()));
   MicroTracer t(sc, TraceOptions{});
   SimRng rng(5);
   TraceCounters c;
@@ -100,7 +95,7 @@ TEST(MicroScene, FlatMirrorReflectsIntoTheMirrorDirection) {
 }
 
 TEST(MicroScene, RotationTurnsTheScene) {
-  auto d = flat_heightfield(mirror());
+  auto d = flat_heightfield(test_util::mirror_material());
   d.rotation = M_PI / 2;
   MicroScene sc(std::move(d));
   const Vec w(1, 0, 0);
@@ -109,17 +104,9 @@ TEST(MicroScene, RotationTurnsTheScene) {
 }
 
 TEST(MicroScene, GaussianMirrorSurfaceConservesEnergyAndNeverLeaks) {
-  GaussianSurfaceParams p;
-  p.nx = p.ny = 128;
-  p.dx = p.dy = 6.5e-6;
-  p.sigma = 10e-6;
-  p.tau_x = p.tau_y = 65e-6;
   for (bool grid : {false, true}) {
-    MicroSceneDesc d;
-    d.width = d.height = 128 * 6.5e-6;
-    d.materials.push_back(mirror());
-    d.heightfields.push_back({generate_gaussian(p), 0, grid});
-    MicroScene sc(std::move(d));
+    const MicroScene sc(test_util::gaussian_mirror_desc(128, 6.5e-6, 10e-6, 65e-6,
+                                                        GaussianSurfaceParams{}.seed, grid));
     for (double th : {0.0, 60.0, 85.0}) {
       const Vec u(std::sin(th * M_PI / 180), 0, std::cos(th * M_PI / 180));
       MicroTracer t(sc, TraceOptions{});
@@ -161,7 +148,7 @@ TEST(MicroScene, CapsuleGeometryHitsFromOutsideAndInside) {
 TEST(MicroScene, PeriodicWrapFindsReplicasAcrossTheTileEdge) {
   MicroSceneDesc d;
   d.width = d.height = 100e-6;
-  d.materials.push_back(mirror());
+  d.materials.push_back(test_util::mirror_material());
   // A sphere centred on the tile corner: only its replicas cover the other three corners.
   d.capsules.push_back({Vec(0, 0, 0), Vec(0, 0, 0), 20e-6, 0});
   MicroScene sc(std::move(d));
@@ -202,7 +189,7 @@ TEST(MicroScene, GlassLayerOnMirrorFollowsBeerAndFresnel) {
   d.materials[0].name = "glass";
   d.materials[0].eta = 1.5;
   d.materials[0].absorption = kappa;
-  d.materials.push_back(mirror());
+  d.materials.push_back(test_util::mirror_material());
   d.planes.push_back({-T, 1});
   MicroScene sc(std::move(d));
   for (double th : {0.0, 50.0}) {
@@ -238,16 +225,7 @@ TEST(HeGeometricLimit, ReproducesTheReferenceTable) {
 
 TEST(Visibility, TracedG1MatchesSmithAndFtpIsBracketed) {
   // Gaussian surface, sigma = 10 um, tau = 65 um (Beckmann alpha = 0.3077, s = tau/sigma = 6.5).
-  GaussianSurfaceParams p;
-  p.nx = p.ny = 256;
-  p.dx = p.dy = 65e-6 / 8;
-  p.sigma = 10e-6;
-  p.tau_x = p.tau_y = 65e-6;
-  MicroSceneDesc d;
-  d.width = d.height = 256 * p.dx;
-  d.materials.push_back(mirror());
-  d.heightfields.push_back({generate_gaussian(p), 0, false});
-  MicroScene sc(std::move(d));
+  const MicroScene sc(test_util::gaussian_mirror_desc(256, 65e-6 / 8, 10e-6, 65e-6));
   BeckmannDistribution beckmann(2 * 10.0 / 65.0);
   for (double deg : {30.0, 60.0, 75.0, 85.0}) {
     const double t = deg * M_PI / 180;
@@ -333,7 +311,7 @@ TEST(SceneJson, CylindersAlongYAreCylindersAlongXTurned) {
 TEST(MicroScene, OriginsJustOutsideTheTileAreWrappedIn) {
   // A reflection next to a wall offsets the new origin by epsilon, possibly across the wall; the
   // query must wrap it (this once let 1 ray in 2 million fall through a Gaussian surface).
-  MicroScene sc(flat_heightfield(mirror()));
+  MicroScene sc(flat_heightfield(test_util::mirror_material()));
   MicroHit h;
   const Vec d = Vec(-0.6, 0, -0.8);
   ASSERT_EQ(sc.trace(Vec(-1e-9, 5e-6, 1e-6), d, h), TraceEnd::hit);

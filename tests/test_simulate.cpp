@@ -7,6 +7,7 @@
 #include "microbrdf/generate.hpp"
 #include "microbrdf/microfacet.hpp"
 #include "microbrdf/simulate.hpp"
+#include "microscene_test_util.hpp"
 
 using namespace microbrdf;
 using Vec = Eigen::Vector3d;
@@ -121,19 +122,7 @@ TEST(Simulate, DeterministicForASeedAndThreadCount) {
 
 TEST(Simulate, QFallsAsOneOverSqrtN) {
   // A real traced scene: a Gaussian mirror surface (multiple bounces included).
-  GaussianSurfaceParams p;
-  p.nx = p.ny = 64;
-  p.dx = p.dy = 8e-6;
-  p.sigma = 10e-6;
-  p.tau_x = p.tau_y = 65e-6;
-  MicroSceneDesc d;
-  d.width = d.height = 64 * 8e-6;
-  MicroMaterial m;
-  m.kind = MicroMaterial::Kind::mirror;
-  m.name = "mirror";
-  d.materials.push_back(m);
-  d.heightfields.push_back({generate_gaussian(p), 0, false});
-  MicroScene sc(std::move(d));
+  const MicroScene sc(test_util::gaussian_mirror_desc(64, 8e-6, 10e-6, 65e-6));
   std::vector<double> ln, lq;
   for (std::uint64_t n : {200, 2000, 20000}) {
     SimulateOptions o;
@@ -155,10 +144,7 @@ TEST(Simulate, ParallelCylindersAreStronglyAnisotropic) {
   // direction; light across them is spread over the plane perpendicular to the axes.
   MicroSceneDesc d;
   d.width = d.height = 100e-6;
-  MicroMaterial mirror;
-  mirror.kind = MicroMaterial::Kind::mirror;
-  mirror.name = "mirror";
-  d.materials.push_back(mirror);
+  d.materials.push_back(test_util::mirror_material());
   add_cylinders(d, 5e-6, 10, 5e-6, 0, 1, 0);
   MicroScene sc(std::move(d));
   const double half = 5 * kDeg;

@@ -18,6 +18,7 @@
 #include "microbrdf/generate.hpp"
 #include "microbrdf/microfacet.hpp"
 #include "microbrdf/simulate.hpp"
+#include "microscene_test_util.hpp"
 
 using namespace microbrdf;
 using Vec = Eigen::Vector3d;
@@ -28,20 +29,7 @@ constexpr double kDeg = M_PI / 180;
 constexpr double kSigma = 10e-6, kTau = 65e-6;
 
 MicroScene westin_scene(std::size_t n, std::uint64_t seed) {
-  GaussianSurfaceParams p;
-  p.nx = p.ny = n;
-  p.dx = p.dy = kTau / 8;
-  p.sigma = kSigma;
-  p.tau_x = p.tau_y = kTau;
-  p.seed = seed;
-  MicroSceneDesc d;
-  d.width = d.height = n * p.dx;
-  MicroMaterial m;
-  m.kind = MicroMaterial::Kind::mirror;
-  m.name = "mirror";
-  d.materials.push_back(m);
-  d.heightfields.push_back({generate_gaussian(p), 0, false});
-  return MicroScene(std::move(d));
+  return MicroScene(test_util::gaussian_mirror_desc(n, kTau / 8, kSigma, kTau, seed));
 }
 
 // Cosine-weighted mean of a BRDF over the cone of half-angle `half` around `c`.

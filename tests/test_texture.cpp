@@ -17,6 +17,7 @@
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/texture.hpp"
 #include "texture/synthesis_detail.hpp"
+#include "texture_test_util.hpp"
 
 using namespace microbrdf;
 namespace fs = std::filesystem;
@@ -33,23 +34,8 @@ fs::path temp_dir(const std::string& name) {
 // (Gaussian ACF, correlation `cx` texels along x and `cy` along y), all valid.
 ParamTexture random_exemplar(std::size_t nx, std::size_t ny, double cx, double cy,
                              std::uint64_t seed) {
-  ParamTexture t = ParamTexture::empty(nx, ny, 53e-6, "");
-  std::fill(t.valid.begin(), t.valid.end(), 1);
-  const double mean[5] = {0.007, 0.14, 0.0, 0.0, 0.0}, sd[5] = {0.0015, 0.03, 0.01, 0.002, 0.005};
-  for (int c = 0; c < 5; ++c) {
-    GaussianSurfaceParams g;
-    g.nx = nx;
-    g.ny = ny;
-    g.dx = g.dy = 1;
-    g.sigma = sd[c];
-    g.tau_x = cx;
-    g.tau_y = cy;
-    g.seed = seed * 10 + static_cast<std::uint64_t>(c);
-    g.exact_spectrum = false;
-    const Surface s = generate_gaussian(g);
-    for (std::size_t i = 0; i < t.size(); ++i)
-      t.channel[static_cast<std::size_t>(c)][i] = static_cast<float>(mean[c] + s.z[i]);
-  }
+  ParamTexture t = test_util::gaussian_param_texture(
+      nx, ny, cx, cy, {0.0015, 0.03, 0.01, 0.002, 0.005}, seed * 10, false);
   t.meta = {{"sources", {"random"}}};
   return t;
 }

@@ -44,32 +44,16 @@ Surface load_surface(const std::string& path, const ReadFlags& flags, std::strin
 }
 
 nlohmann::json stats_json(const std::string& path, const Surface& s, const SurfaceStats& st) {
-  return {{"path", path},
-          {"format", s.meta.format},
-          {"nx", st.nx},
-          {"ny", st.ny},
-          {"dx_m", st.dx},
-          {"dy_m", st.dy},
-          {"valid_count", st.valid_count},
-          {"invalid_count", s.size() - st.valid_count},
-          {"valid_fraction", st.valid_fraction},
-          {"leveling", s.meta.leveling},
-          {"z0_m", s.z0},
-          {"mean_m", st.mean},
-          {"min_m", st.min},
-          {"max_m", st.max},
-          {"sq_m", st.sq},
-          {"sa_m", st.sa},
-          {"skewness", st.skewness},
-          {"kurtosis", st.kurtosis},
-          {"slope_rms_x", st.slope_rms_x},
-          {"slope_rms_y", st.slope_rms_y},
-          {"corr_length_x_m", st.corr_length_x},
-          {"corr_length_y_m", st.corr_length_y},
-          {"corr_length_m", st.corr_length},
-          {"instrument", s.meta.instrument},
-          {"date", s.meta.date},
-          {"z_unit_in_file", s.meta.z_unit_in_file}};
+  nlohmann::json j = microbrdf::stats_json(st);
+  j["path"] = path;
+  j["format"] = s.meta.format;
+  j["invalid_count"] = s.size() - st.valid_count;
+  j["leveling"] = s.meta.leveling;
+  j["z0_m"] = s.z0;
+  j["instrument"] = s.meta.instrument;
+  j["date"] = s.meta.date;
+  j["z_unit_in_file"] = s.meta.z_unit_in_file;
+  return j;
 }
 
 NdfSpec ndf_spec(const ModelFlags& f) {

@@ -5,6 +5,7 @@
 // excluded, never filled.
 
 #include <cstddef>
+#include <nlohmann/json_fwd.hpp>
 #include <vector>
 
 #include "microbrdf/surface.hpp"
@@ -75,5 +76,11 @@ Psd power_spectrum(const Surface& s);
 
 /// All of SurfaceStats in one pass plus one ACF.
 SurfaceStats compute_stats(const Surface& s);
+
+/// The statistics as a JSON object in SI units, the one layout every report uses: nx, ny,
+/// dx_m, dy_m, valid_count, valid_fraction, mean_m, min_m, max_m, sq_m, sa_m, skewness,
+/// kurtosis, slope_rms_x, slope_rms_y, corr_length_x_m, corr_length_y_m, corr_length_m.
+/// A correlation length the scan cannot show (NaN) is null, in memory as in the written file.
+nlohmann::json stats_json(const SurfaceStats& st);
 
 }  // namespace microbrdf

@@ -13,6 +13,7 @@
 #include <string>
 #include <tuple>
 
+#include "core/splitmix64.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/sun2002.hpp"
@@ -24,12 +25,7 @@ constexpr std::size_t kBatch = 4096;  // samples per standard-error batch
 constexpr std::size_t kBlock = 32;    // samples per block maximum (to skip free stretches)
 constexpr std::size_t kMaxRows = 8;   // profiles per generate_profiles() call
 
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
+using detail::splitmix64;
 
 struct Crossing {
   std::size_t j;  // the profile crosses zero between samples j and j+1

@@ -3,68 +3,16 @@
 #include "tabulated_distribution_vn.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 
 #include "microbrdf/error.hpp"
+#include "ndf/bilinear_cell.hpp"
 
 namespace microbrdf::detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kRimRows = 256;   // sub-rows per rim cell (as NdfSampler: same Z to ~1e-12)
 constexpr int kMaxTries = 256;  // redraws inside one rim cell before giving up
-
-// Inverse CDF of the linear density on [0, 1] with end values p0, p1 >= 0 (as NdfSampler).
-double sample_linear(double u, double p0, double p1) {
-  if (p0 == p1) return u;
-  const double denom = p0 + std::sqrt(p0 * p0 * (1 - u) + p1 * p1 * u);
-  if (!(denom > 0)) return 0.0;
-  const double t = u * (p0 + p1) / denom;
-  return std::min(t, std::nextafter(1.0, 0.0));
-}
-
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
-double to_unit(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
-
-// Mass of the bilinear function (corners a, b, c, d) over the part of the cell
-// [x0, x0+h] x [y0, y0+h] inside the unit disk: midpoint rule in y, exact in x.
-double rim_mass(double x0, double y0, double h, double a, double b, double c, double d) {
-  double sum = 0;
-  const double dy = h / kRimRows;
-  for (int k = 0; k < kRimRows; ++k) {
-    const double y = y0 + (k + 0.5) * dy, s2 = 1 - y * y;
-    if (s2 <= 0) continue;
-    const double s = std::sqrt(s2);
-    const double xa = std::max(x0, -s), xb = std::min(x0 + h, s);
-    if (xb <= xa) continue;
-    const double ty = (y - y0) / h, tx = (0.5 * (xa + xb) - x0) / h;
-    sum += ((1 - ty) * ((1 - tx) * a + tx * b) + ty * ((1 - tx) * c + tx * d)) * (xb - xa);
-  }
-  return sum * dy;
-}
-
-// Index i of the interval [cdf[i-1], cdf[i]) of an inclusive CDF (last entry 1) holding u in
-// [0, 1); u rescaled to [0, 1) within it. The interval found by the search has positive width.
-template <class T>
-std::size_t pick(const T* cdf, std::size_t n, double u, double& rescaled) {
-  auto i = static_cast<std::size_t>(std::upper_bound(cdf, cdf + n, u) - cdf);
-  if (i >= n) i = n - 1;
-  double lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
-  while (i > 0 && static_cast<double>(cdf[i]) <= lo) {  // u >= last entry (rounding only)
-    --i;
-    lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
-  }
-  const double w = static_cast<double>(cdf[i]) - lo;
-  rescaled = w > 0 ? std::clamp((u - lo) / w, 0.0, std::nextafter(1.0, 0.0)) : 0.0;
-  return i;
-}
 
 template <class T>
 double width(const T* cdf, std::size_t i) {
@@ -296,27 +244,17 @@ Vec3 VisibleNormalTables::sample(const Vec3& v, double u1, double u2) const {
   const double h = t.spacing(), a = t.at(cx, cy), bb = t.at(cx + 1, cy), cc = t.at(cx, cy + 1),
                d = t.at(cx + 1, cy + 1), x0 = t.node_x(cx), y0 = t.node_y(cy);
   for (int attempt = 0; attempt < kMaxTries; ++attempt) {
-    const double ty = sample_linear(r1, 0.5 * (a + bb), 0.5 * (cc + d));
-    const double tx = sample_linear(r2, (1 - ty) * a + ty * cc, (1 - ty) * bb + ty * d);
+    double tx = 0, ty = 0;
+    sample_bilinear(r1, r2, a, bb, cc, d, tx, ty);
     const double px = x0 + tx * h, py = y0 + ty * h, rr = px * px + py * py;
     if (rr < 1) return {px, py, std::sqrt(1 - rr)};
     // Outside the disk (a rim cell): redraw inside the same cell from numbers derived from
     // the inputs (sample stays a deterministic function of (v, u1, u2)).
-    const std::uint64_t k = std::bit_cast<std::uint64_t>(r1) ^
-                            std::rotl(std::bit_cast<std::uint64_t>(r2), 29) ^
-                            (static_cast<std::uint64_t>(attempt + 1) << 52);
-    r1 = to_unit(splitmix64(k));
-    r2 = to_unit(splitmix64(k ^ 0xD1B54A32D192ED03ull));
+    redraw_uniforms(r1, r2, attempt, 52);
   }
   // Practically unreachable (a cell with almost all of its mass outside the disk is drawn
   // with probability ~ its inside mass): the cell centre pulled inside the disk.
-  double px = x0 + 0.5 * h, py = y0 + 0.5 * h;
-  const double r = std::hypot(px, py), rmax = 1 - 1e-9;
-  if (r > rmax) {
-    px *= rmax / r;
-    py *= rmax / r;
-  }
-  return {px, py, std::sqrt(std::max(0.0, 1 - px * px - py * py))};
+  return cell_centre_in_disk(x0, y0, h);
 }
 
 double VisibleNormalTables::pdf(const Vec3& v, const Vec3& m) const {

@@ -11,71 +11,22 @@
 // the accepted points follow the target exactly. Z = mass of the interpolant inside the disk:
 // full masses for cells inside, numerical integration for cells the circle crosses.
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <stdexcept>
 
 #include "microbrdf/ndf_io.hpp"
+#include "ndf/bilinear_cell.hpp"
 
 namespace microbrdf {
 namespace {
 
+using detail::cell_centre_in_disk;
+using detail::pick;
+using detail::redraw_uniforms;
+using detail::rim_mass;
+using detail::sample_bilinear;
+
 constexpr int kMaxTries = 64;
-constexpr int kRimRows = 256;  // sub-rows per rim cell (exact integration along x in each)
-
-// Inverse CDF of the linear density on [0, 1] with end values p0, p1 >= 0, written so that it
-// is stable for p0 ~ p1 and for either end value 0.
-double sample_linear(double u, double p0, double p1) {
-  if (p0 == p1) return u;
-  const double denom = p0 + std::sqrt(p0 * p0 * (1 - u) + p1 * p1 * u);
-  if (!(denom > 0)) return 0.0;
-  const double t = u * (p0 + p1) / denom;
-  return std::min(t, std::nextafter(1.0, 0.0));
-}
-
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
-double to_unit(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
-
-// Mass of the bilinear function with corner values a (x0,y0), b (x1,y0), c (x0,y1), d (x1,y1)
-// over the part of the cell [x0, x0+h] x [y0, y0+h] inside the unit disk: midpoint rule over
-// sub-rows in y, exact along x (the function is linear in x and the disk is an interval).
-double rim_mass(double x0, double y0, double h, double a, double b, double c, double d) {
-  double sum = 0;
-  const double dy = h / kRimRows;
-  for (int k = 0; k < kRimRows; ++k) {
-    const double y = y0 + (k + 0.5) * dy;
-    const double s2 = 1 - y * y;
-    if (s2 <= 0) continue;
-    const double s = std::sqrt(s2);
-    const double xa = std::max(x0, -s), xb = std::min(x0 + h, s);
-    if (xb <= xa) continue;
-    const double ty = (y - y0) / h, tx = (0.5 * (xa + xb) - x0) / h;
-    const double f = (1 - ty) * ((1 - tx) * a + tx * b) + ty * ((1 - tx) * c + tx * d);
-    sum += f * (xb - xa);
-  }
-  return sum * dy;
-}
-
-// Index of the interval of `cdf` (inclusive cumulative, last = 1) holding u, skipping
-// zero-width intervals; writes u rescaled to [0, 1) within that interval.
-std::size_t pick(const double* cdf, std::size_t n, double u, double& rescaled) {
-  std::size_t i = static_cast<std::size_t>(std::upper_bound(cdf, cdf + n, u) - cdf);
-  if (i >= n) i = n - 1;
-  double lo = i ? cdf[i - 1] : 0.0;
-  while (i > 0 && cdf[i] <= lo) {  // only reachable for u >= 1 (rounding): step back
-    --i;
-    lo = i ? cdf[i - 1] : 0.0;
-  }
-  const double w = cdf[i] - lo;
-  rescaled = w > 0 ? std::clamp((u - lo) / w, 0.0, std::nextafter(1.0, 0.0)) : 0.0;
-  return i;
-}
 
 }  // namespace
 
@@ -125,28 +76,18 @@ Eigen::Vector3d NdfSampler::sample(double u1, double u2) const {
     cx = pick(&cell_cdf_[cy * cells_], cells_, u2, v2);
     const double a = t.at(cx, cy), b = t.at(cx + 1, cy);
     const double c = t.at(cx, cy + 1), d = t.at(cx + 1, cy + 1);
-    const double ty = sample_linear(v1, 0.5 * (a + b), 0.5 * (c + d));
-    const double tx = sample_linear(v2, (1 - ty) * a + ty * c, (1 - ty) * b + ty * d);
+    double tx = 0, ty = 0;
+    sample_bilinear(v1, v2, a, b, c, d, tx, ty);
     const double x = t.node_x(cx) + tx * h, y = t.node_y(cy) + ty * h;
     const double r2 = x * x + y * y;
     if (r2 < 1) return {x, y, std::sqrt(1 - r2)};
     // Outside the disk (a cell the circle crosses): redraw from fresh numbers derived from the
     // inputs, so that sample() stays a deterministic function of (u1, u2).
-    const std::uint64_t k = std::bit_cast<std::uint64_t>(u1) ^
-                            std::rotl(std::bit_cast<std::uint64_t>(u2), 29) ^
-                            (static_cast<std::uint64_t>(attempt + 1) << 56);
-    u1 = to_unit(splitmix64(k));
-    u2 = to_unit(splitmix64(k ^ 0xD1B54A32D192ED03ull));
+    redraw_uniforms(u1, u2, attempt, 56);
   }
   // Pathological table (almost all proposal mass outside the disk): the centre of the last
   // cell, pulled inside the disk.
-  double x = t.node_x(cx) + 0.5 * h, y = t.node_y(cy) + 0.5 * h;
-  const double r = std::hypot(x, y), rmax = 1 - 1e-9;
-  if (r > rmax) {
-    x *= rmax / r;
-    y *= rmax / r;
-  }
-  return {x, y, std::sqrt(std::max(0.0, 1 - x * x - y * y))};
+  return cell_centre_in_disk(t.node_x(cx), t.node_y(cy), h);
 }
 
 double NdfSampler::pdf(const Eigen::Vector3d& m) const {

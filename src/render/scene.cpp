@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "core/embree_ray.hpp"
 #include "microbrdf/error.hpp"
 
 namespace microbrdf::pt {
@@ -271,19 +272,7 @@ double PreviewGeometry::intersect(const V3& o, const V3& d, double tfar, Shading
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
-  rh.ray.org_x = float(o.x());
-  rh.ray.org_y = float(o.y());
-  rh.ray.org_z = float(o.z());
-  rh.ray.dir_x = float(d.x());
-  rh.ray.dir_y = float(d.y());
-  rh.ray.dir_z = float(d.z());
-  rh.ray.tnear = 0;
-  rh.ray.tfar = float(std::min(tfar, 1e30));
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.flags = 0;
-  rh.ray.time = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  detail::fill_rayhit(rh, o, d, 0, float(std::min(tfar, 1e30)));
   rtcIntersect1(rtc_, &ctx, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return -1;
   const double t = rh.ray.tfar;
@@ -296,19 +285,7 @@ double PreviewGeometry::intersect_bare(const V3& o, const V3& d) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
-  rh.ray.org_x = float(o.x());
-  rh.ray.org_y = float(o.y());
-  rh.ray.org_z = float(o.z());
-  rh.ray.dir_x = float(d.x());
-  rh.ray.dir_y = float(d.y());
-  rh.ray.dir_z = float(d.z());
-  rh.ray.tnear = 0;
-  rh.ray.tfar = std::numeric_limits<float>::infinity();
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.flags = 0;
-  rh.ray.time = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  detail::fill_rayhit(rh, o, d, 0, std::numeric_limits<float>::infinity());
   rtcIntersect1(rtc_, &ctx, &rh);
   return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : rh.ray.tfar;
 }
@@ -317,17 +294,7 @@ bool PreviewGeometry::occluded(const V3& o, const V3& d, double tfar) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRay r;
-  r.org_x = float(o.x());
-  r.org_y = float(o.y());
-  r.org_z = float(o.z());
-  r.dir_x = float(d.x());
-  r.dir_y = float(d.y());
-  r.dir_z = float(d.z());
-  r.tnear = 0;
-  r.tfar = float(std::min(tfar, 1e30));
-  r.mask = 0xFFFFFFFFu;
-  r.flags = 0;
-  r.time = 0;
+  detail::fill_ray(r, o, d, 0, float(std::min(tfar, 1e30)));
   rtcOccluded1(rtc_, &ctx, &r);
   return r.tfar < 0;
 }

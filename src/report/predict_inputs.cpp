@@ -17,33 +17,11 @@
 namespace microbrdf::report {
 namespace {
 
-/// A number, or null where it does not exist (a correlation length beyond the scan is NaN):
-/// the same in memory as in summary.json.
-nlohmann::json number_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
 nlohmann::json stats_record(const Surface& s, const SurfaceStats& st) {
-  return {{"nx", st.nx},
-          {"ny", st.ny},
-          {"dx_m", st.dx},
-          {"dy_m", st.dy},
-          {"width_m", s.width()},
-          {"height_m", s.height()},
-          {"valid_count", st.valid_count},
-          {"valid_fraction", st.valid_fraction},
-          {"mean_m", st.mean},
-          {"min_m", st.min},
-          {"max_m", st.max},
-          {"sq_m", st.sq},
-          {"sa_m", st.sa},
-          {"skewness", st.skewness},
-          {"kurtosis", st.kurtosis},
-          {"slope_rms_x", st.slope_rms_x},
-          {"slope_rms_y", st.slope_rms_y},
-          {"corr_length_x_m", number_or_null(st.corr_length_x)},
-          {"corr_length_y_m", number_or_null(st.corr_length_y)},
-          {"corr_length_m", number_or_null(st.corr_length)}};
+  nlohmann::json j = stats_json(st);
+  j["width_m"] = s.width();
+  j["height_m"] = s.height();
+  return j;
 }
 
 std::string file_name(const std::string& path) {

@@ -29,6 +29,16 @@ RenderLights predict_lights(const PredictOptions& o) {
   return l;
 }
 
+RenderOptions predict_render_options(const PredictOptions& o, int width, int height) {
+  RenderOptions ro;
+  ro.width = width;
+  ro.height = height;
+  ro.spp = o.render_spp;
+  ro.seed = o.seed;
+  ro.threads = o.threads;
+  return ro;
+}
+
 nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalConstants& material,
                             nlohmann::json& timing) {
   const auto& o = c.opt;
@@ -60,12 +70,7 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalC
           std::to_string(j.height) + ", " + std::to_string(o.render_spp) + " spp");
     RenderScene scene;
     scene.kind = j.scene;
-    RenderOptions ro;
-    ro.width = j.width;
-    ro.height = j.height;
-    ro.spp = o.render_spp;
-    ro.seed = o.seed;
-    ro.threads = o.threads;
+    RenderOptions ro = predict_render_options(o, j.width, j.height);
     const std::string name = j.name;
     ro.progress = [&c, name, last = -1](double f) mutable {
       const int step = static_cast<int>(f * 4);

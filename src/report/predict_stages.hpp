@@ -12,6 +12,7 @@
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/predict.hpp"
+#include "microbrdf/render.hpp"
 #include "microbrdf/tabulated_ndf.hpp"
 
 namespace microbrdf::report {
@@ -49,6 +50,11 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
 /// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`.
 nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalConstants& material,
                             nlohmann::json& timing);
+/// The lights of every predict render: the environment map if given, else a dim uniform sky
+/// and two disk softboxes.
+RenderLights predict_lights(const PredictOptions& o);
+/// Render options of a predict render of width x height pixels (spp, seed, threads from `o`).
+RenderOptions predict_render_options(const PredictOptions& o, int width, int height);
 /// Texture synthesis from strips; returns the "texture" object.
 nlohmann::json stage_texture(const Context& c, const OpticalConstants& material,
                              nlohmann::json& timing);

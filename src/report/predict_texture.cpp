@@ -13,8 +13,6 @@
 
 namespace microbrdf::report {
 
-RenderLights predict_lights(const PredictOptions& o);  // predict_render.cpp
-
 namespace {
 
 const char* kChannel[5] = {"alpha_x", "alpha_y", "theta_x", "theta_y", "theta_z"};
@@ -106,12 +104,7 @@ nlohmann::json stage_texture(const Context& c, const OpticalConstants& material,
     scene.kind = PreviewScene::cylinders;
     // Scene units read as 5 cm of real surface (as the 10 cm plate of Dong Fig. 13, 2 units).
     scene.uv_scale = 0.05 / std::max(1e-12, synth->texel_m * static_cast<double>(synth->nx));
-    RenderOptions ro;
-    ro.width = o.render_width;
-    ro.height = o.render_width;
-    ro.spp = o.render_spp;
-    ro.seed = o.seed;
-    ro.threads = o.threads;
+    const RenderOptions ro = predict_render_options(o, o.render_width, o.render_width);
     const RenderImage img = render(scene, {svbrdf}, predict_lights(o), ro);
     write_render_png(img, c.path("img/render_texture.png"), 0);
     timing["render_texture_s"] = img.seconds;

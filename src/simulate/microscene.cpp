@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/embree_ray.hpp"
 #include "microbrdf/error.hpp"
 
 namespace microbrdf {
@@ -351,20 +352,8 @@ TraceEnd MicroScene::trace(Eigen::Vector3d o, const Eigen::Vector3d& d, MicroHit
     const double t_side = std::min(t_x, t_y);
     const double t_far = std::min(t_side, t_z);
     RTCRayHit rh;
-    rh.ray.org_x = float(o.x());
-    rh.ray.org_y = float(o.y());
-    rh.ray.org_z = float(o.z());
-    rh.ray.dir_x = float(d.x());
-    rh.ray.dir_y = float(d.y());
-    rh.ray.dir_z = float(d.z());
-    rh.ray.tnear = 0;
     // Slightly past the wall so hits exactly on it are not missed (the wrap re-tests them).
-    rh.ray.tfar = float(std::min(t_far * (1 + 1e-6) + eps_, 1e30));
-    rh.ray.mask = ~0u;
-    rh.ray.flags = 0;
-    rh.ray.time = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    detail::fill_rayhit(rh, o, d, 0, float(std::min(t_far * (1 + 1e-6) + eps_, 1e30)));
     rtcIntersect1(scene, &ctx, &rh);
     if (segments) ++*segments;
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {

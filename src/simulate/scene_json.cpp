@@ -26,6 +26,17 @@ struct Ctx {
   }
 };
 
+// The string v (the value of `key`) read by `parse` (a quantity with a unit); its error names
+// the key and the file.
+template <class Parse>
+double parsed(const Ctx& c, const json& v, const char* key, Parse parse) {
+  try {
+    return parse(v.get<std::string>());
+  } catch (const InputError& e) {
+    c.fail(std::string("'") + key + "': " + e.what());
+  }
+}
+
 double length(const Ctx& c, const json& o, const char* key, std::optional<double> def = {}) {
   if (!o.contains(key)) {
     if (def) return *def;
@@ -34,11 +45,7 @@ double length(const Ctx& c, const json& o, const char* key, std::optional<double
   const json& v = o.at(key);
   if (!v.is_string())
     c.fail(std::string("'") + key + "' must be a length with a unit, e.g. \"10um\"");
-  try {
-    return parse_length(v.get<std::string>());
-  } catch (const InputError& e) {
-    c.fail(std::string("'") + key + "': " + e.what());
-  }
+  return parsed(c, v, key, parse_length);
 }
 
 double angle(const Ctx& c, const json& o, const char* key, double def) {
@@ -46,11 +53,7 @@ double angle(const Ctx& c, const json& o, const char* key, double def) {
   const json& v = o.at(key);
   if (v.is_number()) return v.get<double>() * M_PI / 180;
   if (!v.is_string()) c.fail(std::string("'") + key + "' must be an angle (\"30deg\" or 30)");
-  try {
-    return parse_angle(v.get<std::string>());
-  } catch (const InputError& e) {
-    c.fail(std::string("'") + key + "': " + e.what());
-  }
+  return parsed(c, v, key, parse_angle);
 }
 
 double number(const Ctx& c, const json& o, const char* key, double def) {

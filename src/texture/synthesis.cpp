@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "core/fft.hpp"
+#include "core/splitmix64.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/texture.hpp"
 #include "texture/synthesis_detail.hpp"
@@ -15,13 +16,6 @@
 namespace microbrdf {
 namespace detail {
 namespace {
-
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
 // Uniform in [0, 1) from (seed, stream, index): counter-based, so the texture does not depend
 // on the thread count or on the order of evaluation.

@@ -1,0 +1,16 @@
+// SplitMix64 (Steele, Lea, Flood 2014): the 64-bit mixing function used for counter-based,
+// reproducible random streams across the library (one definition for every user).
+#pragma once
+
+#include <cstdint>
+
+namespace microbrdf::detail {
+
+inline std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+}  // namespace microbrdf::detail
