@@ -282,6 +282,11 @@ TEST(Predict, StripsGiveASynthesisedTexture) {
   EXPECT_EQ(tx["across"]["nx"], 1);
   EXPECT_EQ(tx["across"]["ny"], 8);
   EXPECT_EQ(tx["synthesised"]["nx"], 16);
+  // The textured render is described like the other renders (the report reads every field; a
+  // missing one was a use-after-free under ASan).
+  ASSERT_TRUE(tx.contains("render"));
+  for (const char* key : {"file", "width", "spp", "uv_scale", "lights"})
+    EXPECT_TRUE(tx["render"].contains(key)) << key;
   // The file holds what the summary describes.
   const ParamTexture back = read_param_texture(t / "out/texture.exr");
   ASSERT_EQ(back.nx, 16u);

@@ -11,6 +11,11 @@
 
 namespace microbrdf::report {
 
+std::string predict_lights_description(const PredictOptions& o) {
+  return o.envmap_path.empty() ? "built-in: dim uniform sky (0.25) and two disk area lights"
+                               : "environment map " + o.envmap_path;
+}
+
 RenderLights predict_lights(const PredictOptions& o) {
   RenderLights l;
   if (!o.envmap_path.empty()) {
@@ -94,9 +99,7 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalC
                    {"seed", ro.seed},
                    {"rays", img.rays},
                    {"material", brdf->describe()},
-                   {"lights", o.envmap_path.empty()
-                                  ? "built-in: dim uniform sky (0.25) and two disk area lights"
-                                  : "environment map " + o.envmap_path}});
+                   {"lights", predict_lights_description(o)}});
   }
   return out;
 }

@@ -53,6 +53,8 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalC
 /// The lights of every predict render: the environment map if given, else a dim uniform sky
 /// and two disk softboxes.
 RenderLights predict_lights(const PredictOptions& o);
+/// What predict_lights gives, in words for the report.
+std::string predict_lights_description(const PredictOptions& o);
 /// Render options of a predict render of width x height pixels (spp, seed, threads from `o`).
 RenderOptions predict_render_options(const PredictOptions& o, int width, int height);
 /// Texture synthesis from strips; returns the "texture" object.

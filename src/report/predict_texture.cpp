@@ -108,9 +108,13 @@ nlohmann::json stage_texture(const Context& c, const OpticalConstants& material,
     const RenderImage img = render(scene, {svbrdf}, predict_lights(o), ro);
     write_render_png(img, c.path("img/render_texture.png"), 0);
     timing["render_texture_s"] = img.seconds;
-    out["render"] = {{"scene", "cylinders"}, {"file", "img/render_texture.png"},
-                     {"width", img.width},   {"height", img.height},
-                     {"spp", ro.spp},        {"uv_scale", scene.uv_scale}};
+    out["render"] = {{"scene", "cylinders"},
+                     {"file", "img/render_texture.png"},
+                     {"width", img.width},
+                     {"height", img.height},
+                     {"spp", ro.spp},
+                     {"uv_scale", scene.uv_scale},
+                     {"lights", predict_lights_description(o)}};
   }
   return out;
 }
