@@ -91,14 +91,14 @@ std::string corr(const json& v) {
                                               : "not reached (ACF stays above 1/e over the scan)";
 }
 
-void section_inputs(Page& p, const json& s) {
+void section_inputs(Page& p, json& s) {
   p << "<h2 id=\"s1\">1. Inputs</h2>\n<table>\n"
     << row({"#", "file", "format", "instrument", "date", "grid", "spacing dx &times; dy", "size",
             "valid", "levelling"},
            true);
   int i = 0;
-  for (const auto& in : s["inputs"]) {
-    const auto& st = in["stats"];
+  for (auto& in : s["inputs"]) {
+    auto& st = in["stats"];
     p << row(
         {std::to_string(++i), escape(str(in["path"])), escape(or_dash(in["format"], "—")),
          escape(or_dash(in["instrument"], "not stated in the file")),
@@ -114,7 +114,7 @@ void section_inputs(Page& p, const json& s) {
        "(<code>level_surface</code>); heights in metres inside, shown with SI prefixes. Invalid "
        "samples are excluded everywhere, never filled.</p>\n<div class=\"grid\">";
   i = 0;
-  for (const auto& in : s["inputs"]) {
+  for (auto& in : s["inputs"]) {
     p << "<figure>" << p.image(str(in["preview"]), "height map " + str(in["name"]), 480)
       << "<figcaption>Height map " << std::to_string(++i) << ": " << escape(str(in["name"]))
       << " after levelling (false colour, 0.5&ndash;99.5th percentile, hill-shaded; grey = "
@@ -123,10 +123,10 @@ void section_inputs(Page& p, const json& s) {
   p << "</div>\n";
 }
 
-void section_stats(Page& p, const json& s) {
+void section_stats(Page& p, json& s) {
   p << "<h2 id=\"s2\">2. Surface statistics</h2>\n<table>\n<tr><th>quantity</th><th>unit</th>";
   int i = 0;
-  for (const auto& in : s["inputs"])
+  for (auto& in : s["inputs"])
     p << "<th>" + std::to_string(++i) + ": " + escape(str(in["name"])) + "</th>";
   p << "<th>definition</th></tr>\n";
   struct Q {
@@ -150,10 +150,10 @@ void section_stats(Page& p, const json& s) {
       {"corr_length_y_m", "correlation length along y", "m", 3, "the same along y"},
       {"corr_length_m", "correlation length, radial", "m", 3, "the same, annular average"},
   };
-  for (const auto& q : qs) {
+  for (auto& q : qs) {
     p << "<tr><td>" << q.label << "</td><td>" << q.unit << "</td>";
-    for (const auto& in : s["inputs"]) {
-      const json& v = in["stats"][q.key];
+    for (auto& in : s["inputs"]) {
+      json& v = in["stats"][q.key];
       std::string cell = q.kind == 0 ? len(v) : q.kind == 3 ? corr(v) : n4(v);
       p << "<td class=\"n\">" << cell << "</td>";
     }
@@ -163,8 +163,8 @@ void section_stats(Page& p, const json& s) {
        "(Sun 2002 sec. 3.1, Dong 2015 sec. 4); ACF by zero-padded FFTs, mask-aware.</p>\n";
 }
 
-void section_ndf(Page& p, const json& s) {
-  const json& ndf = s["ndf"];
+void section_ndf(Page& p, json& s) {
+  json& ndf = s["ndf"];
   p << "<h2 id=\"s3\">3. Normal distribution functions</h2>\n<div class=\"grid\">";
   const std::pair<const char*, const char*> kinds[] = {
       {"naive",
@@ -174,7 +174,7 @@ void section_ndf(Page& p, const json& s) {
        "Filtered NDF: normals of Gaussian-weighted local plane fits (Dong 2015 sec. "
        "5.1); the table the BRDF and the fits use."},
       {"kirchhoff", "Kirchhoff D_K (Dong 2015 eq. 6, App. A), wave optics at lambda_q."}};
-  for (const auto& [k, cap] : kinds) {
+  for (auto& [k, cap] : kinds) {
     if (!ndf.contains(k)) continue;
     p << "<figure>" << p.image(str(ndf[k]["preview"]), std::string("NDF ") + k, 600)
       << "<figcaption>" << cap
@@ -182,47 +182,44 @@ void section_ndf(Page& p, const json& s) {
          "the peak.</figcaption></figure>";
   }
   p << "</div>\n<table>\n<tr><th>quantity</th><th>unit</th>";
-  for (const auto& [k, cap] : kinds)
+  for (auto& [k, cap] : kinds)
     if (ndf.contains(k)) p << "<th>" << k << "</th>";
   p << "</tr>\n";
   auto line = [&](const char* label, const char* unit, auto fmt) {
     p << "<tr><td>" << label << "</td><td>" << unit << "</td>";
-    for (const auto& [k, cap] : kinds)
+    for (auto& [k, cap] : kinds)
       if (ndf.contains(k)) p << "<td class=\"n\">" << fmt(ndf[k]) << "</td>";
     p << "</tr>\n";
   };
-  line("table size", "nodes", [](const json& j) {
+  line("table size", "nodes", [](json& j) {
     return std::to_string(j["resolution"].get<long>()) + " &times; " +
            std::to_string(j["resolution"].get<long>());
   });
-  line("integral of D(m)(m.n) dω", "1",
-       [](const json& j) { return report::num(d(j["integral"]), 8); });
-  line("rms slope along x", "1", [](const json& j) { return n4(j["slope_rms_x"]); });
-  line("rms slope along y", "1", [](const json& j) { return n4(j["slope_rms_y"]); });
-  line("Beckmann alpha_x = √2 rms slope", "1",
-       [](const json& j) { return n4(j["beckmann_alpha_x"]); });
-  line("Beckmann alpha_y = √2 rms slope", "1",
-       [](const json& j) { return n4(j["beckmann_alpha_y"]); });
-  line("anisotropy (rms slope max / min)", "1", [](const json& j) { return n4(j["anisotropy"]); });
+  line("integral of D(m)(m.n) dω", "1", [](json& j) { return report::num(d(j["integral"]), 8); });
+  line("rms slope along x", "1", [](json& j) { return n4(j["slope_rms_x"]); });
+  line("rms slope along y", "1", [](json& j) { return n4(j["slope_rms_y"]); });
+  line("Beckmann alpha_x = √2 rms slope", "1", [](json& j) { return n4(j["beckmann_alpha_x"]); });
+  line("Beckmann alpha_y = √2 rms slope", "1", [](json& j) { return n4(j["beckmann_alpha_y"]); });
+  line("anisotropy (rms slope max / min)", "1", [](json& j) { return n4(j["anisotropy"]); });
   line("smooth axis (scratches run along it), from +x", "deg",
-       [](const json& j) { return report::num(d(j["smooth_axis_angle_rad"]) * kDeg); });
+       [](json& j) { return report::num(d(j["smooth_axis_angle_rad"]) * kDeg); });
   line("tilt of the mean normal", "deg",
-       [](const json& j) { return report::num(d(j["mean_normal_tilt_rad"]) * kDeg); });
+       [](json& j) { return report::num(d(j["mean_normal_tilt_rad"]) * kDeg); });
   line("elements used", "count",
-       [](const json& j) { return std::to_string(j["samples_used"].get<long>()); });
+       [](json& j) { return std::to_string(j["samples_used"].get<long>()); });
   line("elements skipped", "count",
-       [](const json& j) { return std::to_string(j["samples_skipped"].get<long>()); });
-  line("filter sigma", "m", [](const json& j) {
+       [](json& j) { return std::to_string(j["samples_skipped"].get<long>()); });
+  line("filter sigma", "m", [](json& j) {
     return d(j["filter_sigma_m"]) > 0 ? len(j["filter_sigma_m"]) : std::string("— (not filtered)");
   });
-  line("wavelength lambda_q", "m", [](const json& j) {
+  line("wavelength lambda_q", "m", [](json& j) {
     return d(j["wavelength_m"]) > 0 ? len(j["wavelength_m"]) : std::string("— (geometric)");
   });
   p << "</table>\n<p class=\"cap\">Provenance: <code>NdfAccumulator</code> (naive, filtered) and "
        "<code>KirchhoffAccumulator</code> over all scans, one scan in memory at a time, weighted "
        "by projected area; tables on the orthographic disk, normalised to ∫D(m)(m.n)dω = 1; "
        "slopes from the table's slope covariance. Files: ";
-  for (const auto& [k, cap] : kinds)
+  for (auto& [k, cap] : kinds)
     if (ndf.contains(k)) p << "<code>" << escape(str(ndf[k]["file"])) << "</code> ";
   if (ndf.contains("kirchhoff"))
     p << ". D_K: " << std::to_string(ndf["kirchhoff"]["patches"].get<long>()) << " patches of "
@@ -230,17 +227,17 @@ void section_ndf(Page& p, const json& s) {
       << ", integral before normalising " << n4(ndf["kirchhoff"]["raw_integral"])
       << ", fraction beyond the Nyquist band " << n4(ndf["kirchhoff"]["aliased_fraction"]);
   p << "</p>\n<h3>Cuts through the NDF, measured and fitted</h3>\n<div class=\"grid\">";
-  for (const auto& cut : s["ndf_cuts"]) p << "<figure>" << p.svg(str(cut["plot"])) << "</figure>";
+  for (auto& cut : s["ndf_cuts"]) p << "<figure>" << p.svg(str(cut["plot"])) << "</figure>";
   p << "</div>\n";
 }
 
-void section_fits(Page& p, const json& s) {
+void section_fits(Page& p, json& s) {
   p << "<h2 id=\"s4\">4. Parametric fits of the filtered NDF</h2>\n<table>\n"
     << row({"model", "alpha_x", "alpha_y", "theta_x", "theta_y", "theta_z", "rms error (1/sr)",
             "relative L2 error", "Hellinger distance", "iterations", "converged"},
            true);
-  for (const auto& f : s["fits"]) {
-    const auto& q = f["params"];
+  for (auto& f : s["fits"]) {
+    auto& q = f["params"];
     const bool ell = str(f["model"]) == "ellipsoid";
     p << row({escape(str(f["model"])), n4(q["alpha_x"]), n4(q["alpha_y"]),
               ell ? deg(q["theta_x"]) : "— (none in this model)",
@@ -255,16 +252,16 @@ void section_fits(Page& p, const json& s) {
        "(Dong 2015 eqs. 10-12): theta_x, theta_y tilt the peak, the anisotropy axes are turned "
        "by -theta_z (Beckmann/GGX phi = -theta_z). Errors over all disk nodes: rms = "
        "sqrt(mean (T-M)^2), relative L2 = |T-M|/|T|.</p>\n";
-  for (const auto& f : s["fits"])
+  for (auto& f : s["fits"])
     if (f.contains("compare_image"))
       p << "<figure>" << p.image(str(f["compare_image"]), "ellipsoid fit comparison", 1100)
         << "<figcaption>Ellipsoid fit: measured | fit | residual (M - T)/max T, zoomed on the "
            "region of interest.</figcaption></figure>\n";
 }
 
-void section_brdf(Page& p, const json& s) {
-  const json& b = s["brdf"];
-  const json& m = s["material"];
+void section_brdf(Page& p, json& s) {
+  json& b = s["brdf"];
+  json& m = s["material"];
   p << "<h2 id=\"s5\">5. BRDF slices</h2>\n<p>Material: <b>" << escape(str(m["name"])) << "</b> ("
     << escape(str(m["source"])) << "), n = " << n4(m["n_555nm"]) << ", k = " << n4(m["k_555nm"])
     << " at 555 nm, normal-incidence reflectance " << n4(m["r0_555nm"])
@@ -273,13 +270,13 @@ void section_brdf(Page& p, const json& s) {
     << ". Slices at λ = " << len(b["wavelength_m"]) << "; " << escape(str(b["fresnel"])) << "; "
     << escape(str(b["shadowing"])) << ".</p>\n";
   p << "<table>\n<tr><th>model</th><th>description</th>";
-  for (const auto& a : b["albedo"])
+  for (auto& a : b["albedo"])
     p << "<th>directional albedo, θi = " << report::num(d(a["theta_i_deg"])) << " deg</th>";
   p << "</tr>\n";
-  for (const auto& mod : b["models"]) {
+  for (auto& mod : b["models"]) {
     p << "<tr><td>" << escape(str(mod["label"])) << "</td><td>" << escape(str(mod["description"]))
       << "</td>";
-    for (const auto& a : b["albedo"])
+    for (auto& a : b["albedo"])
       p << "<td class=\"n\">" << n4(a["albedo"][str(mod["key"])]) << "</td>";
     p << "</tr>\n";
   }
@@ -289,32 +286,32 @@ void section_brdf(Page& p, const json& s) {
        "grid (<code>directional_albedo_sampled</code>). Light at azimuth 180 deg; in-plane "
        "angles signed, mirror at +θi.</p>\n";
   p << "<table>\n<tr><th>slice</th>";
-  for (const auto& mod : b["models"]) p << "<th>" << escape(str(mod["label"])) << ": peak</th>";
+  for (auto& mod : b["models"]) p << "<th>" << escape(str(mod["label"])) << ": peak</th>";
   p << "</tr>\n";
-  for (const auto& sl : b["slices"]) {
+  for (auto& sl : b["slices"]) {
     p << "<tr><td>" << str(sl["plane"]) << "-plane, θi = " << report::num(d(sl["theta_i_deg"]))
       << " deg</td>";
-    for (const auto& mod : b["models"]) {
-      const json& pk = sl["peak"][str(mod["key"])];
+    for (auto& mod : b["models"]) {
+      json& pk = sl["peak"][str(mod["key"])];
       p << "<td class=\"n\">" << n4(pk["value_per_sr"]) << " 1/sr at "
         << report::num(d(pk["angle_deg"])) << " deg</td>";
     }
     p << "</tr>\n";
   }
   p << "</table>\n<div class=\"grid\">";
-  for (const auto& sl : b["slices"]) p << "<figure>" << p.svg(str(sl["plot"])) << "</figure>";
+  for (auto& sl : b["slices"]) p << "<figure>" << p.svg(str(sl["plot"])) << "</figure>";
   p << "</div>\n";
 }
 
-void section_renders(Page& p, const json& s) {
+void section_renders(Page& p, json& s) {
   p << "<h2 id=\"s6\">6. Renders</h2>\n";
-  const json& r = s["renders"];
+  json& r = s["renders"];
   if (r.is_object() && r.contains("skipped")) {
     p << "<p class=\"note\">" << escape(str(r["skipped"])) << "</p>\n";
     return;
   }
   p << "<div class=\"grid\">";
-  for (const auto& im : r) {
+  for (auto& im : r) {
     p << "<figure>"
       << p.image(str(im["file"]), str(im["scene"]), std::max(384, im["width"].get<int>()))
       << "<figcaption>" << escape(str(im["caption"])) << ". "
@@ -331,12 +328,12 @@ void section_renders(Page& p, const json& s) {
        "Fresnel).</p>\n";
 }
 
-void texture_block(Page& p, const json& t, const char* title) {
+void texture_block(Page& p, json& t, const char* title) {
   p << "<h3>" << title << ": " << std::to_string(t["nx"].get<long>()) << " &times; "
     << std::to_string(t["ny"].get<long>()) << " texels of " << len(t["texel_m"]) << ", "
     << std::to_string(t["invalid_texels"].get<long>()) << " invalid</h3>\n<table>\n"
     << row({"channel", "unit", "mean", "std", "min", "max"}, true);
-  for (const auto& [ch, st] : t["channels"].items()) {
+  for (auto& [ch, st] : t["channels"].items()) {
     const bool angle = ch.rfind("theta", 0) == 0;
     if (!st.contains("mean")) {
       p << row({ch, angle ? "deg" : "1", "no valid texel", "—", "—", "—"});
@@ -350,16 +347,16 @@ void texture_block(Page& p, const json& t, const char* title) {
   p << "</table>\n";
   if (t.contains("images")) {
     p << "<div class=\"grid\">";
-    for (const auto& [ch, file] : t["images"].items())
+    for (auto& [ch, file] : t["images"].items())
       p << "<figure>" << p.image(str(file), ch) << "<figcaption>" << ch
         << " (false colour, min to max of the table above)</figcaption></figure>";
     p << "</div>\n";
   }
 }
 
-void section_texture(Page& p, const json& s) {
+void section_texture(Page& p, json& s) {
   p << "<h2 id=\"s7\">7. Texture synthesis</h2>\n";
-  const json& t = s["texture"];
+  json& t = s["texture"];
   if (t.contains("skipped")) {
     p << "<p class=\"note\">" << escape(str(t["skipped"])) << "</p>\n";
     return;
@@ -383,26 +380,25 @@ void section_texture(Page& p, const json& s) {
       << ".</figcaption></figure>\n";
 }
 
-void section_settings(Page& p, const json& s) {
+void section_settings(Page& p, json& s) {
   p << "<h2 id=\"s8\">8. Settings and versions</h2>\n<table>\n" << row({"setting", "value"}, true);
-  for (const auto& [k, v] : s["settings"].items()) {
+  for (auto& [k, v] : s["settings"].items()) {
     std::string text;
     if (v.is_number_float()) {
       const bool metres = k.size() > 2 && k.substr(k.size() - 2) == "_m";
       text = metres ? report::length(d(v)) : report::num(d(v));
     } else if (k == "slice_theta_i_rad") {
-      for (const auto& t : v)
-        text += (text.empty() ? "" : ", ") + report::num(d(t) * kDeg) + " deg";
+      for (auto& t : v) text += (text.empty() ? "" : ", ") + report::num(d(t) * kDeg) + " deg";
     } else if (k == "kirchhoff_patch_m") {
       text = len(v[0]) + " &times; " + len(v[1]);
     } else if (k == "spacing_override_m") {
-      auto one = [](const json& x) { return x.is_number() ? len(x) : escape(str(x)); };
+      auto one = [](json& x) { return x.is_number() ? len(x) : escape(str(x)); };
       text = "dx " + one(v[0]) + ", dy " + one(v[1]);
     } else if (v.is_array()) {
-      for (const auto& x : v) text += (text.empty() ? "" : ", ") + escape(str(x));
+      for (auto& x : v) text += (text.empty() ? "" : ", ") + escape(str(x));
       if (text.empty()) text = "none";
     } else if (v.is_object()) {
-      for (const auto& [kk, x] : v.items())
+      for (auto& [kk, x] : v.items())
         text += (text.empty() ? "" : "; ") + escape(kk) + ": " + escape(str(x));
     } else if (v.is_boolean()) {
       text = v.get<bool>() ? "yes" : "no";
@@ -412,13 +408,13 @@ void section_settings(Page& p, const json& s) {
     p << row({escape(k), text});
   }
   p << "</table>\n<table>\n" << row({"component", "version"}, true);
-  for (const auto& [k, v] : s["versions"].items()) p << row({escape(k), escape(str(v))});
+  for (auto& [k, v] : s["versions"].items()) p << row({escape(k), escape(str(v))});
   p << "</table>\n";
 }
 
-void section_timing(Page& p, const json& s) {
+void section_timing(Page& p, json& s) {
   p << "<h2 id=\"s9\">9. Timings</h2>\n<table>\n" << row({"step", "wall time"}, true);
-  for (const auto& [k, v] : s["timing"].items()) {
+  for (auto& [k, v] : s["timing"].items()) {
     if (k.size() > 2 && k.substr(k.size() - 2) == "_s")
       p << row({escape(k.substr(0, k.size() - 2)), report::num(d(v), 3) + " s"});
     else
@@ -426,20 +422,24 @@ void section_timing(Page& p, const json& s) {
   }
   p << "</table>\n<p class=\"cap\">Wall-clock seconds on this machine (the only numbers that "
        "change between identical runs).</p>\n<h2 id=\"s10\">10. Files in this folder</h2>\n<p>";
-  for (const auto& f : s["outputs"]) p << "<code>" << escape(str(f)) << "</code> ";
+  for (auto& f : s["outputs"]) p << "<code>" << escape(str(f)) << "</code> ";
   p << "</p>\n";
 }
 
 }  // namespace
 
-std::string render_report_html(const json& s, const std::string& dir) {
+std::string render_report_html(const json& summary, const std::string& dir) {
+  // A mutable copy: the sections index it with operator[], which on a const json is undefined
+  // behaviour for a missing key (ASan found one); on a mutable one it yields null, which the
+  // formatters print as a dash and scripts/check-report.py flags.
+  json s = summary;
   Page p(dir);
   p << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
        "<title>microbrdf predict report</title>\n<style>"
     << kStyle << "</style></head>\n<body>\n<h1>microbrdf predict report</h1>\n";
-  const json& f = s["ndf"]["filtered"];
+  json& f = s["ndf"]["filtered"];
   std::string fit_line;
-  for (const auto& fit : s["fits"])
+  for (auto& fit : s["fits"])
     if (str(fit["model"]) == "ellipsoid")
       fit_line = "ellipsoid fit alpha_x " + n4(fit["params"]["alpha_x"]) + ", alpha_y " +
                  n4(fit["params"]["alpha_y"]);
