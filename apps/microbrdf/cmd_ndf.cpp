@@ -61,6 +61,15 @@ nlohmann::json ndf_json(const TabulatedNdf& ndf, const std::string& output) {
           {"output", output}};
 }
 
+// The table (-o) and, when asked, its preview: the same for every method.
+void write_outputs(const TabulatedNdf& ndf, const NdfArgs& a) {
+  write_ndf(ndf, a.output);
+  if (a.preview.empty()) return;
+  NdfPreviewOptions po;
+  po.zoom = a.zoom;
+  write_ndf_preview(ndf, a.preview, po);
+}
+
 void run_kirchhoff(const NdfArgs& a) {
   KirchhoffOptions o;
   o.wavelength_q = parse_length(a.wavelength);
@@ -112,12 +121,7 @@ void run_kirchhoff(const NdfArgs& a) {
     acc.add(s);
   }
   TabulatedNdf ndf = acc.result();
-  write_ndf(ndf, a.output);
-  if (!a.preview.empty()) {
-    NdfPreviewOptions po;
-    po.zoom = a.zoom;
-    write_ndf_preview(ndf, a.preview, po);
-  }
+  write_outputs(ndf, a);
   if (a.json) {
     auto j = ndf_json(ndf, a.output);
     const auto& in = acc.last_info();
@@ -184,12 +188,7 @@ void run(const NdfArgs& a) {
                   fwhm * 180 / M_PI);
     ndf.meta.notes = note;
   }
-  write_ndf(ndf, a.output);
-  if (!a.preview.empty()) {
-    NdfPreviewOptions po;
-    po.zoom = a.zoom;
-    write_ndf_preview(ndf, a.preview, po);
-  }
+  write_outputs(ndf, a);
   if (a.json) {
     print_json(ndf_json(ndf, a.output));
   } else {
