@@ -43,6 +43,9 @@ PACKAGES=(
   libembree-dev        # ray tracing: Westin micro-scenes and the preview renderer (Embree 3)
   libtinyobjloader-dev # OBJ meshes for the renderer
   libgtest-dev libgmock-dev libbenchmark-dev
+  ccache               # compiler cache (used by CMake when present; speeds rebuilds)
+  libopenmpi-dev openmpi-bin # scale-out: the same binary alone or under mpirun
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib # Python module + tests
 )
 # Only for `make demo`: the report screenshot (kept out of the CI set, it is large).
 REPORT_PACKAGES=(
