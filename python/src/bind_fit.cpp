@@ -23,7 +23,7 @@ void bind_fit(py::module_& m) {
         if (py::isinstance<TabulatedNdf>(ndf)) {
           table = ndf.cast<std::shared_ptr<TabulatedNdf>>();
         } else {
-          input = py::str(py::module_::import("os").attr("fspath")(ndf));
+          input = fspath(ndf);
           table = call_released([&] { return std::make_shared<TabulatedNdf>(read_ndf(input)); });
         }
         const std::string dumped = call_released([&] {

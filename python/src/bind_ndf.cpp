@@ -237,7 +237,7 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
       .def(
           "save",
           [](const TabulatedNdf& d, const py::object& path) {
-            const std::string p = py::str(py::module_::import("os").attr("fspath")(path));
+            const std::string p = fspath(path);
             call_released([&] { write_ndf(d, p); });
           },
           py::arg("path"),
@@ -246,7 +246,7 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
       .def(
           "save_preview",
           [](const TabulatedNdf& d, const py::object& path, bool zoom) {
-            const std::string p = py::str(py::module_::import("os").attr("fspath")(path));
+            const std::string p = fspath(path);
             NdfPreviewOptions po;
             po.zoom = zoom;
             call_released([&] { write_ndf_preview(d, p, po); });
@@ -261,7 +261,7 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
   m.def(
       "read_ndf",
       [](const py::object& path) {
-        const std::string p = py::str(py::module_::import("os").attr("fspath")(path));
+        const std::string p = fspath(path);
         return call_released([&] { return std::make_shared<TabulatedNdf>(read_ndf(p)); });
       },
       py::arg("path"),

@@ -9,10 +9,6 @@
 namespace microbrdf::python {
 namespace {
 
-std::string fspath(const py::handle& obj) {
-  return py::str(py::module_::import("os").attr("fspath")(obj));
-}
-
 Eigen::Vector3d vec3(const py::handle& obj, const char* what) {
   auto seq = obj.cast<py::sequence>();
   if (seq.size() != 3) throw py::value_error(std::string(what) + ": expected 3 numbers");
@@ -117,10 +113,7 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
                        std::uint64_t seed, int threads, const std::string& level,
                        const py::object& spacing, const py::object& progress) {
   PredictOptions o;
-  if (py::isinstance<py::str>(inputs) || py::hasattr(inputs, "__fspath__"))
-    o.inputs.push_back(fspath(inputs));
-  else
-    for (auto i : inputs.cast<py::sequence>()) o.inputs.push_back(fspath(i));
+  o.inputs = path_list(inputs);
   o.read = read_options(spacing);
   o.leveling = LevelingSpec::parse(level);
   o.metal = metal;
@@ -141,14 +134,8 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
   if (!strips.is_none()) {
     auto s = strips.cast<py::sequence>();
     if (s.size() != 2) throw py::value_error("strips: (along, across), each a path or a list");
-    for (int k = 0; k < 2; ++k) {
-      auto& dst = k == 0 ? o.strips_along : o.strips_across;
-      py::object item = s[k];
-      if (py::isinstance<py::str>(item) || py::hasattr(item, "__fspath__"))
-        dst.push_back(fspath(item));
-      else
-        for (auto i : item.cast<py::sequence>()) dst.push_back(fspath(i));
-    }
+    o.strips_along = path_list(s[0]);
+    o.strips_across = path_list(s[1]);
   }
   o.texel_m = texel;
   o.texture_size = texture_size;

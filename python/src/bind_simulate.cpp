@@ -10,10 +10,6 @@
 namespace microbrdf::python {
 namespace {
 
-std::string fspath(const py::handle& obj) {
-  return py::str(py::module_::import("os").attr("fspath")(obj));
-}
-
 std::shared_ptr<ShBrdf> simulate_scene(const py::object& scene, int lmax, std::uint64_t rays,
                                        int points, int branches, int max_depth, std::uint64_t seed,
                                        int threads, bool independent, double time,

@@ -12,14 +12,6 @@
 namespace microbrdf::python {
 namespace {
 
-std::string path_string(const py::handle& obj) {
-  return py::str(py::module_::import("os").attr("fspath")(obj)).cast<std::string>();
-}
-
-bool is_path(const py::handle& obj) {
-  return py::isinstance<py::str>(obj) || py::hasattr(obj, "__fspath__");
-}
-
 std::shared_ptr<Surface> surface_from_array(const py::object& z_obj, const py::object& spacing,
                                             const py::object& mask_obj) {
   CArray z = CArray::ensure(z_obj);
@@ -100,7 +92,7 @@ ScanInputs scan_inputs(const py::object& obj) {
       in.paths.emplace_back();
     } else if (is_path(item)) {
       // Globs, directories and @manifests expand as on the command line.
-      for (auto& p : expand_scan_inputs({path_string(item)})) {
+      for (auto& p : expand_scan_inputs({fspath(item)})) {
         in.surfaces.push_back(nullptr);
         in.paths.push_back(p);
       }
@@ -190,7 +182,7 @@ through the view, call sync_mask().)");
       .def(
           "save",
           [](const Surface& su, const py::object& path) {
-            const std::string p = path_string(path);
+            const std::string p = fspath(path);
             call_released([&] { write_surface(su, p); });
           },
           py::arg("path"),
@@ -205,7 +197,7 @@ through the view, call sync_mask().)");
   m.def(
       "read_surface",
       [](const py::object& path, const py::object& spacing) {
-        const std::string p = path_string(path);
+        const std::string p = fspath(path);
         const ReadOptions o = read_options(spacing);
         return call_released([&] { return std::make_shared<Surface>(read_surface(p, o)); });
       },

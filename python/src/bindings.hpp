@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace microbrdf::python {
 
@@ -99,6 +100,13 @@ auto call_released(F&& f) -> decltype(f()) {
 /// Raises KeyboardInterrupt (as Interrupted) if Ctrl-C was pressed; for loops between library
 /// calls. Takes the GIL for the check.
 void check_interrupt();
+
+/// os.fspath(obj) as a string: a str or any os.PathLike (pathlib.Path).
+std::string fspath(const py::handle& obj);
+/// Whether obj names a file (str or os.PathLike).
+bool is_path(const py::handle& obj);
+/// One path, or a sequence of paths, as strings.
+std::vector<std::string> path_list(const py::handle& obj);
 
 /// Lengths: a float in metres, or a (dx, dy) pair; nothing for None.
 std::optional<std::pair<double, double>> length_pair(const py::object& obj, const char* what);

@@ -23,7 +23,7 @@ const std::set<std::string> kKeys = {"model",   "alpha",       "alpha_x",   "alp
 
 TabulatedNdf table_of(const py::handle& obj) {
   if (py::isinstance<TabulatedNdf>(obj)) return obj.cast<const TabulatedNdf&>();
-  const std::string p = py::str(py::module_::import("os").attr("fspath")(obj));
+  const std::string p = fspath(obj);
   return read_ndf(p);
 }
 
@@ -33,9 +33,7 @@ OpticalConstants material(const py::kwargs& kw) {
   if (has_metal + has_nk + has_csv + has_r0 != 1)
     throw InputError("give exactly one material: metal=, n= and k=, nk_csv= or r0=");
   if (has_metal) return metal(kw["metal"].cast<std::string>());
-  if (has_csv)
-    return read_optical_constants_csv(
-        py::str(py::module_::import("os").attr("fspath")(kw["nk_csv"])));
+  if (has_csv) return read_optical_constants_csv(fspath(kw["nk_csv"]));
   if (has_r0) {
     const double r0 = kw["r0"].cast<double>();
     if (!(r0 >= 0 && r0 < 1)) throw InputError("r0 must lie in [0, 1)");

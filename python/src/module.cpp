@@ -47,6 +47,23 @@ std::optional<std::pair<double, double>> length_pair(const py::object& obj, cons
   return std::make_pair(dx, dy);
 }
 
+std::string fspath(const py::handle& obj) {
+  return py::str(py::module_::import("os").attr("fspath")(obj)).cast<std::string>();
+}
+
+bool is_path(const py::handle& obj) {
+  return py::isinstance<py::str>(obj) || py::hasattr(obj, "__fspath__");
+}
+
+std::vector<std::string> path_list(const py::handle& obj) {
+  std::vector<std::string> out;
+  if (is_path(obj))
+    out.push_back(fspath(obj));
+  else
+    for (auto item : obj.cast<py::sequence>()) out.push_back(fspath(item));
+  return out;
+}
+
 py::object json_to_py(const std::string& dumped) {
   return py::module_::import("json").attr("loads")(dumped);
 }
