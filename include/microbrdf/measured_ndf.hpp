@@ -19,6 +19,7 @@
 // scale is the BRDF's), meta.method = "measured".
 
 #include <cstddef>
+#include <memory>
 
 #include "microbrdf/brdf.hpp"
 #include "microbrdf/fresnel.hpp"
@@ -45,5 +46,13 @@ TabulatedNdf effective_ndf(const GonioData& data, const Fresnel& fresnel,
                            const EffectiveNdfOptions& options);
 /// Nodes of the table that hold a measurement (finite values inside the disk).
 std::size_t measured_nodes(const TabulatedNdf& t);
+
+/// A distribution that follows a BRDF's lobe, to parameterise its `.bsdf` export (export.hpp):
+/// eq. 9 with F = 1 (at fixed theta_d, F(wi.h) is one constant, so the shape is exact), NaN and
+/// negative nodes set to 0, every node floored at 1e-4 of the maximum so that no direction is
+/// lost, normalised. Throws InputError when the BRDF has no positive value at theta_d.
+std::shared_ptr<MicrofacetDistribution> lobe_distribution(const Brdf& brdf,
+                                                          std::size_t resolution = 513,
+                                                          double wavelength_m = 550e-9);
 
 }  // namespace microbrdf

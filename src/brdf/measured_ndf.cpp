@@ -203,4 +203,25 @@ TabulatedNdf effective_ndf(const GonioData& data, const Fresnel& fresnel,
   return t;
 }
 
+std::shared_ptr<MicrofacetDistribution> lobe_distribution(const Brdf& brdf, std::size_t resolution,
+                                                          double wavelength_m) {
+  EffectiveNdfOptions o;
+  o.resolution = resolution;
+  o.wavelength_m = wavelength_m;
+  TabulatedNdf t = effective_ndf(brdf, PerfectMirrorFresnel(), o);
+  double vmax = 0;
+  for (double v : t.values())
+    if (v > vmax) vmax = v;
+  if (!(vmax > 0) || !std::isfinite(vmax))
+    throw InputError("the BRDF has no positive value at theta_d = 14.14 deg: no lobe to follow");
+  for (std::size_t iy = 0; iy < t.resolution(); ++iy)
+    for (std::size_t ix = 0; ix < t.resolution(); ++ix) {
+      const double x = t.node_x(ix), y = t.node_y(iy);
+      double& v = t.at(ix, iy);
+      v = x * x + y * y >= 1 ? 0.0 : std::max(std::isfinite(v) ? v : 0.0, 1e-4 * vmax);
+    }
+  t.meta.method = "lobe";
+  return std::make_shared<TabulatedDistribution>(std::move(t));
+}
+
 }  // namespace microbrdf
