@@ -348,7 +348,7 @@ void run_project(const BrdfArgs& a) {
 }
 
 // A Lambertian reflector of albedo a (cosine-weighted sampling, weight a), the exact reference
-// of theory 6.3 for `brdf sh-estimate --lambert`.
+// of docs/theory.md §6.3 for `brdf sh-estimate --lambert`.
 class LambertBrdf final : public Brdf {
  public:
   explicit LambertBrdf(double a) : a_(a) {}
@@ -569,7 +569,7 @@ void register_brdf(CLI::App& app) {
   es->add_option("-o,--output", a->output, "Output .shbrdf file (optional)");
   es->add_flag("--json", a->json, "Print a JSON summary on stdout");
   es->footer(
-      "Checks the estimator of W92 eqs. 17/25 with the constants of theory 6.4 and its\n"
+      "Checks the estimator of W92 eqs. 17/25 with the constants of docs/theory.md §6.4 and its\n"
       "convergence measure Q (eq. 27, 1/J^2), which falls as N^-1/2.\n"
       "Examples:\n"
       "  microbrdf brdf sh-estimate --lambert 1 --lmax 8 --incident 1000000 --json\n"

@@ -100,10 +100,11 @@ void run(const InfoArgs& a) {
     if (!a.psd.empty()) write_psd_csv(a.psd, s);
   }
   if (a.json) print_json({{"surfaces", all}, {"failed", failed}});
-  if (!failed.empty())
-    throw FileError(
-        std::to_string(failed.size()) + " of " + std::to_string(paths.size()) + " files",
-        "could not be read (see above)");
+  if (!failed.empty()) {
+    std::fprintf(stderr, "microbrdf info: error: %zu of %zu files could not be read (see above)\n",
+                 failed.size(), paths.size());
+    set_exit_code(1);
+  }
 }
 
 }  // namespace

@@ -254,7 +254,7 @@ void run_in_plane(const SimArgs& a, const MicroScene& scene) {
     std::fputs(csv.str().c_str(), stdout);
 }
 
-// Ray-traced G1 and free travel probability against Smith and Sun 2002 (theory notes 2, 5).
+// Ray-traced G1 and free travel probability against Smith and Sun 2002 (docs/theory.md §2, 5).
 void run_visibility(const SimArgs& a, const MicroScene& scene) {
   const bool ref = !a.he_sigma.empty() && !a.he_tau.empty();
   const double sigma = ref ? parse_length(a.he_sigma) : 0, tau = ref ? parse_length(a.he_tau) : 0;
@@ -343,7 +343,8 @@ void register_simulate(CLI::App& app) {
       "Rays from uniformly drawn incident directions (N_i = rays / points) hit the scene's tile "
       "at\n"
       "uniform points (--points per direction); the tile repeats periodically, so there are no\n"
-      "edge effects. Exits feed the estimator of theory 6.4 (W92 eqs. 17, 25); the matrix is\n"
+      "edge effects. Exits feed the estimator of docs/theory.md §6.4 (W92 eqs. 17, 25); the matrix "
+      "is\n"
       "symmetrised and written as .shbrdf (see `microbrdf brdf slice --sh`). Q (W92 eq. 26,\n"
       "1/J^2 normalisation) is printed as it converges; it falls as N^-1/2.\n"
       "Deterministic for a seed and --threads when --rays is used (not with --time).\n"

@@ -26,5 +26,7 @@ void register_simulate(CLI::App& app);
 /// a non-zero exit code.
 void run_guarded(const char* command, const std::function<void()>& body);
 int exit_code();
+/// Records a failure without an exception (e.g. `info --keep-going` after it went on).
+void set_exit_code(int code);
 
 }  // namespace microbrdf::cli

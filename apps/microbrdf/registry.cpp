@@ -1,5 +1,6 @@
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
@@ -31,7 +32,10 @@ void run_guarded(const char* command, const std::function<void()>& body) {
     body();
   } catch (const FileError& e) {
     std::fprintf(stderr, "microbrdf %s: error: %s\n", command, e.what());
-    g_exit = 1;
+    // A file that is not there is a usage error (2), like a wrong flag: the user named it. A
+    // file that exists but cannot be read or parsed is a failure while working (1).
+    std::error_code ec;
+    g_exit = !e.path().empty() && !std::filesystem::exists(e.path(), ec) ? 2 : 1;
   } catch (const InputError& e) {
     std::fprintf(stderr, "microbrdf %s: error: %s\n", command, e.what());
     g_exit = 2;
@@ -42,5 +46,7 @@ void run_guarded(const char* command, const std::function<void()>& body) {
 }
 
 int exit_code() { return g_exit; }
+
+void set_exit_code(int code) { g_exit = code; }
 
 }  // namespace microbrdf::cli

@@ -20,6 +20,14 @@ usage "no input" "required" -- $BIN info
 usage "unknown flag" "--frobnicate" -- $BIN info "$DATA/test.gwy" --frobnicate
 usage "missing input file" "nope.x3p" -- $BIN info "$T/nope.x3p"
 usage "missing input (ndf)" "nope.x3p" -- $BIN ndf "$T/nope.x3p" -o "$T/n.npy"
+usage "missing input (fit)" "nope.npy" -- $BIN fit "$T/nope.npy" --model ggx
+usage "missing input (slice)" "nope.npy" -- $BIN slice "$T/nope.npy" -o "$T/s.png"
+usage "missing input (brdf)" "nope.npy" -- $BIN brdf slice --ndf "$T/nope.npy" -o "$T/b.csv"
+usage "missing scene (simulate)" "nope.json" -- $BIN simulate "$T/nope.json" -o "$T/o.shbrdf"
+# A file that exists but cannot be parsed is a failure while working: exit 1.
+head -c 3000 /dev/urandom >"$T/junk.sur"
+$BIN info "$T/junk.sur" >/dev/null 2>"$T/err"; rc=$?
+[ $rc -eq 1 ] && grep -q "junk.sur" "$T/err" || fail "corrupt file: exit $rc, not 1: $(cat "$T/err")"
 # The message names the flag that is wrong, not the one that is missing.
 usage "negative alpha" "--alpha" -- $BIN render --scene sphere --model ggx --alpha -0.1 -o "$T/a.png"
 grep -q "must be > 0" "$T/err" || fail "negative alpha: message: $(cat "$T/err")"
@@ -60,7 +68,7 @@ $BIN info "$T/scans" --level none >"$T/out" 2>"$T/err"; rc=$?
 $BIN info --keep-going --json --level none "$T/scans" >"$T/j" 2>"$T/err"; rc=$?
 [ $rc -eq 1 ] || fail "info --keep-going: exit $rc, not 1"
 grep -q "junk.sur" "$T/err" && grep -q "cut.sur" "$T/err" || fail "keep-going: failures not named: $(cat "$T/err")"
-grep -q "2 of 4 files: could not be read" "$T/err" || fail "keep-going: no summary: $(cat "$T/err")"
+grep -q "2 of 4 files could not be read" "$T/err" || fail "keep-going: no summary: $(cat "$T/err")"
 python3 - "$T/j" <<'PY' || fail "keep-going JSON"
 import json, sys
 j = json.load(open(sys.argv[1]))
