@@ -13,6 +13,8 @@
 #include "microbrdf/measured.hpp"
 #include "microbrdf/measured_compare.hpp"
 #include "microbrdf/measured_ndf.hpp"
+#include "microbrdf/ndf_io.hpp"
+#include "microbrdf/preview.hpp"
 
 using namespace microbrdf;
 
@@ -180,4 +182,28 @@ TEST(MeasuredNdf, CompareScoresTheRightPredictionAndRejectsAWrongOne) {
   // A 1.5 deg instrument widens the prediction a little, never narrows it.
   const NdfComparison blurred = compare_ndfs(measured, tabulate(*d, "ggx", 1025), 1.5 * kPi / 180);
   EXPECT_GT(blurred.predicted_fit.params.alpha_x, right.predicted_fit.params.alpha_x);
+}
+
+TEST(MeasuredNdf, NaNSurvivesNpyAndPreviewShowsItGrey) {
+  TabulatedNdf t = tabulate(GgxDistribution(0.2), "ggx", 65);
+  t.meta.method = "measured";
+  for (std::size_t ix = 0; ix < 65; ++ix) t.at(ix, 40) = std::numeric_limits<double>::quiet_NaN();
+  const std::string path = ::testing::TempDir() + "microbrdf_nan_ndf.npy";
+  write_ndf(t, path);
+  const TabulatedNdf back = read_ndf(path);
+  EXPECT_TRUE(std::isnan(back.at(32, 40)));
+  EXPECT_EQ(back.at(32, 32), t.at(32, 32));
+  EXPECT_EQ(back.meta.method, "measured");
+  NdfPreviewOptions po;
+  po.size = 65;
+  po.zoom = true;
+  const RgbImage img = render_ndf_preview(back, po);
+  // Pixel of node row 40 (m_y = 0.25) at m_x ~ -0.69 (away from the zoom frame): unmeasured grey.
+  const std::size_t py = 10 + static_cast<std::size_t>((1 - 0.25) / 2 * 65);
+  const std::size_t px = 10 + 10;
+  const std::uint8_t* c = &img.pixels[3 * (py * img.width + px)];
+  EXPECT_EQ(c[0], 96);
+  EXPECT_EQ(c[2], 104);
+  std::remove(path.c_str());
+  std::remove((::testing::TempDir() + "microbrdf_nan_ndf.json").c_str());
 }
