@@ -24,7 +24,7 @@ ReadOptions read_options(const ReadFlags& flags);
 /// Reads a surface and levels it as asked; the levelling description is returned.
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* leveling_report);
 
-/// The `info --json` record of one surface (ARCHITECTURE.md keys, SI units): the library's
+/// The `info --json` record of one surface (docs/architecture.md keys, SI units): the library's
 /// stats_json(st) plus the file's path, format and metadata.
 nlohmann::json stats_json(const std::string& path, const Surface& s, const SurfaceStats& st);
 

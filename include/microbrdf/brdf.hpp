@@ -1,8 +1,8 @@
 #pragma once
 // The BRDF interface and the microfacet BRDF (Dong 2015 eq. 1).
 //
-// Local frame (ARCHITECTURE.md): macro normal n = +z, x and y in the surface; wi (light) and wo
-// (viewer) both point away from the surface; f(wi, wo) in 1/sr; wavelength in metres.
+// Local frame (docs/architecture.md): macro normal n = +z, x and y in the surface; wi (light) and
+// wo (viewer) both point away from the surface; f(wi, wo) in 1/sr; wavelength in metres.
 //
 // Slices (tabulate_slice): wi = (-sin theta_i, 0, cos theta_i), i.e. the light at azimuth 180 deg.
 //  - in-plane:  wo(t) = (sin t, 0, cos t), t in [-90, 90] deg; the mirror direction is t =

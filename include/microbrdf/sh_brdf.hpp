@@ -1,11 +1,12 @@
 #pragma once
 // Westin, Arvo & Torrance 1992: BRDFs as matrices of real spherical-harmonic coefficients
-// (theory notes section 6). Directions are unit vectors in the local frame of brdf.hpp (n = +z).
+// (docs/theory.md §6). Directions are unit vectors in the local frame of brdf.hpp (n = +z).
 //
 // Stored quantity: f(wi, wo) = rho(wi, wo) cos(theta_i) cos(theta_o), completed oddly in z in both
-// arguments (W92 section 2.5), so only the basis functions with l + m odd survive (theory 6.2).
-// f(wi, wo) = Y(wi)^T M Y(wo) over that kept basis; M is symmetric (reciprocity by construction).
-// The BRDF is grey (one matrix); a simulation at one wavelength says which in its metadata.
+// arguments (W92 section 2.5), so only the basis functions with l + m odd survive (docs/theory.md
+// §6.2). f(wi, wo) = Y(wi)^T M Y(wo) over that kept basis; M is symmetric (reciprocity by
+// construction). The BRDF is grey (one matrix); a simulation at one wavelength says which in its
+// metadata.
 
 #include <cstdint>
 #include <memory>
@@ -53,7 +54,7 @@ class ShOddBasis {
   std::vector<double> hemi_;
 };
 
-/// The Monte Carlo estimator of W92 eq. 17 / 25 with the constants of theory 6.4:
+/// The Monte Carlo estimator of W92 eq. 17 / 25 with the constants of docs/theory.md §6.4:
 ///   m~_jk = (1/N) sum_n [cos(theta_U) / p_U(U)] * 4 * Y_j(U_n) sum_exits R Y_k(V) / (rays per U)
 /// Callers trace rays for one incident direction U at a time, sum R * Y(V) over all exits of all
 /// the rays started for U (N_p target points x N_b branches), and hand over that sum.
@@ -79,7 +80,7 @@ class ShEstimator {
   std::size_t ray_count() const { return n_rays_; }
   /// The unsymmetrised estimate M~ (kept basis, size() x size()).
   Eigen::MatrixXd raw() const;
-  /// W92 eqs. 26-27 with the J^2 normalisation of theory 6.5: Q = sum |M~ - M~^T| / J^2.
+  /// W92 eqs. 26-27 with the J^2 normalisation of docs/theory.md §6.5: Q = sum |M~ - M~^T| / J^2.
   double q() const;
   /// Mean exit energy per ray, averaged with weight cos(theta_U)/(pi p_U): the estimate of the
   /// hemispherical albedo (1/pi) integral a(U) cos(theta_U) dU; diagnostics only.
@@ -163,8 +164,8 @@ class ShBrdf final : public Brdf {
   ShBrdf isotropic_average() const;
   /// True when every coefficient coupling different |m| is exactly 0 (eval uses the |m| blocks).
   bool block_diagonal_in_m() const { return !blocks_.empty(); }
-  /// Gibbs attenuation (theory 6.6): w(l) = 1 for l <= l_filter, exp(-(l - l_filter)^2 / (2
-  /// width^2)) above; m_jk <- w(l_j) w(l_k) m_jk.
+  /// Gibbs attenuation (docs/theory.md §6.6): w(l) = 1 for l <= l_filter, exp(-(l - l_filter)^2 /
+  /// (2 width^2)) above; m_jk <- w(l_j) w(l_k) m_jk.
   ShBrdf damped(int l_filter, double width) const;
 
   /// Binary file: magic "MBSHBRDF", uint32 JSON header length, JSON header (lmax, size, basis

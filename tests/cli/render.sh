@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # `microbrdf render` as a user meets it: help, JSON, outputs, determinism, errors.
 set -u
-BIN=$1 SHARED=$3
+BIN=$1 DATA=$3
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
-ENV="$SHARED/envmaps/blender_studio.hdr"
+ENV="$DATA/envmaps/blender_studio.hdr"
 
 $BIN render --help >"$T/help" 2>&1 || fail "--help exits non-zero"
 grep -q "Examples" "$T/help" || fail "--help has no examples"
