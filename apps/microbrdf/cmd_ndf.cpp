@@ -9,8 +9,10 @@
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/ndf_convolve.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_preview.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 
@@ -157,7 +159,7 @@ void run(const NdfArgs& a) {
     o.method = NdfMethod::Filtered;
   else
     throw InputError("unknown --method '" + a.method + "' (naive | filtered | kirchhoff)");
-  o.filter_sigma = parse_length(a.filter_sigma);
+  o.filter_sigma_m = parse_length(a.filter_sigma);
   o.resolution = a.resolution;
   o.min_support = a.min_support;
   if (a.resolution < 17 || a.resolution > 8193)
@@ -168,12 +170,12 @@ void run(const NdfArgs& a) {
   for (std::size_t i = 0; i < paths.size(); ++i) {
     progress("ndf", i, paths.size(), paths[i]);
     Surface s = load_surface(paths[i], a.read, nullptr);
-    if (o.method == NdfMethod::Filtered && !warned && o.filter_sigma < std::max(s.dx, s.dy)) {
+    if (o.method == NdfMethod::Filtered && !warned && o.filter_sigma_m < std::max(s.dx, s.dy)) {
       std::fprintf(stderr,
                    "microbrdf ndf: warning: filter sigma %s is below the sample spacing %s of %s: "
                    "the fit sees "
                    "few neighbours and approaches the naive estimate\n",
-                   format_length(o.filter_sigma).c_str(),
+                   format_length(o.filter_sigma_m).c_str(),
                    format_length(std::max(s.dx, s.dy)).c_str(), paths[i].c_str());
       warned = true;
     }

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "microbrdf/microscene.hpp"
-#include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 
 namespace microbrdf {
 
