@@ -39,7 +39,7 @@ std::shared_ptr<const Svbrdf> material(bool tabulated) {
 
 RenderLights courtyard() {
   RenderLights l;
-  l.envmap_path = std::string(MICROBRDF_SHARED_DATA) + "/envmaps/blender_courtyard.exr";
+  l.envmap_path = std::string(MICROBRDF_DATA) + "/envmaps/blender_courtyard.exr";
   return l;
 }
 

@@ -47,10 +47,12 @@ PUBLIC_HEADERS = {
     # brdf: the Brdf interface and every BRDF, the material and BRDF vocabulary
     "brdf": "brdf", "microfacet_brdf": "brdf", "brdf_albedo": "brdf", "brdf_slice": "brdf",
     "kirchhoff_brdf": "brdf", "sun_brdf": "brdf", "sh_brdf": "brdf", "lambertian_brdf": "brdf",
-    "mirror_brdf": "brdf", "svbrdf": "brdf", "brdf_spec": "brdf",
+    "mirror_brdf": "brdf", "svbrdf": "brdf", "brdf_spec": "brdf", "measured": "brdf",
+    "measured_ndf": "brdf", "rgl_bsdf": "brdf", "tensor_file": "brdf",
     # experiments and products built on BRDFs
     "fit": "fit", "microscene": "simulate", "simulate": "simulate", "goniometer": "simulate",
-    "render": "render", "texture": "texture",
+    "render": "render", "texture": "texture", "measured_compare": "fit", "export": "export",
+    "scene_export": "export",
     "predict": "report",
 }
 
@@ -108,7 +110,7 @@ def main() -> int:
             problems.append(f"{cmd.relative_to(root)}: {lines} lines (commands stay under 300: "
                             "move the work into the library)")
     metal = [f"{p.relative_to(root)}" for p in sorted((root / "apps").rglob("*.cpp"))
-             for _ in re.findall(r'"--metal[",]', p.read_text())]
+             for _ in re.findall(r'add_option\(\s*"--metal[",]', p.read_text())]
     if len(metal) != 1:
         problems.append(f"--metal is defined {len(metal)} times in apps/ ({', '.join(metal)}): "
                         "define it once (add_material_flags)")

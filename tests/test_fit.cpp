@@ -152,7 +152,7 @@ TEST(fit, NelderMeadReferenceAgrees) {
 
 TEST(fit, BeckmannOfGaussianSurfaceIsTwoSigmaOverTau) {
   // Naive NDF of a Gaussian surface: Gaussian slopes, Beckmann alpha_u = 2 sigma / tau_u
-  // (theory notes 3.4; forward-difference bias (1 - Delta^2/(4 tau^2)) = -0.25% at tau = 10 dx).
+  // (docs/theory.md §3.4; forward-difference bias (1 - Delta^2/(4 tau^2)) = -0.25% at tau = 10 dx).
   struct G {
     double tau_x, tau_y, angle;
   };

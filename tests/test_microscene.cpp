@@ -203,7 +203,7 @@ TEST(MicroScene, GlassLayerOnMirrorFollowsBeerAndFresnel) {
 }
 
 TEST(HeGeometricLimit, ReproducesTheReferenceTable) {
-  // theory notes 6.7, W92 Fig. 6 recipe: sigma = 10 um, tau = 65 um, F = 1, errata S, sigma_0.
+  // docs/theory.md §6.7, W92 Fig. 6 recipe: sigma = 10 um, tau = 65 um, F = 1, errata S, sigma_0.
   const double sigma = 10e-6, tau = 65e-6;
   struct Row {
     double ti, tr, value;

@@ -27,7 +27,7 @@ using namespace std::string_literals;
 
 namespace {
 
-const std::string kShared = MICROBRDF_SHARED_DATA;
+const std::string kEnvmaps = std::string(MICROBRDF_DATA) + "/envmaps";
 
 std::vector<std::shared_ptr<const Svbrdf>> one(std::shared_ptr<const Brdf> b) {
   return {std::make_shared<UniformSvbrdf>(std::move(b))};
@@ -170,7 +170,7 @@ TEST(Render, MirrorSphereReflectsTheEnvironment) {
 TEST(Render, MisAgreesWithEachStrategy) {
   // A rough copper sphere under a smooth map and a large sphere light: MIS, BRDF sampling alone
   // and light sampling alone estimate the same image. (Small bright sources make BRDF sampling
-  // alone too noisy for a 2% test; CLI runs with the shared maps agree within their noise.)
+  // alone too noisy for a 2% test; CLI runs with the bundled maps agree within their noise.)
   RenderScene sc;
   sc.kind = PreviewScene::Sphere;
   RenderLights l;
@@ -195,7 +195,7 @@ TEST(Render, SameSeedSameImageWhateverTheThreads) {
   RenderScene sc;
   sc.kind = PreviewScene::Cylinders;
   RenderLights l;
-  l.envmap_path = kShared + "/envmaps/blender_courtyard.hdr";
+  l.envmap_path = kEnvmaps + "/blender_courtyard.exr";
   auto b = std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(0.05, 0.2),
                                             std::make_shared<ConductorFresnel>(metal("Al")));
   auto o = small(16, 4);
@@ -216,7 +216,7 @@ TEST(Render, BrushingDirectionTurnsTheHighlight) {
   RenderScene sc;
   sc.kind = PreviewScene::Cylinders;
   RenderLights l;
-  l.envmap_path = kShared + "/envmaps/blender_courtyard.hdr";
+  l.envmap_path = kEnvmaps + "/blender_courtyard.exr";
   auto f = std::make_shared<ConductorFresnel>(metal("Fe"));
   auto aniso =
       std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(0.007, 0.14), f);
@@ -267,9 +267,9 @@ TEST(Render, RadianceHdrRoundTripAndExrAgreement) {
     const float m = std::max({img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]});
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(back.rgb[3 * i + c], img.rgb[3 * i + c], 0.008 * m);
   }
-  // The shared map in both encodings (RLE RGBE and DWAB EXR) agrees to RGBE's precision.
-  const auto e = pt::read_envmap_image(kShared + "/envmaps/blender_studio.exr");
-  const auto h = pt::read_envmap_image(kShared + "/envmaps/blender_studio.hdr");
+  // The studio map in both encodings (RLE RGBE and DWAB EXR) agrees to RGBE's precision.
+  const auto e = pt::read_envmap_image(kEnvmaps + "/blender_studio.exr");
+  const auto h = pt::read_envmap_image(kEnvmaps + "/blender_studio.hdr");
   ASSERT_EQ(e.width, 1024);
   ASSERT_EQ(h.width, 1024);
   ASSERT_EQ(e.height, h.height);
@@ -305,8 +305,8 @@ TEST(Render, CorruptRadianceFilesAreRefused) {
 }
 
 TEST(Render, EnvironmentSamplingPdfIntegratesToOne) {
-  const pt::EnvironmentMap map(pt::read_envmap_image(kShared + "/envmaps/blender_courtyard.hdr"),
-                               1.0, 0.7);
+  const pt::EnvironmentMap map(pt::read_envmap_image(kEnvmaps + "/blender_courtyard.exr"), 1.0,
+                               0.7);
   // Integral of pdf over the sphere (midpoint rule on a fine grid) and the pdf of sampled
   // directions matching pdf().
   double sum = 0;
@@ -466,7 +466,7 @@ TEST(Render, UpsamplingBasisReproducesColours) {
 TEST(Render, RadianceReaderSurvivesMutations) {
   // 3000 randomly mutated copies of the head of a real run-length-encoded map (a poor man's
   // fuzzer; run under ASan too): each is read or refused with FileError, nothing else.
-  const std::string path = kShared + "/envmaps/blender_studio.hdr";
+  const std::string path = kEnvmaps + "/blender_studio.hdr";
   std::vector<std::uint8_t> full = read_file_bytes(path, 1u << 26);
   std::vector<std::uint8_t> head(full.begin(), full.begin() + 24000);
   std::uint64_t s = 99;

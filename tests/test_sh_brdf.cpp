@@ -1,4 +1,4 @@
-// ShBrdf (W92 section 2, theory notes 6.3, 6.5, 6.6): the exact Lambertian matrix, projection of
+// ShBrdf (W92 section 2, docs/theory.md §6.3, 6.5, 6.6): the exact Lambertian matrix, projection of
 // analytic BRDFs, reciprocity, albedo, damping, .shbrdf files, and sampling (pdf consistency,
 // histogram chi-square, sampled albedo, many threads).
 #include <gtest/gtest.h>

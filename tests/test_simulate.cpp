@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/microfacet.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
@@ -51,7 +52,7 @@ Vec dir(double theta_deg, double phi_deg) {
 }  // namespace
 
 TEST(Simulate, WhiteLambertPlaneGivesTheExactMatrix) {
-  // theory 6.3: f = cos cos / pi -> only m_(1,0),(1,0) = 4/3 is non-zero.
+  // docs/theory.md §6.3: f = cos cos / pi -> only m_(1,0),(1,0) = 4/3 is non-zero.
   MicroScene sc(flat(lambert(1.0)));
   SimulateOptions o;
   o.lmax = 6;

@@ -1,14 +1,14 @@
 // W92 section 5.1 / Fig. 6: a Gaussian mirror surface (sigma = 10 um, tau = 65 um, F = 1) traced
-// on Embree against He et al. 1991 in its geometric-optics limit and Beckmann + Smith (theory
-// 6.7). The direct in-plane estimate (cones around in-plane directions, plane of incidence turned
-// to all azimuths) checks the ray tracer by itself; the SH pipeline is compared in the slow test
-// with the projection of the reference on the same basis.
+// on Embree against He et al. 1991 in its geometric-optics limit and Beckmann + Smith
+// (docs/theory.md §6.7). The direct in-plane estimate (cones around in-plane directions, plane of
+// incidence turned to all azimuths) checks the ray tracer by itself; the SH pipeline is compared in
+// the slow test with the projection of the reference on the same basis.
 //
 // He and Smith are single-scattering models. The ray tracer follows every bounce; restricted to
 // one bounce (max_depth = 1) it matches Smith within 4 % everywhere and He within 6 % for
-// theta_i <= 60 deg. At theta_i = 75 deg He's shadowing (numerator 1 - erfc(a)/2, theory 6.7) is
-// 11 % below Smith's per direction, and He is 20 % below the simulation. With all bounces the
-// forward lobe at theta_i >= 60 deg gains up to 20 % near grazing exits (docs/westin.md).
+// theta_i <= 60 deg. At theta_i = 75 deg He's shadowing (numerator 1 - erfc(a)/2, docs/theory.md
+// §6.7) is 11 % below Smith's per direction, and He is 20 % below the simulation. With all bounces
+// the forward lobe at theta_i >= 60 deg gains up to 20 % near grazing exits (docs/westin.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>

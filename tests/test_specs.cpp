@@ -7,6 +7,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/brdf_slice.hpp"
 #include "microbrdf/brdf_spec.hpp"
 #include "microbrdf/error.hpp"
@@ -14,6 +15,7 @@
 #include "microbrdf/lambertian_brdf.hpp"
 #include "microbrdf/material_spec.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/sun2002.hpp"
 
@@ -218,7 +220,7 @@ TEST(ShDiagnostics, ChunkedEstimateDependsOnTheSeedOnly) {
   EXPECT_EQ(one.raw(), three.raw());
   EXPECT_EQ(one.incident_count(), 3000u);
   EXPECT_NE(sh_estimate_chunked(l, 4, 3000, 1, 8, kLambda).raw(), one.raw());
-  // m_(1,0),(1,0) of a Lambertian reflector is 4/3 times its albedo (theory 6.3).
+  // m_(1,0),(1,0) of a Lambertian reflector is 4/3 times its albedo (docs/theory.md §6.3).
   const ShEstimator big = sh_estimate_chunked(l, 2, 200000, 1, 1, kLambda);
   EXPECT_NEAR(ShBrdf::from_estimator(big).matrix()(sh_odd_index(1, 0), sh_odd_index(1, 0)),
               4.0 / 3 * 0.7, 0.02);

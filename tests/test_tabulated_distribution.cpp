@@ -100,7 +100,7 @@ TEST(tabulated_distribution, NormalisedAndSameInterpolantAsTheTable) {
 }
 
 TEST(tabulated_distribution, G1MatchesAnalyticSmith) {
-  // Theory notes section 9 item 5: G1 of a tabulated Beckmann/GGX = the analytic Smith G1.
+  // docs/theory.md §9 item 5: G1 of a tabulated Beckmann/GGX = the analytic Smith G1.
   // sigma+ integrates the table's interpolant (see WeakWhiteFurnace), so what is left is how
   // well the 513^2 table represents the model: Beckmann vanishes at the horizon and agrees to
   // ~2e-5; GGX keeps D ~ alpha^2/pi at the horizon, which the node-centred table (nodes on the

@@ -6,6 +6,7 @@
 
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
@@ -37,8 +38,17 @@ ReadOptions read_options(const ReadFlags& flags) {
   return o;
 }
 
+std::vector<std::string> scan_inputs(const std::vector<std::string>& inputs) {
+  auto paths = expand_scan_inputs(inputs);
+  Preflight pre;
+  for (const auto& p : paths) pre.input("input", p);
+  pre.done();
+  return paths;
+}
+
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* report) {
   auto spec = LevelingSpec::parse(flags.level);  // validate before the (maybe long) read
+  Preflight().input("input", path).done();
   Surface s = read_surface(path, read_options(flags));
   auto r = level_surface(s, spec);
   if (report) *report = r.description;
@@ -78,8 +88,7 @@ void emit_text(const std::string& path, const std::string& text) {
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
 
 void progress(const char* command, std::size_t index, std::size_t total, const std::string& what) {
-  if (total <= 1) return;
-  std::fprintf(stderr, "microbrdf %s: [%zu/%zu] %s\n", command, index + 1, total, what.c_str());
+  Progress(command).item(index, total, what);
 }
 
 }  // namespace microbrdf::cli

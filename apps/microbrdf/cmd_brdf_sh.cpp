@@ -8,6 +8,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/units.hpp"
 #include "spec_flags.hpp"
@@ -199,7 +200,7 @@ void register_brdf_sh(CLI::App* brdf) {
   es->add_option("-o,--output", a->output, "Output .shbrdf file (optional)");
   es->add_flag("--json", a->json, "Print a JSON summary on stdout");
   es->footer(
-      "Checks the estimator of W92 eqs. 17/25 with the constants of theory 6.4 and its\n"
+      "Checks the estimator of W92 eqs. 17/25 with the constants of docs/theory.md §6.4 and its\n"
       "convergence measure Q (eq. 27, 1/J^2), which falls as N^-1/2.\n"
       "Examples:\n"
       "  microbrdf brdf sh-estimate --lambertian 1 --lmax 8 --incident 1000000 --json\n"

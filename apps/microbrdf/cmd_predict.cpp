@@ -30,11 +30,20 @@ struct PredictArgs {
 };
 
 void run(const PredictArgs& a) {
+  // Cheap checks first: predict can run for minutes before it reaches the renders.
+  scan_inputs(a.inputs);
+  Preflight pre;
+  for (const auto& path : a.strips) pre.input("--strips", path);
+  pre.output_dir("-o", a.output);
+  check_spec_files(pre, a.material);
+  if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
+  pre.done();
+  const MaterialSpec material = material_spec(a.material, MaterialSpec::named_metal("Fe"));
   PredictOptions o;
   o.inputs = a.inputs;
   o.read = read_options(a.read);
   o.leveling = LevelingSpec::parse(a.read.level);
-  o.material = material_spec(a.material, MaterialSpec::named_metal("Fe"));
+  o.material = material;
   o.filter_sigma_m = parse_length(a.filter_sigma);
   o.wavelength_m = parse_length(a.wavelength);
   o.ndf_resolution = a.resolution;

@@ -17,7 +17,6 @@
 #include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/simulate.hpp"
-#include "microbrdf/sun2002.hpp"
 #include "microbrdf/units.hpp"
 #include "simulate_args.hpp"
 
@@ -58,13 +57,14 @@ void run_sh(const SimArgs& a, const MicroScene& scene) {
     if (a.points < 1) throw InputError("--points must be >= 1");
     o.incident_directions = std::max<std::uint64_t>(1, a.rays / std::uint64_t(a.points));
   }
+  Progress progress("simulate", a.quiet);
   if (!a.quiet)
-    o.progress = [](std::uint64_t dirs, std::uint64_t rays, double t, double q) {
-      std::fprintf(stderr,
-                   "microbrdf simulate: %llu directions, %.3g rays, %.1f s, %.3g rays/s, Q = "
-                   "%.3g\n",
-                   static_cast<unsigned long long>(dirs), double(rays), t,
-                   t > 0 ? double(rays) / t : 0.0, q);
+    o.progress = [&progress](std::uint64_t dirs, std::uint64_t rays, double t, double q) {
+      char b[160];
+      std::snprintf(b, sizeof b, "%llu directions, %.3g rays, %.1f s, %.3g rays/s, Q = %.3g",
+                    static_cast<unsigned long long>(dirs), double(rays), t,
+                    t > 0 ? double(rays) / t : 0.0, q);
+      progress.status(b);
     };
   SimulateStats st;
   const ShEstimator est = simulate(scene, o, &st);
@@ -124,7 +124,8 @@ void register_simulate(CLI::App& app) {
       "Rays from uniformly drawn incident directions (N_i = rays / points) hit the scene's tile "
       "at\n"
       "uniform points (--points per direction); the tile repeats periodically, so there are no\n"
-      "edge effects. Exits feed the estimator of theory 6.4 (W92 eqs. 17, 25); the matrix is\n"
+      "edge effects. Exits feed the estimator of docs/theory.md §6.4 (W92 eqs. 17, 25); the matrix "
+      "is\n"
       "symmetrised and written as .shbrdf (see `microbrdf brdf slice --sh`). Q (W92 eq. 26,\n"
       "1/J^2 normalisation) is printed as it converges; it falls as N^-1/2.\n"
       "Deterministic for a seed and --threads when --rays is used (not with --time).\n"

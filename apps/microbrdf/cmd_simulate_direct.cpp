@@ -116,7 +116,7 @@ void run_in_plane(const SimArgs& a, const MicroScene& scene) {
     std::fputs(csv.str().c_str(), stdout);
 }
 
-// Ray-traced G1 and free travel probability against Smith and Sun 2002 (theory notes 2, 5).
+// Ray-traced G1 and free travel probability against Smith and Sun 2002 (docs/theory.md §2, 5).
 void run_visibility(const SimArgs& a, const MicroScene& scene) {
   const bool ref = !a.he_sigma.empty() && !a.he_tau.empty();
   const double sigma = ref ? parse_length(a.he_sigma) : 0, tau = ref ? parse_length(a.he_tau) : 0;

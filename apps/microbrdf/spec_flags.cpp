@@ -35,10 +35,13 @@ void add_material_flags(CLI::App* c, SpecFlags& f, const std::string& default_no
 
 void add_model_flags(CLI::App* c, SpecFlags& f) {
   c->add_option("--model", f.text["model"], "Analytic NDF: beckmann, ggx (default) or ellipsoid");
-  c->add_option("--alpha", f.text["alpha"], "Roughness alpha (both axes)");
-  c->add_option("--alpha-x", f.text["alpha_x"], "Roughness along the first axis");
+  c->add_option("--alpha", f.text["alpha"], "Roughness alpha (both axes)")
+      ->check(positive_number());
+  c->add_option("--alpha-x", f.text["alpha_x"], "Roughness along the first axis")
+      ->check(positive_number());
   c->add_option("--alpha-y", f.text["alpha_y"],
-                "Roughness along the second axis (default: = alpha-x)");
+                "Roughness along the second axis (default: = alpha-x)")
+      ->check(positive_number());
   c->add_option("--phi", f.text["phi"],
                 "beckmann/ggx: azimuth of the alpha-x axis (angle: 5deg, 0.1rad; bare = deg)");
   c->add_option("--theta-x", f.text["theta_x"],
@@ -61,7 +64,8 @@ void add_brdf_flags(CLI::App* c, SpecFlags& f, unsigned set) {
                   "kirchhoff` (repeat for several wavelengths); shadowing from --model/--alpha "
                   "if given");
   if (set & kFlagSun)
-    c->add_option("--sun", f.text["sun"], "Sun 2002 analytic BRDF with smoothness s = tau/sigma");
+    c->add_option("--sun", f.text["sun"], "Sun 2002 analytic BRDF with smoothness s = tau/sigma")
+        ->check(positive_number());
   if (set & kFlagSh) {
     c->add_option("--sh", f.text["sh"],
                   "Spherical-harmonic BRDF file (.shbrdf, Westin 1992; from `simulate` or `brdf "
@@ -80,7 +84,8 @@ void add_brdf_flags(CLI::App* c, SpecFlags& f, unsigned set) {
                   "material's Fresnel term");
   if (set & kFlagLambertian)
     c->add_option("--lambertian", f.text["lambertian"],
-                  "A Lambertian reflector of this albedo in [0, 1] (no material)");
+                  "A Lambertian reflector of this albedo in [0, 1] (no material)")
+        ->check(number_in(0, 1));
   if (set & kFlagMirror)
     c->add_flag("--mirror", f.mirror, "Ideal mirror with the material's Fresnel term");
   if (set & kFlagSeparable)
@@ -107,6 +112,17 @@ std::shared_ptr<const Brdf> brdf_from_flags(const SpecFlags& f, BrdfSpec* spec_o
   const BrdfSpec b = brdf_spec(f);
   if (spec_out) *spec_out = b;
   return make_brdf(b, b.uses_material() ? material_spec(f, std::nullopt) : MaterialSpec{});
+}
+
+void check_spec_files(Preflight& pre, const SpecFlags& f) {
+  if (const auto it = f.text.find("metal"); it != f.text.end() && !it->second.empty())
+    pre.metal("--metal", it->second);
+  for (const char* key : {"nk_csv", "ndf", "sh", "texture"}) {
+    const auto it = f.text.find(key);
+    if (it != f.text.end() && !it->second.empty())
+      pre.input(key_name(key, KeyStyle::Cli), it->second);
+  }
+  for (const auto& k : f.kirchhoff) pre.input("--kirchhoff", k);
 }
 
 NdfSpec ndf_spec(const SpecFlags& f) {

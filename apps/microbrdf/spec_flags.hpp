@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_checks.hpp"
 #include "microbrdf/brdf_spec.hpp"
 #include "microbrdf/material_spec.hpp"
 
@@ -54,6 +55,9 @@ BrdfSpec brdf_spec(const SpecFlags& f, const std::optional<BrdfSpec>& fallback =
 /// The BRDF the flags name (brdf_spec) built with the material of the flags (required for the
 /// kinds that take one); the spec goes to `spec_out` when given.
 std::shared_ptr<const Brdf> brdf_from_flags(const SpecFlags& f, BrdfSpec* spec_out = nullptr);
+/// Cheap checks before any heavy work: the metal is known and every file the material / BRDF
+/// flags name exists (--nk-csv, --ndf, --kirchhoff, --sh, --texture); problems go to `pre`.
+void check_spec_files(Preflight& pre, const SpecFlags& f);
 /// The analytic NDF of the model flags (InputError without a roughness).
 NdfSpec ndf_spec(const SpecFlags& f);
 

@@ -1,11 +1,11 @@
 #pragma once
 // The BRDF interface every reflectance model of the project implements.
 //
-// Local frame (ARCHITECTURE.md): macro normal n = +z, x and y in the surface; wi (light) and wo
-// (viewer) both point away from the surface; f(wi, wo) in 1/sr; wavelength in metres.
-// The BRDFs themselves: microfacet_brdf.hpp (Dong 2015 eq. 1), kirchhoff_brdf.hpp (eq. 8),
-// sun_brdf.hpp (Sun 2002), sh_brdf.hpp (Westin 1992), lambertian_brdf.hpp, mirror_brdf.hpp; the
-// one way to build any of them from a description: brdf_spec.hpp.
+// Local frame (docs/architecture.md): macro normal n = +z, x and y in the surface; wi (light) and
+// wo (viewer) both point away from the surface; f(wi, wo) in 1/sr; wavelength in metres. The BRDFs
+// themselves: microfacet_brdf.hpp (Dong 2015 eq. 1), kirchhoff_brdf.hpp (eq. 8), sun_brdf.hpp (Sun
+// 2002), sh_brdf.hpp (Westin 1992), lambertian_brdf.hpp, mirror_brdf.hpp; the one way to build any
+// of them from a description: brdf_spec.hpp.
 
 #include <optional>
 #include <string>

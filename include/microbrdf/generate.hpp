@@ -95,7 +95,7 @@ std::vector<std::string> brushed_preset_names();
 
 /// Base parameters that give the filtered widths alpha_along, alpha_across for a Gaussian
 /// filter of standard deviation `filter_sigma`, keeping tau_across fixed. Uses
-/// <b_u^2> = tau_u tau_v sigma^2 / (8 a_u^{3/2} a_v^{1/2}), a = s^2 + tau^2/4 (theory notes 3.4,
+/// <b_u^2> = tau_u tau_v sigma^2 / (8 a_u^{3/2} a_v^{1/2}), a = s^2 + tau^2/4 (docs/theory.md §3.4,
 /// anisotropic form). Throws InputError when no solution exists.
 void solve_brushed_base(BrushedParams& p, double alpha_along, double alpha_across,
                         double filter_sigma);

@@ -2,7 +2,7 @@
 // A virtual in-plane gonioreflectometer on a micro-scene: rho estimated directly in cones around
 // directions of the plane of incidence (cap_brdf), with the He 1991 geometric limit and the
 // Beckmann-Smith microfacet BRDF averaged over the same cones as references (Westin 1992 Fig. 6,
-// theory 6.7). `microbrdf simulate --in-plane` and the tests run this one function.
+// docs/theory.md §6.7). `microbrdf simulate --in-plane` and the tests run this one function.
 //
 // Convention (the slice convention of brdf_slice.hpp, turned by phi_i about n): the light lies at
 // azimuth phi_i + 180 deg, wi = (-cos phi_i sin theta_i, -sin phi_i sin theta_i, cos theta_i);

@@ -1,9 +1,9 @@
 #pragma once
-// The Kirchhoff distribution D_K (Dong 2015 eqs. 3-8 and Appendix A; theory notes section 4)
+// The Kirchhoff distribution D_K (Dong 2015 eqs. 3-8 and Appendix A; docs/theory.md §4)
 // computed from height maps; the Kirchhoff BRDF (Dong eq. 8) over them is kirchhoff_brdf.hpp.
 // docs/kirchhoff.md has the derivations, the accuracy figures and the pictures.
 //
-// Definition (eq. 6, height-field form of theory 4.1), for q = (4 pi / lambda_q) h:
+// Definition (eq. 6, height-field form of docs/theory.md §4.1), for q = (4 pi / lambda_q) h:
 //   I(q)   = integral over the patch of w (q.m) exp(-i q.s) dS
 //          = integral w(x,y) (q_z - q_x h_x - q_y h_y) exp(-i (q_x x + q_y y + q_z h)) dx dy
 //   D_K(q) = |I(q)|^2 / (4 pi^2 A_w),   A_w = integral w^2 dx dy
@@ -37,7 +37,8 @@
 
 namespace microbrdf {
 
-/// Apodisation of each patch (theory 4.5). D_K is the true D_K blurred by |FT(w)|^2 / (4 pi^2 A_w):
+/// Apodisation of each patch (docs/theory.md §4.5). D_K is the true D_K blurred by |FT(w)|^2 / (4
+/// pi^2 A_w):
 ///  - None: sinc^2 blur, first zero at q = 2 pi / L, side lobes decaying as 1/q^2 (a hard
 ///    aperture diffracts into a cross along the patch axes);
 ///  - Hann: sin^2 taper over the whole patch; main lobe twice as wide, side lobes 1/q^6;
@@ -140,7 +141,7 @@ class KirchhoffAccumulator {
   /// The averaged D_K normalised to sum D Delta^2 = 1; meta.method = "kirchhoff",
   /// meta.wavelength_m = lambda_q. Throws InputError if nothing was accumulated.
   TabulatedNdf result() const;
-  /// sum D_K Delta^2 of the physical average before normalising (~1; theory 4.3.6).
+  /// sum D_K Delta^2 of the physical average before normalising (~1; docs/theory.md §4.3).
   double raw_integral() const;
   std::size_t patches() const { return patches_; }
   /// Fraction of the (A_w-weighted, physical) D_K mass removed by the Nyquist mask.

@@ -9,7 +9,8 @@
 namespace microbrdf {
 
 /// A Lambertian reflector f = albedo / pi (furnace tests, diffuse props, the exact reference of
-/// the SH estimator, theory 6.3); cosine-weighted sampling, weight = albedo. Lobes: diffuse.
+/// the SH estimator, docs/theory.md §6.3); cosine-weighted sampling, weight = albedo. Lobes:
+/// diffuse.
 class LambertianBrdf final : public Brdf {
  public:
   /// albedo in [0, 1] (InputError otherwise).

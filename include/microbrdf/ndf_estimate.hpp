@@ -1,5 +1,5 @@
 #pragma once
-// Geometric NDFs estimated from height maps (Dong 2015 section 5.1, eq. 2; theory notes 2-3).
+// Geometric NDFs estimated from height maps (Dong 2015 section 5.1, eq. 2; docs/theory.md §2-3).
 
 #include <cstddef>
 #include <string>
@@ -19,7 +19,7 @@ struct NdfEstimateOptions {
   double truncate_sigmas = 4;    ///< kernel support, in filter sigmas
   /// A filtered sample is used only if its weighted support (the sum of Gaussian weights over
   /// valid neighbours) is at least this fraction of the full-grid value: fits near borders and
-  /// holes that see too little surface are skipped and counted (theory notes 3.3).
+  /// holes that see too little surface are skipped and counted (docs/theory.md §3.3).
   double min_support = 0.5;
 };
 

@@ -10,7 +10,8 @@ namespace microbrdf {
 
 /// Writes the table: ".npy" (float64 N x N, row iy, numpy-readable as is) plus a JSON sidecar
 /// with the same stem holding NdfMetadata and the conventions; ".exr" (single float channel
-/// "D", metadata as string/float attributes). Atomic. Throws FileError.
+/// "D", metadata as string/float attributes). Atomic. Values are non-negative or NaN (NaN =
+/// unmeasured, as in effective NDFs from measured BRDFs); infinities are refused. Throws FileError.
 void write_ndf(const TabulatedNdf& ndf, const std::string& path);
 /// Reads what write_ndf wrote (npy + optional sidecar, or exr). Throws FileError.
 TabulatedNdf read_ndf(const std::string& path);

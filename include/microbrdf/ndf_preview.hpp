@@ -18,6 +18,7 @@ struct NdfPreviewOptions {
 };
 /// Log-scale false-colour preview of the disk (m_x to the right, m_y up), unit circle drawn,
 /// with a colour bar (labels in decades of 1/sr) and optionally a zoom panel around the peak.
+/// Unmeasured (NaN) regions are drawn flat grey (96, 96, 104), distinct from zero.
 /// Written atomically as PNG. Throws FileError.
 void write_ndf_preview(const TabulatedNdf& ndf, const std::string& png_path,
                        const NdfPreviewOptions& opt = {});

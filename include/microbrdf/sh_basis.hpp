@@ -1,6 +1,6 @@
 #pragma once
 // Westin, Arvo & Torrance 1992: the real spherical-harmonic basis, the odd-completion basis that
-// represents BRDFs (theory notes section 6) and the Monte Carlo estimator of the coefficient
+// represents BRDFs (docs/theory.md §6) and the Monte Carlo estimator of the coefficient
 // matrix. The BRDF built from the matrix is ShBrdf (sh_brdf.hpp). Directions are unit vectors in
 // the local frame (n = +z).
 
@@ -47,7 +47,7 @@ class ShOddBasis {
   std::vector<double> hemi_;
 };
 
-/// The Monte Carlo estimator of W92 eq. 17 / 25 with the constants of theory 6.4:
+/// The Monte Carlo estimator of W92 eq. 17 / 25 with the constants of docs/theory.md §6.4:
 ///   m~_jk = (1/N) sum_n [cos(theta_U) / p_U(U)] * 4 * Y_j(U_n) sum_exits R Y_k(V) / (rays per U)
 /// Callers trace rays for one incident direction U at a time, sum R * Y(V) over all exits of all
 /// the rays started for U (N_p target points x N_b branches), and hand over that sum.
@@ -68,7 +68,7 @@ class ShEstimator {
   std::size_t ray_count() const { return n_rays_; }
   /// The unsymmetrised estimate M~ (kept basis, size() x size()).
   Eigen::MatrixXd raw() const;
-  /// W92 eqs. 26-27 with the J^2 normalisation of theory 6.5: Q = sum |M~ - M~^T| / J^2.
+  /// W92 eqs. 26-27 with the J^2 normalisation of docs/theory.md §6.5: Q = sum |M~ - M~^T| / J^2.
   double q() const;
   /// Mean exit energy per ray, averaged with weight cos(theta_U)/(pi p_U): the estimate of the
   /// hemispherical albedo (1/pi) integral a(U) cos(theta_U) dU; diagnostics only.

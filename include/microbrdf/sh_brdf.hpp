@@ -1,11 +1,12 @@
 #pragma once
 // Westin, Arvo & Torrance 1992: BRDFs as matrices of real spherical-harmonic coefficients
-// (theory notes section 6). Directions are unit vectors in the local frame of brdf.hpp (n = +z).
+// (docs/theory.md §6). Directions are unit vectors in the local frame of brdf.hpp (n = +z).
 //
 // Stored quantity: f(wi, wo) = rho(wi, wo) cos(theta_i) cos(theta_o), completed oddly in z in both
-// arguments (W92 section 2.5), so only the basis functions with l + m odd survive (theory 6.2).
-// f(wi, wo) = Y(wi)^T M Y(wo) over that kept basis; M is symmetric (reciprocity by construction).
-// The BRDF is grey (one matrix); a simulation at one wavelength says which in its metadata.
+// arguments (W92 section 2.5), so only the basis functions with l + m odd survive (docs/theory.md
+// §6.2). f(wi, wo) = Y(wi)^T M Y(wo) over that kept basis; M is symmetric (reciprocity by
+// construction). The BRDF is grey (one matrix); a simulation at one wavelength says which in its
+// metadata.
 
 #include <cstdint>
 #include <functional>
@@ -97,8 +98,8 @@ class ShBrdf final : public Brdf {
   ShBrdf isotropic_average() const;
   /// True when every coefficient coupling different |m| is exactly 0 (eval uses the |m| blocks).
   bool block_diagonal_in_m() const { return !blocks_.empty(); }
-  /// Gibbs attenuation (theory 6.6): w(l) = 1 for l <= l_filter, exp(-(l - l_filter)^2 / (2
-  /// width^2)) above; m_jk <- w(l_j) w(l_k) m_jk.
+  /// Gibbs attenuation (docs/theory.md §6.6): w(l) = 1 for l <= l_filter, exp(-(l - l_filter)^2 /
+  /// (2 width^2)) above; m_jk <- w(l_j) w(l_k) m_jk.
   ShBrdf damped(int l_filter, double width) const;
 
   /// Binary file: magic "MBSHBRDF", uint32 JSON header length, JSON header (lmax, size, basis

@@ -2,7 +2,8 @@
 // The Westin-Arvo-Torrance 1992 Monte Carlo BRDF simulation on a MicroScene (docs/westin.md,
 // "Estimator"): rays from uniformly drawn incident directions U hit the tile at uniform points
 // (N_p per direction), scatter through the microgeometry (N_b branches at the first diffuse
-// event), and every exit (direction V, energy fraction R) feeds the estimator of theory 6.4,
+// event), and every exit (direction V, energy fraction R) feeds the estimator of docs/theory.md
+// §6.4,
 //   m~_jk = (1/N) sum 8 pi cos(theta_U) Y_j(U) R Y_k(V)      (uniform U, odd completion),
 // which is W92 eq. 25 for f = rho cos(theta_i) cos(theta_r): the radiance conversion (divide by
 // cos theta_r, W92 section 4) and the cosine of the representation cancel, so R enters as is.
@@ -173,7 +174,7 @@ FractionEstimate free_travel_probability(const MicroScene& scene, double theta, 
                                          std::uint64_t samples, std::uint64_t seed);
 
 /// He, Torrance, Sillion & Greenberg 1991 directional-diffuse term in its geometric-optics limit
-/// (theory 6.7): F(wi.h) S(theta_i) S(theta_r) D_Beckmann(h; alpha = 2 sigma_0 / tau) /
+/// (docs/theory.md §6.7): F(wi.h) S(theta_i) S(theta_r) D_Beckmann(h; alpha = 2 sigma_0 / tau) /
 /// (4 cos theta_i cos theta_r), with He's shadowing S (errata form with exp(-a^2); `errata` =
 /// false gives the printed eq. 25) and the effective roughness sigma_0(theta_i, theta_r).
 /// sigma, tau in metres (C(r) = sigma^2 exp(-r^2 / tau^2)); fresnel null = 1. 1/sr.

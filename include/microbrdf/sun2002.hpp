@@ -10,7 +10,7 @@
 // s = tau/sigma (eq. 3.4.22). Slopes per axis are Gaussian with std sqrt(2) sigma/tau =
 // sqrt(2)/s (eq. 3.3.8), i.e. a Beckmann distribution of width alpha = 2/s.
 //
-// Conventions (ARCHITECTURE.md): macro normal n = +z; directions point away from the surface;
+// Conventions (docs/architecture.md): macro normal n = +z; directions point away from the surface;
 // wi = towards the light (Sun's psi / l), wo = towards the viewer (Sun's v); angles in radians;
 // BRDF in 1/sr. Directions need not be normalised.
 
@@ -68,7 +68,7 @@ enum class BrdfForm {
   AsPublished,
   /// Standard microfacet form R D(h) G / (4 cos th_i cos th_o) with the same D (Beckmann,
   /// alpha = 2/s) and G = Gamma_0(th_i) Gamma_0(th_o).
-  /// AsPublished / Standard = (h.n) cos th_i cos th_o / (wi.h) (theory notes 5.2).
+  /// AsPublished / Standard = (h.n) cos th_i cos th_o / (wi.h) (docs/theory.md §5.2).
   Standard,
 };
 

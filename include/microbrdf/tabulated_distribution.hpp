@@ -1,5 +1,5 @@
 #pragma once
-// A TabulatedNdf used as a microfacet distribution (theory notes sections 2.3 and 2.4).
+// A TabulatedNdf used as a microfacet distribution (docs/theory.md §2.3 and 2.4).
 //
 //  - D(m) = TabulatedNdf::eval(m) / Z, Z = NdfSampler::normalisation() (the integral of the
 //    bilinear interpolant over the disk), so that integral D(m)(m.n) dw = 1 exactly and D is the

@@ -1,5 +1,6 @@
 // ShBrdf: construction, evaluation, albedo, Gibbs damping and projection of other BRDFs
-// (W92 sections 2.2-2.5, theory notes 6.3, 6.5, 6.6). Sampling: sh_sampling.cpp; files: sh_io.cpp.
+// (W92 sections 2.2-2.5, docs/theory.md §6.3, 6.5, 6.6). Sampling: sh_sampling.cpp; files:
+// sh_io.cpp.
 #include "microbrdf/sh_brdf.hpp"
 
 #include <algorithm>
@@ -131,7 +132,8 @@ ShBrdf ShBrdf::project(const Brdf& brdf, int lmax, double wavelength_m, int n_th
   for (int a = 0; a < nd; ++a)
     for (int b = 0; b < nd; ++b)
       f(a, b) = brdf.eval(dir[a], dir[b], wavelength_m) * wcos[a] * wcos[b];
-  // The odd completion in both arguments doubles each hemisphere integral (theory 6.4): x 4.
+  // The odd completion in both arguments doubles each hemisphere integral (docs/theory.md §6.4):
+  // x 4.
   Eigen::MatrixXd m = 4.0 * (y * f * y.transpose());
   if (meta.is_null()) meta = nlohmann::json::object();
   meta["source"] = "projection of " + brdf.describe();

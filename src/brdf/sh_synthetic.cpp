@@ -1,12 +1,14 @@
 // sh_estimate_by_sampling: the estimator fed by exits drawn from a known BRDF (no geometry), the
-// reference experiment for W92's estimator and its convergence measure Q (theory 6.4-6.5).
+// reference experiment for W92's estimator and its convergence measure Q (docs/theory.md §6.4-6.5).
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
 #include "core/splitmix64.hpp"
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 
 namespace microbrdf {

@@ -1,5 +1,5 @@
 // The Monte Carlo estimator of the SH coefficient matrix (W92 eqs. 17 and 25, constants of
-// theory notes 6.4) and the convergence measure Q (eqs. 26-27 with 1/J^2, theory 6.5).
+// docs/theory.md §6.4) and the convergence measure Q (eqs. 26-27 with 1/J^2, docs/theory.md §6.5).
 #include <cmath>
 #include <string>
 
@@ -33,8 +33,8 @@ void ShEstimator::add_incident(const Vec3& u, double pdf_u, const double* exit_s
   n_rays_ += rays;
   const double cos_u = u.z() / u.norm();
   if (!(cos_u > 0)) return;  // a direction below the horizon contributes nothing (counts in N)
-  // m~ = (1/N) sum_U [cos/p] 4 Y(U) (sum_exits R Y(V)) / rays  (theory 6.4: the 4 is the odd
-  // completion in both arguments, cos/p the measure of the incident directions).
+  // m~ = (1/N) sum_U [cos/p] 4 Y(U) (sum_exits R Y(V)) / rays  (docs/theory.md §6.4: the 4 is the
+  // odd completion in both arguments, cos/p the measure of the incident directions).
   const double w = 4 * cos_u / pdf_u / static_cast<double>(rays);
   const int n = basis_.size();
   basis_.eval(u, pend_u_.col(n_pend_).data());

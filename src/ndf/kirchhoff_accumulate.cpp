@@ -1,5 +1,5 @@
 // Kirchhoff distribution of scans and scan sets: tiling into coherence-area patches and
-// intensity averaging (Dong 2015 App. A; theory notes 4.5).
+// intensity averaging (Dong 2015 App. A; docs/theory.md §4.5).
 #include <cmath>
 #include <cstdio>
 

@@ -1,4 +1,4 @@
-// Histogram NDF estimators (Dong 2015 eq. 2; theory notes 2.2): every element's normal is
+// Histogram NDF estimators (Dong 2015 eq. 2; docs/theory.md §2.2): every element's normal is
 // splatted bilinearly onto the disk grid with its projected area, so the normalisation is exact
 // at any resolution and scans of different spacings combine by projected area.
 #include "microbrdf/ndf_estimate.hpp"

@@ -1,5 +1,5 @@
-// Importance sampling of a tabulated NDF, exactly consistent with TabulatedNdf::eval (theory
-// notes section 2.4, piecewise-bilinear variant).
+// Importance sampling of a tabulated NDF, exactly consistent with TabulatedNdf::eval
+// (docs/theory.md §2.4, piecewise-bilinear variant).
 //
 // Target density on the disk: p(m_x, m_y) = eval_disk(m_x, m_y) / Z (bilinear interpolant of
 // the nodes, 0 outside the unit disk), i.e. D(m)(m.n)/Z per steradian.

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/brdf_spec.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/generate.hpp"

@@ -54,7 +54,7 @@ s20, s50 = load("s20.csv"), load("s50.csv")
 assert abs(s20[50.0] - s50[20.0]) < 1e-9 * max(1, s20[50.0]), (s20[50.0], s50[20.0])
 PY
 
-# sh-estimate: a white Lambertian plane gives albedo 1 within 1 % (theory 6.3), the same result
+# sh-estimate: a white Lambertian plane gives albedo 1 within 1 % (docs/theory.md §6.3), the same result
 # for any thread count, and Q falls as N^-1/2 over two decades.
 OMP_NUM_THREADS=2 $BIN brdf sh-estimate --lambertian 1 --lmax 6 --incident 400000 --seed 3 --json \
   -o "$T/lam.shbrdf" >"$T/lam.json" 2>/dev/null || fail "sh-estimate --lambertian"
