@@ -9,6 +9,7 @@
 #include "microbrdf/export.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/measured.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/measured_ndf.hpp"
 
 using namespace microbrdf;

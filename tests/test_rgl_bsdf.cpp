@@ -16,6 +16,8 @@
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
 #include "microbrdf/measured.hpp"
+#include "microbrdf/brdf_albedo.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/measured_ndf.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/rgl_bsdf.hpp"
