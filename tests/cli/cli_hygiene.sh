@@ -22,7 +22,7 @@ usage "missing input file" "nope.x3p" -- $BIN info "$T/nope.x3p"
 usage "missing input (ndf)" "nope.x3p" -- $BIN ndf "$T/nope.x3p" -o "$T/n.npy"
 usage "missing input (fit)" "nope.npy" -- $BIN fit "$T/nope.npy" --model ggx
 usage "missing input (slice)" "nope.npy" -- $BIN slice "$T/nope.npy" -o "$T/s.png"
-usage "missing input (brdf)" "nope.npy" -- $BIN brdf slice --ndf "$T/nope.npy" -o "$T/b.csv"
+usage "missing input (brdf)" "nope.npy" -- $BIN brdf slice --metal Al --ndf "$T/nope.npy" -o "$T/b.csv"
 usage "missing scene (simulate)" "nope.json" -- $BIN simulate "$T/nope.json" -o "$T/o.shbrdf"
 # A file that exists but cannot be parsed is a failure while working: exit 1.
 head -c 3000 /dev/urandom >"$T/junk.sur"
