@@ -3,8 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "brdf/marginal2d.hpp"
 #include "brdf/rgl_coords.hpp"
+#include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/measured.hpp"
 #include "microbrdf/rgl_bsdf.hpp"

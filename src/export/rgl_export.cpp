@@ -2,8 +2,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "brdf/marginal2d.hpp"
 #include "brdf/rgl_coords.hpp"
+#include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/export.hpp"
 

@@ -8,7 +8,9 @@
 
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/ndf_convolve.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_preview.hpp"
 #include "microbrdf/plot.hpp"
 
 namespace microbrdf {
