@@ -7,7 +7,9 @@
 #include <random>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/measured.hpp"
 #include "microbrdf/tensor_file.hpp"
 #include "test_microfacet_common.hpp"

@@ -12,7 +12,9 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/export.hpp"
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
 #include "microbrdf/measured.hpp"
