@@ -7,19 +7,19 @@
 #include <random>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/measured.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/tensor_file.hpp"
+#include "test_microfacet_common.hpp"
 
 using namespace microbrdf;
 
 namespace {
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
-Vec3 dir(double theta_deg, double phi_deg) {
-  const double t = theta_deg * kDeg, p = phi_deg * kDeg;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
+Vec3 dir(double theta_deg, double phi_deg) { return mtest::direction(theta_deg, phi_deg); }
 MicrofacetBrdf ggx_conductor(double ax, double ay) {
   return MicrofacetBrdf(std::make_shared<GgxDistribution>(ax, ay, 0),
                         std::make_shared<ConductorFresnel>(constant_index(1.2, 3.5)));

@@ -12,7 +12,9 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/export.hpp"
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
 #include "microbrdf/measured.hpp"
@@ -22,15 +24,12 @@
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/rgl_bsdf.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
+#include "test_microfacet_common.hpp"
 
 using namespace microbrdf;
 
 namespace {
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
-Vec3 dir(double theta_deg, double phi_deg) {
-  const double t = theta_deg * kDeg, p = phi_deg * kDeg;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
+Vec3 dir(double theta_deg, double phi_deg) { return mtest::direction(theta_deg, phi_deg); }
 
 struct Case {
   std::shared_ptr<MicrofacetDistribution> d;

@@ -22,6 +22,8 @@ void register_predict(CLI::App& app);
 void register_render(CLI::App& app);
 void register_texture(CLI::App& app);
 void register_simulate(CLI::App& app);
+void register_measured(CLI::App& app);
+void register_export(CLI::App& app);
 
 /// Runs `body`, turning microbrdf errors into "microbrdf <cmd>: error: <message>" on stderr and
 /// a non-zero exit code.

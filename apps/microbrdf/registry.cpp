@@ -57,6 +57,8 @@ void register_all(CLI::App& app) {
   register_render(app);
   register_texture(app);
   register_simulate(app);
+  register_measured(app);
+  register_export(app);
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {

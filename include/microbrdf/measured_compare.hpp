@@ -12,6 +12,8 @@
 //  - width ratios: GGX fits of both tables (alpha_x, alpha_y), predicted / measured.
 
 #include <cstddef>
+#include <nlohmann/json.hpp>
+#include <string>
 
 #include "microbrdf/fit.hpp"
 #include "microbrdf/tabulated_ndf.hpp"
@@ -36,5 +38,16 @@ NdfComparison compare_ndfs(const TabulatedNdf& measured, const TabulatedNdf& pre
 /// (0 outside the disk).
 TabulatedNdf instrument_view(const TabulatedNdf& predicted, std::size_t resolution,
                              double instrument_fwhm_rad, const TabulatedNdf* instrument);
+
+/// Writes DIR/compare.json (the comparison), DIR/measured.png and DIR/predicted.png (disk
+/// previews on one colour scale: the measured maximum; the prediction scaled by `scale`;
+/// unmeasured nodes grey), DIR/slices.csv and DIR/slices.png: cuts through both tables along
+/// the measured GGX fit's alpha_x axis ("along") and perpendicular to it ("cross"), signed polar
+/// angle of m in degrees (Dong Fig. 9 layout). Throws FileError.
+void write_compare_report(const TabulatedNdf& measured, const TabulatedNdf& predicted_view,
+                          const NdfComparison& c, const std::string& dir);
+/// The comparison as JSON (keys: nodes, scale, relative_l2, hellinger, alpha_x_ratio,
+/// alpha_y_ratio, measured_fit, predicted_fit).
+nlohmann::json comparison_json(const NdfComparison& c);
 
 }  // namespace microbrdf

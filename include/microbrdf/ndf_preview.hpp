@@ -15,6 +15,7 @@ struct NdfPreviewOptions {
   bool zoom = false;           ///< add a second panel zoomed on the peak
   double zoom_half_width = 0;  ///< disk units; 0 = automatic (4 x the rms slope, >= 8 nodes)
   std::string title;           ///< drawn above the image when not empty
+  double max_value = 0;        ///< top of the colour scale, 1/sr; 0 = the table's maximum
 };
 /// Log-scale false-colour preview of the disk (m_x to the right, m_y up), unit circle drawn,
 /// with a colour bar (labels in decades of 1/sr) and optionally a zoom panel around the peak.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "brdf/rgl_coords.hpp"
 #include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/measured.hpp"
@@ -11,12 +12,7 @@
 namespace microbrdf {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-double u2theta(double u) { return u * u * (kPi / 2); }
-double u2phi(double u) { return (2 * u - 1) * kPi; }
-double theta2u(double t) { return std::sqrt(std::max(0.0, t) * (2 / kPi)); }
-double phi2u(double p) { return (p + kPi) / (2 * kPi); }
+using namespace detail::rgl;
 // Polar angle, accurate near the pole: 2 asin(|d - z| / 2).
 double elevation(const Vec3& d) {
   const double dist = std::sqrt(d.x() * d.x() + d.y() * d.y() + (d.z() - 1) * (d.z() - 1));
@@ -28,6 +24,12 @@ double mulsign_neg(double a, double b) { return b < 0 ? a : -a; }
 std::vector<double> to_double(const std::vector<float>& v) { return {v.begin(), v.end()}; }
 
 }  // namespace
+
+// The coordinates every lookup of a (wi, wo) pair needs, after folding.
+struct Query {
+  double theta_i, phi_i, theta_m, wi_dot_m;
+  detail::Marginal2D::Vec2 u_wi, u_m;
+};
 
 struct RglBrdf::Impl {
   std::string path, description;
@@ -47,6 +49,23 @@ struct RglBrdf::Impl {
       wo->x() = mulsign_neg(wo->x(), sx);
       wo->y() = mulsign_neg(wo->y(), sy);
     }
+  }
+
+  Query query(const Vec3& wi_in, const Vec3& wo_in) const {
+    Vec3 wi = wi_in, wo = wo_in;
+    double sx, sy;
+    fold(wi, &wo, sx, sy);
+    const Vec3 m = (wi + wo).normalized();
+    Query q;
+    q.theta_i = elevation(wi);
+    q.phi_i = std::atan2(wi.y(), wi.x());
+    q.theta_m = elevation(m);
+    q.wi_dot_m = wi.dot(m);
+    const double phi_m = std::atan2(m.y(), m.x());
+    q.u_wi = {theta2u(q.theta_i), phi2u(q.phi_i)};
+    q.u_m = {theta2u(q.theta_m), phi2u(isotropic ? phi_m - q.phi_i : phi_m)};
+    q.u_m[1] -= std::floor(q.u_m[1]);
+    return q;
   }
 };
 
@@ -130,22 +149,14 @@ std::string RglBrdf::describe() const {
 
 double RglBrdf::eval(const Vec3& wi_in, const Vec3& wo_in, double wavelength_m) const {
   if (wi_in.z() <= 0 || wo_in.z() <= 0) return 0;
-  Vec3 wi = wi_in, wo = wo_in;
-  double sx, sy;
-  p_->fold(wi, &wo, sx, sy);
-  const Vec3 m = (wi + wo).normalized();
-  const double theta_i = elevation(wi), phi_i = std::atan2(wi.y(), wi.x());
-  const double theta_m = elevation(m), phi_m = std::atan2(m.y(), m.x());
-  const detail::Marginal2D::Vec2 u_wi{theta2u(theta_i), phi2u(phi_i)};
-  detail::Marginal2D::Vec2 u_m{theta2u(theta_m), phi2u(p_->isotropic ? phi_m - phi_i : phi_m)};
-  u_m[1] -= std::floor(u_m[1]);
-  const double params[3] = {phi_i, theta_i, wavelength_m * 1e9};
-  const auto s = p_->vndf.invert(u_m, params).first;
+  const Query q = p_->query(wi_in, wo_in);
+  const double params[3] = {q.phi_i, q.theta_i, wavelength_m * 1e9};
+  const auto s = p_->vndf.invert(q.u_m, params).first;
   double r = p_->spectra.eval(s, params);
   if (p_->jacobian) {
-    const double sig = p_->sigma.eval(u_wi, nullptr);
+    const double sig = p_->sigma.eval(q.u_wi, nullptr);
     if (!(sig > 0)) return 0;
-    r *= p_->ndf.eval(u_m, nullptr) / (4 * sig);
+    r *= p_->ndf.eval(q.u_m, nullptr) / (4 * sig);
   }
   return r / wo_in.z();
 }
@@ -167,7 +178,7 @@ std::optional<BrdfSample> RglBrdf::sample(const Vec3& wi_in, double u1, double u
                std::cos(theta_m));
   const double wim = wi.dot(m);
   if (!(wim > 0)) return std::nullopt;
-  const double jac = std::max(2 * kPi * kPi * u_m[0] * std::sin(theta_m), 1e-6) * 4 * wim;
+  const double jac = solid_angle_jacobian(u_m[0], theta_m) * 4 * wim;
   Vec3 wo = 2 * wim * m - wi;
   const double pdf = vndf_pdf * lum_pdf / jac;
   double r = p_->spectra.eval(s, params);
@@ -184,19 +195,11 @@ std::optional<BrdfSample> RglBrdf::sample(const Vec3& wi_in, double u1, double u
 
 double RglBrdf::pdf(const Vec3& wi_in, const Vec3& wo_in) const {
   if (wi_in.z() <= 0 || wo_in.z() <= 0) return 0;
-  Vec3 wi = wi_in, wo = wo_in;
-  double sx, sy;
-  p_->fold(wi, &wo, sx, sy);
-  const Vec3 m = (wi + wo).normalized();
-  const double theta_i = elevation(wi), phi_i = std::atan2(wi.y(), wi.x());
-  const double theta_m = elevation(m), phi_m = std::atan2(m.y(), m.x());
-  detail::Marginal2D::Vec2 u_m{theta2u(theta_m), phi2u(p_->isotropic ? phi_m - phi_i : phi_m)};
-  u_m[1] -= std::floor(u_m[1]);
-  const double params[2] = {phi_i, theta_i};
-  const auto [s, vndf_pdf] = p_->vndf.invert(u_m, params);
+  const Query q = p_->query(wi_in, wo_in);
+  const double params[2] = {q.phi_i, q.theta_i};
+  const auto [s, vndf_pdf] = p_->vndf.invert(q.u_m, params);
   const double lum_pdf = p_->luminance.eval(s, params);
-  const double jac = std::max(2 * kPi * kPi * u_m[0] * std::sin(theta_m), 1e-6) * 4 * wi.dot(m);
-  return vndf_pdf * lum_pdf / jac;
+  return vndf_pdf * lum_pdf / (solid_angle_jacobian(q.u_m[0], q.theta_m) * 4 * q.wi_dot_m);
 }
 
 }  // namespace microbrdf

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "brdf/rgl_coords.hpp"
 #include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/export.hpp"
@@ -9,12 +10,7 @@
 namespace microbrdf {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-double u2theta(double u) { return u * u * (kPi / 2); }
-double u2phi(double u) { return (2 * u - 1) * kPi; }
-double theta2u(double t) { return std::sqrt(std::max(0.0, t) * (2 / kPi)); }
-double phi2u(double p) { return (p + kPi) / (2 * kPi); }
+using namespace detail::rgl;
 Vec3 spherical(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }

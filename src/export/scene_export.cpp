@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "core/markup_escape.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
@@ -20,28 +21,7 @@ void ensure_dir(const std::string& dir) {
   if (ec || !fs::is_directory(dir)) throw FileError(dir, "cannot create the output directory");
 }
 
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
+std::string xml_escape(const std::string& s) { return detail::markup_escape(s); }
 // XML comments may not contain "--".
 std::string xml_comment(const std::string& s) {
   std::string out = s;
@@ -85,6 +65,13 @@ std::string copy_envmap(const std::string& dir, const SceneExportOptions& o) {
   const auto bytes = read_file_bytes(o.envmap, std::uint64_t{1} << 31);
   write_file_atomic((fs::path(dir) / name).string(), bytes);
   return name;
+}
+
+// material.xml: the bsdf element alone, in a scene Mitsuba can <include>.
+void write_material_xml(const std::string& dir, const std::string& bsdf) {
+  write_file_atomic((fs::path(dir) / "material.xml").string(),
+                    "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<scene version=\"3.0.0\">\n" +
+                        bsdf + "</scene>\n");
 }
 
 std::string pbrt_comment(const std::string& s) { return "# " + s + "\n"; }
@@ -142,9 +129,7 @@ std::vector<std::string> export_mitsuba(const RoughConductor& m, const std::stri
   bsdf += "    <spectrum name=\"eta\" filename=\"eta.spd\"/>\n";
   bsdf += "    <spectrum name=\"k\" filename=\"k.spd\"/>\n";
   bsdf += "  </bsdf>\n";
-  write_file_atomic((fs::path(dir) / "material.xml").string(),
-                    "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<scene version=\"3.0.0\">\n" +
-                        bsdf + "</scene>\n");
+  write_material_xml(dir, bsdf);
   files.push_back("material.xml");
   const std::string env = copy_envmap(dir, o);
   if (!env.empty()) files.push_back(env);
@@ -162,9 +147,7 @@ std::vector<std::string> export_mitsuba_measured(const std::string& bsdf_file,
   for (const auto& n : notes) bsdf += "    " + xml_comment(n) + "\n";
   bsdf += "    <string name=\"filename\" value=\"" + xml_escape(bsdf_file) + "\"/>\n  </bsdf>\n";
   std::vector<std::string> files;
-  write_file_atomic((fs::path(dir) / "material.xml").string(),
-                    "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<scene version=\"3.0.0\">\n" +
-                        bsdf + "</scene>\n");
+  write_material_xml(dir, bsdf);
   files.push_back("material.xml");
   const std::string env = copy_envmap(dir, o);
   if (!env.empty()) files.push_back(env);

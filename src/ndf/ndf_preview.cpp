@@ -112,6 +112,7 @@ RgbImage render_ndf_preview(const TabulatedNdf& ndf, const NdfPreviewOptions& op
       const double x = ndf.node_x(ix), y = ndf.node_y(iy);
       if (x * x + y * y <= 1) vmax = std::max(vmax, ndf.at(ix, iy));
     }
+  if (opt.max_value > 0) vmax = opt.max_value;  // a shared scale for side-by-side images
   LogScale scale{vmax > 0 ? std::log10(vmax) : 0.0, decades};
 
   const bool title = !opt.title.empty() && detail::font_can_draw(opt.title);

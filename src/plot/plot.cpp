@@ -14,6 +14,7 @@
 #include <memory>
 #include <sstream>
 
+#include "core/markup_escape.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
 #include "plot/ticks.hpp"
@@ -489,28 +490,7 @@ std::string lower_ext(const std::string& path) {
   return e;
 }
 
-std::string xml_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        o += "&amp;";
-        break;
-      case '<':
-        o += "&lt;";
-        break;
-      case '>':
-        o += "&gt;";
-        break;
-      case '"':
-        o += "&quot;";
-        break;
-      default:
-        o += c;
-    }
-  }
-  return o;
-}
+std::string xml_escape(const std::string& s) { return detail::markup_escape(s); }
 
 // What the SVG's <title>/<desc> say (text a browser can search; Cairo outlines the glyphs).
 std::pair<std::string, std::string> describe(const std::vector<const Plot*>& plots) {

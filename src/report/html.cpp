@@ -6,34 +6,13 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "core/markup_escape.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::report {
 
-std::string escape(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
+std::string escape(std::string_view text) { return detail::markup_escape(text); }
 
 std::string base64(const std::vector<std::uint8_t>& b) {
   static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
