@@ -9,6 +9,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/measured.hpp"
+#include "microbrdf/microfacet.hpp"
 #include "microbrdf/tensor_file.hpp"
 
 using namespace microbrdf;
