@@ -10,6 +10,7 @@
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/measured.hpp"
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/tensor_file.hpp"
 
 using namespace microbrdf;
