@@ -11,7 +11,7 @@
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/measured.hpp"
-#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/microfacet.hpp"
 #include "microbrdf/tensor_file.hpp"
 #include "test_microfacet_common.hpp"
 

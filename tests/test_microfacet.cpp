@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/microfacet.hpp"
 #include "test_microfacet_common.hpp"
 
 using namespace microbrdf;

@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/export.hpp"
 #include "microbrdf/brdf_albedo.hpp"
@@ -21,6 +22,7 @@
 #include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/measured_ndf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/rgl_bsdf.hpp"
 #include "microbrdf/tabulated_distribution.hpp"

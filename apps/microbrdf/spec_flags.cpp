@@ -2,6 +2,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/microfacet.hpp"
 
 namespace microbrdf::cli {
 

@@ -7,6 +7,7 @@
 
 #include "core/bilinear_cell.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/tabulated_ndf.hpp"
 
 namespace microbrdf::detail {
 namespace {
