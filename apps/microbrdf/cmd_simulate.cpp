@@ -125,6 +125,9 @@ void run_sh(const SimArgs& a, const MicroScene& scene) {
 }
 
 void run_in_plane(const SimArgs& a, const MicroScene& scene) {
+  // The direct mode runs on rank 0 alone (docs/scale.md).
+  if (!mpi_is_root()) return;
+  mpi_set_solo(true);
   const auto thetas = angle_list(a.in_plane);
   const double half = parse_angle(a.cone);
   if (!(half > 0 && half < 20 * kDeg)) throw InputError("--cone must be in (0, 20) deg");
