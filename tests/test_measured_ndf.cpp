@@ -8,10 +8,16 @@
 #include <cstdio>
 #include <random>
 
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/measured.hpp"
+#include "microbrdf/measured_compare.hpp"
 #include "microbrdf/measured_ndf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_preview.hpp"
 
 using namespace microbrdf;
 
@@ -37,33 +43,10 @@ MerlBrdf merl_of_ggx(double alpha, int invalid_from_theta_h_bin = MerlTable::kTh
               std::numeric_limits<double>::quiet_NaN();
   return MerlBrdf(parse_merl(encode_merl(t), "ggx.binary"), "ggx.binary");
 }
-}  // namespace
 
-TEST(MeasuredNdf, MerlOfIsotropicGgxRecoversAlpha) {
-  const double alpha = 0.3;
-  const MerlBrdf m = merl_of_ggx(alpha);
-  const ConductorFresnel f(constant_index(1.2, 3.5));
-  for (bool smith : {false, true}) {
-    EffectiveNdfOptions o;
-    o.resolution = 257;
-    o.smith = smith;
-    const TabulatedNdf t = effective_ndf(m, f, o);
-    EXPECT_EQ(t.meta.method, "measured");
-    const FitResult r = fit_ggx(t);
-    std::printf("[ MERL ggx %.2f, G %s ] fitted alpha_x %.4f alpha_y %.4f (%+.2f%%, %+.2f%%)\n",
-                alpha, smith ? "smith" : "1", r.params.alpha_x, r.params.alpha_y,
-                100 * (r.params.alpha_x / alpha - 1), 100 * (r.params.alpha_y / alpha - 1));
-    EXPECT_NEAR(r.params.alpha_x, alpha, 0.03 * alpha) << (smith ? "smith" : "G=1");
-    EXPECT_NEAR(r.params.alpha_y, alpha, 0.03 * alpha) << (smith ? "smith" : "G=1");
-  }
-}
-
-TEST(MeasuredNdf, GonioCsvOfAnisotropicGgxRecoversBothWidths) {
-  const double ax = 0.1, ay = 0.25, phi = 0.3;
-  const MicrofacetBrdf g(std::make_shared<GgxDistribution>(ax, ay, phi),
-                         std::make_shared<ConductorFresnel>(constant_index(1.6, 3.2)));
-  // 4000 half vectors: 50 rings (denser towards the pole) x 80 azimuths, each measured at
-  // theta_d = 14.14 deg with the plane of wi, wo turned by a random angle about h.
+// 4000 half vectors: 50 rings (denser towards the pole) x 80 azimuths, each measured at
+// theta_d = 14.14 deg with the plane of wi, wo turned by a random angle about h.
+GonioData gonio_points(const Brdf& g) {
   const double half = 14.14 * kPi / 180 / 2;
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(0, 1);
@@ -90,6 +73,34 @@ TEST(MeasuredNdf, GonioCsvOfAnisotropicGgxRecoversBothWidths) {
       p.brdf = g.eval(wi, wo, 550e-9);
       d.points.push_back(p);
     }
+  return d;
+}
+}  // namespace
+
+TEST(MeasuredNdf, MerlOfIsotropicGgxRecoversAlpha) {
+  const double alpha = 0.3;
+  const MerlBrdf m = merl_of_ggx(alpha);
+  const ConductorFresnel f(constant_index(1.2, 3.5));
+  for (bool smith : {false, true}) {
+    EffectiveNdfOptions o;
+    o.resolution = 257;
+    o.smith = smith;
+    const TabulatedNdf t = effective_ndf(m, f, o);
+    EXPECT_EQ(t.meta.method, "measured");
+    const FitResult r = fit_ggx(t);
+    std::printf("[ MERL ggx %.2f, G %s ] fitted alpha_x %.4f alpha_y %.4f (%+.2f%%, %+.2f%%)\n",
+                alpha, smith ? "smith" : "1", r.params.alpha_x, r.params.alpha_y,
+                100 * (r.params.alpha_x / alpha - 1), 100 * (r.params.alpha_y / alpha - 1));
+    EXPECT_NEAR(r.params.alpha_x, alpha, 0.03 * alpha) << (smith ? "smith" : "G=1");
+    EXPECT_NEAR(r.params.alpha_y, alpha, 0.03 * alpha) << (smith ? "smith" : "G=1");
+  }
+}
+
+TEST(MeasuredNdf, GonioCsvOfAnisotropicGgxRecoversBothWidths) {
+  const double ax = 0.1, ay = 0.25, phi = 0.3;
+  const MicrofacetBrdf g(std::make_shared<GgxDistribution>(ax, ay, phi),
+                         std::make_shared<ConductorFresnel>(constant_index(1.6, 3.2)));
+  const GonioData d = gonio_points(g);
   EXPECT_EQ(d.points.size(), 4000u);
   const GonioData back = parse_gonio_csv(encode_gonio_csv(d), "goni.csv");
   const ConductorFresnel f(constant_index(1.6, 3.2));
@@ -147,4 +158,55 @@ TEST(MeasuredNdf, UnmeasuredNodesAreNaNAndIgnoredByTheFit) {
     if (std::isnan(v)) v = 0;
   const FitResult z = fit_ggx(zeros);
   EXPECT_GT(std::abs(z.params.alpha_x / alpha - 1), 0.1);
+}
+
+TEST(MeasuredNdf, CompareScoresTheRightPredictionAndRejectsAWrongOne) {
+  const double ax = 0.1, ay = 0.25, phi = 0.3;
+  const auto d = std::make_shared<GgxDistribution>(ax, ay, phi);
+  const MicrofacetBrdf g(d, std::make_shared<ConductorFresnel>(constant_index(1.6, 3.2)));
+  EffectiveNdfOptions o;
+  o.resolution = 513;
+  const TabulatedNdf measured =
+      effective_ndf(gonio_points(g), ConductorFresnel(constant_index(1.6, 3.2)), o);
+  const NdfComparison right = compare_ndfs(measured, tabulate(*d, "ggx", 1025));
+  const NdfComparison wrong =
+      compare_ndfs(measured, tabulate(GgxDistribution(2 * ax, ay, phi), "ggx", 1025));
+  std::printf(
+      "[ compare ] right: rel L2 %.4f, Hellinger %.4f, widths x %.4f y %.4f, scale %.4f; "
+      "wrong: rel L2 %.4f, widths x %.4f\n",
+      right.relative_l2, right.hellinger, right.alpha_x_ratio, right.alpha_y_ratio, right.scale,
+      wrong.relative_l2, wrong.alpha_x_ratio);
+  EXPECT_EQ(right.nodes, measured_nodes(measured));
+  EXPECT_LT(right.relative_l2, 0.1);
+  EXPECT_NEAR(right.alpha_x_ratio, 1, 0.03);
+  EXPECT_NEAR(right.alpha_y_ratio, 1, 0.03);
+  EXPECT_GT(wrong.relative_l2, 3 * right.relative_l2);
+  EXPECT_NEAR(wrong.alpha_x_ratio, 2, 0.1);
+  // A 1.5 deg instrument widens the prediction a little, never narrows it.
+  const NdfComparison blurred = compare_ndfs(measured, tabulate(*d, "ggx", 1025), 1.5 * kPi / 180);
+  EXPECT_GT(blurred.predicted_fit.params.alpha_x, right.predicted_fit.params.alpha_x);
+}
+
+TEST(MeasuredNdf, NaNSurvivesNpyAndPreviewShowsItGrey) {
+  TabulatedNdf t = tabulate(GgxDistribution(0.2), "ggx", 65);
+  t.meta.method = "measured";
+  for (std::size_t ix = 0; ix < 65; ++ix) t.at(ix, 40) = std::numeric_limits<double>::quiet_NaN();
+  const std::string path = ::testing::TempDir() + "microbrdf_nan_ndf.npy";
+  write_ndf(t, path);
+  const TabulatedNdf back = read_ndf(path);
+  EXPECT_TRUE(std::isnan(back.at(32, 40)));
+  EXPECT_EQ(back.at(32, 32), t.at(32, 32));
+  EXPECT_EQ(back.meta.method, "measured");
+  NdfPreviewOptions po;
+  po.size = 65;
+  po.zoom = true;
+  const RgbImage img = render_ndf_preview(back, po);
+  // Pixel of node row 40 (m_y = 0.25) at m_x ~ -0.69 (away from the zoom frame): unmeasured grey.
+  const std::size_t py = 10 + static_cast<std::size_t>((1 - 0.25) / 2 * 65);
+  const std::size_t px = 10 + 10;
+  const std::uint8_t* c = &img.pixels[3 * (py * img.width + px)];
+  EXPECT_EQ(c[0], 96);
+  EXPECT_EQ(c[2], 104);
+  std::remove(path.c_str());
+  std::remove((::testing::TempDir() + "microbrdf_nan_ndf.json").c_str());
 }

@@ -8,7 +8,8 @@
 #include "commands.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/height_preview.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 
@@ -18,15 +19,13 @@ namespace {
 struct InfoArgs {
   std::vector<std::string> inputs;
   ReadFlags read;
-  bool json = false;
+  bool json = false, keep_going = false;
   std::string preview;
   std::string psd;
 };
 
 std::string deg(double slope) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g deg", std::atan(slope) * 180 / M_PI);
-  return b;
+  return std::isfinite(slope) ? number_or_na(std::atan(slope) * 180 / M_PI, "%.3g deg") : "n/a";
 }
 
 void print_human(std::FILE* out, const std::string& path, const Surface& s, const SurfaceStats& st,
@@ -45,9 +44,11 @@ void print_human(std::FILE* out, const std::string& path, const Surface& s, cons
                format_length(st.max).c_str(), format_length(st.mean).c_str());
   std::fprintf(out, "  Sq (sigma)     %s    Sa %s\n", format_length(st.sq).c_str(),
                format_length(st.sa).c_str());
-  std::fprintf(out, "  skew / kurt    %.4g / %.4g (Gaussian: 0 / 3)\n", st.skewness, st.kurtosis);
-  std::fprintf(out, "  rms slope      x %.4g (%s), y %.4g (%s)\n", st.slope_rms_x,
-               deg(st.slope_rms_x).c_str(), st.slope_rms_y, deg(st.slope_rms_y).c_str());
+  std::fprintf(out, "  skew / kurt    %s / %s (Gaussian: 0 / 3)\n",
+               number_or_na(st.skewness).c_str(), number_or_na(st.kurtosis).c_str());
+  std::fprintf(out, "  rms slope      x %s (%s), y %s (%s)\n", number_or_na(st.slope_rms_x).c_str(),
+               deg(st.slope_rms_x).c_str(), number_or_na(st.slope_rms_y).c_str(),
+               deg(st.slope_rms_y).c_str());
   auto len = [](double v) {
     return std::isfinite(v) ? format_length(v) : std::string("longer than the scan");
   };
@@ -98,6 +99,8 @@ void run(const InfoArgs& a) {
   if (files && paths.size() != 1)
     throw InputError("--preview and --psd take exactly one input file (got " +
                      std::to_string(paths.size()) + ")");
+  // Without --keep-going a file that is not there is a usage error, found before any reading.
+  if (!a.keep_going) scan_inputs(a.inputs);
   LevelingSpec::parse(a.read.level);  // validate before the (maybe long) reads
   // The scans over the MPI ranks (docs/scale.md), listed by rank 0 in input order; with
   // --preview / --psd (one scan) rank 0 alone reads it and writes the files.
@@ -110,10 +113,23 @@ void run(const InfoArgs& a) {
       std::fputs(r.text.c_str(), stdout);
   };
   WorkStats stats;
-  if (files) {
+  nlohmann::json failed = nlohmann::json::array();
+  if (files || a.keep_going) {
+    // One scan with its files, or --keep-going (an interactive listing): rank 0 alone, in order.
     if (!mpi_is_root()) return;
-    Surface s = read_surface(paths[0], read_options(a.read));
-    list(0, describe(a, paths[0], s, true));
+    for (std::size_t i = 0; i < paths.size(); ++i) {
+      Surface s;
+      try {
+        s = read_surface(paths[i], read_options(a.read));
+      } catch (const std::exception& e) {
+        if (!a.keep_going) throw;
+        // --keep-going: say which file failed and why, go on, and fail at the end.
+        std::fprintf(stderr, "microbrdf info: error: %s (skipped)\n", e.what());
+        failed.push_back({{"path", paths[i]}, {"error", e.what()}});
+        continue;
+      }
+      list(i, describe(a, paths[i], s, files));
+    }
   } else {
     stats = distribute_scans(
         paths, read_options(a.read),
@@ -123,7 +139,12 @@ void run(const InfoArgs& a) {
         list);
     if (!mpi_is_root()) return;
   }
-  if (a.json) print_json({{"surfaces", all}, {"mpi", stats.to_json("scans_per_rank")}});
+  if (a.json)
+    print_json({{"surfaces", all}, {"failed", failed}, {"mpi", stats.to_json("scans_per_rank")}});
+  if (!failed.empty())
+    throw FileError(
+        std::to_string(failed.size()) + " of " + std::to_string(paths.size()) + " files",
+        "could not be read (see above)");
 }
 
 }  // namespace
@@ -149,6 +170,9 @@ void register_info(CLI::App& app) {
   cmd->add_option("--preview", args->preview,
                   "Write a false-colour height-map PNG (one input only)");
   cmd->add_option("--psd", args->psd, "Write the radially averaged PSD as CSV (one input only)");
+  cmd->add_flag("--keep-going", args->keep_going,
+                "Go on past files that cannot be read (each is reported on stderr and in the "
+                "JSON's \"failed\" list); the exit code is still 1 if any failed");
   cmd->callback([args] { run_guarded("info", [&] { run(*args); }); });
 }
 

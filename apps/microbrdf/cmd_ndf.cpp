@@ -9,8 +9,10 @@
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/ndf_convolve.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_preview.hpp"
 #include "microbrdf/ndf_scanset.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
@@ -99,15 +101,10 @@ void run_kirchhoff(const NdfArgs& a) {
     throw InputError("--resolution must be in 17..8193");
   if (!(o.wavelength_q > 0)) throw InputError("--wavelength must be > 0");
   if (!(o.accuracy > 0 && o.accuracy < 1)) throw InputError("--accuracy must be in (0, 1)");
-  auto paths = expand_scan_inputs(a.inputs);
+  auto paths = scan_inputs(a.inputs);
   // D_K takes ~25 s per scan at 1025^2: report the overall fraction on stderr in 10 % steps.
-  int last_step = -1;
-  o.progress = [&](double all) {
-    const int step = static_cast<int>(std::floor(all * 10 + 1e-9));
-    if (step == last_step) return;
-    last_step = step;
-    std::fprintf(stderr, "microbrdf ndf: kirchhoff D_K %3d%%\n", step * 10);
-  };
+  Progress dk_progress("ndf", false, 0.1, "kirchhoff D_K");
+  o.progress = [&](double all) { dk_progress.fraction(all); };
   ScanSetOptions set = scan_set_options(a, paths.size());
   set.on_scan = [&](std::size_t i, const std::string& path, const nlohmann::json& scan) {
     progress("ndf", i, paths.size(), path);
@@ -168,22 +165,22 @@ void run(const NdfArgs& a) {
     o.method = NdfMethod::Filtered;
   else
     throw InputError("unknown --method '" + a.method + "' (naive | filtered | kirchhoff)");
-  o.filter_sigma = parse_length(a.filter_sigma);
+  o.filter_sigma_m = parse_length(a.filter_sigma);
   o.resolution = a.resolution;
   o.min_support = a.min_support;
   if (a.resolution < 17 || a.resolution > 8193)
     throw InputError("--resolution must be in 17..8193");
-  auto paths = expand_scan_inputs(a.inputs);
+  auto paths = scan_inputs(a.inputs);
   bool warned = false;
   ScanSetOptions set = scan_set_options(a, paths.size());
   set.on_scan = [&](std::size_t i, const std::string& path, const nlohmann::json& scan) {
     progress("ndf", i, paths.size(), path);
     const double d = std::max(scan.at("dx_m").get<double>(), scan.at("dy_m").get<double>());
-    if (o.method == NdfMethod::Filtered && !warned && o.filter_sigma < d) {
+    if (o.method == NdfMethod::Filtered && !warned && o.filter_sigma_m < d) {
       std::fprintf(stderr,
                    "microbrdf ndf: warning: filter sigma %s is below the sample spacing %s of %s: "
                    "the fit sees few neighbours and approaches the naive estimate\n",
-                   format_length(o.filter_sigma).c_str(), format_length(d).c_str(), path.c_str());
+                   format_length(o.filter_sigma_m).c_str(), format_length(d).c_str(), path.c_str());
       warned = true;
     }
   };

@@ -134,3 +134,19 @@ def test_bad_arguments_raise_value_error():
         mb.brdf(model="ggx", alpha=0.2, metal="Unobtainium")
     with pytest.raises(ValueError):
         mb.brdf(model="ggx", alpha=-0.2, metal="Au")
+
+
+def test_kirchhoff_brdf_is_dong_eq_8_with_the_table():
+    # One D_K table, no shadowing: f = D_K(h) F(wi.h) / (4 cos_i cos_o) (Dong 2015 eq. 8, G = 1),
+    # with D_K(h) read from the table by D.eval and F the numpy conductor formula.
+    from conftest import gaussian_surface
+
+    s = mb.Surface(gaussian_surface(nx=64, ny=64, spacing=0.1e-6, sigma=0.05e-6, tau=0.6e-6), spacing=0.1e-6)
+    DK = mb.ndf(s, method="kirchhoff", wavelength=555e-9, patch=None, resolution=129, level="none")
+    b = mb.brdf(kirchhoff=DK, n=1.2, k=3.5)
+    rng = np.random.default_rng(2)
+    wi, wo = random_hemisphere(rng, 3000), random_hemisphere(rng, 3000)
+    h = (wi + wo) / np.linalg.norm(wi + wo, axis=1, keepdims=True)
+    ref = DK.eval(h) * fresnel_conductor(np.sum(wi * h, axis=1), 1.2 + 3.5j) / (4 * wi[:, 2] * wo[:, 2])
+    np.testing.assert_allclose(b.eval(wi, wo), ref, rtol=1e-12, atol=0)
+    assert isinstance(b, mb.KirchhoffBrdf)

@@ -3,6 +3,7 @@ float64 C-contiguous inputs are read in place, others converted once."""
 import gc
 
 import numpy as np
+import pytest
 
 import microbrdf as mb
 
@@ -59,3 +60,18 @@ def test_direction_inputs_read_in_place_or_converted_once():
     b = mb.brdf(model="ggx", alpha=0.3, metal="Al")
     wi = a / np.linalg.norm(a, axis=1, keepdims=True)
     np.testing.assert_array_equal(b.eval(wi, wi), b.eval(np.asfortranarray(wi), wi.tolist()))
+
+
+def test_tabulated_ndf_from_array_and_surface_save_round_trip(tmp_path):
+    values = np.random.default_rng(1).random((33, 33))
+    D = mb.TabulatedNdf(values)
+    assert np.array_equal(np.asarray(D), values) and not np.shares_memory(np.asarray(D), values)
+    D.normalise()
+    assert D.integral() == pytest.approx(1, rel=1e-12)
+    z = np.random.default_rng(2).normal(size=(20, 30)) * 1e-7
+    z[3, 4] = np.nan
+    s = mb.Surface(z, spacing=(1e-6, 2e-6))
+    s.save(tmp_path / "s.x3p")
+    back = mb.read_surface(tmp_path / "s.x3p")
+    assert back.spacing == pytest.approx((1e-6, 2e-6)) and not back.valid[3, 4]
+    np.testing.assert_allclose(back.heights[s.valid], z[s.valid], rtol=1e-12)
