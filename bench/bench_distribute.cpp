@@ -9,21 +9,15 @@
 #include "microbrdf/generate.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/ndf_scanset.hpp"
+#include "surface_test_util.hpp"
 
 using namespace microbrdf;
 
 namespace {
 
+// Dong's scan size: 640 x 480 at 110 nm.
 const Surface& scan() {
-  static const Surface s = [] {
-    GaussianSurfaceParams p;
-    p.nx = 640;
-    p.ny = 480;
-    p.dx = p.dy = 110e-9;
-    p.sigma = 0.1e-6;
-    p.tau_x = p.tau_y = 1e-6;
-    return generate_gaussian(p);
-  }();
+  static const Surface s = test_util::isotropic_gaussian(640, 480, 110e-9, 0.1e-6, 1e-6);
   return s;
 }
 

@@ -47,7 +47,7 @@ $BIN info "${SCANS[@]}" --json >"$T/info1.json" 2>/dev/null || fail "info"
 "${MPI[@]}" $BIN info "${SCANS[@]}" --json >"$T/infom.json" 2>/dev/null || fail "info, mpirun"
 
 cat >"$T/scene.json" <<'J'
-{"materials": {"m": {"type": "mirror", "fresnel": "Al"}},
+{"materials": {"m": {"type": "mirror", "metal": "Al"}},
  "objects": [{"type": "heightfield", "material": "m",
    "generate": {"kind": "gaussian", "nx": 64, "ny": 64, "spacing": "8um", "sigma": "10um",
                 "tau": "65um", "seed": 2}}]}
