@@ -99,6 +99,11 @@ void run_sh(const SimArgs& a, const MicroScene& scene) {
 }
 
 void run(const SimArgs& a) {
+  if (a.visibility || !a.in_plane.empty()) {
+    // The direct modes run on rank 0 alone (docs/scale.md).
+    if (!mpi_is_root()) return;
+    mpi_set_solo(true);
+  }
   MicroScene scene(load_micro_scene(a.scene));
   if (!a.quiet)
     std::fprintf(stderr,

@@ -62,7 +62,10 @@ void register_all(CLI::App& app) {
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {
-  if (!mpi_is_root() && !distributed(command)) return;
+  if (!distributed(command)) {
+    if (!mpi_is_root()) return;
+    mpi_set_solo(true);  // library calls that could spread work keep it on this rank
+  }
   try {
     body();
   } catch (...) {

@@ -31,6 +31,11 @@ bool mpi_active();  ///< true when running under an MPI launcher with MPI initia
 int mpi_rank();     ///< 0 when not under MPI
 int mpi_size();     ///< 1 when not under MPI
 inline bool mpi_is_root() { return mpi_rank() == 0; }
+/// Declares that the other ranks take no part in what follows (a command that runs on rank 0
+/// alone): distribute() then runs every item on the calling rank instead of waiting for ranks
+/// that will never ask for work.
+void mpi_set_solo(bool solo);
+bool mpi_solo();
 /// Ends every rank at once (MPI_Abort) after writing `message` to this rank's original stderr;
 /// a plain process exits with `code`. For failures outside a distribute() call that only some
 /// ranks see, where waiting for the others would hang.

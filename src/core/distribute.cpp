@@ -273,8 +273,8 @@ WorkStats distribute(std::size_t n, const std::function<WorkResult(std::size_t)>
   const int threads = std::max(1, o.threads);
   // One item at a time: compute keeps the caller's OpenMP threads; several: one thread each.
   const int inner = threads == 1 ? omp_get_max_threads() : 1;
-  const int size = mpi_size();
-  const bool mpi = mpi_active() && size > 1;
+  const bool mpi = mpi_active() && mpi_size() > 1 && !mpi_solo();
+  const int size = mpi ? mpi_size() : 1;
   if (mpi && mpi_rank() != 0) {
     run_worker(threads, inner, compute);
     return WorkStats{};

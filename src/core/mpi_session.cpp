@@ -15,7 +15,7 @@
 namespace microbrdf {
 namespace {
 
-bool g_active = false;
+bool g_active = false, g_solo = false;
 int g_rank = 0, g_size = 1;
 int g_stderr = 2;  // this rank's original stderr (ranks > 0 point fd 2 at /dev/null)
 
@@ -71,6 +71,8 @@ MpiSession::~MpiSession() {
 }
 
 bool mpi_active() { return g_active; }
+void mpi_set_solo(bool solo) { g_solo = solo; }
+bool mpi_solo() { return g_solo; }
 int mpi_rank() { return g_rank; }
 int mpi_size() { return g_size; }
 

@@ -47,7 +47,7 @@ $BIN info "${SCANS[@]}" --json >"$T/info1.json" 2>/dev/null || fail "info"
 "${MPI[@]}" $BIN info "${SCANS[@]}" --json >"$T/infom.json" 2>/dev/null || fail "info, mpirun"
 
 cat >"$T/scene.json" <<'J'
-{"materials": {"m": {"type": "mirror", "fresnel": "Al"}},
+{"materials": {"m": {"type": "mirror", "metal": "Al"}},
  "objects": [{"type": "heightfield", "material": "m",
    "generate": {"kind": "gaussian", "nx": 64, "ny": 64, "spacing": "8um", "sigma": "10um",
                 "tau": "65um", "seed": 2}}]}
@@ -57,6 +57,14 @@ $BIN "${sargs[@]}" --threads 1 -o "$T/sim1.shbrdf" || fail "simulate, 1 thread"
 $BIN "${sargs[@]}" --threads 2 -o "$T/sim2.shbrdf" || fail "simulate, 2 threads"
 "${MPI[@]}" $BIN "${sargs[@]}" --threads 2 -o "$T/simm.shbrdf" --json >"$T/sim.json" \
   || fail "simulate under mpirun"
+
+# Commands (and modes) that run on rank 0 alone finish under mpirun too, writing once.
+timeout 120 "${MPI[@]}" $BIN generate gaussian --nx 64 --ny 64 --spacing 1um --sigma 0.1um \
+  --tau 4um -o "$T/solo.x3p" >/dev/null 2>&1 || fail "generate under mpirun"
+[ -s "$T/solo.x3p" ] || fail "generate under mpirun: no file"
+timeout 120 "${MPI[@]}" $BIN simulate "$T/scene.json" --in-plane 0,45 --gonio-rays 4000 \
+  --csv "$T/plane.csv" -q >/dev/null 2>&1 || fail "simulate --in-plane under mpirun"
+[ -s "$T/plane.csv" ] || fail "simulate --in-plane under mpirun: no CSV"
 
 /usr/bin/python3 - "$T" <<'PY' || fail "JSON / matrices"
 import json, struct, sys

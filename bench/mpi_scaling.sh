@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Scan sets over MPI ranks on this machine (docs/benchmarks.md, "Scale-out"): `ndf --method
+# filtered` of 20 scans of 640 x 480 at 110 nm with 1 rank and with 2 ranks (one OpenMP thread
+# each), back to back in one run, plus 1 process with 2 threads for reference; then the largest
+# resident set of every rank for 20 and for 200 scans (200 = the 20 files listed 10 times over by
+# symbolic links: the same reads, a tenth of the disk). Scans are generated in a temporary
+# directory and removed afterwards.
+#   bench/mpi_scaling.sh build/bin/microbrdf [repeats]
+set -eu
+BIN=$(realpath "$1")
+REPEATS=${2:-2}
+MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+mkdir -p "$T/s20" "$T/s200"
+for i in $(seq -w 1 20); do
+  "$BIN" generate gaussian --nx 640 --ny 480 --spacing 110nm --sigma 0.1um --tau 1um --seed "$((10#$i))" \
+    -o "$T/s20/s$i.x3p" >/dev/null 2>&1
+done
+for k in $(seq -w 0 9); do
+  for f in "$T"/s20/*.x3p; do ln -s "$f" "$T/s200/r${k}_$(basename "$f")"; done
+done
+echo "cores: $(nproc); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+
+wall() {  # wall seconds of a command
+  local t0 t1
+  t0=$(date +%s.%N)
+  "$@" >/dev/null 2>&1
+  t1=$(date +%s.%N)
+  echo "$t1 - $t0" | bc
+}
+ARGS=(ndf --method filtered -o "$T/out.npy")
+for r in $(seq 1 "$REPEATS"); do
+  a=$(OMP_NUM_THREADS=1 wall "${MPIRUN[@]}" -np 1 "$BIN" "${ARGS[@]}" "$T"/s20/*.x3p)
+  b=$(OMP_NUM_THREADS=1 wall "${MPIRUN[@]}" -np 2 "$BIN" "${ARGS[@]}" "$T"/s20/*.x3p)
+  c=$(OMP_NUM_THREADS=2 wall "$BIN" "${ARGS[@]}" "$T"/s20/*.x3p)
+  d=$(OMP_NUM_THREADS=1 wall "$BIN" "${ARGS[@]}" "$T"/s20/*.x3p)
+  echo "round $r: 1 rank ${a} s, 2 ranks ${b} s (speed-up $(echo "scale=2; $a / $b" | bc)); plain process 1 thread ${d} s, 2 threads ${c} s"
+done
+
+# Largest resident set per rank (GNU time inside each rank).
+for set in s20 s200; do
+  rm -f "$T"/rss.*
+  OMP_NUM_THREADS=1 "${MPIRUN[@]}" -np 2 sh -c \
+    '/usr/bin/time -f "%M" -o "$0/rss.$OMPI_COMM_WORLD_RANK" "$@"' "$T" \
+    "$BIN" "${ARGS[@]}" "$T/$set"/*.x3p >/dev/null 2>&1
+  echo "$set: max RSS per rank (KiB): rank 0 $(cat "$T/rss.0"), rank 1 $(cat "$T/rss.1")"
+done
+echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
