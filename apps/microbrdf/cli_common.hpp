@@ -24,10 +24,6 @@ ReadOptions read_options(const ReadFlags& flags);
 /// Reads a surface and levels it as asked; the levelling description is returned.
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* leveling_report);
 
-/// The `info --json` record of one surface (docs/architecture.md keys, SI units): the library's
-/// stats_json(st) plus the file's path, format and metadata.
-nlohmann::json stats_json(const std::string& path, const Surface& s, const SurfaceStats& st);
-
 /// The analytic-model flags shared by `tabulate` and `brdf` (--model, --alpha or
 /// --alpha-x/--alpha-y, --phi, --theta-x/y/z; angles with units) as an NdfSpec. --alpha sets
 /// both widths; --alpha-y defaults to alpha_x. Throws InputError without a roughness.

@@ -47,20 +47,11 @@ py::dict metadata_dict(const Surface& s) {
   return d;
 }
 
-/// The `info --json` record of one surface: the library's statistics layout plus the file's
-/// path, format and metadata (the CLI adds the same keys).
+/// The `info --json` record of one surface (with the levelling report, as `info` adds it).
 py::dict statistics_record(const std::string& path, const Surface& s, const SurfaceStats& st,
                            const std::string& leveling_report) {
-  nlohmann::json j = stats_json(st);
-  j["path"] = path;
-  j["format"] = s.meta.format;
-  j["invalid_count"] = s.size() - st.valid_count;
-  j["leveling"] = s.meta.leveling;
+  nlohmann::json j = stats_json(path, s, st);
   j["leveling_report"] = leveling_report;
-  j["z0_m"] = s.z0;
-  j["instrument"] = s.meta.instrument;
-  j["date"] = s.meta.date;
-  j["z_unit_in_file"] = s.meta.z_unit_in_file;
   return json_to_py(j.dump());
 }
 
