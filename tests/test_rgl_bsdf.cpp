@@ -15,6 +15,8 @@
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
+#include "microbrdf/measured.hpp"
+#include "microbrdf/measured_ndf.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/rgl_bsdf.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
@@ -230,4 +232,18 @@ TEST(RglBsdf, IndependentReaderFilteredNdfOfARealScan) {
   o.theta_i = 12;
   o.wavelengths_nm = {500, 550, 600};
   check_with_independent_reader(brdf, *d, o, "scan_filtered", 0.02, 0.02);
+}
+
+TEST(RglBsdf, MerlToBsdfKeepsTheMeasuredBrdf) {
+  // MERL table of a GGX conductor -> .bsdf parameterised by the table's own lobe (eq. 9 shape).
+  const auto c = ggx(0.2, 0.2);
+  const MerlBrdf merl(parse_merl(encode_merl(tabulate_merl(*c.brdf)), "ggx.binary"));
+  const auto lobe = lobe_distribution(merl, 257);
+  RglExportOptions o;
+  o.wavelengths_nm = {532};
+  const RglBrdf r(rgl_tensor(merl, *lobe, o), "merl.bsdf");
+  const double med = median_relative_error(
+      merl, [&](const Vec3& wi, const Vec3& wo) { return r.eval(wi, wo, 532e-9); }, true, 3);
+  std::printf("[ MERL -> .bsdf ] median relative error against the MERL table %.4f\n", med);
+  EXPECT_LT(med, 0.02);
 }

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
@@ -35,8 +36,17 @@ ReadOptions read_options(const ReadFlags& flags) {
   return o;
 }
 
+std::vector<std::string> scan_inputs(const std::vector<std::string>& inputs) {
+  auto paths = expand_scan_inputs(inputs);
+  Preflight pre;
+  for (const auto& p : paths) pre.input("input", p);
+  pre.done();
+  return paths;
+}
+
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* report) {
   auto spec = LevelingSpec::parse(flags.level);  // validate before the (maybe long) read
+  Preflight().input("input", path).done();
   Surface s = read_surface(path, read_options(flags));
   auto r = level_surface(s, spec);
   if (report) *report = r.description;
@@ -60,9 +70,10 @@ NdfSpec ndf_spec(const ModelFlags& f) {
 CLI::Option* add_model_flags(CLI::App* c, ModelFlags& f) {
   auto* model =
       c->add_option("--model", f.model, "NDF: beckmann, ggx or ellipsoid")->capture_default_str();
-  c->add_option("--alpha", f.alpha, "Roughness alpha (both axes)");
-  c->add_option("--alpha-x", f.alpha_x, "Roughness along the first axis");
-  c->add_option("--alpha-y", f.alpha_y, "Roughness along the second axis (default: = alpha-x)");
+  c->add_option("--alpha", f.alpha, "Roughness alpha (both axes)")->check(positive_number());
+  c->add_option("--alpha-x", f.alpha_x, "Roughness along the first axis")->check(positive_number());
+  c->add_option("--alpha-y", f.alpha_y, "Roughness along the second axis (default: = alpha-x)")
+      ->check(positive_number());
   c->add_option("--phi", f.phi, "beckmann/ggx: azimuth of the alpha-x axis (deg unless marked)");
   c->add_option("--theta-x", f.theta_x, "ellipsoid: rotation Rx (tilts the peak towards +y)");
   c->add_option("--theta-y", f.theta_y, "ellipsoid: rotation Ry (tilts the peak towards -x)");
@@ -73,8 +84,7 @@ CLI::Option* add_model_flags(CLI::App* c, ModelFlags& f) {
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
 
 void progress(const char* command, std::size_t index, std::size_t total, const std::string& what) {
-  if (total <= 1) return;
-  std::fprintf(stderr, "microbrdf %s: [%zu/%zu] %s\n", command, index + 1, total, what.c_str());
+  Progress(command).item(index, total, what);
 }
 
 }  // namespace microbrdf::cli

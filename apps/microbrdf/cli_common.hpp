@@ -1,9 +1,12 @@
 #pragma once
-// Pieces every subcommand shares: reading flags (--spacing, --level), JSON printing, progress.
+// Pieces every subcommand shares: reading flags (--spacing, --level), JSON printing, progress
+// (cli_progress.hpp) and the checks made before any heavy work (cli_checks.hpp).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_checks.hpp"
+#include "cli_progress.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
 #include "microbrdf/microfacet.hpp"
@@ -21,7 +24,13 @@ struct ReadFlags {
 void add_read_flags(CLI::App* cmd, ReadFlags& flags, const std::string& default_level);
 ReadOptions read_options(const ReadFlags& flags);
 
-/// Reads a surface and levels it as asked; the levelling description is returned.
+/// The scans named by files, folders, globs or @manifests (expand_scan_inputs), each checked to
+/// exist and be readable: a missing scan is a usage error (exit 2), all of them listed at once,
+/// before any file is parsed.
+std::vector<std::string> scan_inputs(const std::vector<std::string>& inputs);
+
+/// Reads a surface and levels it as asked; the levelling description is returned. A file that
+/// does not exist is a usage error (InputError); one that cannot be read is a FileError.
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* leveling_report);
 
 /// The analytic-model flags shared by `tabulate` and `brdf` (--model, --alpha or
@@ -39,7 +48,7 @@ CLI::Option* add_model_flags(CLI::App* cmd, ModelFlags& f);
 /// Prints one JSON object on stdout.
 void print_json(const nlohmann::json& j);
 
-/// "[3/10] scan.x3p" style progress on stderr (silent when `quiet`).
+/// "[3/10] scan.x3p" style progress on stderr (Progress::item of cli_progress.hpp).
 void progress(const char* command, std::size_t index, std::size_t total, const std::string& what);
 
 }  // namespace microbrdf::cli

@@ -17,15 +17,13 @@ namespace {
 struct InfoArgs {
   std::vector<std::string> inputs;
   ReadFlags read;
-  bool json = false;
+  bool json = false, keep_going = false;
   std::string preview;
   std::string psd;
 };
 
 std::string deg(double slope) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g deg", std::atan(slope) * 180 / M_PI);
-  return b;
+  return std::isfinite(slope) ? number_or_na(std::atan(slope) * 180 / M_PI, "%.3g deg") : "n/a";
 }
 
 void print_human(const std::string& path, const Surface& s, const SurfaceStats& st,
@@ -43,9 +41,11 @@ void print_human(const std::string& path, const Surface& s, const SurfaceStats& 
               format_length(st.max).c_str(), format_length(st.mean).c_str());
   std::printf("  Sq (sigma)     %s    Sa %s\n", format_length(st.sq).c_str(),
               format_length(st.sa).c_str());
-  std::printf("  skew / kurt    %.4g / %.4g (Gaussian: 0 / 3)\n", st.skewness, st.kurtosis);
-  std::printf("  rms slope      x %.4g (%s), y %.4g (%s)\n", st.slope_rms_x,
-              deg(st.slope_rms_x).c_str(), st.slope_rms_y, deg(st.slope_rms_y).c_str());
+  std::printf("  skew / kurt    %s / %s (Gaussian: 0 / 3)\n", number_or_na(st.skewness).c_str(),
+              number_or_na(st.kurtosis).c_str());
+  std::printf("  rms slope      x %s (%s), y %s (%s)\n", number_or_na(st.slope_rms_x).c_str(),
+              deg(st.slope_rms_x).c_str(), number_or_na(st.slope_rms_y).c_str(),
+              deg(st.slope_rms_y).c_str());
   auto len = [](double v) {
     return std::isfinite(v) ? format_length(v) : std::string("longer than the scan");
   };
@@ -71,11 +71,23 @@ void run(const InfoArgs& a) {
   if ((!a.preview.empty() || !a.psd.empty()) && paths.size() != 1)
     throw InputError("--preview and --psd take exactly one input file (got " +
                      std::to_string(paths.size()) + ")");
-  nlohmann::json all = nlohmann::json::array();
+  // Without --keep-going a file that is not there is a usage error, found before any reading.
+  if (!a.keep_going) scan_inputs(a.inputs);
+  nlohmann::json all = nlohmann::json::array(), failed = nlohmann::json::array();
+  Progress progress("info");
   for (std::size_t i = 0; i < paths.size(); ++i) {
-    progress("info", i, paths.size(), paths[i]);
+    progress.item(i, paths.size(), paths[i]);
     std::string lev;
-    Surface s = load_surface(paths[i], a.read, &lev);
+    Surface s;
+    try {
+      s = load_surface(paths[i], a.read, &lev);
+    } catch (const std::exception& e) {
+      if (!a.keep_going) throw;
+      // --keep-going: say which file failed and why, go on, and fail at the end.
+      std::fprintf(stderr, "microbrdf info: error: %s (skipped)\n", e.what());
+      failed.push_back({{"path", paths[i]}, {"error", e.what()}});
+      continue;
+    }
     auto st = compute_stats(s);
     if (a.json) {
       auto j = stats_json(paths[i], s, st);
@@ -87,7 +99,11 @@ void run(const InfoArgs& a) {
     if (!a.preview.empty()) write_png(a.preview, render_height_preview(s));
     if (!a.psd.empty()) write_psd_csv(a.psd, s);
   }
-  if (a.json) print_json({{"surfaces", all}});
+  if (a.json) print_json({{"surfaces", all}, {"failed", failed}});
+  if (!failed.empty())
+    throw FileError(
+        std::to_string(failed.size()) + " of " + std::to_string(paths.size()) + " files",
+        "could not be read (see above)");
 }
 
 }  // namespace
@@ -105,7 +121,8 @@ void register_info(CLI::App& app) {
       "Examples:\n"
       "  microbrdf info scan.x3p\n"
       "  microbrdf info --json --level none data/*.dat\n"
-      "  microbrdf info image.exr --spacing 110nm --preview heights.png");
+      "  microbrdf info image.exr --spacing 110nm --preview heights.png\n"
+      "  microbrdf info --keep-going --json scans/ >stats.json");
   cmd->add_option("files", args->inputs, "Height maps to describe")->required();
   add_read_flags(cmd, args->read, "plane");
   cmd->add_flag("--json", args->json,
@@ -113,6 +130,9 @@ void register_info(CLI::App& app) {
   cmd->add_option("--preview", args->preview,
                   "Write a false-colour height-map PNG (one input only)");
   cmd->add_option("--psd", args->psd, "Write the radially averaged PSD as CSV (one input only)");
+  cmd->add_flag("--keep-going", args->keep_going,
+                "Go on past files that cannot be read (each is reported on stderr and in the "
+                "JSON's \"failed\" list); the exit code is still 1 if any failed");
   cmd->callback([args] { run_guarded("info", [&] { run(*args); }); });
 }
 

@@ -89,16 +89,12 @@ void run_kirchhoff(const NdfArgs& a) {
     throw InputError("--resolution must be in 17..8193");
   if (!(o.wavelength_q > 0)) throw InputError("--wavelength must be > 0");
   if (!(o.accuracy > 0 && o.accuracy < 1)) throw InputError("--accuracy must be in (0, 1)");
-  auto paths = expand_scan_inputs(a.inputs);
+  auto paths = scan_inputs(a.inputs);
   // D_K takes ~25 s per scan at 1025^2: report the overall fraction on stderr in 10 % steps.
   std::size_t scan = 0;
-  int last_step = -1;
+  Progress dk_progress("ndf", false, 0.1, "kirchhoff D_K");
   o.progress = [&](double f) {
-    const double all = (static_cast<double>(scan) + f) / static_cast<double>(paths.size());
-    const int step = static_cast<int>(std::floor(all * 10 + 1e-9));
-    if (step == last_step) return;
-    last_step = step;
-    std::fprintf(stderr, "microbrdf ndf: kirchhoff D_K %3d%%\n", step * 10);
+    dk_progress.fraction((static_cast<double>(scan) + f) / static_cast<double>(paths.size()));
   };
   KirchhoffAccumulator acc(o);
   for (std::size_t i = 0; i < paths.size(); ++i) {
@@ -162,7 +158,7 @@ void run(const NdfArgs& a) {
   o.min_support = a.min_support;
   if (a.resolution < 17 || a.resolution > 8193)
     throw InputError("--resolution must be in 17..8193");
-  auto paths = expand_scan_inputs(a.inputs);
+  auto paths = scan_inputs(a.inputs);
   NdfAccumulator acc(o);
   bool warned = false;
   for (std::size_t i = 0; i < paths.size(); ++i) {

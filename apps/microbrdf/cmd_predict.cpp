@@ -28,6 +28,14 @@ struct PredictArgs {
 };
 
 void run(const PredictArgs& a) {
+  // Cheap checks first: predict can run for minutes before it reaches the renders.
+  scan_inputs(a.inputs);
+  Preflight pre;
+  for (const auto& path : a.strips) pre.input("--strips", path);
+  pre.output_dir("-o", a.output);
+  pre.metal("--metal", a.metal);
+  if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
+  pre.done();
   PredictOptions o;
   o.inputs = a.inputs;
   o.read = read_options(a.read);

@@ -164,7 +164,32 @@ RenderLights make_lights(const RenderArgs& a, PreviewScene scene) {
   return l;
 }
 
+/// Everything cheap, before any file is parsed or a ray is traced: outputs, input files, the
+/// environment map's signature, the metal, image settings.
+void preflight(const RenderArgs& a) {
+  if (a.outputs.empty()) throw InputError("give an output: -o image.png and/or -o image.exr");
+  Preflight pre;
+  for (const auto& o : a.outputs) pre.output("-o", o, {".png", ".exr"});
+  if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
+  if (!a.metal.empty()) pre.metal("--metal", a.metal);
+  const std::pair<const char*, const std::string*> files[] = {{"--ndf", &a.ndf},
+                                                              {"--nk-csv", &a.nk_csv},
+                                                              {"--sh", &a.sh},
+                                                              {"--texture", &a.texture},
+                                                              {"--obj", &a.obj}};
+  for (const auto& [flag, path] : files)
+    if (!path->empty()) pre.input(flag, *path);
+  for (const auto& k : a.kirchhoff) pre.input("--kirchhoff", k);
+  if (a.lambertian >= 0) pre.in_range("--lambertian", a.lambertian, 0, 1);
+  pre.require(a.spp >= 1, "--spp", "must be >= 1 (got " + std::to_string(a.spp) + ")");
+  pre.require((a.width > 0 ? a.width : a.size) >= 1 && (a.height > 0 ? a.height : a.size) >= 1,
+              "--size", "the image needs at least 1 x 1 pixels");
+  pre.positive("--env-scale", a.env_scale);
+  pre.done();
+}
+
 void run(RenderArgs& a) {
+  preflight(a);
   RenderScene sc;
   sc.kind = parse_preview_scene(a.scene);
   sc.obj_path = a.obj;
@@ -178,13 +203,6 @@ void run(RenderArgs& a) {
     throw InputError("--brushing must be linear or rotational");
   sc.brush_angle_rad = parse_angle(a.brush_angle);
   sc.uv_scale = a.uv_scale;
-  if (a.outputs.empty()) throw InputError("give an output: -o image.png and/or -o image.exr");
-  for (const auto& o : a.outputs) {
-    auto ext = o.substr(o.find_last_of('.') == std::string::npos ? o.size() : o.find_last_of('.'));
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (ext != ".png" && ext != ".exr")
-      throw InputError("-o " + o + ": renders are written as .png (tone-mapped) or .exr (linear)");
-  }
   RenderOptions opt;
   opt.width = a.width > 0 ? a.width : a.size;
   opt.height = a.height > 0 ? a.height : a.size;
@@ -204,15 +222,8 @@ void run(RenderArgs& a) {
     throw InputError("--mis must be mis, brdf or light");
   const auto mats = make_materials(a);
   const auto lights = make_lights(a, sc.kind);
-  int last = -1;
-  if (!a.quiet)
-    opt.progress = [&last](double f) {
-      const int pct = int(f * 100);
-      if (pct == last) return;
-      last = pct;
-      std::fprintf(stderr, "\rmicrobrdf render: %3d%%%s", pct, pct == 100 ? "\n" : "");
-      std::fflush(stderr);
-    };
+  Progress progress("render", a.quiet);
+  if (!a.quiet) opt.progress = progress.fraction_callback();
   const RenderImage img = render(sc, mats, lights, opt);
   for (const auto& o : a.outputs) {
     if (o.size() >= 4 && (o.substr(o.size() - 4) == ".exr" || o.substr(o.size() - 4) == ".EXR"))

@@ -84,13 +84,14 @@ void run_sh(const SimArgs& a, const MicroScene& scene) {
     if (a.points < 1) throw InputError("--points must be >= 1");
     o.incident_directions = std::max<std::uint64_t>(1, a.rays / std::uint64_t(a.points));
   }
+  Progress progress("simulate", a.quiet);
   if (!a.quiet)
-    o.progress = [](std::uint64_t dirs, std::uint64_t rays, double t, double q) {
-      std::fprintf(stderr,
-                   "microbrdf simulate: %llu directions, %.3g rays, %.1f s, %.3g rays/s, Q = "
-                   "%.3g\n",
-                   static_cast<unsigned long long>(dirs), double(rays), t,
-                   t > 0 ? double(rays) / t : 0.0, q);
+    o.progress = [&progress](std::uint64_t dirs, std::uint64_t rays, double t, double q) {
+      char b[160];
+      std::snprintf(b, sizeof b, "%llu directions, %.3g rays, %.1f s, %.3g rays/s, Q = %.3g",
+                    static_cast<unsigned long long>(dirs), double(rays), t,
+                    t > 0 ? double(rays) / t : 0.0, q);
+      progress.status(b);
     };
   SimulateStats st;
   const ShEstimator est = simulate(scene, o, &st);

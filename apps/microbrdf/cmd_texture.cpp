@@ -45,7 +45,7 @@ ParamTexture exemplar(const std::vector<std::string>& inputs, const TextureArgs&
     if (is_param_texture_file(p))
       throw InputError("give a parameter texture (" + p +
                        ") alone, not mixed with other inputs, as an exemplar");
-  const auto paths = expand_scan_inputs(inputs);
+  const auto paths = scan_inputs(inputs);
   TexelFitOptions o;
   o.texel_m = parse_length(a.texel);
   o.filter_sigma_m = parse_length(a.filter_sigma);

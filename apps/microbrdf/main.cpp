@@ -15,7 +15,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every other parse failure (unknown or missing flag, a value
+    // a validator refuses, a missing input file) is a usage error: exit code 2, whatever
+    // CLI11's own code for it (105, 106, ...).
+    return app.exit(e) == 0 ? 0 : 2;
   }
   return microbrdf::cli::exit_code();
 }

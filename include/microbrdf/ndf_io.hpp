@@ -12,7 +12,8 @@ namespace microbrdf {
 
 /// Writes the table: ".npy" (float64 N x N, row iy, numpy-readable as is) plus a JSON sidecar
 /// with the same stem holding NdfMetadata and the conventions; ".exr" (single float channel
-/// "D", metadata as string/float attributes). Atomic. Throws FileError.
+/// "D", metadata as string/float attributes). Atomic. Values are non-negative or NaN (NaN =
+/// unmeasured, as in effective NDFs from measured BRDFs); infinities are refused. Throws FileError.
 void write_ndf(const TabulatedNdf& ndf, const std::string& path);
 /// Reads what write_ndf wrote (npy + optional sidecar, or exr). Throws FileError.
 TabulatedNdf read_ndf(const std::string& path);
@@ -26,6 +27,7 @@ struct NdfPreviewOptions {
 };
 /// Log-scale false-colour preview of the disk (m_x to the right, m_y up), unit circle drawn,
 /// with a colour bar (labels in decades of 1/sr) and optionally a zoom panel around the peak.
+/// Unmeasured (NaN) regions are drawn flat grey (96, 96, 104), distinct from zero.
 /// Written atomically as PNG. Throws FileError.
 void write_ndf_preview(const TabulatedNdf& ndf, const std::string& png_path,
                        const NdfPreviewOptions& opt = {});
