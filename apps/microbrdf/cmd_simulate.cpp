@@ -95,6 +95,7 @@ void run_sh(const SimArgs& a, const MicroScene& scene) {
     };
   SimulateStats st;
   const ShEstimator est = simulate(scene, o, &st);
+  if (!mpi_is_root()) return;  // rank 0 writes the matrix
   nlohmann::json meta = {{"generator", "microbrdf simulate (Westin 1992)"},
                          {"scene", a.scene},
                          {"scene_name", scene.desc().name},

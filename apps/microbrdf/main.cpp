@@ -4,8 +4,11 @@
 #include <exception>
 
 #include "commands.hpp"
+#include "microbrdf/distribute.hpp"
 
 int main(int argc, char** argv) {
+  // MPI only under mpirun (docs/scale.md); finalised when main returns.
+  microbrdf::MpiSession mpi(argc, argv);
   CLI::App app{
       "microbrdf: predicts how a surface reflects light from its measured microgeometry.\n"
       "Lengths take units (110nm, 1um); angles are degrees unless marked (0.05rad)."};

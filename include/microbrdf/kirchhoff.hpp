@@ -131,6 +131,17 @@ struct KirchhoffOptions {
   std::function<void(double)> progress;
 };
 
+/// One scan's share of a KirchhoffAccumulator: the sum over its patches of A_w,p D_K,p and the
+/// counters, so that scans can be computed anywhere and folded in scan order (distribute.hpp).
+struct KirchhoffScanPartial {
+  TabulatedNdf table;  ///< sum over the scan's patches of A_w,p D_K,p (physical)
+  double area_w2 = 0, valid_area = 0, aliased = 0;
+  std::size_t patches = 0, used = 0, skipped = 0;
+  std::string tiles, leveling, source;
+  KirchhoffFastInfo info;
+  bool has_info = false;  ///< the fast method ran on at least one patch
+};
+
 /// Averages D_K over patches and scans (Dong App. A): each scan is cut into tiles of about
 /// patch_x x patch_y (round(L / patch) equal tiles per axis, at least 1, the remainder of the
 /// division left out at the far edges), D_K is computed per tile, and the intensities are
@@ -138,7 +149,13 @@ struct KirchhoffOptions {
 class KirchhoffAccumulator {
  public:
   explicit KirchhoffAccumulator(const KirchhoffOptions& options);
+  /// merge(estimate(s)).
   void add(const Surface& s);
+  /// One scan's share, computed without touching the accumulator (any thread or rank); calls
+  /// options().progress per patch.
+  KirchhoffScanPartial estimate(const Surface& s) const;
+  /// Folds one scan's share in (table sum node by node, counters, sources).
+  void merge(const KirchhoffScanPartial& p);
   /// The averaged D_K normalised to sum D Delta^2 = 1; meta.method = "kirchhoff",
   /// meta.wavelength_m = lambda_q. Throws InputError if nothing was accumulated.
   TabulatedNdf result() const;

@@ -23,13 +23,27 @@ struct NdfEstimateOptions {
   double min_support = 0.5;
 };
 
+/// One scan's share of an NdfAccumulator: its own unnormalised table (projected area per node)
+/// and counters. Scans are estimated on their own and their shares folded in scan order, so a
+/// scan set gives the same table bit for bit wherever and in whatever order its scans were
+/// estimated (distribute.hpp).
+struct NdfScanPartial {
+  TabulatedNdf table;
+  NdfMetadata meta;  ///< samples_used, samples_skipped, projected_area_m2, sources, leveling
+};
+
 /// Accumulates normals of many scans, weighted by projected area, into one NDF; memory is one
 /// table however many scans are added.
 class NdfAccumulator {
  public:
   explicit NdfAccumulator(const NdfEstimateOptions& options);
-  /// Adds one scan (levelled as the caller wants; a residual tilt shifts the NDF).
+  /// Adds one scan (levelled as the caller wants; a residual tilt shifts the NDF):
+  /// merge(estimate(s)).
   void add(const Surface& s);
+  /// One scan's share, computed without touching the accumulator (any thread or rank).
+  NdfScanPartial estimate(const Surface& s) const;
+  /// Folds one scan's share in (table sum node by node, counters, sources).
+  void merge(const NdfScanPartial& p);
   /// The normalised NDF of everything added. Throws InputError if nothing was accumulated.
   TabulatedNdf result() const;
   const NdfEstimateOptions& options() const { return opt_; }

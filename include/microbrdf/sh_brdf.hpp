@@ -71,6 +71,11 @@ class ShEstimator {
   void add_incident(const Vec3& u, double pdf_u, const double* exit_sum, std::size_t rays,
                     double energy);
   void merge(const ShEstimator& other);
+  /// The estimator's whole state as numbers (the J x J sum, column-major, then N, rays and the
+  /// energy sum), exact, for sending between processes; merge_packed folds such a state in,
+  /// exactly as merge() would. Throws InputError when the size does not match lmax.
+  std::vector<double> pack() const;
+  void merge_packed(const std::vector<double>& state);
   std::size_t incident_count() const { return n_incident_; }
   std::size_t ray_count() const { return n_rays_; }
   /// The unsymmetrised estimate M~ (kept basis, size() x size()).

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/microscene.hpp"
 #include "microbrdf/sh_brdf.hpp"
 
@@ -130,14 +131,17 @@ struct SimulateStats {
   double seconds = 0;
   double q = 0;
   int threads = 1;
+  WorkStats work;  ///< blocks and seconds per MPI rank
   double exit_rays_per_second() const;
   nlohmann::json to_json() const;
 };
 
-/// Runs the estimator. Deterministic for a seed and thread count when incident_directions is
-/// used (direction k always gets random stream k; blocks of directions go to threads in a fixed
-/// order; one ShEstimator per thread, merged in order, so other thread counts differ only by
-/// rounding).
+/// Runs the estimator over all threads and MPI ranks (distribute.hpp): blocks of 256 incident
+/// directions, each traced single-threaded into its own estimator and merged on rank 0 in block
+/// order. Direction k always draws from random stream (seed, k), so with incident_directions
+/// the matrix is bit-identical for any number of threads and ranks (not with time_limit_s,
+/// where the number of directions depends on the speed). On ranks other than 0 the returned
+/// estimator is empty and `stats` untouched.
 ShEstimator simulate(const MicroScene& scene, const SimulateOptions& options,
                      SimulateStats* stats = nullptr);
 

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/level.hpp"
@@ -73,9 +74,12 @@ struct TexelFitOptions {
 
 /// Cuts every scan of the set into whole texels (partial texels at the borders are dropped, the
 /// count is in meta) and fits an ellipsoid NDF to each texel's filtered NDF. One scan in memory at
-/// a time; the texels of successive scans are laid side by side along x.
+/// a time; the texels of successive scans are laid side by side along x. Under mpirun the scans
+/// are spread over the ranks (distribute.hpp) and assembled on rank 0 in scan order (the same
+/// texture for any number of ranks and threads); other ranks get an empty texture. `stats`
+/// (rank 0): scans and seconds per rank.
 ParamTexture fit_texels(const std::vector<std::string>& scans, const ReadOptions& read,
-                        const TexelFitOptions& options);
+                        const TexelFitOptions& options, WorkStats* stats = nullptr);
 /// The same for one surface already in memory.
 ParamTexture fit_texels(const Surface& s, const TexelFitOptions& options);
 

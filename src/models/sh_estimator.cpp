@@ -57,6 +57,28 @@ void ShEstimator::merge(const ShEstimator& other) {
   energy_sum_ += other.energy_sum_;
 }
 
+std::vector<double> ShEstimator::pack() const {
+  flush();
+  std::vector<double> v(sum_.data(), sum_.data() + sum_.size());
+  // Counts below 2^53 travel exactly as doubles.
+  v.push_back(static_cast<double>(n_incident_));
+  v.push_back(static_cast<double>(n_rays_));
+  v.push_back(energy_sum_);
+  return v;
+}
+
+void ShEstimator::merge_packed(const std::vector<double>& state) {
+  const auto j = static_cast<std::size_t>(basis_.size());
+  if (state.size() != j * j + 3)
+    throw InputError("ShEstimator::merge_packed: " + std::to_string(state.size()) +
+                     " numbers for a " + std::to_string(j) + " x " + std::to_string(j) + " matrix");
+  flush();
+  sum_ += Eigen::Map<const Eigen::MatrixXd>(state.data(), basis_.size(), basis_.size());
+  n_incident_ += static_cast<std::size_t>(state[j * j]);
+  n_rays_ += static_cast<std::size_t>(state[j * j + 1]);
+  energy_sum_ += state[j * j + 2];
+}
+
 Eigen::MatrixXd ShEstimator::raw() const {
   if (n_incident_ == 0) return Eigen::MatrixXd::Zero(basis_.size(), basis_.size());
   flush();

@@ -56,17 +56,36 @@ void add_filtered(const Surface& s, const NdfEstimateOptions& o, TabulatedNdf& a
 
 }  // namespace
 
-void NdfAccumulator::add(const Surface& s) {
+NdfScanPartial NdfAccumulator::estimate(const Surface& s) const {
+  NdfScanPartial p{TabulatedNdf(opt_.resolution), {}};
   if (opt_.method == NdfMethod::Naive)
-    add_naive(s, acc_, acc_.meta);
+    add_naive(s, p.table, p.meta);
   else
-    add_filtered(s, opt_, acc_, acc_.meta);
-  if (!s.meta.source_path.empty()) acc_.meta.sources.push_back(s.meta.source_path);
+    add_filtered(s, opt_, p.table, p.meta);
+  if (!s.meta.source_path.empty()) p.meta.sources.push_back(s.meta.source_path);
+  p.meta.leveling = s.meta.leveling;
+  return p;
+}
+
+void NdfAccumulator::merge(const NdfScanPartial& p) {
+  if (p.table.resolution() != acc_.resolution())
+    throw InputError("NDF accumulator: a scan's table has resolution " +
+                     std::to_string(p.table.resolution()) + ", expected " +
+                     std::to_string(acc_.resolution()));
+  auto& v = acc_.values();
+  const auto& w = p.table.values();
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
+  acc_.meta.samples_used += p.meta.samples_used;
+  acc_.meta.samples_skipped += p.meta.samples_skipped;
+  acc_.meta.projected_area_m2 += p.meta.projected_area_m2;
+  for (const auto& src : p.meta.sources) acc_.meta.sources.push_back(src);
   if (acc_.meta.leveling.empty())
-    acc_.meta.leveling = s.meta.leveling;
-  else if (acc_.meta.leveling != s.meta.leveling)
+    acc_.meta.leveling = p.meta.leveling;
+  else if (acc_.meta.leveling != p.meta.leveling)
     acc_.meta.leveling = "mixed";
 }
+
+void NdfAccumulator::add(const Surface& s) { merge(estimate(s)); }
 
 TabulatedNdf NdfAccumulator::result() const {
   if (!(acc_.meta.projected_area_m2 > 0))
