@@ -2,6 +2,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "bindings.hpp"
@@ -90,6 +91,20 @@ ScanInputs scan_inputs(const py::object& obj) {
     } else {
       throw py::type_error("expected a Surface or a path in the list of scans");
     }
+  }
+  // Every named file must be there before any is read (a long scan set does not fail late).
+  std::vector<std::string> missing;
+  std::error_code ec;
+  for (const auto& p : in.paths)
+    if (!p.empty() && !std::filesystem::exists(p, ec)) missing.push_back(p);
+  if (!missing.empty()) {
+    std::string problem = "no such file";
+    if (missing.size() > 1) {
+      problem += " (nor";
+      for (std::size_t i = 1; i < missing.size(); ++i) problem += (i > 1 ? ", " : " ") + missing[i];
+      problem += ")";
+    }
+    throw FileError(missing[0], problem);
   }
   return in;
 }
