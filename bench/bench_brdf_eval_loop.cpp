@@ -8,9 +8,9 @@
 #include <cmath>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 
 using namespace microbrdf;
 

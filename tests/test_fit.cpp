@@ -220,7 +220,7 @@ TEST(fit, BrushedPresetsFig12) {
     bp.ny = 512;
     NdfEstimateOptions eo;
     eo.method = NdfMethod::Filtered;
-    eo.filter_sigma = 1e-6;
+    eo.filter_sigma_m = 1e-6;
     eo.resolution = pr.res;
     const Pair f = fit_both(estimate_ndf(generate_brushed(bp), eo), pr.name);
     EXPECT_LT(f.e.relative_l2_error, f.b.relative_l2_error) << pr.name;

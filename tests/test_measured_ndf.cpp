@@ -8,13 +8,16 @@
 #include <cstdio>
 #include <random>
 
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/measured.hpp"
 #include "microbrdf/measured_compare.hpp"
 #include "microbrdf/measured_ndf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/ndf_io.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/ndf_preview.hpp"
 
 using namespace microbrdf;
 

@@ -28,7 +28,7 @@ Surface gaussian(std::size_t n, double sigma, double tau_x, double tau_y, std::u
 NdfEstimateOptions opts(NdfMethod m, double sigma_f = 1e-6, std::size_t res = 1025) {
   NdfEstimateOptions o;
   o.method = m;
-  o.filter_sigma = sigma_f;
+  o.filter_sigma_m = sigma_f;
   o.resolution = res;
   return o;
 }

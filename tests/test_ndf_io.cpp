@@ -15,7 +15,9 @@
 
 #include "core/npy.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_preview.hpp"
 
 using namespace microbrdf;
 namespace fs = std::filesystem;

@@ -6,8 +6,12 @@
 #include <filesystem>
 #include <string>
 
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
+#include "microbrdf/lambertian_brdf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/mirror_brdf.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
@@ -87,12 +91,12 @@ std::string smooth_envmap() {
 
 TEST(Render, FurnaceLambertianSphereIsOne) {
   RenderScene sc;
-  sc.kind = PreviewScene::furnace_sphere;
+  sc.kind = PreviewScene::FurnaceSphere;
   RenderLights l;
   l.uniform_white_env = true;
-  for (MisMode mode : {MisMode::mis, MisMode::brdf_only, MisMode::light_only}) {
+  for (MisMode mode : {MisMode::Mis, MisMode::BrdfOnly, MisMode::LightOnly}) {
     // Light sampling alone wastes half its samples below the horizon: more samples.
-    auto o = small(32, mode == MisMode::light_only ? 512 : 64);
+    auto o = small(32, mode == MisMode::LightOnly ? 512 : 64);
     o.mis = mode;
     auto img = render(sc, one(std::make_shared<LambertianBrdf>(1.0)), l, o);
     // Only the sphere's pixels (the centre 16 x 16 lies inside it).
@@ -106,7 +110,7 @@ TEST(Render, FurnaceLambertianSphereIsOne) {
 
 TEST(Render, FurnaceHalfAlbedoSphereIsHalf) {
   RenderScene sc;
-  sc.kind = PreviewScene::furnace_sphere;
+  sc.kind = PreviewScene::FurnaceSphere;
   RenderLights l;
   l.uniform_white_env = true;
   auto img = render(sc, one(std::make_shared<LambertianBrdf>(0.5)), l, small(32, 32));
@@ -121,14 +125,14 @@ TEST(Render, MirrorSphereReflectsTheEnvironment) {
   // mirror direction of the camera ray (a smooth map, so the pixel footprint hardly matters).
   const std::string env = smooth_envmap();
   RenderScene sc;
-  sc.kind = PreviewScene::sphere;
+  sc.kind = PreviewScene::Sphere;
   RenderLights l;
   l.envmap_path = env;
   const int n = 48;
   auto o = small(n, 64, 16);
   auto img = render(sc, one(std::make_shared<SpecularMirrorBrdf>()), l, o);
   const pt::EnvironmentMap map(pt::read_envmap_image(env));
-  const pt::Camera cam = pt::preview_camera(PreviewScene::sphere);
+  const pt::Camera cam = pt::preview_camera(PreviewScene::Sphere);
   int checked = 0, wx = 0, wy = 0;
   double worst = 0, mean_err = 0;
   Eigen::Vector3d bias = Eigen::Vector3d::Zero();
@@ -168,7 +172,7 @@ TEST(Render, MisAgreesWithEachStrategy) {
   // and light sampling alone estimate the same image. (Small bright sources make BRDF sampling
   // alone too noisy for a 2% test; CLI runs with the bundled maps agree within their noise.)
   RenderScene sc;
-  sc.kind = PreviewScene::sphere;
+  sc.kind = PreviewScene::Sphere;
   RenderLights l;
   l.envmap_path = smooth_envmap();
   l.spheres.push_back({Eigen::Vector3d(3, 3, 3), 1.5, Eigen::Vector3d(4, 4, 4)});
@@ -176,7 +180,7 @@ TEST(Render, MisAgreesWithEachStrategy) {
   auto b = std::make_shared<MicrofacetBrdf>(d, std::make_shared<ConductorFresnel>(metal("Cu")));
   Eigen::Vector3d m[3];
   int i = 0;
-  for (MisMode mode : {MisMode::mis, MisMode::brdf_only, MisMode::light_only}) {
+  for (MisMode mode : {MisMode::Mis, MisMode::BrdfOnly, MisMode::LightOnly}) {
     auto o = small(16, 1024);
     o.mis = mode;
     m[i++] = mean_rgb(render(sc, one(b), l, o));
@@ -189,7 +193,7 @@ TEST(Render, MisAgreesWithEachStrategy) {
 
 TEST(Render, SameSeedSameImageWhateverTheThreads) {
   RenderScene sc;
-  sc.kind = PreviewScene::cylinders;
+  sc.kind = PreviewScene::Cylinders;
   RenderLights l;
   l.envmap_path = kEnvmaps + "/blender_courtyard.exr";
   auto b = std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(0.05, 0.2),
@@ -210,7 +214,7 @@ TEST(Render, BrushingDirectionTurnsTheHighlight) {
   // of an anisotropic surface and leaves an isotropic one's unchanged up to noise. Measured on
   // 4 x 4-pixel block means, against the difference between two seeds at the same angle.
   RenderScene sc;
-  sc.kind = PreviewScene::cylinders;
+  sc.kind = PreviewScene::Cylinders;
   RenderLights l;
   l.envmap_path = kEnvmaps + "/blender_courtyard.exr";
   auto f = std::make_shared<ConductorFresnel>(metal("Fe"));
@@ -336,12 +340,12 @@ TEST(Render, BadInputsAreRefused) {
   three.push_back(m[0]);
   EXPECT_THROW(render(sc, three, l, small(8, 1)), InputError);  // cylinders take 1 or 2
   EXPECT_THROW(parse_preview_scene("teapot"), InputError);
-  sc.kind = PreviewScene::obj;
+  sc.kind = PreviewScene::Obj;
   sc.obj_path = "/nonexistent.obj";
   EXPECT_THROW(render(sc, m, l, small(8, 1)), FileError);
   l.uniform_white_env = false;
   l.envmap_path = "/nonexistent.hdr";
-  sc.kind = PreviewScene::sphere;
+  sc.kind = PreviewScene::Sphere;
   EXPECT_THROW(render(sc, m, l, small(8, 1)), FileError);
 }
 
@@ -417,7 +421,7 @@ TEST(Render, OneMaterialPerCylinder) {
   // The cylinder pair takes one material per cylinder: white on the left, half grey on the
   // right, under the white sky. Each cylinder sees mostly the sky, a little of its neighbour.
   RenderScene sc;
-  sc.kind = PreviewScene::cylinders;
+  sc.kind = PreviewScene::Cylinders;
   RenderLights l;
   l.uniform_white_env = true;
   std::vector<std::shared_ptr<const Svbrdf>> m = {one(std::make_shared<LambertianBrdf>(1.0))[0],

@@ -224,7 +224,7 @@ TEST(RglBsdf, IndependentReaderFilteredNdfOfARealScan) {
   level_surface(s, LevelingSpec{});
   NdfEstimateOptions eo;
   eo.resolution = 513;
-  eo.filter_sigma = 2e-6;
+  eo.filter_sigma_m = 2e-6;
   auto d = std::make_shared<TabulatedDistribution>(estimate_ndf(s, eo));
   const MicrofacetBrdf brdf(d, std::make_shared<ConductorFresnel>(metal("Fe")));
   RglExportOptions o;

@@ -7,9 +7,9 @@
 #include <random>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/quadrature.hpp"
+#include "microbrdf/sh_basis.hpp"
 
 using namespace microbrdf;
 

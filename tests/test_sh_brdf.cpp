@@ -11,7 +11,11 @@
 #include <vector>
 
 #include "microbrdf/brdf.hpp"
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/quadrature.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 
 using namespace microbrdf;

@@ -10,6 +10,8 @@
 
 #include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 
 using namespace microbrdf;

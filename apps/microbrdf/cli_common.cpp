@@ -1,8 +1,10 @@
 #include "cli_common.hpp"
 
+#include <cctype>
 #include <cstdio>
 #include <iostream>
 
+#include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
@@ -53,32 +55,21 @@ Surface load_surface(const std::string& path, const ReadFlags& flags, std::strin
   return s;
 }
 
-NdfSpec ndf_spec(const ModelFlags& f) {
-  NdfSpec s;
-  s.model = f.model;
-  s.alpha_x = f.alpha_x > 0 ? f.alpha_x : f.alpha;
-  s.alpha_y = f.alpha_y > 0 ? f.alpha_y : (f.alpha > 0 ? f.alpha : s.alpha_x);
-  if (!(s.alpha_x > 0))
-    throw InputError("give the roughness: --alpha, or --alpha-x (and --alpha-y)");
-  s.phi = parse_angle(f.phi);
-  s.theta_x = parse_angle(f.theta_x);
-  s.theta_y = parse_angle(f.theta_y);
-  s.theta_z = parse_angle(f.theta_z);
-  return s;
+void check_plot_name(const std::string& flag, const std::string& path) {
+  if (path.empty()) return;
+  const auto dot = path.find_last_of('.');
+  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != "png" && ext != "svg")
+    throw InputError(flag + " " + path + ": plots are written as .png or .svg");
 }
 
-CLI::Option* add_model_flags(CLI::App* c, ModelFlags& f) {
-  auto* model =
-      c->add_option("--model", f.model, "NDF: beckmann, ggx or ellipsoid")->capture_default_str();
-  c->add_option("--alpha", f.alpha, "Roughness alpha (both axes)")->check(positive_number());
-  c->add_option("--alpha-x", f.alpha_x, "Roughness along the first axis")->check(positive_number());
-  c->add_option("--alpha-y", f.alpha_y, "Roughness along the second axis (default: = alpha-x)")
-      ->check(positive_number());
-  c->add_option("--phi", f.phi, "beckmann/ggx: azimuth of the alpha-x axis (deg unless marked)");
-  c->add_option("--theta-x", f.theta_x, "ellipsoid: rotation Rx (tilts the peak towards +y)");
-  c->add_option("--theta-y", f.theta_y, "ellipsoid: rotation Ry (tilts the peak towards -x)");
-  c->add_option("--theta-z", f.theta_z, "ellipsoid: rotation Rz (turns the axes by -theta_z)");
-  return model;
+void emit_text(const std::string& path, const std::string& text) {
+  if (path == "-") {
+    std::fwrite(text.data(), 1, text.size(), stdout);
+    return;
+  }
+  write_file_atomic(path, text);
 }
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }

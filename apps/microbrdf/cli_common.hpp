@@ -9,7 +9,6 @@
 #include "cli_progress.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
-#include "microbrdf/microfacet.hpp"
 #include "microbrdf/statistics.hpp"
 #include "microbrdf/surface.hpp"
 
@@ -33,17 +32,12 @@ std::vector<std::string> scan_inputs(const std::vector<std::string>& inputs);
 /// does not exist is a usage error (InputError); one that cannot be read is a FileError.
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* leveling_report);
 
-/// The analytic-model flags shared by `tabulate` and `brdf` (--model, --alpha or
-/// --alpha-x/--alpha-y, --phi, --theta-x/y/z; angles with units) as an NdfSpec. --alpha sets
-/// both widths; --alpha-y defaults to alpha_x. Throws InputError without a roughness.
-struct ModelFlags {
-  std::string model = "ggx";
-  double alpha = 0, alpha_x = 0, alpha_y = 0;
-  std::string phi = "0", theta_x = "0", theta_y = "0", theta_z = "0";
-};
-NdfSpec ndf_spec(const ModelFlags& f);
-/// Registers those flags on a subcommand; returns the --model option.
-CLI::Option* add_model_flags(CLI::App* cmd, ModelFlags& f);
+/// Plots are written as .png or .svg: checked before any work, so a typo costs nothing.
+/// Throws InputError naming `flag`.
+void check_plot_name(const std::string& flag, const std::string& path);
+
+/// Writes text to `path` atomically, or to stdout when path is "-".
+void emit_text(const std::string& path, const std::string& text);
 
 /// Prints one JSON object on stdout.
 void print_json(const nlohmann::json& j);

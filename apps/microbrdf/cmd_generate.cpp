@@ -9,7 +9,9 @@
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/generate.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/height_preview.hpp"
+#include "microbrdf/image.hpp"
+#include "microbrdf/render.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {

@@ -8,7 +8,8 @@
 #include "commands.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/height_preview.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 

@@ -9,8 +9,10 @@
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/ndf_convolve.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_preview.hpp"
 #include "microbrdf/ndf_scanset.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
@@ -163,7 +165,7 @@ void run(const NdfArgs& a) {
     o.method = NdfMethod::Filtered;
   else
     throw InputError("unknown --method '" + a.method + "' (naive | filtered | kirchhoff)");
-  o.filter_sigma = parse_length(a.filter_sigma);
+  o.filter_sigma_m = parse_length(a.filter_sigma);
   o.resolution = a.resolution;
   o.min_support = a.min_support;
   if (a.resolution < 17 || a.resolution > 8193)
@@ -174,11 +176,11 @@ void run(const NdfArgs& a) {
   set.on_scan = [&](std::size_t i, const std::string& path, const nlohmann::json& scan) {
     progress("ndf", i, paths.size(), path);
     const double d = std::max(scan.at("dx_m").get<double>(), scan.at("dy_m").get<double>());
-    if (o.method == NdfMethod::Filtered && !warned && o.filter_sigma < d) {
+    if (o.method == NdfMethod::Filtered && !warned && o.filter_sigma_m < d) {
       std::fprintf(stderr,
                    "microbrdf ndf: warning: filter sigma %s is below the sample spacing %s of %s: "
                    "the fit sees few neighbours and approaches the naive estimate\n",
-                   format_length(o.filter_sigma).c_str(), format_length(d).c_str(), path.c_str());
+                   format_length(o.filter_sigma_m).c_str(), format_length(d).c_str(), path.c_str());
       warned = true;
     }
   };

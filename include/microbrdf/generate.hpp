@@ -27,11 +27,11 @@ namespace microbrdf {
 ///    slope scatter by ~10%), as with a real measurement.
 struct GaussianSurfaceParams {
   std::size_t nx = 1024, ny = 1024;
-  double dx = 110e-9, dy = 110e-9;
-  double sigma = 0.1e-6;
-  double tau_x = 2e-6;
-  double tau_y = 2e-6;
-  double angle = 0;
+  double dx = 110e-9, dy = 110e-9;  ///< sample spacing, m
+  double sigma = 0.1e-6;            ///< rms height, m
+  double tau_x = 2e-6;              ///< correlation length along the first axis, m
+  double tau_y = 2e-6;              ///< correlation length along the second axis, m
+  double angle = 0;                 ///< first axis from the x axis, rad
   std::uint64_t seed = 1;
   bool exact_spectrum = true;
 };
@@ -44,9 +44,9 @@ Surface generate_gaussian(const GaussianSurfaceParams& p);
 struct ProfileParams {
   std::size_t n = 65536;
   std::size_t rows = 1;
-  double dx = 0.01e-6;
-  double sigma = 0.1e-6;
-  double tau = 1e-6;
+  double dx = 0.01e-6;    ///< sample spacing, m
+  double sigma = 0.1e-6;  ///< rms height, m
+  double tau = 1e-6;      ///< correlation length, m
   std::uint64_t seed = 1;
 };
 Surface generate_profiles(const ProfileParams& p);
@@ -61,14 +61,14 @@ Surface generate_profiles(const ProfileParams& p);
 /// heavier-tailed than Beckmann (docs/fitting.md), and small texels differ in roughness.
 struct BrushedParams {
   std::size_t nx = 2048, ny = 1024;
-  double dx = 110e-9, dy = 110e-9;
-  double angle = 0;            ///< brushing direction from the x axis, rad
-  double sigma = 0.2e-6;       ///< rms height of the base, m
-  double tau_along = 50e-6;    ///< base correlation length along the brushing, m
-  double tau_across = 2e-6;    ///< base correlation length across, m
-  double scratch_density = 0;  ///< scratches per metre across the brushing
-  double scratch_depth = 0;    ///< mean depth (exponentially distributed), m
-  double scratch_width = 0;    ///< mean Gaussian sigma of the cross-section, m
+  double dx = 110e-9, dy = 110e-9;  ///< sample spacing, m
+  double angle = 0;                 ///< brushing direction from the x axis, rad
+  double sigma = 0.2e-6;            ///< rms height of the base, m
+  double tau_along = 50e-6;         ///< base correlation length along the brushing, m
+  double tau_across = 2e-6;         ///< base correlation length across, m
+  double scratch_density = 0;       ///< scratches per metre across the brushing
+  double scratch_depth = 0;         ///< mean depth (exponentially distributed), m
+  double scratch_width = 0;         ///< mean Gaussian sigma of the cross-section, m
   std::uint64_t seed = 1;
   bool exact_spectrum = true;    ///< for the base, see GaussianSurfaceParams
   double modulation = 0;         ///< log-amplitude rms m of the depth modulation (0 = none)

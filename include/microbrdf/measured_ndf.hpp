@@ -24,6 +24,7 @@
 #include "microbrdf/brdf.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/measured.hpp"
+#include "microbrdf/microfacet.hpp"
 #include "microbrdf/tabulated_ndf.hpp"
 
 namespace microbrdf {

@@ -21,10 +21,9 @@
 #include <string>
 
 #include "microbrdf/tabulated_ndf.hpp"
+#include "microbrdf/vec3.hpp"
 
 namespace microbrdf {
-
-using Vec3 = Eigen::Vector3d;
 
 class MicrofacetDistribution {
  public:

@@ -15,8 +15,8 @@ enum class NdfMethod { Naive, Filtered };
 struct NdfEstimateOptions {
   NdfMethod method = NdfMethod::Filtered;
   std::size_t resolution = 1025;
-  double filter_sigma = 1e-6;  ///< Gaussian std of the local plane fit, m (Filtered)
-  double truncate_sigmas = 4;  ///< kernel support, in filter sigmas
+  double filter_sigma_m = 1e-6;  ///< Gaussian std of the local plane fit, m (Filtered)
+  double truncate_sigmas = 4;    ///< kernel support, in filter sigmas
   /// A filtered sample is used only if its weighted support (the sum of Gaussian weights over
   /// valid neighbours) is at least this fraction of the full-grid value: fits near borders and
   /// holes that see too little surface are skipped and counted (docs/theory.md §3.3).

@@ -24,7 +24,7 @@
 
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/microscene.hpp"
-#include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 
 namespace microbrdf {
 

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/brdf_spec.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
@@ -145,5 +146,10 @@ class EllipsoidTextureSvbrdf final : public Svbrdf {
   std::shared_ptr<const Fresnel> f_;
   EllipsoidParams mean_;
 };
+
+/// The Svbrdf a BRDF spec describes: for the texture kind the texture read from spec.texture as
+/// an EllipsoidTextureSvbrdf with the material's Fresnel term, for every other kind
+/// UniformSvbrdf(make_brdf(spec, material)). Throws FileError / InputError as make_brdf does.
+std::shared_ptr<const Svbrdf> make_svbrdf(const BrdfSpec& spec, const MaterialSpec& material);
 
 }  // namespace microbrdf

@@ -5,9 +5,11 @@
 #include "bindings.hpp"
 #include "brdf_factory.hpp"
 #include "microbrdf/brdf.hpp"
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/kirchhoff.hpp"
-#include "microbrdf/render.hpp"
+#include "microbrdf/kirchhoff_brdf.hpp"
+#include "microbrdf/lambertian_brdf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 
 namespace microbrdf::python {
 namespace {

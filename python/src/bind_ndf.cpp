@@ -9,8 +9,10 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/ndf_convolve.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_preview.hpp"
 
 namespace microbrdf::python {
 namespace {
@@ -124,7 +126,7 @@ TabulatedNdf ndf(const py::object& scans, const std::string& method, double filt
   if (!(filter_sigma > 0) || !std::isfinite(filter_sigma))
     throw InputError("filter_sigma must be positive (metres)");
   if (!(instrument_fwhm >= 0)) throw InputError("instrument_fwhm must be >= 0 (radians)");
-  o.filter_sigma = filter_sigma;
+  o.filter_sigma_m = filter_sigma;
   o.resolution = resolution;
   o.min_support = min_support;
   const ScanInputs in = scan_inputs(scans);

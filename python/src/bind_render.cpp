@@ -2,6 +2,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
 #include "microbrdf/render.hpp"
@@ -47,7 +48,7 @@ RenderLights lights(PreviewScene kind, const py::object& envmap, double env_scal
   // No light at all: the plate gets Dong's disk light, everything else a white sky (as the CLI).
   const bool none = l.envmap_path.empty() && !l.uniform_white_env && l.points.empty() &&
                     l.spheres.empty() && l.disks.empty();
-  if (none && kind == PreviewScene::plate)
+  if (none && kind == PreviewScene::Plate)
     l.disks.push_back(dong_plate_light());
   else if (none)
     l.uniform_white_env = true;
@@ -65,9 +66,9 @@ py::array render_image(const py::object& brdfs, const std::string& scene, int si
   sc.kind = parse_preview_scene(scene);
   if (!obj.is_none()) sc.obj_path = fspath(obj);
   if (brushing == "linear")
-    sc.brushing = Brushing::linear;
+    sc.brushing = Brushing::Linear;
   else if (brushing == "rotational")
-    sc.brushing = Brushing::rotational;
+    sc.brushing = Brushing::Rotational;
   else
     throw InputError("brushing must be 'linear' or 'rotational'");
   sc.brush_angle_rad = brush_angle;
@@ -88,11 +89,11 @@ py::array render_image(const py::object& brdfs, const std::string& scene, int si
   o.seed = seed;
   o.threads = threads;
   if (mis == "mis")
-    o.mis = MisMode::mis;
+    o.mis = MisMode::Mis;
   else if (mis == "brdf")
-    o.mis = MisMode::brdf_only;
+    o.mis = MisMode::BrdfOnly;
   else if (mis == "light")
-    o.mis = MisMode::light_only;
+    o.mis = MisMode::LightOnly;
   else
     throw InputError("mis must be 'mis', 'brdf' or 'light'");
   o.progress = progress_hook<double>(progress);
@@ -116,7 +117,7 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
   o.inputs = path_list(inputs);
   o.read = read_options(spacing);
   o.leveling = LevelingSpec::parse(level);
-  o.metal = metal;
+  o.material = MaterialSpec::named_metal(metal);
   o.filter_sigma_m = filter_sigma;
   o.ndf_resolution = resolution;
   o.kirchhoff = kirchhoff;

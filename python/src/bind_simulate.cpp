@@ -2,8 +2,10 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/microscene.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/simulate.hpp"
 

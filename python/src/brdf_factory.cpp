@@ -6,11 +6,11 @@
 
 #include <set>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/kirchhoff_brdf.hpp"
+#include "microbrdf/lambertian_brdf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/ndf_io.hpp"
-#include "microbrdf/render.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 
 namespace microbrdf::python {

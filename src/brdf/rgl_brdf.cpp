@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "brdf/marginal2d.hpp"
+#include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/measured.hpp"
 #include "microbrdf/rgl_bsdf.hpp"

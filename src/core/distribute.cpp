@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstring>
 #include <deque>
+#include <exception>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -40,11 +41,15 @@ struct Done {
   double seconds = 0;
   Status status = kOk;
   std::string path, message;  // FileError: path and problem; other errors: message only
+  // The exception itself when it was raised in this process: rethrown as it is, so a caller's
+  // own exception type (a Python KeyboardInterrupt from a progress callback) survives.
+  std::exception_ptr original;
   WorkResult result;
 };
 
 // Records the exception in flight into `d` (keeps FileError / InputError apart).
 void capture_error(Done& d) {
+  d.original = std::current_exception();
   try {
     throw;
   } catch (const FileError& e) {
@@ -64,6 +69,7 @@ void capture_error(Done& d) {
 }
 
 [[noreturn]] void rethrow(const Done& d) {
+  if (d.original) std::rethrow_exception(d.original);
   if (d.status == kFileError) throw FileError(d.path, d.message);
   if (d.status == kInputError) throw InputError(d.message);
   throw std::runtime_error(d.message);

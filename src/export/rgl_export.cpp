@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "brdf/marginal2d.hpp"
+#include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/export.hpp"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "microbrdf/error.hpp"
-#include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_convolve.hpp"
 
 namespace microbrdf {
 namespace {

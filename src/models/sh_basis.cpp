@@ -1,12 +1,13 @@
 // Real spherical harmonics by the normalised associated-Legendre recurrence (docs/theory.md §6.1)
-// and the odd-completion basis (docs/theory.md §6.2). See include/microbrdf/sh_brdf.hpp.
+// and the odd-completion basis (docs/theory.md §6.2). See include/microbrdf/sh_basis.hpp.
+#include "microbrdf/sh_basis.hpp"
+
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/quadrature.hpp"
 
 namespace microbrdf {
 namespace {

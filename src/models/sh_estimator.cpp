@@ -4,7 +4,7 @@
 #include <string>
 
 #include "microbrdf/error.hpp"
-#include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 
 namespace microbrdf {
 namespace {

@@ -12,7 +12,7 @@ namespace microbrdf {
 NdfAccumulator::NdfAccumulator(const NdfEstimateOptions& options)
     : opt_(options), acc_(options.resolution) {
   acc_.meta.method = options.method == NdfMethod::Naive ? "naive" : "filtered";
-  acc_.meta.filter_sigma_m = options.method == NdfMethod::Filtered ? options.filter_sigma : 0.0;
+  acc_.meta.filter_sigma_m = options.method == NdfMethod::Filtered ? options.filter_sigma_m : 0.0;
 }
 
 namespace {
@@ -45,7 +45,7 @@ void add_naive(const Surface& s, TabulatedNdf& acc, NdfMetadata& meta) {
 
 void add_filtered(const Surface& s, const NdfEstimateOptions& o, TabulatedNdf& acc,
                   NdfMetadata& meta) {
-  auto f = filtered_normals(s, o.filter_sigma, o.truncate_sigmas, o.min_support);
+  auto f = filtered_normals(s, o.filter_sigma_m, o.truncate_sigmas, o.min_support);
   const double area = s.dx * s.dy;
   for (std::size_t i = 0; i < s.size(); ++i)
     if (f.mz[i] > 0) acc.splat(f.mx[i], f.my[i], area);

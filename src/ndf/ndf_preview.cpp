@@ -1,6 +1,8 @@
 // Log-scale false-colour previews of tabulated NDFs: the disk (m_x to the right, m_y up), the
 // unit circle, an optional zoom panel around the peak and a colour bar labelled in decades
 // of 1/sr.
+#include "microbrdf/ndf_preview.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -8,8 +10,7 @@
 
 #include "core/bitmap_font.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/ndf_io.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/image.hpp"
 
 namespace microbrdf {
 namespace {

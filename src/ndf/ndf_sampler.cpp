@@ -10,12 +10,13 @@
 // the disk (only in cells the circle crosses) are rejected and the whole draw is repeated, so
 // the accepted points follow the target exactly. Z = mass of the interpolant inside the disk:
 // full masses for cells inside, numerical integration for cells the circle crosses.
+#include "microbrdf/ndf_sampler.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "microbrdf/ndf_io.hpp"
-#include "ndf/bilinear_cell.hpp"
+#include "core/bilinear_cell.hpp"
 
 namespace microbrdf {
 namespace {

@@ -14,12 +14,12 @@
 #include <fstream>
 
 #include "core/bitmap_font.hpp"
+#include "core/exr_guard.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/io.hpp"
-#include "microbrdf/preview.hpp"
 #include "microbrdf/texture.hpp"
-#include "surface/exr_guard.hpp"
 
 namespace microbrdf {
 namespace {

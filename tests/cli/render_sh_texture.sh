@@ -79,8 +79,8 @@ SEEDS=$(dirname "$0")/../../fuzz/corpus/paramtex
 expect_error "corrupt header: attribute 'comments' claims" --texture "$SEEDS/regress_huge_string_attr.exr"
 expect_error "corrupt header" --texture "$SEEDS/regress_box2i_size0.exr"
 expect_error "no channel 'alpha_x'" --texture "$SEEDS/z_float_rle.exr"
-expect_error "exactly one material" --sh "$T/g.shbrdf" --texture "$T/tex.exr"
-expect_error "exactly one material" --sh "$T/g.shbrdf" --model ggx --alpha 0.2
+expect_error "give one BRDF" --sh "$T/g.shbrdf" --texture "$T/tex.exr"
+expect_error "give one BRDF" --sh "$T/g.shbrdf" --model ggx --alpha 0.2
 expect_error "do not apply" --sh "$T/g.shbrdf" --metal Fe
 ls "$T" | grep -q tmp && fail "temporary file left behind"
 echo ok

@@ -1,5 +1,5 @@
 // Continuous marginal/conditional warp of a bilinear density (src/brdf/marginal2d.hpp).
-#include "brdf/marginal2d.hpp"
+#include "core/marginal2d.hpp"
 
 #include <algorithm>
 #include <cmath>

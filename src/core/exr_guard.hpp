@@ -2,7 +2,7 @@
 // Reading OpenEXR files we did not write: OpenEXR 3.1 trusts the sizes in a file's header
 // (it allocates an attribute's claimed size before reading it, and loses its place when a value's
 // size disagrees with its type), so every reader of untrusted EXR bytes checks them first.
-// Implemented in format_exr.cpp (the height-map reader); shared with the parameter-texture reader
+// Used by the height-map reader (src/surface/format_exr.cpp) and the parameter-texture reader
 // (src/texture/param_texture_io.cpp).
 
 #include <OpenEXR/ImfHeader.h>  // Imath::Box2i

@@ -8,7 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/quadrature.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "sh_internal.hpp"
 
 namespace microbrdf {

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 #include "sh_internal.hpp"
 

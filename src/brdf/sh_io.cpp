@@ -11,6 +11,7 @@
 #include "core/byte_reader.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 
 namespace microbrdf {

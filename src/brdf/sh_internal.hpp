@@ -4,6 +4,7 @@
 #include <mutex>
 #include <vector>
 
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 
 namespace microbrdf {

@@ -1,8 +1,10 @@
-// Lambertian and ideal-mirror BRDFs for furnace and mirror tests (render.hpp).
+// The Lambertian BRDF (include/microbrdf/lambertian_brdf.hpp).
+#include "microbrdf/lambertian_brdf.hpp"
+
+#include <algorithm>
 #include <cmath>
 
 #include "microbrdf/error.hpp"
-#include "microbrdf/render.hpp"
 
 namespace microbrdf {
 
@@ -31,22 +33,10 @@ double LambertianBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
   return wi.z() > 0 && wo.z() > 0 ? wo.z() / M_PI : 0.0;
 }
 
+double LambertianBrdf::albedo(const Vec3& wi, double) const { return wi.z() > 0 ? albedo_ : 0.0; }
+
 std::string LambertianBrdf::describe() const {
   return "Lambertian albedo " + std::to_string(albedo_);
-}
-
-std::optional<BrdfSample> SpecularMirrorBrdf::sample(const Vec3& wi, double, double,
-                                                     double wavelength_m) const {
-  if (!(wi.z() > 0)) return std::nullopt;
-  BrdfSample s;
-  s.wo = Vec3(-wi.x(), -wi.y(), wi.z());
-  s.pdf = 0;
-  s.weight = f_ ? f_->eval(wi.z(), wavelength_m) : 1.0;
-  return s;
-}
-
-std::string SpecularMirrorBrdf::describe() const {
-  return "ideal mirror" + (f_ ? ", " + f_->describe() : std::string(", F = 1"));
 }
 
 }  // namespace microbrdf

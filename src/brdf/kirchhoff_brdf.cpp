@@ -1,11 +1,12 @@
-// The Kirchhoff BRDF (Dong 2015 eq. 8) on tabulated D_K; see include/microbrdf/kirchhoff.hpp.
+// The Kirchhoff BRDF (Dong 2015 eq. 8) on tabulated D_K; see include/microbrdf/kirchhoff_brdf.hpp.
+#include "microbrdf/kirchhoff_brdf.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
-#include "microbrdf/kirchhoff.hpp"
-#include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_sampler.hpp"
 
 namespace microbrdf {
 

@@ -1,16 +1,15 @@
 #pragma once
-// 8-bit previews a person looks at: height maps in false colour with a scale bar, written as
-// PNG (atomically).
+// 8-bit RGB images a person looks at (previews, plots of tables), the PNG writer and the false-
+// colour map every preview uses.
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "microbrdf/surface.hpp"
-
 namespace microbrdf {
 
-/// An 8-bit RGB image, row-major, 3 bytes per pixel.
+/// An 8-bit RGB image, row-major from the top, 3 bytes per pixel.
 struct RgbImage {
   std::size_t width = 0, height = 0;
   std::vector<std::uint8_t> pixels;
@@ -29,10 +28,5 @@ void write_png(const std::string& path, const RgbImage& image);
 
 /// Maps t in [0, 1] to a perceptually ordered colour (dark blue -> teal -> yellow).
 void false_colour(double t, std::uint8_t rgb[3]);
-
-/// Height-map preview: heights between the 0.5th and 99.5th percentile mapped to false colour
-/// with light hill-shading, invalid samples grey; at most `max_size` pixels on the long side
-/// (box-filtered), row 0 at the top, and a colour bar with the height range on the right.
-RgbImage render_height_preview(const Surface& s, std::size_t max_size = 1024);
 
 }  // namespace microbrdf
