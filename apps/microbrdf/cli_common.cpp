@@ -55,19 +55,6 @@ Surface load_surface(const std::string& path, const ReadFlags& flags, std::strin
   return s;
 }
 
-nlohmann::json stats_json(const std::string& path, const Surface& s, const SurfaceStats& st) {
-  nlohmann::json j = microbrdf::stats_json(st);
-  j["path"] = path;
-  j["format"] = s.meta.format;
-  j["invalid_count"] = s.size() - st.valid_count;
-  j["leveling"] = s.meta.leveling;
-  j["z0_m"] = s.z0;
-  j["instrument"] = s.meta.instrument;
-  j["date"] = s.meta.date;
-  j["z_unit_in_file"] = s.meta.z_unit_in_file;
-  return j;
-}
-
 void check_plot_name(const std::string& flag, const std::string& path) {
   if (path.empty()) return;
   const auto dot = path.find_last_of('.');

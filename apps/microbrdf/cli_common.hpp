@@ -32,10 +32,6 @@ std::vector<std::string> scan_inputs(const std::vector<std::string>& inputs);
 /// does not exist is a usage error (InputError); one that cannot be read is a FileError.
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* leveling_report);
 
-/// The `info --json` record of one surface (docs/architecture.md keys, SI units): the library's
-/// stats_json(st) plus the file's path, format and metadata.
-nlohmann::json stats_json(const std::string& path, const Surface& s, const SurfaceStats& st);
-
 /// Plots are written as .png or .svg: checked before any work, so a typo costs nothing.
 /// Throws InputError naming `flag`.
 void check_plot_name(const std::string& flag, const std::string& path);

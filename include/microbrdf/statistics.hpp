@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <nlohmann/json_fwd.hpp>
+#include <string>
 #include <vector>
 
 #include "microbrdf/surface.hpp"
@@ -82,5 +83,8 @@ SurfaceStats compute_stats(const Surface& s);
 /// kurtosis, slope_rms_x, slope_rms_y, corr_length_x_m, corr_length_y_m, corr_length_m.
 /// A correlation length the scan cannot show (NaN) is null, in memory as in the written file.
 nlohmann::json stats_json(const SurfaceStats& st);
+/// The `info --json` record of one surface (docs/architecture.md keys, SI units): stats_json(st)
+/// plus path, format, invalid_count, leveling, z0_m, instrument, date and z_unit_in_file.
+nlohmann::json stats_json(const std::string& path, const Surface& s, const SurfaceStats& st);
 
 }  // namespace microbrdf

@@ -63,8 +63,7 @@ void check_resolution(std::size_t n) {
 
 TabulatedNdf geometric_ndf(const ScanInputs& in, const NdfEstimateOptions& o,
                            const ReadOptions& read, const LevelingSpec& level,
-                           const py::object& progress) {
-  auto hook = progress_hook<double>(progress);
+                           const std::function<void(double)>& hook) {
   NdfAccumulator acc(o);
   for (std::size_t i = 0; i < in.size(); ++i) {
     hook(double(i) / double(in.size()));
@@ -76,8 +75,7 @@ TabulatedNdf geometric_ndf(const ScanInputs& in, const NdfEstimateOptions& o,
 }
 
 TabulatedNdf kirchhoff_ndf(const ScanInputs& in, KirchhoffOptions o, const ReadOptions& read,
-                           const LevelingSpec& level, const py::object& progress) {
-  auto hook = progress_hook<double>(progress);
+                           const LevelingSpec& level, const std::function<void(double)>& hook) {
   std::size_t scan = 0;
   o.progress = [&](double f) { hook((double(scan) + f) / double(in.size())); };
   KirchhoffAccumulator acc(o);
@@ -97,6 +95,7 @@ TabulatedNdf ndf(const py::object& scans, const std::string& method, double filt
   check_resolution(resolution);
   const auto lev = LevelingSpec::parse(level);
   const ReadOptions read = read_options(spacing);
+  const auto hook = progress_hook<double>(progress);
   if (method == "kirchhoff") {
     KirchhoffOptions o;
     o.wavelength_q = wavelength;
@@ -115,7 +114,7 @@ TabulatedNdf ndf(const py::object& scans, const std::string& method, double filt
     if (!(o.wavelength_q > 0)) throw InputError("wavelength must be > 0 (metres)");
     if (!(o.accuracy > 0 && o.accuracy < 1)) throw InputError("accuracy must be in (0, 1)");
     const ScanInputs in = scan_inputs(scans);
-    return call_released([&] { return kirchhoff_ndf(in, o, read, lev, progress); });
+    return call_released([&] { return kirchhoff_ndf(in, o, read, lev, hook); });
   }
   NdfEstimateOptions o;
   if (method == "naive")
@@ -132,7 +131,7 @@ TabulatedNdf ndf(const py::object& scans, const std::string& method, double filt
   o.min_support = min_support;
   const ScanInputs in = scan_inputs(scans);
   return call_released([&] {
-    TabulatedNdf d = geometric_ndf(in, o, read, lev, progress);
+    TabulatedNdf d = geometric_ndf(in, o, read, lev, hook);
     if (instrument_fwhm > 0) {
       d = convolve_angular_gaussian(d, instrument_fwhm);
       char note[96];

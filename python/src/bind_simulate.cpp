@@ -17,7 +17,6 @@ std::shared_ptr<ShBrdf> simulate_scene(const py::object& scene, int lmax, std::u
                                        int threads, bool independent, double time,
                                        const py::object& progress) {
   const std::string path = fspath(scene);
-  if (lmax < 1 || lmax > kShMaxL) throw InputError("lmax must lie in 1..128");
   if (points < 1) throw InputError("points must be >= 1");
   if (branches < 1) throw InputError("branches must be >= 1");
   if (max_depth < 1) throw InputError("max_depth must be >= 1");
@@ -33,7 +32,7 @@ std::shared_ptr<ShBrdf> simulate_scene(const py::object& scene, int lmax, std::u
   o.time_limit_s = time;
   o.incident_directions = std::max<std::uint64_t>(1, rays / std::uint64_t(points));
   auto hook = progress_hook<double>(progress);
-  // Called between rounds of directions, outside the parallel region: Ctrl-C may unwind here.
+  // Called on the calling thread as blocks of directions are folded in: Ctrl-C may unwind here.
   o.progress = [&, total = double(o.incident_directions)](std::uint64_t dirs, std::uint64_t,
                                                           double t, double) {
     hook(time > 0 ? std::min(1.0, t / time) : double(dirs) / total);
@@ -112,7 +111,8 @@ seed: the same seed and thread count give the same matrix. threads: 0 = all core
 independent: independent uniform incident directions instead of stratified rounds.
 time: > 0 runs for this many seconds instead of `rays` (not deterministic).
 progress: optional callable(fraction), called about once a second from the calling thread.
-Runs without the GIL; Ctrl-C interrupts it between rounds of 1024 directions.)");
+Runs without the GIL; Ctrl-C interrupts it (checked about once a second, as blocks of directions
+are folded in).)");
 }
 
 }  // namespace microbrdf::python

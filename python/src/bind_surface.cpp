@@ -2,6 +2,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "bindings.hpp"
@@ -47,20 +48,11 @@ py::dict metadata_dict(const Surface& s) {
   return d;
 }
 
-/// The `info --json` record of one surface: the library's statistics layout plus the file's
-/// path, format and metadata (the CLI adds the same keys).
+/// The `info --json` record of one surface (with the levelling report, as `info` adds it).
 py::dict statistics_record(const std::string& path, const Surface& s, const SurfaceStats& st,
                            const std::string& leveling_report) {
-  nlohmann::json j = stats_json(st);
-  j["path"] = path;
-  j["format"] = s.meta.format;
-  j["invalid_count"] = s.size() - st.valid_count;
-  j["leveling"] = s.meta.leveling;
+  nlohmann::json j = stats_json(path, s, st);
   j["leveling_report"] = leveling_report;
-  j["z0_m"] = s.z0;
-  j["instrument"] = s.meta.instrument;
-  j["date"] = s.meta.date;
-  j["z_unit_in_file"] = s.meta.z_unit_in_file;
   return json_to_py(j.dump());
 }
 
@@ -99,6 +91,20 @@ ScanInputs scan_inputs(const py::object& obj) {
     } else {
       throw py::type_error("expected a Surface or a path in the list of scans");
     }
+  }
+  // Every named file must be there before any is read (a long scan set does not fail late).
+  std::vector<std::string> missing;
+  std::error_code ec;
+  for (const auto& p : in.paths)
+    if (!p.empty() && !std::filesystem::exists(p, ec)) missing.push_back(p);
+  if (!missing.empty()) {
+    std::string problem = "no such file";
+    if (missing.size() > 1) {
+      problem += " (nor";
+      for (std::size_t i = 1; i < missing.size(); ++i) problem += (i > 1 ? ", " : " ") + missing[i];
+      problem += ")";
+    }
+    throw FileError(missing[0], problem);
   }
   return in;
 }

@@ -9,10 +9,15 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "microbrdf/io.hpp"
+#include "microbrdf/level.hpp"
+#include "microbrdf/surface.hpp"
 
 namespace microbrdf::python {
 
@@ -65,15 +70,21 @@ struct Interrupted {};
 /// Ctrl-C; either failing throws Interrupted (the Python error stays set). Inside an OpenMP
 /// parallel region (the renderer reports from its thread 0) an exception cannot unwind, so the
 /// failure is remembered and thrown at the next call made outside one.
+/// Create it while holding the GIL; it may then be copied and destroyed anywhere (the callback
+/// is shared, and released under the GIL).
 template <class... Args>
 std::function<void(Args...)> progress_hook(const py::object& callback) {
+  std::shared_ptr<py::object> cb(new py::object(callback), [](py::object* p) {
+    py::gil_scoped_acquire gil;
+    delete p;
+  });
   auto failed = std::make_shared<bool>(false);
-  return [callback, failed](Args... args) {
+  return [cb, failed](Args... args) {
     py::gil_scoped_acquire gil;
     if (!*failed) {
-      if (!callback.is_none()) {
+      if (!cb->is_none()) {
         try {
-          callback(args...);
+          (*cb)(args...);
         } catch (py::error_already_set& e) {
           e.restore();
           *failed = true;
@@ -85,8 +96,10 @@ std::function<void(Args...)> progress_hook(const py::object& callback) {
   };
 }
 
-/// Runs `f` without the GIL; an Interrupted from a hook becomes the Python error it stands for,
-/// anything else propagates to the exception translators.
+/// Runs `f` without the GIL; an Interrupted from a hook becomes the Python error it stands for.
+/// So does any other exception while that error is pending: library code that runs work items
+/// (distribute.hpp) reports an exception from a hook as its own error. Anything else propagates
+/// to the exception translators.
 template <class F>
 auto call_released(F&& f) -> decltype(f()) {
   try {
@@ -94,12 +107,11 @@ auto call_released(F&& f) -> decltype(f()) {
     return f();
   } catch (Interrupted&) {
     throw py::error_already_set();
+  } catch (...) {
+    if (PyErr_Occurred()) throw py::error_already_set();
+    throw;
   }
 }
-
-/// Raises KeyboardInterrupt (as Interrupted) if Ctrl-C was pressed; for loops between library
-/// calls. Takes the GIL for the check.
-void check_interrupt();
 
 /// os.fspath(obj) as a string: a str or any os.PathLike (pathlib.Path).
 std::string fspath(const py::handle& obj);
@@ -111,17 +123,10 @@ std::vector<std::string> path_list(const py::handle& obj);
 /// Lengths: a float in metres, or a (dx, dy) pair; nothing for None.
 std::optional<std::pair<double, double>> length_pair(const py::object& obj, const char* what);
 
-/// A Python object as JSON (dicts, lists, numbers, strings, None, bools) and back.
+/// A JSON text as Python objects (dicts, lists, numbers, strings, None, bools).
 py::object json_to_py(const std::string& dumped);
 
-}  // namespace microbrdf::python
-
 // ---- scans: Surface objects or paths -------------------------------------------------------
-#include "microbrdf/io.hpp"
-#include "microbrdf/level.hpp"
-#include "microbrdf/surface.hpp"
-
-namespace microbrdf::python {
 
 /// What functions taking scans accept: one Surface, one path (str or os.PathLike, which may be a
 /// glob, a directory or an @manifest, as on the command line), or a list of those.

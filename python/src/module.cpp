@@ -26,11 +26,6 @@ std::size_t broadcast_count(const Vec3Array& a, const Vec3Array& b) {
                         std::to_string(b.n) + ")");
 }
 
-void check_interrupt() {
-  py::gil_scoped_acquire gil;
-  if (PyErr_CheckSignals() != 0) throw Interrupted{};
-}
-
 std::optional<std::pair<double, double>> length_pair(const py::object& obj, const char* what) {
   if (obj.is_none()) return std::nullopt;
   double dx, dy;

@@ -50,6 +50,34 @@ def test_eval_matches_numpy_ggx_conductor():
     np.testing.assert_allclose(b.eval(wi[0], wo), ggx_conductor(np.tile(wi[0], (20000, 1)), wo, 0.1, 0.3, 1.2 + 3.5j), rtol=1e-10)
 
 
+def test_angles_are_radians_or_strings_with_a_unit():
+    # phi turns the alpha_x axis: at 90 degrees the roughnesses swap axes.
+    rng = np.random.default_rng(8)
+    wi, wo = random_hemisphere(rng, 2000), random_hemisphere(rng, 2000)
+    ref = ggx_conductor(wi, wo, 0.3, 0.1, 1.2 + 3.5j)
+    for phi in (np.pi / 2, "90deg"):
+        b = mb.brdf(model="ggx", alpha_x=0.1, alpha_y=0.3, phi=phi, n=1.2, k=3.5)
+        np.testing.assert_allclose(b.eval(wi, wo), ref, rtol=1e-9)
+
+
+def test_one_vocabulary_with_files_and_tables(tmp_path):
+    D = mb.tabulate(model="beckmann", alpha_x=0.3, resolution=257)
+    D.save(tmp_path / "d.npy")
+    from_file = mb.brdf(ndf=tmp_path / "d.npy", metal="Al")
+    in_memory = mb.brdf(ndf=D, metal="Al")
+    rng = np.random.default_rng(4)
+    wi, wo = random_hemisphere(rng, 500), random_hemisphere(rng, 500)
+    np.testing.assert_array_equal(from_file.eval(wi, wo), in_memory.eval(wi, wo))
+    with pytest.raises(ValueError):
+        mb.brdf(ndf=D, model="ggx", alpha=0.2, metal="Al")  # two kinds at once
+    with pytest.raises(ValueError):
+        mb.brdf(lambertian=0.5, metal="Al")  # a Lambertian takes no material
+    with pytest.raises(ValueError):
+        mb.brdf(model="ggx", alpha=0.2)  # no material
+    with pytest.raises(ValueError):
+        mb.brdf(model="ggx", alpha=0.2, metal="Al", colour="red")  # unknown keyword
+
+
 def test_metal_by_name_uses_its_optical_constants():
     # Copper reflects red better than blue at normal incidence.
     b = mb.brdf(model="ggx", alpha=0.2, metal="Cu")

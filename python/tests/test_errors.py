@@ -22,6 +22,14 @@ def test_missing_file_is_an_oserror_naming_the_file(tmp_path):
         mb.read_ndf(tmp_path / "none.npy")
 
 
+def test_missing_scans_are_reported_before_any_is_read(data, tmp_path):
+    # The real scan comes first: the missing ones are found before it is read.
+    gone = [tmp_path / "a.x3p", tmp_path / "b.x3p"]
+    with pytest.raises(mb.FileError) as info:
+        mb.ndf([data / "sample-land.x3p", *gone], resolution=65)
+    assert info.value.filename == str(gone[0]) and str(gone[1]) in str(info.value)
+
+
 @pytest.mark.parametrize("name, content", [
     ("corrupt.x3p", b"PK\x03\x04 this is not a zip archive at all"),
     ("truncated.npy", b"\x93NUMPY\x01\x00\x76\x00{'descr': '<f8', 'fortran_order': False, 'shape': (100, 100), }"),

@@ -1,5 +1,5 @@
-// SurfaceStats as JSON: one layout for `info --json`, `generate --json` and predict's
-// summary.json.
+// SurfaceStats as JSON: one layout for `info --json`, `generate --json`, predict's summary.json
+// and the Python module's statistics().
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -33,6 +33,19 @@ nlohmann::json stats_json(const SurfaceStats& st) {
           {"corr_length_x_m", number_or_null(st.corr_length_x)},
           {"corr_length_y_m", number_or_null(st.corr_length_y)},
           {"corr_length_m", number_or_null(st.corr_length)}};
+}
+
+nlohmann::json stats_json(const std::string& path, const Surface& s, const SurfaceStats& st) {
+  nlohmann::json j = stats_json(st);
+  j["path"] = path;
+  j["format"] = s.meta.format;
+  j["invalid_count"] = s.size() - st.valid_count;
+  j["leveling"] = s.meta.leveling;
+  j["z0_m"] = s.z0;
+  j["instrument"] = s.meta.instrument;
+  j["date"] = s.meta.date;
+  j["z_unit_in_file"] = s.meta.z_unit_in_file;
+  return j;
 }
 
 }  // namespace microbrdf
