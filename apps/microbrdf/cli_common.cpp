@@ -35,10 +35,20 @@ ReadOptions read_options(const ReadFlags& flags) {
   return o;
 }
 
+void warn_if_sparse(const std::string& path, const Surface& s) {
+  const double f = s.valid_fraction();
+  if (f < kSparseValidFraction)
+    std::fprintf(stderr,
+                 "microbrdf: %s: warning: only %.3g%% of the samples are valid (%zu of %zu x "
+                 "%zu); statistics rest on few points\n",
+                 path.c_str(), 100 * f, s.valid_count(), s.nx, s.ny);
+}
+
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* report) {
   auto spec = LevelingSpec::parse(flags.level);  // validate before the (maybe long) read
   Surface s = read_surface(path, read_options(flags));
-  auto r = level_surface(s, spec);
+  warn_if_sparse(path, s);
+  auto r = about_file(path, [&] { return level_surface(s, spec); });
   if (report) *report = r.description;
   return s;
 }

@@ -21,7 +21,13 @@ struct ReadFlags {
 void add_read_flags(CLI::App* cmd, ReadFlags& flags, const std::string& default_level);
 ReadOptions read_options(const ReadFlags& flags);
 
-/// Reads a surface and levels it as asked; the levelling description is returned.
+/// Scans with fewer valid samples than this fraction get a warning on stderr.
+inline constexpr double kSparseValidFraction = 0.1;
+/// The warning, naming the file, when `s` is below kSparseValidFraction.
+void warn_if_sparse(const std::string& path, const Surface& s);
+
+/// Reads a surface and levels it as asked (a warning when it is sparse, errors naming the
+/// file); the levelling description is returned.
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* leveling_report);
 
 /// The `info --json` record of one surface (ARCHITECTURE.md keys, SI units): the library's

@@ -165,6 +165,7 @@ void run(const NdfArgs& a) {
   auto paths = expand_scan_inputs(a.inputs);
   NdfAccumulator acc(o);
   bool warned = false;
+  std::size_t samples_all = 0, samples_invalid = 0;
   for (std::size_t i = 0; i < paths.size(); ++i) {
     progress("ndf", i, paths.size(), paths[i]);
     Surface s = load_surface(paths[i], a.read, nullptr);
@@ -177,9 +178,12 @@ void run(const NdfArgs& a) {
                    format_length(std::max(s.dx, s.dy)).c_str(), paths[i].c_str());
       warned = true;
     }
-    acc.add(s);
+    samples_all += s.size();
+    samples_invalid += s.size() - s.valid_count();
+    about_file(paths[i], [&] { acc.add(s); });
   }
-  TabulatedNdf ndf = acc.result();
+  TabulatedNdf ndf =
+      about_file(paths.size() == 1 ? paths[0] : paths[0] + " ...", [&] { return acc.result(); });
   if (!a.instrument_fwhm.empty()) {
     const double fwhm = parse_angle(a.instrument_fwhm);
     ndf = convolve_angular_gaussian(ndf, fwhm);
@@ -190,8 +194,13 @@ void run(const NdfArgs& a) {
   }
   write_outputs(ndf, a);
   if (a.json) {
-    print_json(ndf_json(ndf, a.output));
+    auto j = ndf_json(ndf, a.output);
+    j["samples_invalid"] = samples_invalid;  // height samples the scans mark invalid
+    print_json(j);
   } else {
+    std::fprintf(stderr, "microbrdf ndf: %zu of %zu height samples invalid (%.3g%%), skipped\n",
+                 samples_invalid, samples_all,
+                 samples_all ? 100.0 * double(samples_invalid) / double(samples_all) : 0.0);
     std::fprintf(stderr,
                  "microbrdf ndf: %s NDF of %zu scan(s) -> %s (%zu x %zu); %zu elements used, %zu "
                  "skipped; rms slope x "

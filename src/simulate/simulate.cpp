@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/threads.hpp"
 
 namespace microbrdf {
 
@@ -35,10 +36,15 @@ nlohmann::json SimulateStats::to_json() const {
 
 ShEstimator simulate(const MicroScene& scene, const SimulateOptions& o, SimulateStats* stats) {
   if (o.lmax < 1 || o.lmax > 64) throw InputError("simulate: lmax must be in [1, 64]");
-  if (o.points < 1) throw InputError("simulate: points per direction must be >= 1");
+  if (o.trace.branches > kMaxBranches)  // checked here: the tracers are built in the workers
+    throw InputError("simulate: branches must lie in 1.." + std::to_string(kMaxBranches) +
+                     " (--branches)");
+  if (o.points < 1 || o.points > kMaxPointsPerDirection)
+    throw InputError("simulate: points per direction must lie in 1.." +
+                     std::to_string(kMaxPointsPerDirection) + " (--points)");
   if (o.time_limit_s <= 0 && o.incident_directions == 0)
     throw InputError("simulate: give a number of incident directions or a time limit");
-  const int nt = o.threads > 0 ? o.threads : omp_get_max_threads();
+  const int nt = resolve_thread_count(o.threads);
   // Directions go in rounds of a fixed size (independent of the thread count); inside a round
   // the first g^2 are stratified on a g x g grid of (cos theta, phi) -- still uniform over the
   // hemisphere, with far less variance from the incident side than independent draws.
