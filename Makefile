@@ -6,7 +6,7 @@ FUZZ_SECONDS ?= 60
 DEMO_OUT ?= demo-out
 BIN := build/bin/microbrdf
 
-.PHONY: deps build test test-slow demo bench asan fuzz fuzz-build format clean
+.PHONY: deps build install test test-slow demo bench asan fuzz fuzz-build format clean
 
 deps:
 	@scripts/install-deps.sh
@@ -14,6 +14,12 @@ deps:
 build: deps
 	@cmake --preset release >/dev/null
 	@cmake --build --preset release -j $(JOBS)
+
+# The CLI into $(PREFIX)/bin and the Python module into $(PREFIX)/lib/python3.X/dist-packages
+# (DESTDIR for staging, as usual).
+PREFIX ?= /usr/local
+install: build
+	cmake --install build --prefix $(PREFIX)
 
 test: build
 	ctest --preset release -j $(JOBS)

@@ -8,9 +8,10 @@
 #include <random>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/quadrature.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 
 using namespace microbrdf;

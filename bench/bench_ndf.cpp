@@ -10,7 +10,8 @@
 #include <vector>
 
 #include "microbrdf/microfacet.hpp"
-#include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_convolve.hpp"
+#include "microbrdf/ndf_sampler.hpp"
 
 using namespace microbrdf;
 

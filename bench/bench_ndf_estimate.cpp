@@ -52,7 +52,7 @@ void BM_FilteredNormalsBruteForce(benchmark::State& state) {
 
 void BM_NdfFiltered1025(benchmark::State& state) {
   NdfEstimateOptions o;
-  o.filter_sigma = 1e-6;
+  o.filter_sigma_m = 1e-6;
   for (auto _ : state) benchmark::DoNotOptimize(estimate_ndf(scan(), o));
   state.counters["points/s"] = benchmark::Counter(static_cast<double>(scan().size()),
                                                   benchmark::Counter::kIsIterationInvariantRate);

@@ -9,6 +9,7 @@
 #include <memory>
 #include <random>
 
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "render/scene.hpp"
@@ -38,13 +39,13 @@ std::shared_ptr<const Svbrdf> material(bool tabulated) {
 
 RenderLights courtyard() {
   RenderLights l;
-  l.envmap_path = std::string(MICROBRDF_SHARED_DATA) + "/envmaps/blender_courtyard.exr";
+  l.envmap_path = std::string(MICROBRDF_DATA) + "/envmaps/blender_courtyard.exr";
   return l;
 }
 
 void BM_RenderCylinders(benchmark::State& state) {
   RenderScene sc;
-  sc.kind = PreviewScene::cylinders;
+  sc.kind = PreviewScene::Cylinders;
   const auto mats = std::vector<std::shared_ptr<const Svbrdf>>{material(state.range(0) != 0)};
   const auto lights = courtyard();
   RenderOptions o;
@@ -73,7 +74,7 @@ BENCHMARK(BM_RenderCylinders)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Us
 // The reference: the same camera rays (jittered, same count), closest hit only.
 void BM_EmbreePrimaryRays(benchmark::State& state) {
   RenderScene sc;
-  sc.kind = PreviewScene::cylinders;
+  sc.kind = PreviewScene::Cylinders;
   const pt::PreviewGeometry geo(sc);
   const pt::Camera& cam = geo.camera();
   double hits = 0;

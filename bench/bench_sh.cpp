@@ -8,7 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 
 using namespace microbrdf;

@@ -1,5 +1,5 @@
 // Sampling a tabulated NDF inside MicrofacetBrdf: the approximate visible-normal sampler
-// (TabulatedSampling::visible) next to the plain D(m)(m.n) sampler (TabulatedSampling::ndf, the
+// (TabulatedSampling::Visible) next to the plain D(m)(m.n) sampler (TabulatedSampling::Ndf, the
 // reference) on the same 1025^2 table, and the construction time of both.
 // Counters: samples/s of MicrofacetBrdf::sample (sample_visible + sampling_pdf + G2 + Fresnel),
 // the per-sample weight variance of the albedo estimator (perfect mirror), and the efficiency
@@ -11,9 +11,9 @@
 #include <random>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 
 using namespace microbrdf;
@@ -40,14 +40,14 @@ std::shared_ptr<TabulatedDistribution> make(TabulatedSampling s) {
 }
 
 const std::shared_ptr<TabulatedDistribution>& dist(TabulatedSampling s) {
-  static const auto vis = make(TabulatedSampling::visible);
-  static const auto ndf = make(TabulatedSampling::ndf);
-  return s == TabulatedSampling::visible ? vis : ndf;
+  static const auto vis = make(TabulatedSampling::Visible);
+  static const auto ndf = make(TabulatedSampling::Ndf);
+  return s == TabulatedSampling::Visible ? vis : ndf;
 }
 
 // state.range(0): 0 = ndf (reference), 1 = visible. state.range(1): theta_i in degrees.
 void BM_TabulatedBrdfSample(benchmark::State& state) {
-  const auto s = state.range(0) ? TabulatedSampling::visible : TabulatedSampling::ndf;
+  const auto s = state.range(0) ? TabulatedSampling::Visible : TabulatedSampling::Ndf;
   const MicrofacetBrdf b(dist(s), std::make_shared<PerfectMirrorFresnel>());
   const double th = static_cast<double>(state.range(1)) * M_PI / 180, ph = 70 * M_PI / 180;
   const Vec3 wi(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
@@ -81,7 +81,7 @@ BENCHMARK(BM_TabulatedBrdfSample)
 
 // Construction of the distribution (sigma+ grid and samplers) on 1025^2: 0 = ndf, 1 = visible.
 void BM_TabulatedConstruct(benchmark::State& state) {
-  const auto s = state.range(0) ? TabulatedSampling::visible : TabulatedSampling::ndf;
+  const auto s = state.range(0) ? TabulatedSampling::Visible : TabulatedSampling::Ndf;
   std::size_t bytes = 0;
   for (auto _ : state) {
     auto d = make(s);

@@ -6,24 +6,18 @@
 #
 #   scripts/demo.sh [BIN] [OUT]     (defaults: build/bin/microbrdf, demo-out)
 #
-# Renders use the CC0 courtyard environment map from the shared data folder beside the checkout
-# (../shared/data/envmaps, or MICROBRDF_SHARED_DATA); without it, predict's built-in area lights.
+# Renders use the bundled CC0 courtyard environment map (data/envmaps/blender_courtyard.exr).
 set -euo pipefail
 BIN=${1:-build/bin/microbrdf}
 OUT=${2:-demo-out}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 DATA=$ROOT/tests/data
-SHARED=${MICROBRDF_SHARED_DATA:-$ROOT/../shared/data}
-ENVMAP=$SHARED/envmaps/blender_courtyard.exr
+ENVMAP=$ROOT/data/envmaps/blender_courtyard.exr
 mkdir -p "$OUT"
 START=$SECONDS
 
-ENVFLAG=()
-if [ -f "$ENVMAP" ]; then
-  ENVFLAG=(--envmap "$ENVMAP")
-else
-  echo "demo: $ENVMAP not found; renders use predict's built-in area lights" >&2
-fi
+[ -f "$ENVMAP" ] || { echo "demo: $ENVMAP is missing (it is part of the repository)" >&2; exit 1; }
+ENVFLAG=(--envmap "$ENVMAP")
 
 echo "== 1. A synthetic brushed stainless #4 surface (Dong 2015 Fig. 12 widths)"
 "$BIN" generate brushed --preset stainless4 --seed 1 -o "$OUT/brushed_stainless4.x3p" \

@@ -1,11 +1,10 @@
 #!/usr/bin/env bash
 # Regenerates the renderer figures of docs/render.md and docs/validation.md with the tool itself.
-# Usage: [SECTIONS="1 6"] scripts/make-render-figures.sh [BIN] [SHARED_DATA_DIR]
+# Usage: [SECTIONS="1 6"] scripts/make-render-figures.sh [BIN] [ENVMAP_DIR]  (default data/envmaps)
 # SECTIONS picks the numbered parts below (default: all). About 7 minutes on 2 busy cores.
 set -euo pipefail
 BIN=${1:-build/bin/microbrdf}
-SHARED=${2:-../shared/data}
-ENV=$SHARED/envmaps
+ENV=${2:-data/envmaps}
 IMG=docs/img
 W=$(mktemp -d); trap 'rm -rf "$W"' EXIT
 mkdir -p "$IMG"

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # Regenerates the geometric-NDF figures of docs/validation.md with the tool itself.
-# Usage: [SECTIONS="2 4"] scripts/make-validation-figures.sh [BIN] [SHARED_SURFACES_DIR]
+# Usage: [SECTIONS="2 4"] scripts/make-validation-figures.sh [BIN] [EXTRA_SURFACES_DIR]
+# Part 3 reads the bundled scans (tests/data) and, when EXTRA_SURFACES_DIR holds it, x3p-2.x3p
+# (3.2 MB, not bundled; tests/data/README.md says where it comes from).
 # SECTIONS picks the numbered parts below (default: all); 2 and 4 depend on the brushed presets.
 set -euo pipefail
 BIN=${1:-build/bin/microbrdf}
-SHARED=${2:-../shared/data/surfaces}
+EXTRA=${2:-}
+FIXTURES=tests/data
 IMG=docs/img
 W=$(mktemp -d); trap 'rm -rf "$W"' EXIT
 mkdir -p "$IMG"
@@ -49,11 +52,14 @@ print('fit $preset $model: alpha (%.4f, %.4f)' % (p['alpha_x'], p['alpha_y']),
 done
 
 # 3. Real scans.
-want 3 && for f in x3p-2.x3p metropro-1.dat plu-1.plu; do
-  [ -f "$SHARED/$f" ] || continue
+# plu-1-heights.plu is plu-1.plu without its camera image (the same heights): figures keep "plu-1".
+want 3 && for path in "$EXTRA/x3p-2.x3p" "$FIXTURES/metropro-1.dat" "$FIXTURES/plu-1-heights.plu"; do
+  [ -f "$path" ] || continue
+  f=$(basename "$path")
   stem=${f%.*}
+  stem=${stem%-heights}
   for m in naive filtered; do
-    "$BIN" ndf "$SHARED/$f" --method $m -o "$W/${stem}_$m.npy" --preview "$IMG/ndf_${stem}_$m.png" --zoom \
+    "$BIN" ndf "$path" --method $m -o "$W/${stem}_$m.npy" --preview "$IMG/ndf_${stem}_$m.png" --zoom \
       --json 2>/dev/null >"$W/${stem}_$m.summary"
   done
   "$BIN" slice "$W/${stem}_naive.npy" "$W/${stem}_filtered.npy" --label naive,filtered --azimuth 0,90 --log \

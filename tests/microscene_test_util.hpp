@@ -13,7 +13,7 @@ namespace microbrdf::test_util {
 
 inline MicroMaterial mirror_material() {
   MicroMaterial m;
-  m.kind = MicroMaterial::Kind::mirror;
+  m.kind = MicroMaterial::Kind::Mirror;
   m.name = "mirror";
   return m;
 }

@@ -1,6 +1,10 @@
 // MicrofacetBrdf (Dong eq. 1): reciprocity, energy, sampling consistency, slices.
 #include <cstdio>
 
+#include "microbrdf/brdf_albedo.hpp"
+#include "microbrdf/brdf_slice.hpp"
+#include "microbrdf/fresnel.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "test_microfacet_common.hpp"
 
 using namespace microbrdf;
@@ -121,10 +125,10 @@ TEST(brdf, SampledDirectionsFollowPdf) {
 
 TEST(brdf, SpecularPeakInSlices) {
   auto b = make(NdfSpec{"ggx", 0.1, 0.1}, std::make_shared<ConductorFresnel>(metal("Cu")));
-  auto in = tabulate_slice(b, 30 * mtest::kPi / 180, 555e-9, SlicePlane::in, 721);
+  auto in = tabulate_slice(b, 30 * mtest::kPi / 180, 555e-9, SlicePlane::In, 721);
   auto it = std::max_element(in.value.begin(), in.value.end());
   EXPECT_NEAR(in.angle_deg[static_cast<std::size_t>(it - in.value.begin())], 30.0, 0.3);
-  auto out = tabulate_slice(b, 30 * mtest::kPi / 180, 555e-9, SlicePlane::out, 721);
+  auto out = tabulate_slice(b, 30 * mtest::kPi / 180, 555e-9, SlicePlane::Out, 721);
   auto jt = std::max_element(out.value.begin(), out.value.end());
   EXPECT_NEAR(out.angle_deg[static_cast<std::size_t>(jt - out.value.begin())], 0.0, 0.3);
   // At the mirror direction: f = F(30 deg) D(n) G2 / (4 cos^2 30).

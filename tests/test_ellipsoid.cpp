@@ -1,4 +1,4 @@
-// Ellipsoid NDF (Dong 2015 eqs. 10-14; theory notes section 1).
+// Ellipsoid NDF (Dong 2015 eqs. 10-14; docs/theory.md §1).
 #include <cstdio>
 
 #include "test_microfacet_common.hpp"
@@ -84,7 +84,7 @@ TEST(ellipsoid, IntegratesToOneRandomRotations) {
     double i = c.integrate([&](const Vec3& m) { return e.D(m) * m.z(); });
     EXPECT_NEAR(i, 1.0, 1e-4) << e.describe();
     worst = std::max(worst, std::abs(i - 1));
-    // Mean normal (theory 1.2): integral D m dw = A^T A n / |A n|^2.
+    // Mean normal (docs/theory.md §1.2): integral D m dw = A^T A n / |A n|^2.
     Vec3 mean(c.integrate([&](const Vec3& m) { return e.D(m) * m.x(); }),
               c.integrate([&](const Vec3& m) { return e.D(m) * m.y(); }),
               c.integrate([&](const Vec3& m) { return e.D(m) * m.z(); }));
@@ -221,7 +221,8 @@ TEST(ellipsoid, VisibleNormalSamplingChiSquare) {
                     e.describe().c_str(), th, ph, r.chi2, r.dof, r.critical);
     }
   }
-  std::printf("views with (Av).(An) < 0 (the skewed case of theory 1.5): %d\n", negative_vz);
+  std::printf("views with (Av).(An) < 0 (the skewed case of docs/theory.md §1.5): %d\n",
+              negative_vz);
   EXPECT_GE(negative_vz, 1);
 }
 

@@ -152,7 +152,7 @@ TEST(fit, NelderMeadReferenceAgrees) {
 
 TEST(fit, BeckmannOfGaussianSurfaceIsTwoSigmaOverTau) {
   // Naive NDF of a Gaussian surface: Gaussian slopes, Beckmann alpha_u = 2 sigma / tau_u
-  // (theory notes 3.4; forward-difference bias (1 - Delta^2/(4 tau^2)) = -0.25% at tau = 10 dx).
+  // (docs/theory.md §3.4; forward-difference bias (1 - Delta^2/(4 tau^2)) = -0.25% at tau = 10 dx).
   struct G {
     double tau_x, tau_y, angle;
   };
@@ -220,7 +220,7 @@ TEST(fit, BrushedPresetsFig12) {
     bp.ny = 512;
     NdfEstimateOptions eo;
     eo.method = NdfMethod::Filtered;
-    eo.filter_sigma = 1e-6;
+    eo.filter_sigma_m = 1e-6;
     eo.resolution = pr.res;
     const Pair f = fit_both(estimate_ndf(generate_brushed(bp), eo), pr.name);
     EXPECT_LT(f.e.relative_l2_error, f.b.relative_l2_error) << pr.name;

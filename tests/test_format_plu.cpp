@@ -1,5 +1,6 @@
 // Sensofar .plu reader: reference values from tests/data/README.md, hostile inputs.
-// plu-1.plu (3 MB) is read from the shared data folder; the tests skip when it is absent.
+// The fixture is plu-1.plu without its trailing camera image (tests/data/README.md); the full file
+// is checked too when the optional extra data folder holds it (MICROBRDF_EXTRA_DATA).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -22,19 +23,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kFile = std::string(MICROBRDF_SHARED_DATA) + "/surfaces/plu-1.plu";
+const std::string kFile = std::string(MICROBRDF_TEST_DATA) + "/plu-1-heights.plu";
 
 constexpr std::size_t kData = 508;
 
-#define REQUIRE_PLU()                                              \
-  if (!fs::exists(kFile)) GTEST_SKIP() << kFile << " not present"; \
-  static_assert(true)
-
-}  // namespace
-
-TEST(format_plu, ReferenceValues) {
-  REQUIRE_PLU();
-  Surface s = read_surface(kFile);
+void expect_reference_values(const std::string& path) {
+  Surface s = read_surface(path);
   EXPECT_EQ(s.nx, 768u);
   EXPECT_EQ(s.ny, 576u);
   EXPECT_NEAR(s.dx, 1.66e-6, 1.66e-6 * 1e-6);
@@ -50,8 +44,21 @@ TEST(format_plu, ReferenceValues) {
   s.check();
 }
 
+}  // namespace
+
+TEST(format_plu, ReferenceValues) { expect_reference_values(kFile); }
+
+#ifdef MICROBRDF_EXTRA_DATA
+// The full 3.2 MB file (with the camera image after the height layer) reads the same.
+TEST(format_plu, FullFileFromExtraData) {
+  const std::string full = std::string(MICROBRDF_EXTRA_DATA) + "/plu-1.plu";
+  if (!fs::exists(full)) GTEST_SKIP() << full << " not in the extra data folder";
+  expect_reference_values(full);
+  EXPECT_EQ(read_surface(full).z, read_surface(kFile).z);
+}
+#endif
+
 TEST(format_plu, Metadata) {
-  REQUIRE_PLU();
   Surface s = read_surface(kFile);
   EXPECT_EQ(s.meta.format, "plu");
   EXPECT_EQ(s.meta.instrument, "Sensofar");
@@ -63,7 +70,6 @@ TEST(format_plu, Metadata) {
 }
 
 TEST(format_plu, UndefinedPoints) {
-  REQUIRE_PLU();
   auto b = load(kFile);
   put_f32(b, kData, 1000001.0f);
   put_f32(b, kData + 4 * 769, 1000001.0f);
@@ -77,7 +83,6 @@ TEST(format_plu, UndefinedPoints) {
 }
 
 TEST(format_plu, TruncatedFilesAreErrors) {
-  REQUIRE_PLU();
   auto b = load(kFile);
   TempDir dir;
   const std::size_t layer_end = kData + 768 * 576 * 4;
@@ -94,7 +99,6 @@ TEST(format_plu, TruncatedFilesAreErrors) {
 }
 
 TEST(format_plu, HostileHeaders) {
-  REQUIRE_PLU();
   // Only the first 600 bytes are needed to hit every header check.
   auto full = load(kFile);
   const std::vector<std::uint8_t> b(full.begin(), full.begin() + 600);
@@ -124,7 +128,6 @@ TEST(format_plu, HostileHeaders) {
 }
 
 TEST(format_plu, ZeroPixelSizeNeedsSpacing) {
-  REQUIRE_PLU();
   auto b = load(kFile);
   put_f32(b, 404, 0.0f);
   TempDir dir;

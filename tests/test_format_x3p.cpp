@@ -28,7 +28,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kData = MICROBRDF_TEST_DATA;
-const std::string kShared = std::string(MICROBRDF_SHARED_DATA) + "/surfaces/";
 
 // |a - b| <= rel * |b| (reference values are printed with ~6 significant digits).
 #define EXPECT_REL(a, b, rel) EXPECT_NEAR((a), (b), std::abs(b) * (rel))
@@ -155,9 +154,11 @@ TEST(x3p, SampleLandMatchesReference) {
   EXPECT_EQ(s.y0, 0.0);
 }
 
+#ifdef MICROBRDF_EXTRA_DATA
+// Two real files over the 2 MB fixture limit, read from the optional extra data folder.
 TEST(x3p, MountainsMapX3p2MatchesReference) {
-  std::string path = kShared + "x3p-2.x3p";
-  if (!fs::exists(path)) GTEST_SKIP() << "shared data absent: " << path;
+  std::string path = std::string(MICROBRDF_EXTRA_DATA) + "/x3p-2.x3p";
+  if (!fs::exists(path)) GTEST_SKIP() << path << " not in the extra data folder";
   check_fixture(path,
                 {650, 650, 0.127656509837346e-6, 0.314582113527746e-6, 0, -3.14421e-07, 2.39916e-07,
                  -2.49182e-09, 7.72803e-08, 6.579781e-08},
@@ -169,13 +170,14 @@ TEST(x3p, MountainsMapX3p2MatchesReference) {
 }
 
 TEST(x3p, AliconaSkiInfiniteMarksInfInvalid) {
-  std::string path = kShared + "SkiInfiniteFocus.x3p";
-  if (!fs::exists(path)) GTEST_SKIP() << "shared data absent: " << path;
+  std::string path = std::string(MICROBRDF_EXTRA_DATA) + "/SkiInfiniteFocus.x3p";
+  if (!fs::exists(path)) GTEST_SKIP() << path << " not in the extra data folder";
   check_fixture(path,
                 {1197, 940, 3.678887926e-6, 3.680270397e-6, 4272, -5.19301e-05, 3.23063e-05,
                  5.00245e-10, 1.8155e-05, NAN},
                 1e-11);
 }
+#endif
 
 TEST(x3p, Sample1BinMatchesReferenceAndValidBitOrder) {
   check_fixture(kData + "/ISO5436-sample1_bin.x3p",

@@ -1,4 +1,4 @@
-// Fresnel reflectance and optical constants (theory notes 5.3-5.5, 9.8).
+// Fresnel reflectance and optical constants (docs/theory.md §5.3-5.5, 9.8).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -56,7 +56,7 @@ TEST(fresnel, ComplexAndSiegelFormsAgree) {
 }
 
 TEST(fresnel, SunAsPrintedDiffersFromExact) {
-  // Theory 5.3: eq. 5.7/5.8 as printed are wrong off normal incidence.
+  // docs/theory.md §5.3: eq. 5.7/5.8 as printed are wrong off normal incidence.
   double c75 = std::cos(deg(75));
   EXPECT_GT(std::abs(fresnel_conductor_sun_as_printed(c75, 1.0, 2.0) -
                      fresnel_conductor(c75, {1.0, 2.0})),

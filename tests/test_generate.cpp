@@ -60,7 +60,7 @@ TEST(Generate, AnisotropicRotatedCorrelation) {
 }
 
 // The anisotropic filtered-slope formula used to solve the brushed presets, checked against a
-// spectral Gaussian-derivative filter on realisations (theory notes 3.4).
+// spectral Gaussian-derivative filter on realisations (docs/theory.md §3.4).
 TEST(Generate, FilteredSlopeFormulaMatchesRealisation) {
   GaussianSurfaceParams p;
   p.nx = p.ny = 1024;

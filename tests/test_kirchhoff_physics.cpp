@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/kirchhoff_brdf.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "surface_test_util.hpp"
 

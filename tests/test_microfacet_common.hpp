@@ -13,8 +13,8 @@
 #include <random>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/quadrature.hpp"
 
 namespace mtest {
 

@@ -5,6 +5,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/generate.hpp"
+#include "microbrdf/microfacet.hpp"
 #include "microbrdf/microscene.hpp"
 #include "microbrdf/simulate.hpp"
 #include "microscene_test_util.hpp"
@@ -16,7 +17,7 @@ namespace {
 
 MicroMaterial lambert(double albedo) {
   MicroMaterial m;
-  m.kind = MicroMaterial::Kind::lambert;
+  m.kind = MicroMaterial::Kind::Lambert;
   m.name = "white";
   m.albedo = albedo;
   return m;
@@ -126,7 +127,7 @@ TEST(MicroScene, CapsuleGeometryHitsFromOutsideAndInside) {
   MicroSceneDesc d;
   d.width = d.height = 100e-6;
   MicroMaterial glass;
-  glass.kind = MicroMaterial::Kind::dielectric;
+  glass.kind = MicroMaterial::Kind::Dielectric;
   glass.name = "glass";
   glass.eta = 1.5;
   d.materials.push_back(glass);
@@ -134,15 +135,15 @@ TEST(MicroScene, CapsuleGeometryHitsFromOutsideAndInside) {
   MicroScene sc(std::move(d));
   MicroHit h;
   // Straight down through the centre: enters at the top, z = 20 um.
-  ASSERT_EQ(sc.trace(Vec(50e-6, 50e-6, sc.zmax()), Vec(0, 0, -1), h), TraceEnd::hit);
+  ASSERT_EQ(sc.trace(Vec(50e-6, 50e-6, sc.zmax()), Vec(0, 0, -1), h), TraceEnd::Hit);
   EXPECT_NEAR(h.p.z(), 20e-6, 1e-10);
   EXPECT_NEAR(h.n.z(), 1, 1e-6);
   // From just inside the top, down: leaves at the bottom.
-  ASSERT_EQ(sc.trace(Vec(50e-6, 50e-6, 19e-6), Vec(0, 0, -1), h), TraceEnd::hit);
+  ASSERT_EQ(sc.trace(Vec(50e-6, 50e-6, 19e-6), Vec(0, 0, -1), h), TraceEnd::Hit);
   EXPECT_NEAR(h.p.z(), -20e-6, 1e-10);
   EXPECT_NEAR(h.n.z(), -1, 1e-6);
   // Missing it: falls out of the bottom.
-  EXPECT_EQ(sc.trace(Vec(5e-6, 5e-6, sc.zmax()), Vec(0, 0, -1), h), TraceEnd::escaped_down);
+  EXPECT_EQ(sc.trace(Vec(5e-6, 5e-6, sc.zmax()), Vec(0, 0, -1), h), TraceEnd::EscapedDown);
 }
 
 TEST(MicroScene, PeriodicWrapFindsReplicasAcrossTheTileEdge) {
@@ -156,19 +157,19 @@ TEST(MicroScene, PeriodicWrapFindsReplicasAcrossTheTileEdge) {
   MicroHit h;
   for (Vec o : {Vec(99e-6, 99e-6, 0), Vec(1e-6, 99e-6, 0), Vec(99e-6, 1e-6, 0)}) {
     o.z() = sc.zmax();
-    ASSERT_EQ(sc.trace(o, Vec(0, 0, -1), h), TraceEnd::hit);
+    ASSERT_EQ(sc.trace(o, Vec(0, 0, -1), h), TraceEnd::Hit);
     EXPECT_GT(h.p.z(), 19e-6);
   }
   // A grazing ray from the middle of the tile crosses the edge and hits the corner sphere.
   const Vec dir = Vec(1, 1, 0).normalized();
-  ASSERT_EQ(sc.trace(Vec(60e-6, 60e-6, 0), dir, h), TraceEnd::hit);
+  ASSERT_EQ(sc.trace(Vec(60e-6, 60e-6, 0), dir, h), TraceEnd::Hit);
   EXPECT_NEAR(h.path_length, (Vec(100e-6, 100e-6, 0) - Vec(60e-6, 60e-6, 0)).norm() - 20e-6, 1e-9);
 }
 
 TEST(MicroScene, GlassInterfaceReflectsFresnel) {
   // A flat glass surface over nothing: the rays that come back are those reflected, F(theta).
   auto d = flat_heightfield(MicroMaterial{});
-  d.materials[0].kind = MicroMaterial::Kind::dielectric;
+  d.materials[0].kind = MicroMaterial::Kind::Dielectric;
   d.materials[0].eta = 1.5;
   MicroScene sc(std::move(d));
   for (double th : {0.0, 60.0, 80.0}) {
@@ -185,7 +186,7 @@ TEST(MicroScene, GlassLayerOnMirrorFollowsBeerAndFresnel) {
   // F + (1 - F)^2 a / (1 - F a), a = exp(-2 kappa T / cos theta_t), F the same both ways.
   const double T = 5e-6, kappa = 1 / 20e-6;
   auto d = flat_heightfield(MicroMaterial{});
-  d.materials[0].kind = MicroMaterial::Kind::dielectric;
+  d.materials[0].kind = MicroMaterial::Kind::Dielectric;
   d.materials[0].name = "glass";
   d.materials[0].eta = 1.5;
   d.materials[0].absorption = kappa;
@@ -202,7 +203,7 @@ TEST(MicroScene, GlassLayerOnMirrorFollowsBeerAndFresnel) {
 }
 
 TEST(HeGeometricLimit, ReproducesTheReferenceTable) {
-  // theory notes 6.7, W92 Fig. 6 recipe: sigma = 10 um, tau = 65 um, F = 1, errata S, sigma_0.
+  // docs/theory.md §6.7, W92 Fig. 6 recipe: sigma = 10 um, tau = 65 um, F = 1, errata S, sigma_0.
   const double sigma = 10e-6, tau = 65e-6;
   struct Row {
     double ti, tr, value;
@@ -295,7 +296,7 @@ TEST(SceneJson, CylindersAlongYAreCylindersAlongXTurned) {
   // correspondingly turned light.
   auto scene = [](const char* extra) {
     const std::string text = std::string(R"({"tile": "120x120um",
-      "materials": {"m": {"type": "mirror", "fresnel": "Al"}, "b": {"type": "absorber"}},
+      "materials": {"m": {"type": "mirror", "metal": "Al"}, "b": {"type": "absorber"}},
       "objects": [{"type": "cylinders", "radius": "5um", "pitch": "12um", "material": "m")") +
                              extra + R"(}, {"type": "plane", "z": "0um", "material": "b"}]})";
     return MicroScene(parse_micro_scene(nlohmann::json::parse(text), ".", "t.json"));
@@ -314,7 +315,7 @@ TEST(MicroScene, OriginsJustOutsideTheTileAreWrappedIn) {
   MicroScene sc(flat_heightfield(test_util::mirror_material()));
   MicroHit h;
   const Vec d = Vec(-0.6, 0, -0.8);
-  ASSERT_EQ(sc.trace(Vec(-1e-9, 5e-6, 1e-6), d, h), TraceEnd::hit);
+  ASSERT_EQ(sc.trace(Vec(-1e-9, 5e-6, 1e-6), d, h), TraceEnd::Hit);
   EXPECT_NEAR(h.p.x(), sc.width() - 1e-9 - 0.75e-6, 1e-10);
   EXPECT_NEAR(h.p.z(), 0, 1e-12);
   EXPECT_NEAR(h.path_length, 1.25e-6, 1e-10);

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "microbrdf/microfacet.hpp"
-#include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_convolve.hpp"
 
 using namespace microbrdf;
 

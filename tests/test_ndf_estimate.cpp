@@ -28,7 +28,7 @@ Surface gaussian(std::size_t n, double sigma, double tau_x, double tau_y, std::u
 NdfEstimateOptions opts(NdfMethod m, double sigma_f = 1e-6, std::size_t res = 1025) {
   NdfEstimateOptions o;
   o.method = m;
-  o.filter_sigma = sigma_f;
+  o.filter_sigma_m = sigma_f;
   o.resolution = res;
   return o;
 }
@@ -71,7 +71,7 @@ TEST(ndf_estimate, NaiveMatchesBeckmannMoments) {
 }
 
 // Acceptance 2: on a full grid the filtered normals are the normals of the Gaussian-smoothed
-// surface, and the rms slope follows alpha tau^2 / (tau^2 + 4 s^2) (theory notes 3.4).
+// surface, and the rms slope follows alpha tau^2 / (tau^2 + 4 s^2) (docs/theory.md §3.4).
 TEST(ndf_estimate, FilteredEqualsSmoothedSurfaceSlopes) {
   Surface s = gaussian(256, 0.1e-6, 3e-6, 1.5e-6, 5);
   const double sf = 0.5e-6;

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <string>
@@ -14,7 +15,9 @@
 
 #include "core/npy.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_preview.hpp"
 
 using namespace microbrdf;
 namespace fs = std::filesystem;
@@ -224,10 +227,12 @@ TEST(ndf_io, CorruptNpyGivesFileErrorWithPath) {
   const auto neg = save("neg.npy", v, 3, 3);
   expect_file_error(
       neg, [&] { read_ndf(neg); }, "negative");
-  v[4] = std::nan("");
-  const auto nan = save("nan.npy", v, 3, 3);
+  v[4] = std::numeric_limits<double>::infinity();  // NaN (unmeasured) is accepted, inf is not
+  const auto inf = save("inf_read.npy", v, 3, 3);
   expect_file_error(
-      nan, [&] { read_ndf(nan); }, "not finite");
+      inf, [&] { read_ndf(inf); }, "infinite");
+  v[4] = std::nan("");
+  EXPECT_TRUE(std::isnan(read_ndf(save("nan.npy", v, 3, 3)).at(1, 1)));
 
   const auto missing = (dir / "missing.npy").string();
   expect_file_error(missing, [&] { read_ndf(missing); });
@@ -282,9 +287,9 @@ TEST(ndf_io, FailedWriteLeavesNothing) {
       expect_file_error(p, [&] { write_ndf(t, p); });
   }
   EXPECT_FALSE(fs::exists(dir));
-  TabulatedNdf bad(9);
-  bad.at(4, 4) = std::nan("");
-  const auto p = (temp_dir() / "nan.npy").string();
+  TabulatedNdf bad(9);  // NaN means "unmeasured" and is written; infinities are refused
+  bad.at(4, 4) = std::numeric_limits<double>::infinity();
+  const auto p = (temp_dir() / "inf.npy").string();
   expect_file_error(p, [&] { write_ndf(bad, p); });
   EXPECT_FALSE(fs::exists(p));
 }

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "microbrdf/microfacet.hpp"
-#include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_sampler.hpp"
 
 using namespace microbrdf;
 

@@ -10,13 +10,14 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "microbrdf/brdf.hpp"
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/predict.hpp"
 #include "microbrdf/statistics.hpp"
@@ -113,7 +114,7 @@ TEST(Predict, SummaryHoldsWhatTheLibraryComputes) {
 
   NdfEstimateOptions no;
   no.resolution = 257;
-  no.filter_sigma = 1e-6;
+  no.filter_sigma_m = 1e-6;
   const TabulatedNdf ndf = estimate_ndf(surf, no);
   const auto& jf = s["ndf"]["filtered"];
   EXPECT_NEAR(jf["slope_rms_x"].get<double>(), ndf.rms_slope(0), 1e-12);
@@ -210,7 +211,7 @@ TEST(Predict, BadInputsLeaveNoOutput) {
   expect_nothing_left();
 
   o = small_options(scan);
-  o.metal = "unobtainium";
+  o.material = MaterialSpec::named_metal("unobtainium");
   EXPECT_THROW(predict(o, t / "out"), InputError);
   expect_nothing_left();
 
@@ -237,7 +238,7 @@ TEST(Predict, ReplacesItsOwnOutputButNoOtherFolder) {
   const std::string scan = make_scan(t);
   PredictOptions o = small_options(scan);
   predict(o, t / "out");
-  o.metal = "Al";
+  o.material = MaterialSpec::named_metal("Al");
   const PredictResult r = predict(o, t / "out");  // an earlier report: replaced
   EXPECT_EQ(nlohmann::json::parse(slurp(r.summary_path))["material"]["name"], "Al");
 

@@ -6,8 +6,12 @@
 #include <filesystem>
 #include <string>
 
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
+#include "microbrdf/lambertian_brdf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/mirror_brdf.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
@@ -23,7 +27,7 @@ using namespace std::string_literals;
 
 namespace {
 
-const std::string kShared = MICROBRDF_SHARED_DATA;
+const std::string kEnvmaps = std::string(MICROBRDF_DATA) + "/envmaps";
 
 std::vector<std::shared_ptr<const Svbrdf>> one(std::shared_ptr<const Brdf> b) {
   return {std::make_shared<UniformSvbrdf>(std::move(b))};
@@ -87,12 +91,12 @@ std::string smooth_envmap() {
 
 TEST(Render, FurnaceLambertianSphereIsOne) {
   RenderScene sc;
-  sc.kind = PreviewScene::furnace_sphere;
+  sc.kind = PreviewScene::FurnaceSphere;
   RenderLights l;
   l.uniform_white_env = true;
-  for (MisMode mode : {MisMode::mis, MisMode::brdf_only, MisMode::light_only}) {
+  for (MisMode mode : {MisMode::Mis, MisMode::BrdfOnly, MisMode::LightOnly}) {
     // Light sampling alone wastes half its samples below the horizon: more samples.
-    auto o = small(32, mode == MisMode::light_only ? 512 : 64);
+    auto o = small(32, mode == MisMode::LightOnly ? 512 : 64);
     o.mis = mode;
     auto img = render(sc, one(std::make_shared<LambertianBrdf>(1.0)), l, o);
     // Only the sphere's pixels (the centre 16 x 16 lies inside it).
@@ -106,7 +110,7 @@ TEST(Render, FurnaceLambertianSphereIsOne) {
 
 TEST(Render, FurnaceHalfAlbedoSphereIsHalf) {
   RenderScene sc;
-  sc.kind = PreviewScene::furnace_sphere;
+  sc.kind = PreviewScene::FurnaceSphere;
   RenderLights l;
   l.uniform_white_env = true;
   auto img = render(sc, one(std::make_shared<LambertianBrdf>(0.5)), l, small(32, 32));
@@ -121,14 +125,14 @@ TEST(Render, MirrorSphereReflectsTheEnvironment) {
   // mirror direction of the camera ray (a smooth map, so the pixel footprint hardly matters).
   const std::string env = smooth_envmap();
   RenderScene sc;
-  sc.kind = PreviewScene::sphere;
+  sc.kind = PreviewScene::Sphere;
   RenderLights l;
   l.envmap_path = env;
   const int n = 48;
   auto o = small(n, 64, 16);
   auto img = render(sc, one(std::make_shared<SpecularMirrorBrdf>()), l, o);
   const pt::EnvironmentMap map(pt::read_envmap_image(env));
-  const pt::Camera cam = pt::preview_camera(PreviewScene::sphere);
+  const pt::Camera cam = pt::preview_camera(PreviewScene::Sphere);
   int checked = 0, wx = 0, wy = 0;
   double worst = 0, mean_err = 0;
   Eigen::Vector3d bias = Eigen::Vector3d::Zero();
@@ -166,9 +170,9 @@ TEST(Render, MirrorSphereReflectsTheEnvironment) {
 TEST(Render, MisAgreesWithEachStrategy) {
   // A rough copper sphere under a smooth map and a large sphere light: MIS, BRDF sampling alone
   // and light sampling alone estimate the same image. (Small bright sources make BRDF sampling
-  // alone too noisy for a 2% test; CLI runs with the shared maps agree within their noise.)
+  // alone too noisy for a 2% test; CLI runs with the bundled maps agree within their noise.)
   RenderScene sc;
-  sc.kind = PreviewScene::sphere;
+  sc.kind = PreviewScene::Sphere;
   RenderLights l;
   l.envmap_path = smooth_envmap();
   l.spheres.push_back({Eigen::Vector3d(3, 3, 3), 1.5, Eigen::Vector3d(4, 4, 4)});
@@ -176,7 +180,7 @@ TEST(Render, MisAgreesWithEachStrategy) {
   auto b = std::make_shared<MicrofacetBrdf>(d, std::make_shared<ConductorFresnel>(metal("Cu")));
   Eigen::Vector3d m[3];
   int i = 0;
-  for (MisMode mode : {MisMode::mis, MisMode::brdf_only, MisMode::light_only}) {
+  for (MisMode mode : {MisMode::Mis, MisMode::BrdfOnly, MisMode::LightOnly}) {
     auto o = small(16, 1024);
     o.mis = mode;
     m[i++] = mean_rgb(render(sc, one(b), l, o));
@@ -189,9 +193,9 @@ TEST(Render, MisAgreesWithEachStrategy) {
 
 TEST(Render, SameSeedSameImageWhateverTheThreads) {
   RenderScene sc;
-  sc.kind = PreviewScene::cylinders;
+  sc.kind = PreviewScene::Cylinders;
   RenderLights l;
-  l.envmap_path = kShared + "/envmaps/blender_courtyard.hdr";
+  l.envmap_path = kEnvmaps + "/blender_courtyard.exr";
   auto b = std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(0.05, 0.2),
                                             std::make_shared<ConductorFresnel>(metal("Al")));
   auto o = small(16, 4);
@@ -210,9 +214,9 @@ TEST(Render, BrushingDirectionTurnsTheHighlight) {
   // of an anisotropic surface and leaves an isotropic one's unchanged up to noise. Measured on
   // 4 x 4-pixel block means, against the difference between two seeds at the same angle.
   RenderScene sc;
-  sc.kind = PreviewScene::cylinders;
+  sc.kind = PreviewScene::Cylinders;
   RenderLights l;
-  l.envmap_path = kShared + "/envmaps/blender_courtyard.hdr";
+  l.envmap_path = kEnvmaps + "/blender_courtyard.exr";
   auto f = std::make_shared<ConductorFresnel>(metal("Fe"));
   auto aniso =
       std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(0.007, 0.14), f);
@@ -263,9 +267,9 @@ TEST(Render, RadianceHdrRoundTripAndExrAgreement) {
     const float m = std::max({img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]});
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(back.rgb[3 * i + c], img.rgb[3 * i + c], 0.008 * m);
   }
-  // The shared map in both encodings (RLE RGBE and DWAB EXR) agrees to RGBE's precision.
-  const auto e = pt::read_envmap_image(kShared + "/envmaps/blender_studio.exr");
-  const auto h = pt::read_envmap_image(kShared + "/envmaps/blender_studio.hdr");
+  // The studio map in both encodings (RLE RGBE and DWAB EXR) agrees to RGBE's precision.
+  const auto e = pt::read_envmap_image(kEnvmaps + "/blender_studio.exr");
+  const auto h = pt::read_envmap_image(kEnvmaps + "/blender_studio.hdr");
   ASSERT_EQ(e.width, 1024);
   ASSERT_EQ(h.width, 1024);
   ASSERT_EQ(e.height, h.height);
@@ -301,8 +305,8 @@ TEST(Render, CorruptRadianceFilesAreRefused) {
 }
 
 TEST(Render, EnvironmentSamplingPdfIntegratesToOne) {
-  const pt::EnvironmentMap map(pt::read_envmap_image(kShared + "/envmaps/blender_courtyard.hdr"),
-                               1.0, 0.7);
+  const pt::EnvironmentMap map(pt::read_envmap_image(kEnvmaps + "/blender_courtyard.exr"), 1.0,
+                               0.7);
   // Integral of pdf over the sphere (midpoint rule on a fine grid) and the pdf of sampled
   // directions matching pdf().
   double sum = 0;
@@ -336,12 +340,12 @@ TEST(Render, BadInputsAreRefused) {
   three.push_back(m[0]);
   EXPECT_THROW(render(sc, three, l, small(8, 1)), InputError);  // cylinders take 1 or 2
   EXPECT_THROW(parse_preview_scene("teapot"), InputError);
-  sc.kind = PreviewScene::obj;
+  sc.kind = PreviewScene::Obj;
   sc.obj_path = "/nonexistent.obj";
   EXPECT_THROW(render(sc, m, l, small(8, 1)), FileError);
   l.uniform_white_env = false;
   l.envmap_path = "/nonexistent.hdr";
-  sc.kind = PreviewScene::sphere;
+  sc.kind = PreviewScene::Sphere;
   EXPECT_THROW(render(sc, m, l, small(8, 1)), FileError);
 }
 
@@ -417,7 +421,7 @@ TEST(Render, OneMaterialPerCylinder) {
   // The cylinder pair takes one material per cylinder: white on the left, half grey on the
   // right, under the white sky. Each cylinder sees mostly the sky, a little of its neighbour.
   RenderScene sc;
-  sc.kind = PreviewScene::cylinders;
+  sc.kind = PreviewScene::Cylinders;
   RenderLights l;
   l.uniform_white_env = true;
   std::vector<std::shared_ptr<const Svbrdf>> m = {one(std::make_shared<LambertianBrdf>(1.0))[0],
@@ -462,7 +466,7 @@ TEST(Render, UpsamplingBasisReproducesColours) {
 TEST(Render, RadianceReaderSurvivesMutations) {
   // 3000 randomly mutated copies of the head of a real run-length-encoded map (a poor man's
   // fuzzer; run under ASan too): each is read or refused with FileError, nothing else.
-  const std::string path = kShared + "/envmaps/blender_studio.hdr";
+  const std::string path = kEnvmaps + "/blender_studio.hdr";
   std::vector<std::uint8_t> full = read_file_bytes(path, 1u << 26);
   std::vector<std::uint8_t> head(full.begin(), full.begin() + 24000);
   std::uint64_t s = 99;

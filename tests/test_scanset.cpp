@@ -7,8 +7,9 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/generate.hpp"
+#include "microbrdf/height_preview.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/io.hpp"
-#include "microbrdf/preview.hpp"
 #include "microbrdf/scanset.hpp"
 
 using namespace microbrdf;

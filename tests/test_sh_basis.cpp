@@ -1,4 +1,4 @@
-// Real spherical harmonics (theory notes 6.1-6.2): agreement with the C++17 special functions,
+// Real spherical harmonics (docs/theory.md §6.1-6.2): agreement with the C++17 special functions,
 // orthonormality by exact quadrature up to lmax 30, parity, the kept basis of the odd completion,
 // and which coefficients of an oddly completed function vanish.
 #include <gtest/gtest.h>
@@ -7,9 +7,9 @@
 #include <random>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/quadrature.hpp"
+#include "microbrdf/sh_basis.hpp"
 
 using namespace microbrdf;
 
@@ -92,7 +92,7 @@ TEST(sh_basis, StableAtPoleAndHorizonForLmax128) {
 }
 
 TEST(sh_basis, ParityUnderReflectionInTheSurface) {
-  // Y_lm(pi - theta, phi) = (-1)^(l+m) Y_lm(theta, phi)  (theory 6.2)
+  // Y_lm(pi - theta, phi) = (-1)^(l+m) Y_lm(theta, phi)  (docs/theory.md §6.2)
   const int L = 12;
   std::vector<double> a(sh_count(L)), b(sh_count(L));
   std::mt19937_64 rng(5);
@@ -148,7 +148,8 @@ TEST(sh_basis, HemisphereIntegrals) {
 TEST(sh_basis, OddCompletionKillsEveryCoefficientWithLPlusMEven) {
   // An anisotropic, off-centre f on the upper hemisphere that vanishes at the horizon, completed
   // by f(x, y, -z) = -f(x, y, z), projected on the full basis: l + m even vanish, l + m odd do
-  // not all vanish, and they equal twice the upper-hemisphere integral (the x2 of theory 6.4).
+  // not all vanish, and they equal twice the upper-hemisphere integral (the x2 of docs/theory.md
+  // §6.4).
   auto g = [](const Vec3& w) {
     return w.z() * std::exp(-((w.x() - 0.3) * (w.x() - 0.3) + 3 * w.y() * w.y() + w.x() * w.y()));
   };

@@ -1,4 +1,4 @@
-// ShBrdf (W92 section 2, theory notes 6.3, 6.5, 6.6): the exact Lambertian matrix, projection of
+// ShBrdf (W92 section 2, docs/theory.md §6.3, 6.5, 6.6): the exact Lambertian matrix, projection of
 // analytic BRDFs, reciprocity, albedo, damping, .shbrdf files, and sampling (pdf consistency,
 // histogram chi-square, sampled albedo, many threads).
 #include <gtest/gtest.h>
@@ -11,7 +11,11 @@
 #include <vector>
 
 #include "microbrdf/brdf.hpp"
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/quadrature.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 
 using namespace microbrdf;

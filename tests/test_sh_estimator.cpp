@@ -1,4 +1,4 @@
-// ShEstimator (W92 eqs. 17, 25-27 with the constants of theory notes 6.4-6.5), driven by
+// ShEstimator (W92 eqs. 17, 25-27 with the constants of docs/theory.md §6.4-6.5), driven by
 // synthetic "ray tracers" that draw exits from known BRDFs (no geometry): a white Lambertian
 // plane gives albedo 1 and the single coefficient 4a/3; a GGX lobe gives the matrix of a direct
 // quadrature projection; Q falls as N^-1/2.
@@ -10,6 +10,8 @@
 
 #include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 
 using namespace microbrdf;
@@ -65,7 +67,7 @@ void simulate(ShEstimator& e, const Brdf* brdf, double a, std::size_t n_incident
 }  // namespace
 
 TEST(sh_estimator, WhiteLambertianPlaneHasAlbedoOne) {
-  // Acceptance (3): albedo 1 within 1 %; only m_(1,0),(1,0) = 4a/3 survives (theory 6.3).
+  // Acceptance (3): albedo 1 within 1 %; only m_(1,0),(1,0) = 4a/3 survives (docs/theory.md §6.3).
   ShEstimator e(8);
   simulate(e, nullptr, 1.0, 1000000, 1, false, 1);
   const ShBrdf b = ShBrdf::from_estimator(e);
@@ -106,7 +108,7 @@ TEST(sh_estimator, UniformIncidentDensityAndBatchesGiveTheSameMatrix) {
 
 TEST(sh_estimator, MatchesQuadratureProjectionOfAnAnalyticBrdf) {
   // Exits from an anisotropic GGX sampler (R = weight = f cos / pdf): the estimate converges to
-  // the quadrature projection of the same BRDF (constants 4 and cos/p_U of theory 6.4).
+  // the quadrature projection of the same BRDF (constants 4 and cos/p_U of docs/theory.md §6.4).
   const MicrofacetBrdf g(std::make_shared<GgxDistribution>(0.5, 0.3, 0.4),
                          std::make_shared<PerfectMirrorFresnel>());
   const int L = 6;
@@ -135,8 +137,8 @@ TEST(sh_estimator, MatchesQuadratureProjectionOfAnAnalyticBrdf) {
 }
 
 TEST(sh_estimator, QFallsAsInverseSquareRootOfN) {
-  // Acceptance (2): log-log slope of Q(N) = -0.5 +- 0.1 over two decades of N (theory 6.5: Q
-  // tracks the standard deviation). Q averaged over 4 seeds at each N.
+  // Acceptance (2): log-log slope of Q(N) = -0.5 +- 0.1 over two decades of N (docs/theory.md §6.5:
+  // Q tracks the standard deviation). Q averaged over 4 seeds at each N.
   const MicrofacetBrdf g(std::make_shared<GgxDistribution>(0.4, 0.25, 0.3),
                          std::make_shared<PerfectMirrorFresnel>());
   std::vector<double> lx, ly;

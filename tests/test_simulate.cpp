@@ -4,8 +4,11 @@
 
 #include <cmath>
 
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/simulate.hpp"
 #include "microscene_test_util.hpp"
 
@@ -28,14 +31,14 @@ MicroSceneDesc flat(MicroMaterial m) {
 
 MicroMaterial lambert(double a) {
   MicroMaterial m;
-  m.kind = MicroMaterial::Kind::lambert;
+  m.kind = MicroMaterial::Kind::Lambert;
   m.albedo = a;
   return m;
 }
 
 MicroMaterial microfacet(double alpha) {
   MicroMaterial m;
-  m.kind = MicroMaterial::Kind::brdf;
+  m.kind = MicroMaterial::Kind::Brdf;
   m.brdf = std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(alpha),
                                             std::make_shared<PerfectMirrorFresnel>());
   return m;
@@ -49,7 +52,7 @@ Vec dir(double theta_deg, double phi_deg) {
 }  // namespace
 
 TEST(Simulate, WhiteLambertPlaneGivesTheExactMatrix) {
-  // theory 6.3: f = cos cos / pi -> only m_(1,0),(1,0) = 4/3 is non-zero.
+  // docs/theory.md §6.3: f = cos cos / pi -> only m_(1,0),(1,0) = 4/3 is non-zero.
   MicroScene sc(flat(lambert(1.0)));
   SimulateOptions o;
   o.lmax = 6;
@@ -93,7 +96,7 @@ TEST(Simulate, HierarchicalReuseOfASimulatedBrdf) {
   auto m = microfacet(0.4);
   auto sh = std::make_shared<ShBrdf>(ShBrdf::project(*m.brdf, 8, 550e-9));
   MicroMaterial mm;
-  mm.kind = MicroMaterial::Kind::brdf;
+  mm.kind = MicroMaterial::Kind::Brdf;
   mm.brdf = sh;
   MicroScene sc(flat(mm));
   SimulateOptions o;

@@ -1,14 +1,14 @@
 // W92 section 5.1 / Fig. 6: a Gaussian mirror surface (sigma = 10 um, tau = 65 um, F = 1) traced
-// on Embree against He et al. 1991 in its geometric-optics limit and Beckmann + Smith (theory
-// 6.7). The direct in-plane estimate (cones around in-plane directions, plane of incidence turned
-// to all azimuths) checks the ray tracer by itself; the SH pipeline is compared in the slow test
-// with the projection of the reference on the same basis.
+// on Embree against He et al. 1991 in its geometric-optics limit and Beckmann + Smith
+// (docs/theory.md §6.7). The direct in-plane estimate (cones around in-plane directions, plane of
+// incidence turned to all azimuths) checks the ray tracer by itself; the SH pipeline is compared in
+// the slow test with the projection of the reference on the same basis.
 //
 // He and Smith are single-scattering models. The ray tracer follows every bounce; restricted to
 // one bounce (max_depth = 1) it matches Smith within 4 % everywhere and He within 6 % for
-// theta_i <= 60 deg. At theta_i = 75 deg He's shadowing (numerator 1 - erfc(a)/2, theory 6.7) is
-// 11 % below Smith's per direction, and He is 20 % below the simulation. With all bounces the
-// forward lobe at theta_i >= 60 deg gains up to 20 % near grazing exits (docs/westin.md).
+// theta_i <= 60 deg. At theta_i = 75 deg He's shadowing (numerator 1 - erfc(a)/2, docs/theory.md
+// §6.7) is 11 % below Smith's per direction, and He is 20 % below the simulation. With all bounces
+// the forward lobe at theta_i >= 60 deg gains up to 20 % near grazing exits (docs/westin.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,7 +16,10 @@
 #include <cstdio>
 
 #include "microbrdf/generate.hpp"
+#include "microbrdf/goniometer.hpp"
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/simulate.hpp"
 #include "microscene_test_util.hpp"
 
@@ -32,65 +35,42 @@ MicroScene westin_scene(std::size_t n, std::uint64_t seed) {
   return MicroScene(test_util::gaussian_mirror_desc(n, kTau / 8, kSigma, kTau, seed));
 }
 
-// Cosine-weighted mean of a BRDF over the cone of half-angle `half` around `c`.
-template <class F>
-double cap_average(F&& f, const Vec& c, double half) {
-  const Vec t1 = Vec(0, 1, 0).cross(c).normalized(), t2 = c.cross(t1);
-  double num = 0, den = 0;
-  const int nr = 8, nphi = 24;
-  for (int i = 0; i < nr; ++i) {
-    const double r = (i + 0.5) / nr * half;
-    for (int k = 0; k < nphi; ++k) {
-      const double ph = 2 * M_PI * k / nphi;
-      const Vec w = std::cos(r) * c + std::sin(r) * (std::cos(ph) * t1 + std::sin(ph) * t2);
-      const double wgt = std::sin(r) * w.z();
-      num += wgt * f(w);
-      den += wgt;
-    }
-  }
-  return num / den;
-}
-
 struct Comparison {
   double worst_he = 0, worst_smith = 0, albedo = 0, below = 0;
 };
 
-// Worst relative deviation where the (cone-averaged) reference exceeds `threshold` x its peak,
-// theta_r in [-65, 70] deg.
+// The virtual goniometer of `microbrdf simulate --in-plane` (in_plane_goniometer, with its
+// cone-averaged references), theta_r in [-65, 70] deg: the worst relative deviation where a
+// reference exceeds `threshold` x its peak.
 Comparison compare(const MicroScene& sc, double theta_i_deg, std::uint64_t rays, double half,
                    double threshold, int max_depth) {
-  const double ti = theta_i_deg * kDeg;
-  const Vec wi(-std::sin(ti), 0, std::cos(ti));
-  std::vector<Vec> dirs;
-  std::vector<double> tr;
-  for (double t = -65; t <= 70 + 1e-9; t += 5) {
-    tr.push_back(t);
-    dirs.emplace_back(std::sin(t * kDeg), 0, std::cos(t * kDeg));
-  }
-  TraceCounters c;
-  TraceOptions to;
-  to.max_depth = max_depth;
-  const auto sim = cap_brdf(sc, wi, dirs, half, rays, to, 1234, &c, true);
-  MicrofacetBrdf smith(std::make_shared<BeckmannDistribution>(2 * kSigma / kTau),
-                       std::make_shared<PerfectMirrorFresnel>());
-  std::vector<double> he(dirs.size()), sm(dirs.size());
-  double peak_he = 0, peak_sm = 0;
-  for (std::size_t k = 0; k < dirs.size(); ++k) {
-    he[k] = cap_average([&](const Vec& w) { return he1991_geometric_brdf(wi, w, kSigma, kTau); },
-                        dirs[k], half);
-    sm[k] = cap_average([&](const Vec& w) { return smith.eval(wi, w, 550e-9); }, dirs[k], half);
-    peak_he = std::max(peak_he, he[k]);
-    peak_sm = std::max(peak_sm, sm[k]);
-  }
+  GoniometerOptions g;
+  g.theta_i_rad = {theta_i_deg * kDeg};
+  g.cone_half_angle_rad = half;
+  g.theta_r_min_deg = -65;
+  g.theta_r_max_deg = 70;
+  g.theta_r_step_deg = 5;
+  g.rays = rays;
+  g.trace.max_depth = max_depth;
+  g.seed = 1234;
+  g.isotropic = true;
+  g.he_sigma_m = kSigma;
+  g.he_tau_m = kTau;
+  const GoniometerCurve c = in_plane_goniometer(sc, g).at(0);
+  const auto& sim = c.simulated;
+  const auto& he = c.he1991;
+  const auto& sm = c.beckmann_smith;
+  const double peak_he = *std::max_element(he.begin(), he.end());
+  const double peak_sm = *std::max_element(sm.begin(), sm.end());
   Comparison out;
-  for (std::size_t k = 0; k < dirs.size(); ++k) {
+  for (std::size_t k = 0; k < sim.size(); ++k) {
     if (he[k] > threshold * peak_he)
       out.worst_he = std::max(out.worst_he, std::abs(sim[k] / he[k] - 1));
     if (sm[k] > threshold * peak_sm)
       out.worst_smith = std::max(out.worst_smith, std::abs(sim[k] / sm[k] - 1));
   }
-  out.albedo = c.energy_out / double(c.incident_rays);
-  out.below = c.energy_down / double(c.incident_rays);
+  out.albedo = c.albedo;
+  out.below = c.energy_below;
   std::printf("theta_i %2.0f depth %3d: albedo %.5f, worst deviation from He %.3f, Smith %.3f\n",
               theta_i_deg, max_depth, out.albedo, out.worst_he, out.worst_smith);
   return out;

@@ -23,7 +23,7 @@ TEST(spectrum, LinearInterpolationAndClamping) {
 }
 
 TEST(spectrum, CieTablesFromColord) {
-  // Values quoted in ../shared/data/color/README.md.
+  // Values quoted in data/color/README.md.
   EXPECT_NEAR(cie1931_x().at_nm(555), 0.5120501, 1e-12);
   EXPECT_NEAR(cie1931_y().at_nm(555), 1.0, 1e-12);
   EXPECT_NEAR(cie_d65().at_nm(300), 0.000341, 1e-12);

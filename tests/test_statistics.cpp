@@ -13,7 +13,7 @@ using namespace microbrdf;
 
 namespace {
 
-// Central differences see sigma^2 (1 - exp(-4 d^2/tau^2)) / (2 d^2) (theory notes 3.4).
+// Central differences see sigma^2 (1 - exp(-4 d^2/tau^2)) / (2 d^2) (docs/theory.md §3.4).
 double central_difference_slope(double sigma, double tau, double d) {
   return sigma * std::sqrt((1 - std::exp(-4 * d * d / (tau * tau))) / (2 * d * d));
 }

@@ -1,5 +1,5 @@
 // Sun 2002: free travel probability, Smith masking, the analytic BRDF in both forms, and the
-// section 4 simulation. Reference values from the theory notes (section 5, 7 and 9).
+// section 4 simulation. Reference values from docs/theory.md §5, §7 and §9.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -46,7 +46,7 @@ TEST(sun2002, SunFtpLimitsAndEndpoints) {
   }
   // s -> infinity: 1 (eq. 3.4.25).
   for (int d = 0; d <= 80; d += 10) EXPECT_NEAR(ftp(d * kDeg, 1e4), 1.0, 1e-12);
-  // s -> 0: exp(-tan(theta) / (sqrt(2 pi) s)) (eq. 3.4.24, theory notes 9.9) -> 0 off-normal.
+  // s -> 0: exp(-tan(theta) / (sqrt(2 pi) s)) (eq. 3.4.24, docs/theory.md §9.9) -> 0 off-normal.
   for (double d : {1.0, 2.0, 5.0}) {  // s << tan(theta)
     const double s = 1e-3, t = std::tan(d * kDeg);
     const double limit = std::exp(-t / (std::sqrt(2 * M_PI) * s));
@@ -63,7 +63,7 @@ TEST(sun2002, SunFtpLimitsAndEndpoints) {
 }
 
 TEST(sun2002, SunFtpNotesValuesAndSmithForm) {
-  // Theory notes 5.2: Gamma_0 vs Smith-Beckmann G1 (alpha = 2/s).
+  // docs/theory.md §5.2: Gamma_0 vs Smith-Beckmann G1 (alpha = 2/s).
   EXPECT_NEAR(ftp(60 * kDeg, 1), 0.530, 5e-4);
   EXPECT_NEAR(smith_g1(60 * kDeg, 1), 0.642, 5e-4);
   EXPECT_NEAR(ftp(60 * kDeg, 2), 0.781, 5e-4);
@@ -72,7 +72,7 @@ TEST(sun2002, SunFtpNotesValuesAndSmithForm) {
   EXPECT_NEAR(smith_g1(75 * kDeg, 2), 0.614, 5e-4);
   EXPECT_NEAR(ftp(85 * kDeg, 5), 0.419, 5e-4);
   EXPECT_NEAR(smith_g1(85 * kDeg, 5), 0.540, 5e-4);
-  // Theory notes 7: Beckmann alpha = 0.5 (s = 4) at 60 deg; alpha = 0.3077 at 75 deg.
+  // docs/theory.md §7: Beckmann alpha = 0.5 (s = 4) at 60 deg; alpha = 0.3077 at 75 deg.
   EXPECT_NEAR(smith_lambda(60 * kDeg, 4), 0.013162, 2e-6);
   EXPECT_NEAR(smith_g1(60 * kDeg, 4), 0.987009, 2e-6);
   EXPECT_NEAR(smith_g1(75 * kDeg, 2 / 0.3077), 0.959059, 2e-6);
@@ -124,7 +124,7 @@ TEST(sun2002, SunBrdfBeckmannNdfIsNormalised) {
 // The BRDF
 
 TEST(sun2002, SunBrdfExactConductorFresnelOfTheTest) {
-  // Theory notes 5.4 values, through the shared Fresnel the Sun BRDF uses.
+  // docs/theory.md §5.4 values, through the shared Fresnel the Sun BRDF uses.
   const double v[] = {0.6127, 0.6113, 0.6055, 0.5887, 0.5683, 0.6826};
   const int a[] = {0, 30, 45, 60, 75, 85};
   const auto f = conductor(2.76, 3.79);
@@ -167,7 +167,7 @@ TEST(sun2002, SunBrdfPublishedOverStandardRatio) {
     EXPECT_NEAR(fp / fs, expected, 1e-10 * expected);
     EXPECT_NEAR(published_over_standard(wi, wo), expected, 1e-14);
   }
-  // Theory notes 5.2: 1 at normal specular, 0.866 at 30 deg specular, 0.5 at 60 deg specular.
+  // docs/theory.md §5.2: 1 at normal specular, 0.866 at 30 deg specular, 0.5 at 60 deg specular.
   for (auto [d, r] : {std::pair{0.0, 1.0}, {30.0, 0.8660}, {60.0, 0.5}}) {
     const Eigen::Vector3d wi = dir(d * kDeg, 0), wo = dir(d * kDeg, M_PI);
     EXPECT_NEAR(published_over_standard(wi, wo), r, 1e-4);

@@ -2,8 +2,11 @@
 // computed before the interface change, exact sampling pdf/weights, albedo through the sampler.
 #include <cstdio>
 
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/fresnel.hpp"
 #include "microbrdf/sun2002.hpp"
+#include "microbrdf/sun_brdf.hpp"
 #include "test_microfacet_common.hpp"
 
 using namespace microbrdf;

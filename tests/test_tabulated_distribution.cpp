@@ -2,7 +2,12 @@
 // weak white furnace, BRDF reciprocity, sampling pdf, agreement with the analytic BRDF.
 #include <cstdio>
 
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/brdf_albedo.hpp"
+#include "microbrdf/brdf_slice.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/fresnel.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "test_microfacet_common.hpp"
 
@@ -20,7 +25,7 @@ struct Pair {
 // 128^2 slope bins instead of the default 256^2 keep every test process under a second (each
 // ctest case builds its tables); the default is checked in G1MatchesAnalyticSmith.
 Pair make_pair(const NdfSpec& s, std::size_t n = 513, std::size_t bins = 128,
-               TabulatedSampling sampling = TabulatedSampling::visible) {
+               TabulatedSampling sampling = TabulatedSampling::Visible) {
   auto a = make_distribution(s);
   TabulatedDistributionOptions o;
   o.sigma_bins = bins;
@@ -48,11 +53,11 @@ const Pair& narrow() {
 }
 const Pair& narrow_ndf() {
   static const Pair p =
-      make_pair(NdfSpec{"beckmann", 0.02, 0.3, 0.5}, 513, 128, TabulatedSampling::ndf);
+      make_pair(NdfSpec{"beckmann", 0.02, 0.3, 0.5}, 513, 128, TabulatedSampling::Ndf);
   return p;
 }
 const Pair& beckmann03_ndf() {
-  static const Pair p = make_pair(NdfSpec{"beckmann", 0.3, 0.3}, 513, 128, TabulatedSampling::ndf);
+  static const Pair p = make_pair(NdfSpec{"beckmann", 0.3, 0.3}, 513, 128, TabulatedSampling::Ndf);
   return p;
 }
 
@@ -95,7 +100,7 @@ TEST(tabulated_distribution, NormalisedAndSameInterpolantAsTheTable) {
 }
 
 TEST(tabulated_distribution, G1MatchesAnalyticSmith) {
-  // Theory notes section 9 item 5: G1 of a tabulated Beckmann/GGX = the analytic Smith G1.
+  // docs/theory.md §9 item 5: G1 of a tabulated Beckmann/GGX = the analytic Smith G1.
   // sigma+ integrates the table's interpolant (see WeakWhiteFurnace), so what is left is how
   // well the 513^2 table represents the model: Beckmann vanishes at the horizon and agrees to
   // ~2e-5; GGX keeps D ~ alpha^2/pi at the horizon, which the node-centred table (nodes on the
@@ -158,7 +163,7 @@ TEST(tabulated_distribution, BrdfReciprocityAndAgreementWithAnalytic) {
     }
     // Slices away from grazing: within a few percent where the lobe is significant.
     for (double ti : {0.0, 30.0, 60.0})
-      for (auto plane : {SlicePlane::in, SlicePlane::out}) {
+      for (auto plane : {SlicePlane::In, SlicePlane::Out}) {
         auto st = tabulate_slice(bt, ti * mtest::kPi / 180, 550e-9, plane, 181);
         auto sa = tabulate_slice(ba, ti * mtest::kPi / 180, 550e-9, plane, 181);
         const double peak = *std::max_element(sa.value.begin(), sa.value.end());
@@ -182,7 +187,7 @@ TEST(tabulated_distribution, SamplingPdfAndWeightsExact) {
   for (const Pair* p : {&beckmann03(), &ggx03(), &beckmann_aniso(), &beckmann03_ndf()}) {
     const auto& t = *p->table;
     MicrofacetBrdf b(p->table, al);
-    if (t.sampling() == TabulatedSampling::ndf) {  // the plain sampler: D(m)(m.n) whatever wi
+    if (t.sampling() == TabulatedSampling::Ndf) {  // the plain sampler: D(m)(m.n) whatever wi
       Vec3 m = t.sample_visible(direction(70, 10), 0.3, 0.6);
       EXPECT_NEAR(t.sampling_pdf(direction(70, 10), m), t.D(m) * m.z(), 1e-15);
       EXPECT_NEAR(t.sampling_pdf(direction(10, 200), m), t.D(m) * m.z(), 1e-15);
@@ -268,7 +273,7 @@ TEST(tabulated_distribution, VisibleSamplingFollowsPdfChiSquare) {
   int tests = 0;
   for (const Pair* p : {&narrow(), &beckmann03()}) {
     const auto& t = *p->table;
-    ASSERT_EQ(t.sampling(), TabulatedSampling::visible);
+    ASSERT_EQ(t.sampling(), TabulatedSampling::Visible);
     const std::size_t cells = t.table().resolution() - 1, nb = cells / 2;
     const double h = t.table().spacing();
     for (double th : {0.0, 45.0, 75.0, 85.0}) {
@@ -377,9 +382,9 @@ TEST(tabulated_distribution, VisibleSamplingReducesAlbedoVarianceUnbiased) {
 }
 
 TEST(tabulated_distribution, SamplingOptionsParseAndValidate) {
-  EXPECT_EQ(parse_tabulated_sampling("visible"), TabulatedSampling::visible);
-  EXPECT_EQ(parse_tabulated_sampling("ndf"), TabulatedSampling::ndf);
-  EXPECT_EQ(to_string(TabulatedSampling::ndf), "ndf");
+  EXPECT_EQ(parse_tabulated_sampling("visible"), TabulatedSampling::Visible);
+  EXPECT_EQ(parse_tabulated_sampling("ndf"), TabulatedSampling::Ndf);
+  EXPECT_EQ(to_string(TabulatedSampling::Ndf), "ndf");
   EXPECT_THROW(parse_tabulated_sampling("vndf"), InputError);
   auto a = make_distribution(NdfSpec{"beckmann", 0.3, 0.3});
   TabulatedDistributionOptions o;

@@ -9,11 +9,12 @@
 #include <numbers>
 #include <random>
 
-#include "microbrdf/brdf.hpp"
+#include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/io.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/texture.hpp"
 #include "texture/synthesis_detail.hpp"

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/units.hpp"
@@ -40,4 +41,7 @@ TEST(Units, Format) {
   EXPECT_EQ(format_length(0.0), "0 m");
   EXPECT_EQ(format_length(1.4e-21), "0 m");
   EXPECT_EQ(format_length(-2e-12), "-2 pm");
+  // Values that do not exist print as n/a, never "nan m" or "inf m".
+  EXPECT_EQ(format_length(std::numeric_limits<double>::quiet_NaN()), "n/a");
+  EXPECT_EQ(format_length(std::numeric_limits<double>::infinity()), "n/a");
 }

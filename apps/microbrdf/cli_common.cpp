@@ -1,9 +1,12 @@
 #include "cli_common.hpp"
 
+#include <cctype>
 #include <cstdio>
 #include <iostream>
 
+#include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
@@ -35,17 +38,46 @@ ReadOptions read_options(const ReadFlags& flags) {
   return o;
 }
 
-void warn_if_sparse(const std::string& path, const Surface& s) {
-  const double f = s.valid_fraction();
+namespace {
+void warn_if_sparse(const std::string& path, std::size_t valid, std::size_t nx, std::size_t ny) {
+  const double f = double(valid) / double(std::max<std::size_t>(1, nx * ny));
   if (f < kSparseValidFraction)
     std::fprintf(stderr,
                  "microbrdf: %s: warning: only %.3g%% of the samples are valid (%zu of %zu x "
                  "%zu); statistics rest on few points\n",
-                 path.c_str(), 100 * f, s.valid_count(), s.nx, s.ny);
+                 path.c_str(), 100 * f, valid, nx, ny);
+}
+
+}  // namespace
+
+void SampleTally::add(const std::string& path, const nlohmann::json& scan) {
+  const auto nx = scan.at("nx").get<std::size_t>(), ny = scan.at("ny").get<std::size_t>();
+  const auto valid = scan.at("valid").get<std::size_t>();
+  all += nx * ny;
+  invalid += nx * ny - valid;
+  warn_if_sparse(path, valid, nx, ny);
+}
+
+void SampleTally::print(const char* command) const {
+  std::fprintf(stderr, "microbrdf %s: %zu of %zu height samples invalid (%.3g%%), skipped\n",
+               command, invalid, all, all ? 100.0 * double(invalid) / double(all) : 0.0);
+}
+
+void warn_if_sparse(const std::string& path, const Surface& s) {
+  warn_if_sparse(path, s.valid_count(), s.nx, s.ny);
+}
+
+std::vector<std::string> scan_inputs(const std::vector<std::string>& inputs) {
+  auto paths = expand_scan_inputs(inputs);
+  Preflight pre;
+  for (const auto& p : paths) pre.input("input", p);
+  pre.done();
+  return paths;
 }
 
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* report) {
   auto spec = LevelingSpec::parse(flags.level);  // validate before the (maybe long) read
+  Preflight().input("input", path).done();
   Surface s = read_surface(path, read_options(flags));
   warn_if_sparse(path, s);
   auto r = about_file(path, [&] { return level_surface(s, spec); });
@@ -66,38 +98,27 @@ nlohmann::json stats_json(const std::string& path, const Surface& s, const Surfa
   return j;
 }
 
-NdfSpec ndf_spec(const ModelFlags& f) {
-  NdfSpec s;
-  s.model = f.model;
-  s.alpha_x = f.alpha_x > 0 ? f.alpha_x : f.alpha;
-  s.alpha_y = f.alpha_y > 0 ? f.alpha_y : (f.alpha > 0 ? f.alpha : s.alpha_x);
-  if (!(s.alpha_x > 0))
-    throw InputError("give the roughness: --alpha, or --alpha-x (and --alpha-y)");
-  s.phi = parse_angle(f.phi);
-  s.theta_x = parse_angle(f.theta_x);
-  s.theta_y = parse_angle(f.theta_y);
-  s.theta_z = parse_angle(f.theta_z);
-  return s;
+void check_plot_name(const std::string& flag, const std::string& path) {
+  if (path.empty()) return;
+  const auto dot = path.find_last_of('.');
+  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != "png" && ext != "svg")
+    throw InputError(flag + " " + path + ": plots are written as .png or .svg");
 }
 
-CLI::Option* add_model_flags(CLI::App* c, ModelFlags& f) {
-  auto* model =
-      c->add_option("--model", f.model, "NDF: beckmann, ggx or ellipsoid")->capture_default_str();
-  c->add_option("--alpha", f.alpha, "Roughness alpha (both axes)");
-  c->add_option("--alpha-x", f.alpha_x, "Roughness along the first axis");
-  c->add_option("--alpha-y", f.alpha_y, "Roughness along the second axis (default: = alpha-x)");
-  c->add_option("--phi", f.phi, "beckmann/ggx: azimuth of the alpha-x axis (deg unless marked)");
-  c->add_option("--theta-x", f.theta_x, "ellipsoid: rotation Rx (tilts the peak towards +y)");
-  c->add_option("--theta-y", f.theta_y, "ellipsoid: rotation Ry (tilts the peak towards -x)");
-  c->add_option("--theta-z", f.theta_z, "ellipsoid: rotation Rz (turns the axes by -theta_z)");
-  return model;
+void emit_text(const std::string& path, const std::string& text) {
+  if (path == "-") {
+    std::fwrite(text.data(), 1, text.size(), stdout);
+    return;
+  }
+  write_file_atomic(path, text);
 }
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
 
 void progress(const char* command, std::size_t index, std::size_t total, const std::string& what) {
-  if (total <= 1) return;
-  std::fprintf(stderr, "microbrdf %s: [%zu/%zu] %s\n", command, index + 1, total, what.c_str());
+  Progress(command).item(index, total, what);
 }
 
 }  // namespace microbrdf::cli

@@ -1,12 +1,14 @@
 #pragma once
-// Pieces every subcommand shares: reading flags (--spacing, --level), JSON printing, progress.
+// Pieces every subcommand shares: reading flags (--spacing, --level), JSON printing, progress
+// (cli_progress.hpp) and the checks made before any heavy work (cli_checks.hpp).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_checks.hpp"
+#include "cli_progress.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
-#include "microbrdf/microfacet.hpp"
 #include "microbrdf/statistics.hpp"
 #include "microbrdf/surface.hpp"
 
@@ -26,30 +28,40 @@ inline constexpr double kSparseValidFraction = 0.1;
 /// The warning, naming the file, when `s` is below kSparseValidFraction.
 void warn_if_sparse(const std::string& path, const Surface& s);
 
-/// Reads a surface and levels it as asked (a warning when it is sparse, errors naming the
-/// file); the levelling description is returned.
+/// Height samples over a scan set, from each scan's {"nx", "ny", "valid"} record (ndf_scanset),
+/// with the sparse-scan warning as each scan comes.
+struct SampleTally {
+  std::size_t all = 0, invalid = 0;
+  void add(const std::string& path, const nlohmann::json& scan);
+  /// "microbrdf CMD: N of M height samples invalid (x%), skipped" on stderr.
+  void print(const char* command) const;
+};
+
+/// The scans named by files, folders, globs or @manifests (expand_scan_inputs), each checked to
+/// exist and be readable: a missing scan is a usage error (exit 2), all of them listed at once,
+/// before any file is parsed.
+std::vector<std::string> scan_inputs(const std::vector<std::string>& inputs);
+
+/// Reads a surface and levels it as asked (a warning when it is sparse; errors about its data
+/// name the file); the levelling description is returned. A file that does not exist is a
+/// usage error (InputError); one that cannot be read is a FileError.
 Surface load_surface(const std::string& path, const ReadFlags& flags, std::string* leveling_report);
 
-/// The `info --json` record of one surface (ARCHITECTURE.md keys, SI units): the library's
+/// The `info --json` record of one surface (docs/architecture.md keys, SI units): the library's
 /// stats_json(st) plus the file's path, format and metadata.
 nlohmann::json stats_json(const std::string& path, const Surface& s, const SurfaceStats& st);
 
-/// The analytic-model flags shared by `tabulate` and `brdf` (--model, --alpha or
-/// --alpha-x/--alpha-y, --phi, --theta-x/y/z; angles with units) as an NdfSpec. --alpha sets
-/// both widths; --alpha-y defaults to alpha_x. Throws InputError without a roughness.
-struct ModelFlags {
-  std::string model = "ggx";
-  double alpha = 0, alpha_x = 0, alpha_y = 0;
-  std::string phi = "0", theta_x = "0", theta_y = "0", theta_z = "0";
-};
-NdfSpec ndf_spec(const ModelFlags& f);
-/// Registers those flags on a subcommand; returns the --model option.
-CLI::Option* add_model_flags(CLI::App* cmd, ModelFlags& f);
+/// Plots are written as .png or .svg: checked before any work, so a typo costs nothing.
+/// Throws InputError naming `flag`.
+void check_plot_name(const std::string& flag, const std::string& path);
+
+/// Writes text to `path` atomically, or to stdout when path is "-".
+void emit_text(const std::string& path, const std::string& text);
 
 /// Prints one JSON object on stdout.
 void print_json(const nlohmann::json& j);
 
-/// "[3/10] scan.x3p" style progress on stderr (silent when `quiet`).
+/// "[3/10] scan.x3p" style progress on stderr (Progress::item of cli_progress.hpp).
 void progress(const char* command, std::size_t index, std::size_t total, const std::string& what);
 
 }  // namespace microbrdf::cli

@@ -4,7 +4,8 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/height_preview.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {

@@ -9,7 +9,9 @@
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/generate.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/height_preview.hpp"
+#include "microbrdf/image.hpp"
+#include "microbrdf/render.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
@@ -61,11 +63,12 @@ void finish(const std::string& kind, const GenArgs& a, const Surface& s, nlohman
   } else {
     std::fprintf(stderr,
                  "microbrdf generate %s: wrote %s (%zu x %zu, spacing %s); measured Sq %s, rms "
-                 "slope x %.4g y %.4g, "
+                 "slope x %s y %s, "
                  "corr. length x %s y %s\n",
                  kind.c_str(), a.output.c_str(), s.nx, s.ny, format_length(s.dx).c_str(),
-                 format_length(st.sq).c_str(), st.slope_rms_x, st.slope_rms_y,
-                 format_length(st.corr_length_x).c_str(), format_length(st.corr_length_y).c_str());
+                 format_length(st.sq).c_str(), number_or_na(st.slope_rms_x).c_str(),
+                 number_or_na(st.slope_rms_y).c_str(), format_length(st.corr_length_x).c_str(),
+                 format_length(st.corr_length_y).c_str());
   }
 }
 

@@ -1,13 +1,15 @@
 // `microbrdf info FILE... [--json]`: grid, spacing, validity and the statistics the papers use.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/height_preview.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 
@@ -17,41 +19,42 @@ namespace {
 struct InfoArgs {
   std::vector<std::string> inputs;
   ReadFlags read;
-  bool json = false;
+  bool json = false, keep_going = false;
   std::string preview;
   std::string psd;
 };
 
 std::string deg(double slope) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g deg", std::atan(slope) * 180 / M_PI);
-  return b;
+  return std::isfinite(slope) ? number_or_na(std::atan(slope) * 180 / M_PI, "%.3g deg") : "n/a";
 }
 
-void print_human(const std::string& path, const Surface& s, const SurfaceStats& st,
+void print_human(std::FILE* out, const std::string& path, const Surface& s, const SurfaceStats& st,
                  const std::string& lev) {
-  std::printf("%s  [%s]\n", path.c_str(), s.meta.format.c_str());
-  if (!s.meta.instrument.empty()) std::printf("  instrument     %s\n", s.meta.instrument.c_str());
-  if (!s.meta.date.empty()) std::printf("  date           %s\n", s.meta.date.c_str());
-  std::printf("  grid           %zu x %zu samples, spacing %s x %s, field %s x %s\n", st.nx, st.ny,
-              format_length(st.dx).c_str(), format_length(st.dy).c_str(),
-              format_length(s.width()).c_str(), format_length(s.height()).c_str());
-  std::printf("  valid          %.2f%% (%zu invalid)\n", 100 * st.valid_fraction,
-              s.size() - st.valid_count);
-  std::printf("  levelling      %s\n", lev.c_str());
-  std::printf("  heights        min %s, max %s, mean %s\n", format_length(st.min).c_str(),
-              format_length(st.max).c_str(), format_length(st.mean).c_str());
-  std::printf("  Sq (sigma)     %s    Sa %s\n", format_length(st.sq).c_str(),
-              format_length(st.sa).c_str());
-  std::printf("  skew / kurt    %.4g / %.4g (Gaussian: 0 / 3)\n", st.skewness, st.kurtosis);
-  std::printf("  rms slope      x %.4g (%s), y %.4g (%s)\n", st.slope_rms_x,
-              deg(st.slope_rms_x).c_str(), st.slope_rms_y, deg(st.slope_rms_y).c_str());
+  std::fprintf(out, "%s  [%s]\n", path.c_str(), s.meta.format.c_str());
+  if (!s.meta.instrument.empty())
+    std::fprintf(out, "  instrument     %s\n", s.meta.instrument.c_str());
+  if (!s.meta.date.empty()) std::fprintf(out, "  date           %s\n", s.meta.date.c_str());
+  std::fprintf(out, "  grid           %zu x %zu samples, spacing %s x %s, field %s x %s\n", st.nx,
+               st.ny, format_length(st.dx).c_str(), format_length(st.dy).c_str(),
+               format_length(s.width()).c_str(), format_length(s.height()).c_str());
+  std::fprintf(out, "  valid          %.2f%% (%zu invalid)\n", 100 * st.valid_fraction,
+               s.size() - st.valid_count);
+  std::fprintf(out, "  levelling      %s\n", lev.c_str());
+  std::fprintf(out, "  heights        min %s, max %s, mean %s\n", format_length(st.min).c_str(),
+               format_length(st.max).c_str(), format_length(st.mean).c_str());
+  std::fprintf(out, "  Sq (sigma)     %s    Sa %s\n", format_length(st.sq).c_str(),
+               format_length(st.sa).c_str());
+  std::fprintf(out, "  skew / kurt    %s / %s (Gaussian: 0 / 3)\n",
+               number_or_na(st.skewness).c_str(), number_or_na(st.kurtosis).c_str());
+  std::fprintf(out, "  rms slope      x %s (%s), y %s (%s)\n", number_or_na(st.slope_rms_x).c_str(),
+               deg(st.slope_rms_x).c_str(), number_or_na(st.slope_rms_y).c_str(),
+               deg(st.slope_rms_y).c_str());
   auto len = [](double v) {
     return std::isfinite(v) ? format_length(v) : std::string("longer than the scan");
   };
-  std::printf("  corr. length   x %s, y %s, radial %s (1/e of the ACF = tau)\n",
-              len(st.corr_length_x).c_str(), len(st.corr_length_y).c_str(),
-              len(st.corr_length).c_str());
+  std::fprintf(out, "  corr. length   x %s, y %s, radial %s (1/e of the ACF = tau)\n",
+               len(st.corr_length_x).c_str(), len(st.corr_length_y).c_str(),
+               len(st.corr_length).c_str());
 }
 
 void write_psd_csv(const std::string& path, const Surface& s) {
@@ -66,28 +69,82 @@ void write_psd_csv(const std::string& path, const Surface& s) {
   write_file_atomic(path, text);
 }
 
+// One scan's record: the JSON of `info --json` or the text of the human listing.
+WorkResult describe(const InfoArgs& a, const std::string& path, Surface& s, bool with_files) {
+  std::string lev = level_surface(s, LevelingSpec::parse(a.read.level)).description;
+  auto st = compute_stats(s);
+  WorkResult r;
+  if (a.json) {
+    auto j = stats_json(path, s, st);
+    j["leveling_report"] = lev;
+    r.text = j.dump();
+  } else {
+    char* buf = nullptr;
+    std::size_t len = 0;
+    std::FILE* mem = open_memstream(&buf, &len);
+    if (!mem) throw std::runtime_error("out of memory");
+    print_human(mem, path, s, st, lev);
+    std::fclose(mem);
+    r.text.assign(buf, len);
+    std::free(buf);
+  }
+  if (with_files && !a.preview.empty()) write_png(a.preview, render_height_preview(s));
+  if (with_files && !a.psd.empty()) write_psd_csv(a.psd, s);
+  return r;
+}
+
 void run(const InfoArgs& a) {
   auto paths = expand_scan_inputs(a.inputs);
-  if ((!a.preview.empty() || !a.psd.empty()) && paths.size() != 1)
+  const bool files = !a.preview.empty() || !a.psd.empty();
+  if (files && paths.size() != 1)
     throw InputError("--preview and --psd take exactly one input file (got " +
                      std::to_string(paths.size()) + ")");
+  // Without --keep-going a file that is not there is a usage error, found before any reading.
+  if (!a.keep_going) scan_inputs(a.inputs);
+  LevelingSpec::parse(a.read.level);  // validate before the (maybe long) reads
+  // The scans over the MPI ranks (docs/scale.md), listed by rank 0 in input order; with
+  // --preview / --psd (one scan) rank 0 alone reads it and writes the files.
   nlohmann::json all = nlohmann::json::array();
-  for (std::size_t i = 0; i < paths.size(); ++i) {
+  auto list = [&](std::size_t i, WorkResult&& r) {
     progress("info", i, paths.size(), paths[i]);
-    std::string lev;
-    Surface s = load_surface(paths[i], a.read, &lev);
-    auto st = compute_stats(s);
-    if (a.json) {
-      auto j = stats_json(paths[i], s, st);
-      j["leveling_report"] = lev;
-      all.push_back(j);
-    } else {
-      print_human(paths[i], s, st, lev);
+    if (a.json)
+      all.push_back(nlohmann::json::parse(r.text));
+    else
+      std::fputs(r.text.c_str(), stdout);
+  };
+  WorkStats stats;
+  nlohmann::json failed = nlohmann::json::array();
+  if (files || a.keep_going) {
+    // One scan with its files, or --keep-going (an interactive listing): rank 0 alone, in order.
+    if (!mpi_is_root()) return;
+    for (std::size_t i = 0; i < paths.size(); ++i) {
+      Surface s;
+      try {
+        s = read_surface(paths[i], read_options(a.read));
+      } catch (const std::exception& e) {
+        if (!a.keep_going) throw;
+        // --keep-going: say which file failed and why, go on, and fail at the end.
+        std::fprintf(stderr, "microbrdf info: error: %s (skipped)\n", e.what());
+        failed.push_back({{"path", paths[i]}, {"error", e.what()}});
+        continue;
+      }
+      list(i, describe(a, paths[i], s, files));
     }
-    if (!a.preview.empty()) write_png(a.preview, render_height_preview(s));
-    if (!a.psd.empty()) write_psd_csv(a.psd, s);
+  } else {
+    stats = distribute_scans(
+        paths, read_options(a.read),
+        [&](std::size_t, const std::string& path, Surface& s) {
+          return describe(a, path, s, false);
+        },
+        list);
+    if (!mpi_is_root()) return;
   }
-  if (a.json) print_json({{"surfaces", all}});
+  if (a.json)
+    print_json({{"surfaces", all}, {"failed", failed}, {"mpi", stats.to_json("scans_per_rank")}});
+  if (!failed.empty())
+    throw FileError(
+        std::to_string(failed.size()) + " of " + std::to_string(paths.size()) + " files",
+        "could not be read (see above)");
 }
 
 }  // namespace
@@ -113,6 +170,9 @@ void register_info(CLI::App& app) {
   cmd->add_option("--preview", args->preview,
                   "Write a false-colour height-map PNG (one input only)");
   cmd->add_option("--psd", args->psd, "Write the radially averaged PSD as CSV (one input only)");
+  cmd->add_flag("--keep-going", args->keep_going,
+                "Go on past files that cannot be read (each is reported on stderr and in the "
+                "JSON's \"failed\" list); the exit code is still 1 if any failed");
   cmd->callback([args] { run_guarded("info", [&] { run(*args); }); });
 }
 

@@ -9,8 +9,11 @@
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/ndf_convolve.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_preview.hpp"
+#include "microbrdf/ndf_scanset.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 
@@ -70,6 +73,15 @@ void write_outputs(const TabulatedNdf& ndf, const NdfArgs& a) {
   write_ndf_preview(ndf, a.preview, po);
 }
 
+// Reading and levelling of the scan set (distributed over MPI ranks when run under mpirun).
+ScanSetOptions scan_set_options(const NdfArgs& a, std::size_t scans) {
+  ScanSetOptions set;
+  set.read = read_options(a.read);
+  set.leveling = LevelingSpec::parse(a.read.level);
+  if (scans == 0) throw InputError("no scan given");
+  return set;
+}
+
 void run_kirchhoff(const NdfArgs& a) {
   KirchhoffOptions o;
   o.wavelength_q = parse_length(a.wavelength);
@@ -89,61 +101,57 @@ void run_kirchhoff(const NdfArgs& a) {
     throw InputError("--resolution must be in 17..8193");
   if (!(o.wavelength_q > 0)) throw InputError("--wavelength must be > 0");
   if (!(o.accuracy > 0 && o.accuracy < 1)) throw InputError("--accuracy must be in (0, 1)");
-  auto paths = expand_scan_inputs(a.inputs);
+  auto paths = scan_inputs(a.inputs);
   // D_K takes ~25 s per scan at 1025^2: report the overall fraction on stderr in 10 % steps.
-  std::size_t scan = 0;
-  int last_step = -1;
-  o.progress = [&](double f) {
-    const double all = (static_cast<double>(scan) + f) / static_cast<double>(paths.size());
-    const int step = static_cast<int>(std::floor(all * 10 + 1e-9));
-    if (step == last_step) return;
-    last_step = step;
-    std::fprintf(stderr, "microbrdf ndf: kirchhoff D_K %3d%%\n", step * 10);
-  };
-  KirchhoffAccumulator acc(o);
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    scan = i;
-    progress("ndf", i, paths.size(), paths[i]);
-    Surface s = load_surface(paths[i], a.read, nullptr);
-    const double nyq = M_PI / std::max(s.dx, s.dy), qm = 4 * M_PI / o.wavelength_q;
+  Progress dk_progress("ndf", false, 0.1, "kirchhoff D_K");
+  o.progress = [&](double all) { dk_progress.fraction(all); };
+  ScanSetOptions set = scan_set_options(a, paths.size());
+  set.on_scan = [&](std::size_t i, const std::string& path, const nlohmann::json& scan) {
+    progress("ndf", i, paths.size(), path);
+    const double dx = scan.at("dx_m").get<double>(), dy = scan.at("dy_m").get<double>();
+    const double nyq = M_PI / std::max(dx, dy), qm = 4 * M_PI / o.wavelength_q;
     if (i == 0 && nyq < qm)
       std::fprintf(
           stderr,
           "microbrdf ndf: warning: sample spacing %s is above lambda_q/4 = %s: |q| exceeds "
           "the Nyquist frequency of the scan; nodes beyond it are %s\n",
-          format_length(std::max(s.dx, s.dy)).c_str(), format_length(o.wavelength_q / 4).c_str(),
+          format_length(std::max(dx, dy)).c_str(), format_length(o.wavelength_q / 4).c_str(),
           o.nyquist_mask ? "set to 0 (--keep-aliases keeps them)" : "aliases (kept)");
-    if (o.direct && s.size() * a.resolution * a.resolution > 5e10)
+    const double samples = scan.at("nx").get<double>() * scan.at("ny").get<double>();
+    if (i == 0 && o.direct && samples * static_cast<double>(a.resolution * a.resolution) > 5e10)
       std::fprintf(stderr,
-                   "microbrdf ndf: warning: --direct on %zu samples x %zu^2 nodes will take very "
+                   "microbrdf ndf: warning: --direct on %.0f samples x %zu^2 nodes will take very "
                    "long; the fast method agrees to ~1e-5\n",
-                   s.size(), a.resolution);
-    acc.add(s);
-  }
-  TabulatedNdf ndf = acc.result();
+                   samples, a.resolution);
+  };
+  WorkStats stats;
+  auto acc = accumulate_kirchhoff_scans(paths, o, set, &stats);
+  if (!acc) return;  // rank 0 writes the outputs
+  TabulatedNdf ndf = acc->result();
   write_outputs(ndf, a);
   if (a.json) {
     auto j = ndf_json(ndf, a.output);
-    const auto& in = acc.last_info();
+    j["mpi"] = stats.to_json("scans_per_rank");
+    const auto& in = acc->last_info();
     j["kirchhoff"] = {{"wavelength_q_m", o.wavelength_q},
                       {"patch_m", {o.patch_x, o.patch_y}},
-                      {"patches", acc.patches()},
+                      {"patches", acc->patches()},
                       {"window", to_string(o.window)},
                       {"accuracy", o.accuracy},
                       {"direct", o.direct},
                       {"terms", in.terms},
                       {"height_half_range_m", in.height_half_range},
-                      {"raw_integral", acc.raw_integral()},
+                      {"raw_integral", acc->raw_integral()},
                       {"nyquist_mask", o.nyquist_mask},
-                      {"aliased_fraction", acc.aliased_fraction()},
+                      {"aliased_fraction", acc->aliased_fraction()},
                       {"notes", ndf.meta.notes}};
     print_json(j);
   } else {
     std::fprintf(stderr,
                  "microbrdf ndf: kirchhoff D_K (lambda_q %s) of %zu scan(s), %zu patch(es) -> %s "
                  "(%zu x %zu); integral before normalising %.4g; rms slope x %.4g, y %.4g\n",
-                 format_length(o.wavelength_q).c_str(), paths.size(), acc.patches(),
-                 a.output.c_str(), ndf.resolution(), ndf.resolution(), acc.raw_integral(),
+                 format_length(o.wavelength_q).c_str(), paths.size(), acc->patches(),
+                 a.output.c_str(), ndf.resolution(), ndf.resolution(), acc->raw_integral(),
                  ndf.rms_slope(0), ndf.rms_slope(M_PI / 2));
   }
 }
@@ -157,33 +165,31 @@ void run(const NdfArgs& a) {
     o.method = NdfMethod::Filtered;
   else
     throw InputError("unknown --method '" + a.method + "' (naive | filtered | kirchhoff)");
-  o.filter_sigma = parse_length(a.filter_sigma);
+  o.filter_sigma_m = parse_length(a.filter_sigma);
   o.resolution = a.resolution;
   o.min_support = a.min_support;
   if (a.resolution < 17 || a.resolution > 8193)
     throw InputError("--resolution must be in 17..8193");
-  auto paths = expand_scan_inputs(a.inputs);
-  NdfAccumulator acc(o);
+  auto paths = scan_inputs(a.inputs);
   bool warned = false;
-  std::size_t samples_all = 0, samples_invalid = 0;
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    progress("ndf", i, paths.size(), paths[i]);
-    Surface s = load_surface(paths[i], a.read, nullptr);
-    if (o.method == NdfMethod::Filtered && !warned && o.filter_sigma < std::max(s.dx, s.dy)) {
+  SampleTally tally;
+  ScanSetOptions set = scan_set_options(a, paths.size());
+  set.on_scan = [&](std::size_t i, const std::string& path, const nlohmann::json& scan) {
+    progress("ndf", i, paths.size(), path);
+    tally.add(path, scan);
+    const double d = std::max(scan.at("dx_m").get<double>(), scan.at("dy_m").get<double>());
+    if (o.method == NdfMethod::Filtered && !warned && o.filter_sigma_m < d) {
       std::fprintf(stderr,
                    "microbrdf ndf: warning: filter sigma %s is below the sample spacing %s of %s: "
-                   "the fit sees "
-                   "few neighbours and approaches the naive estimate\n",
-                   format_length(o.filter_sigma).c_str(),
-                   format_length(std::max(s.dx, s.dy)).c_str(), paths[i].c_str());
+                   "the fit sees few neighbours and approaches the naive estimate\n",
+                   format_length(o.filter_sigma_m).c_str(), format_length(d).c_str(), path.c_str());
       warned = true;
     }
-    samples_all += s.size();
-    samples_invalid += s.size() - s.valid_count();
-    about_file(paths[i], [&] { acc.add(s); });
-  }
-  TabulatedNdf ndf =
-      about_file(paths.size() == 1 ? paths[0] : paths[0] + " ...", [&] { return acc.result(); });
+  };
+  WorkStats stats;
+  auto acc = accumulate_ndf_scans(paths, o, set, &stats);
+  if (!acc) return;  // rank 0 writes the outputs
+  TabulatedNdf ndf = acc->result();
   if (!a.instrument_fwhm.empty()) {
     const double fwhm = parse_angle(a.instrument_fwhm);
     ndf = convolve_angular_gaussian(ndf, fwhm);
@@ -195,12 +201,11 @@ void run(const NdfArgs& a) {
   write_outputs(ndf, a);
   if (a.json) {
     auto j = ndf_json(ndf, a.output);
-    j["samples_invalid"] = samples_invalid;  // height samples the scans mark invalid
+    j["samples_invalid"] = tally.invalid;  // height samples the scans mark invalid
+    j["mpi"] = stats.to_json("scans_per_rank");
     print_json(j);
   } else {
-    std::fprintf(stderr, "microbrdf ndf: %zu of %zu height samples invalid (%.3g%%), skipped\n",
-                 samples_invalid, samples_all,
-                 samples_all ? 100.0 * double(samples_invalid) / double(samples_all) : 0.0);
+    tally.print("ndf");
     std::fprintf(stderr,
                  "microbrdf ndf: %s NDF of %zu scan(s) -> %s (%zu x %zu); %zu elements used, %zu "
                  "skipped; rms slope x "

@@ -11,6 +11,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
 #include "microbrdf/units.hpp"
+#include "spec_flags.hpp"
 
 namespace microbrdf::cli {
 namespace {
@@ -18,7 +19,8 @@ namespace {
 struct PredictArgs {
   std::vector<std::string> inputs, strips;
   ReadFlags read;
-  std::string output, metal = "Fe", filter_sigma = "1um", wavelength = "555nm";
+  SpecFlags material;
+  std::string output, filter_sigma = "1um", wavelength = "555nm";
   std::string theta_i = "20,45,70", envmap, texel = "53um", patch = "70x53um";
   std::size_t resolution = 1025, texture_size = 128;
   double envmap_scale = 1;
@@ -29,11 +31,20 @@ struct PredictArgs {
 };
 
 void run(const PredictArgs& a) {
+  // Cheap checks first: predict can run for minutes before it reaches the renders.
+  scan_inputs(a.inputs);
+  Preflight pre;
+  for (const auto& path : a.strips) pre.input("--strips", path);
+  pre.output_dir("-o", a.output);
+  check_spec_files(pre, a.material);
+  if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
+  pre.done();
+  const MaterialSpec material = material_spec(a.material, MaterialSpec::named_metal("Fe"));
   PredictOptions o;
   o.inputs = a.inputs;
   o.read = read_options(a.read);
   o.leveling = LevelingSpec::parse(a.read.level);
-  o.metal = a.metal;
+  o.material = material;
   o.filter_sigma_m = parse_length(a.filter_sigma);
   o.wavelength_m = parse_length(a.wavelength);
   o.ndf_resolution = a.resolution;
@@ -91,7 +102,8 @@ void register_predict(CLI::App& app) {
       "     Kirchhoff D_K with --kirchhoff (at --wavelength, tiles of --patch; slower);\n"
       "  3. fits: ellipsoid, Beckmann and GGX fits of the filtered NDF;\n"
       "  4. BRDF slices in and out of the plane of incidence at --theta-i for the measured NDF,\n"
-      "     the fits (and D_K), with the optical constants of --metal;\n"
+      "     the fits (and D_K), with the material's Fresnel term (--metal, default Fe; --n/--k;\n"
+      "     --nk-csv; --r0; --color; --fresnel exact|schlick);\n"
       "  5. renders: the cylinder pair of Dong Fig. 10 and a sphere (--envmap FILE, else built-in\n"
       "     area lights; --render-width, --spp; --no-render skips);\n"
       "  6. with --strips ALONG ACROSS: per-texel fits (--texel) and a synthesised parameter\n"
@@ -109,8 +121,7 @@ void register_predict(CLI::App& app) {
   add_read_flags(c, a->read, "plane");
   c->add_option("-o,--output", a->output, "Output folder (created; an earlier report is replaced)")
       ->required();
-  c->add_option("--metal", a->metal, "Optical constants for the BRDFs (Fe, Al, Au, Ag, Cu, ...)")
-      ->capture_default_str();
+  add_material_flags(c, a->material, "default: Fe");
   c->add_option("--filter-sigma", a->filter_sigma,
                 "Filtered NDF: Gaussian std of the local plane fit")
       ->capture_default_str();

@@ -9,30 +9,19 @@
 #include "cli_common.hpp"
 #include "cli_threads.hpp"
 #include "commands.hpp"
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/kirchhoff.hpp"
-#include "microbrdf/ndf_io.hpp"
 #include "microbrdf/render.hpp"
-#include "microbrdf/sh_brdf.hpp"
-#include "microbrdf/sun2002.hpp"
-#include "microbrdf/tabulated_distribution.hpp"
 #include "microbrdf/texture.hpp"
 #include "microbrdf/units.hpp"
+#include "spec_flags.hpp"
 
 namespace microbrdf::cli {
 namespace {
 
-struct RenderArgs : ModelFlags {
-  bool model_given = false;
+struct RenderArgs {
+  SpecFlags spec;  // BRDF and material
   std::string scene = "cylinders", obj, brushing = "linear", brush_angle = "0";
   double uv_scale = 1;
-  // material
-  std::string ndf, metal, nk_csv;
-  std::vector<std::string> kirchhoff;
-  double r0 = -1, lambertian = -1, sun_s = 0;
-  bool mirror = false, separable = false;
-  std::string sh, texture;  // SH-matrix BRDF (.shbrdf), ellipsoid parameter texture (.exr)
   // lights
   std::string envmap, env_rotation = "0";
   double env_scale = 1;
@@ -72,64 +61,10 @@ void parse_light(const std::string& flag, const std::string& text, std::size_t n
     throw InputError(flag + " '" + text + "': colour values must be finite and >= 0");
 }
 
-std::shared_ptr<const Fresnel> fresnel_of(const RenderArgs& a) {
-  const int given = !a.metal.empty() + !a.nk_csv.empty() + (a.r0 >= 0);
-  if (given > 1) throw InputError("give one of --metal, --nk-csv, --r0");
-  if (!a.nk_csv.empty())
-    return std::make_shared<ConductorFresnel>(read_optical_constants_csv(a.nk_csv));
-  if (a.r0 >= 0)
-    return std::make_shared<ConductorFresnel>(
-        from_normal_reflectance(Spectrum::constant(a.r0), 1.0));
-  return std::make_shared<ConductorFresnel>(metal(a.metal.empty() ? "Al" : a.metal));
-}
-
 /// One material for the whole scene (the cylinder pair turns it by 90 degrees on the right).
 std::vector<std::shared_ptr<const Svbrdf>> make_materials(const RenderArgs& a) {
-  const bool analytic = a.model_given || a.alpha > 0 || a.alpha_x > 0 || a.alpha_y > 0;
-  // --kirchhoff may come with an analytic model: that model then supplies the shadowing G.
-  const bool kirchhoff = !a.kirchhoff.empty();
-  const int kinds = (analytic && !kirchhoff) + !a.ndf.empty() + (a.lambertian >= 0) + a.mirror +
-                    (a.sun_s > 0) + kirchhoff + !a.sh.empty() + !a.texture.empty();
-  if (kinds != 1)
-    throw InputError(
-        "give exactly one material: --model/--alpha (microfacet), --ndf FILE (tabulated NDF), "
-        "--kirchhoff DK (+ optional --model for shadowing), --sun S, --sh FILE.shbrdf, "
-        "--texture TEX.exr, --lambertian ALBEDO or --mirror");
-  if (!a.texture.empty()) {
-    // Each texel's ellipsoid parameters with the metal's Fresnel term; (u, v) wraps, --uv-scale
-    // sets the repeats per scene unit.
-    auto tex = std::make_shared<const ParamTexture>(read_param_texture(a.texture));
-    return {std::make_shared<EllipsoidTextureSvbrdf>(tex, fresnel_of(a))};
-  }
-  std::shared_ptr<const Brdf> b;
-  if (!a.sh.empty()) {
-    // A grey SH-matrix BRDF carries its own reflectance (Fresnel included in the simulation).
-    if (!a.metal.empty() || !a.nk_csv.empty() || a.r0 >= 0 || a.separable)
-      throw InputError(
-          "--sh: the SH BRDF is grey and complete; --metal/--nk-csv/--r0/"
-          "--separable-g do not apply");
-    b = std::make_shared<ShBrdf>(ShBrdf::load(a.sh));
-  } else if (a.lambertian >= 0) {
-    b = std::make_shared<LambertianBrdf>(a.lambertian);
-  } else if (a.mirror) {
-    b = std::make_shared<SpecularMirrorBrdf>(fresnel_of(a));
-  } else if (kirchhoff) {
-    std::vector<TabulatedNdf> tables;
-    for (const auto& f : a.kirchhoff) tables.push_back(read_ndf(f));
-    std::shared_ptr<const MicrofacetDistribution> g;
-    if (analytic) g = make_distribution(ndf_spec(a));
-    b = std::make_shared<KirchhoffBrdf>(std::move(tables), fresnel_of(a), g);
-  } else if (a.sun_s > 0) {
-    b = std::make_shared<sun2002::SunBrdf>(a.sun_s, sun2002::BrdfForm::Standard, fresnel_of(a));
-  } else {
-    std::shared_ptr<MicrofacetDistribution> d;
-    if (!a.ndf.empty())
-      d = std::make_shared<TabulatedDistribution>(read_ndf(a.ndf));
-    else
-      d = make_distribution(ndf_spec(a));
-    b = std::make_shared<MicrofacetBrdf>(d, fresnel_of(a), a.separable);
-  }
-  return {std::make_shared<UniformSvbrdf>(b)};
+  const BrdfSpec b = brdf_spec(a.spec);
+  return {make_svbrdf(b, material_spec(a.spec, MaterialSpec::named_metal("Al")))};
 }
 
 RenderLights make_lights(const RenderArgs& a, PreviewScene scene) {
@@ -157,7 +92,7 @@ RenderLights make_lights(const RenderArgs& a, PreviewScene scene) {
   }
   const bool none = l.envmap_path.empty() && !l.uniform_white_env && l.points.empty() &&
                     l.spheres.empty() && l.disks.empty();
-  if (none && scene == PreviewScene::plate) {
+  if (none && scene == PreviewScene::Plate) {
     l.disks.push_back(dong_plate_light());
   } else if (none) {
     l.uniform_white_env = true;
@@ -165,27 +100,39 @@ RenderLights make_lights(const RenderArgs& a, PreviewScene scene) {
   return l;
 }
 
+/// Everything cheap, before any file is parsed or a ray is traced: outputs, input files, the
+/// environment map's signature, the metal, image settings.
+void preflight(const RenderArgs& a) {
+  if (a.outputs.empty()) throw InputError("give an output: -o image.png and/or -o image.exr");
+  Preflight pre;
+  for (const auto& o : a.outputs) pre.output("-o", o, {".png", ".exr"});
+  if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
+  check_spec_files(pre, a.spec);
+  if (!a.obj.empty()) pre.input("--obj", a.obj);
+  pre.require(a.spp >= 1, "--spp", "must be >= 1 (got " + std::to_string(a.spp) + ")");
+  pre.require((a.width > 0 ? a.width : a.size) >= 1 && (a.height > 0 ? a.height : a.size) >= 1,
+              "--size", "the image needs at least 1 x 1 pixels");
+  pre.positive("--env-scale", a.env_scale);
+  pre.done();
+  (void)brdf_spec(a.spec);  // the BRDF and material flags, before any file is read
+  (void)material_spec(a.spec, MaterialSpec::named_metal("Al"));
+}
+
 void run(RenderArgs& a) {
+  preflight(a);
   RenderScene sc;
   sc.kind = parse_preview_scene(a.scene);
   sc.obj_path = a.obj;
-  if (!a.obj.empty() && sc.kind != PreviewScene::obj)
+  if (!a.obj.empty() && sc.kind != PreviewScene::Obj)
     throw InputError("--obj goes with --scene obj");
   if (a.brushing == "linear")
-    sc.brushing = Brushing::linear;
+    sc.brushing = Brushing::Linear;
   else if (a.brushing == "rotational")
-    sc.brushing = Brushing::rotational;
+    sc.brushing = Brushing::Rotational;
   else
     throw InputError("--brushing must be linear or rotational");
   sc.brush_angle_rad = parse_angle(a.brush_angle);
   sc.uv_scale = a.uv_scale;
-  if (a.outputs.empty()) throw InputError("give an output: -o image.png and/or -o image.exr");
-  for (const auto& o : a.outputs) {
-    auto ext = o.substr(o.find_last_of('.') == std::string::npos ? o.size() : o.find_last_of('.'));
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (ext != ".png" && ext != ".exr")
-      throw InputError("-o " + o + ": renders are written as .png (tone-mapped) or .exr (linear)");
-  }
   RenderOptions opt;
   opt.width = a.width > 0 ? a.width : a.size;
   opt.height = a.height > 0 ? a.height : a.size;
@@ -196,24 +143,17 @@ void run(RenderArgs& a) {
   opt.threads = bounded_threads("render", a.threads);
   opt.exposure = a.exposure;
   if (a.mis == "mis")
-    opt.mis = MisMode::mis;
+    opt.mis = MisMode::Mis;
   else if (a.mis == "brdf")
-    opt.mis = MisMode::brdf_only;
+    opt.mis = MisMode::BrdfOnly;
   else if (a.mis == "light")
-    opt.mis = MisMode::light_only;
+    opt.mis = MisMode::LightOnly;
   else
     throw InputError("--mis must be mis, brdf or light");
   const auto mats = make_materials(a);
   const auto lights = make_lights(a, sc.kind);
-  int last = -1;
-  if (!a.quiet)
-    opt.progress = [&last](double f) {
-      const int pct = int(f * 100);
-      if (pct == last) return;
-      last = pct;
-      std::fprintf(stderr, "\rmicrobrdf render: %3d%%%s", pct, pct == 100 ? "\n" : "");
-      std::fflush(stderr);
-    };
+  Progress progress("render", a.quiet);
+  if (!a.quiet) opt.progress = progress.fraction_callback();
   const RenderImage img = render(sc, mats, lights, opt);
   for (const auto& o : a.outputs) {
     if (o.size() >= 4 && (o.substr(o.size() - 4) == ".exr" || o.substr(o.size() - 4) == ".EXR"))
@@ -270,12 +210,13 @@ void register_render(CLI::App& app) {
       "column straight ahead of the camera); --point X,Y,Z:R,G,B (intensity, W/sr per channel);\n"
       "--sphere-light X,Y,Z,RADIUS:R,G,B and --disk-light X,Y,Z,NX,NY,NZ,RADIUS:R,G,B (radiance);\n"
       "with no light at all, a uniform white sky. Radiance 1 = D65 white of luminance 1.\n"
-      "Materials: microfacet (--model/--alpha* or --ndf FILE) with a metal's Fresnel term\n"
-      "(--metal, default Al; --nk-csv; --r0), Kirchhoff (--kirchhoff DK.npy), Sun 2002 (--sun S),\n"
-      "--lambertian A, --mirror; an SH-matrix BRDF (--sh FILE.shbrdf from `microbrdf simulate` or\n"
-      "`microbrdf brdf sh-project`, grey, its own reflectance); an ellipsoid parameter texture\n"
-      "(--texture TEX.exr from `microbrdf texture`, each texel's fit with the --metal Fresnel\n"
-      "term; --uv-scale = texture repeats per scene unit).\n"
+      "BRDFs: microfacet (--model/--alpha* or --ndf FILE), Kirchhoff (--kirchhoff DK.npy), Sun\n"
+      "2002 (--sun S), --mirror, each with a material's Fresnel term (--metal, default Al; "
+      "--n/--k;\n"
+      "--nk-csv; --r0; --color; --fresnel); --lambertian A; an SH-matrix BRDF (--sh FILE.shbrdf,\n"
+      "grey, its own reflectance); an ellipsoid parameter texture (--texture TEX.exr from\n"
+      "`microbrdf texture`, each texel's fit with the material's Fresnel term; --uv-scale =\n"
+      "texture repeats per scene unit).\n"
       "The BRDF's x axis follows --brushing linear (the image's horizontal turned by\n"
       "--brush-angle about the normal) or rotational (circles about the object's axis).\n\n"
       "Examples:\n"
@@ -297,25 +238,8 @@ void register_render(CLI::App& app) {
   c->add_option("--brush-angle", a->brush_angle, "Turn of the brushing direction about n (deg)")
       ->capture_default_str();
   c->add_option("--uv-scale", a->uv_scale, "Texture repeats per scene unit")->capture_default_str();
-  add_model_flags(c, *a)->each([a](const std::string&) { a->model_given = true; });
-  c->add_option("--ndf", a->ndf,
-                "Tabulated NDF (.npy + .json sidecar or .exr) from `microbrdf ndf`");
-  c->add_option("--kirchhoff", a->kirchhoff,
-                "Kirchhoff BRDF (Dong eq. 8) from D_K tables of `microbrdf ndf --method kirchhoff` "
-                "(repeat for several wavelengths); shadowing from --model/--alpha if given");
-  c->add_option("--metal", a->metal, "Optical constants of a built-in metal (default Al)");
-  c->add_option("--nk-csv", a->nk_csv, "CSV 'wavelength_nm,n,k' optical constants");
-  c->add_option("--r0", a->r0, "Normal-incidence reflectance (eta = 1, Sun 2002 5.2)");
-  c->add_option("--sun", a->sun_s, "Sun 2002 analytic BRDF with smoothness s = tau/sigma");
-  c->add_option("--sh", a->sh,
-                "SH-matrix BRDF (.shbrdf, Westin 1992) from `microbrdf simulate` or "
-                "`microbrdf brdf sh-project`");
-  c->add_option("--texture", a->texture,
-                "Ellipsoid parameter texture (.exr) from `microbrdf texture` (with --metal, "
-                "--uv-scale)");
-  c->add_option("--lambertian", a->lambertian, "Lambertian albedo in [0, 1]");
-  c->add_flag("--mirror", a->mirror, "Ideal mirror with the metal's Fresnel term");
-  c->add_flag("--separable-g", a->separable, "Separable Smith G1 G1 (Dong eq. 13)");
+  add_brdf_flags(c, a->spec, kFlagAllBrdfs | kFlagTexture);
+  add_material_flags(c, a->spec, "default: Al");
   c->add_option("--envmap", a->envmap, "Equirectangular environment map (.exr or .hdr)");
   c->add_option("--env-scale", a->env_scale, "Multiplies the environment map")
       ->capture_default_str();

@@ -1,7 +1,6 @@
 // `microbrdf sun ftp|simulate-ftp|slice`: Sun 2002's free travel probability (analytic and
-// simulated as in the paper's section 4, compared with Smith) and slices of its analytic BRDF.
-#include <cctype>
-#include <chrono>
+// simulated as in the paper's section 4, compared with Smith: cmd_sun_simulate.cpp) and slices of
+// its analytic BRDF.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -9,33 +8,20 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
-#include "microbrdf/atomic_file.hpp"
+#include "microbrdf/brdf_slice.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/plot.hpp"
 #include "microbrdf/sun2002.hpp"
 #include "microbrdf/units.hpp"
+#include "sun_common.hpp"
 
 namespace microbrdf::cli {
-namespace {
+namespace sun_cli {
 
 namespace sun = microbrdf::sun2002;
-constexpr double kDeg = M_PI / 180;
 
 // Radians to degrees for printing, rounded to 1e-9 deg (29.999999999999996 -> 30).
 double deg(double rad) { return std::round(rad / kDeg * 1e9) / 1e9; }
-
-struct SunArgs {
-  std::vector<double> s;
-  std::string theta_step = "1deg", theta_max = "90deg", theta_i = "30deg";
-  std::string output, plot, plot_grid;
-  bool json = false, log_y = false;
-  double k_tau = 1;
-  std::size_t samples = 100000;
-  std::uint64_t seed = 1;
-  double samples_per_tau = 16;
-  std::size_t profile_length = 65536;
-  double n = NAN, k = NAN;
-};
 
 std::vector<double> theta_grid(const SunArgs& a) {
   const double step = parse_angle(a.theta_step), tmax = parse_angle(a.theta_max);
@@ -69,73 +55,23 @@ std::string s_label(double s) {
   return b;
 }
 
-// Writes CSV text to `path` atomically, or to stdout when path is "-".
-void emit_csv(const std::string& path, const std::string& text) {
-  if (path == "-") {
-    std::fwrite(text.data(), 1, text.size(), stdout);
-    return;
-  }
-  write_file_atomic(path, text);
+void add_s(CLI::App* c, SunArgs& a, bool list) {
+  auto* o =
+      c->add_option("--s", a.s,
+                    list ? "Smoothness tau/sigma, one value or a list: 0.5 or 0.1,0.25,0.5,1,2,5"
+                         : "Smoothness tau/sigma (correlation length / rms height)");
+  o->required();
+  if (list) o->delimiter(',');
 }
 
-// Least-squares k_tau for Gamma_0(theta; s, k_tau) against simulated values (golden section on
-// log k over [0.01, 100]).
-double fit_k_tau(double s, const std::vector<double>& theta, const std::vector<double>& g) {
-  auto cost = [&](double lk) {
-    double c = 0;
-    for (std::size_t i = 0; i < theta.size(); ++i) {
-      double d = sun::ftp(theta[i], s, std::exp(lk)) - g[i];
-      c += d * d;
-    }
-    return c;
-  };
-  double lo = std::log(0.01), hi = std::log(100.0);
-  const double r = (std::sqrt(5.0) - 1) / 2;
-  double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo), f1 = cost(x1), f2 = cost(x2);
-  for (int it = 0; it < 100; ++it) {
-    if (f1 < f2) {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - r * (hi - lo);
-      f1 = cost(x1);
-    } else {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + r * (hi - lo);
-      f2 = cost(x2);
-    }
-  }
-  return std::exp(0.5 * (lo + hi));
-}
+}  // namespace sun_cli
 
-struct MaxDiff {
-  double value = 0, theta = 0;
-  void take(double d, double t) {
-    if (std::abs(d) > std::abs(value)) {
-      value = d;
-      theta = t;
-    }
-  }
-  nlohmann::json json() const {
-    return {{"max_abs_diff", std::abs(value)}, {"signed", value}, {"at_theta_deg", deg(theta)}};
-  }
-};
-
-// ---------------------------------------------------------------------------------------------
-
-// Plot names are checked before any work or output, so a typo costs nothing.
-void check_plot_name(const std::string& path) {
-  if (path.empty()) return;
-  auto dot = path.find_last_of('.');
-  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != "png" && ext != "svg") throw InputError(path + ": plots are written as .png or .svg");
-}
+namespace {
+using namespace sun_cli;
+namespace sun = microbrdf::sun2002;
 
 void run_ftp(const SunArgs& a) {
-  check_plot_name(a.plot);
+  check_plot_name("--plot", a.plot);
   check_s_list(a.s);
   const auto theta = theta_grid(a);
   std::ostringstream csv;
@@ -174,204 +110,36 @@ void run_ftp(const SunArgs& a) {
     key.color = PlotColor{0.3, 0.3, 0.3};
     p.add(key);
   }
-  if (!a.output.empty()) emit_csv(a.output, csv.str());
+  if (!a.output.empty()) emit_text(a.output, csv.str());
   if (!a.plot.empty()) p.write(a.plot);
   if (a.json) {
     print_json({{"command", "sun ftp"}, {"equation", "Sun 2002 eq. 3.4.23"}, {"curves", curves}});
   } else if (a.output.empty()) {
-    emit_csv("-", csv.str());
+    emit_text("-", csv.str());
   }
 }
-
-// ---------------------------------------------------------------------------------------------
-
-void run_simulate(const SunArgs& a) {
-  check_plot_name(a.plot);
-  check_plot_name(a.plot_grid);
-  check_s_list(a.s);
-  const auto theta = theta_grid(a);
-  std::ostringstream csv;
-  csv << "s,theta_deg,gamma_sim_leaving,se_leaving,gamma_sim_any,se_any,rays,rays_leaving,free,"
-         "gamma0_sun,"
-         "smith_g1,smith_mean_plane\n";
-  Plot fig;
-  fig.title = "Free travel probability: simulation vs Sun eq. 3.4.23 vs Smith";
-  fig.x.label = "polar angle θ (deg)";
-  fig.y.label = "free travel probability (1)";
-  std::vector<Plot> panels;
-  nlohmann::json per_s = nlohmann::json::array();
-  double total_rays = 0, total_sec = 0;
-  for (std::size_t si = 0; si < a.s.size(); ++si) {
-    const double s = a.s[si];
-    progress("sun", si, a.s.size(), s_label(s));
-    sun::FtpSimParams p;
-    p.s = s;
-    p.theta = theta;
-    p.crossings = a.samples;
-    p.seed = a.seed;
-    p.samples_per_tau = a.samples_per_tau;
-    p.profile_length = a.profile_length;
-    const auto t0 = std::chrono::steady_clock::now();
-    const auto r = sun::simulate_ftp(p);
-    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    total_sec += sec;
-
-    MaxDiff sun_leave, g1_leave, h0_leave, sun_any;
-    std::vector<double> th_fit, g_leave, g_any;
-    PlotSeries analytic, smith, sim_l, sim_a, smith0;
-    const PlotColor c = plot_palette(si);
-    analytic.color = smith.color = sim_l.color = sim_a.color = smith0.color = c;
-    smith.style = PlotStyle::Dashed;
-    smith0.style = PlotStyle::Dotted;
-    sim_l.style = sim_a.style = PlotStyle::Markers;
-    sim_l.marker_size = sim_a.marker_size = 2.2;
-    sim_a.marker = MarkerShape::Triangle;
-    std::size_t rays = 0;
-    for (const auto& pt : r.points) {
-      const double t = pt.theta;
-      const double g = sun::ftp(t, s), g1 = sun::smith_g1(t, s),
-                   g0 = sun::smith_at_mean_plane(t, s);
-      const bool simulated = t < M_PI / 2 - 1e-12;
-      csv << num(s) << ',' << num(t / kDeg) << ',' << num(pt.gamma_leaving) << ','
-          << num(pt.se_leaving) << ',' << num(pt.gamma_any) << ',' << num(pt.se_any) << ','
-          << pt.rays << ',' << pt.rays_leaving << ',' << pt.free << ',' << num(g) << ',' << num(g1)
-          << ',' << num(g0) << '\n';
-      rays += pt.rays;
-      analytic.x.push_back(t / kDeg);
-      analytic.y.push_back(g);
-      smith.x.push_back(t / kDeg);
-      smith.y.push_back(g1);
-      smith0.x.push_back(t / kDeg);
-      smith0.y.push_back(g0);
-      if (!simulated) continue;
-      sun_leave.take(pt.gamma_leaving - g, t);
-      g1_leave.take(pt.gamma_leaving - g1, t);
-      h0_leave.take(pt.gamma_leaving - g0, t);
-      sun_any.take(pt.gamma_any - g, t);
-      th_fit.push_back(t);
-      g_leave.push_back(pt.gamma_leaving);
-      g_any.push_back(pt.gamma_any);
-      sim_l.x.push_back(t / kDeg);
-      sim_l.y.push_back(pt.gamma_leaving);
-      sim_l.y_err.push_back(pt.se_leaving);
-      sim_a.x.push_back(t / kDeg);
-      sim_a.y.push_back(pt.gamma_any);
-      sim_a.y_err.push_back(pt.se_any);
-    }
-    total_rays += static_cast<double>(rays);
-    double max_se = 0;
-    for (const auto& pt : r.points) max_se = std::max(max_se, pt.se_leaving);
-    const double k_leave = th_fit.empty() ? NAN : fit_k_tau(s, th_fit, g_leave);
-    const double k_any = th_fit.empty() ? NAN : fit_k_tau(s, th_fit, g_any);
-    per_s.push_back({{"s", s},
-                     {"profiles", r.profiles},
-                     {"crossings", r.crossings},
-                     {"excluded_crossings", r.excluded},
-                     {"slope_rms", r.slope_rms},
-                     {"slope_rms_expected", std::sqrt(2.0) / s},
-                     {"max_standard_error_leaving", max_se},
-                     {"leaving_minus_sun", sun_leave.json()},
-                     {"leaving_minus_smith_g1", g1_leave.json()},
-                     {"leaving_minus_smith_mean_plane", h0_leave.json()},
-                     {"any_minus_sun", sun_any.json()},
-                     {"best_k_tau_leaving", k_leave},
-                     {"best_k_tau_any", k_any},
-                     {"seconds", sec},
-                     {"rays", rays}});
-    if (!a.json)
-      std::fprintf(stderr,
-                   "microbrdf sun: s = %g: %zu crossings on %zu profiles; max |sim - Sun| = %.3f "
-                   "at %.0f deg "
-                   "(rays leaving above), %.3f at %.0f deg (any crossing); max |sim - Smith G1| = "
-                   "%.3f at %.0f deg; "
-                   "max |sim - Smith(h=0)| = %.3f at %.0f deg; max s.e. %.4f; best k tau %.3g / "
-                   "%.3g; %.1f s\n",
-                   s, r.crossings, r.profiles, std::abs(sun_leave.value), sun_leave.theta / kDeg,
-                   std::abs(sun_any.value), sun_any.theta / kDeg, std::abs(g1_leave.value),
-                   g1_leave.theta / kDeg, std::abs(h0_leave.value), h0_leave.theta / kDeg, max_se,
-                   k_leave, k_any, sec);
-
-    analytic.label = s_label(s);
-    fig.add(analytic);
-    fig.add(smith);
-    {
-      // All s in one panel: markers about every 3 deg keep it legible.
-      const double step = theta.size() > 1 ? theta[1] - theta[0] : 1;
-      const std::size_t every =
-          std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(3 * kDeg / step)));
-      PlotSeries l = sim_l, an = sim_a;
-      l.x.clear(), l.y.clear(), l.y_err.clear(), an.x.clear(), an.y.clear(), an.y_err.clear();
-      for (std::size_t i = 0; i < sim_l.x.size(); i += every) {
-        l.x.push_back(sim_l.x[i]), l.y.push_back(sim_l.y[i]), l.y_err.push_back(sim_l.y_err[i]);
-        an.x.push_back(sim_a.x[i]), an.y.push_back(sim_a.y[i]), an.y_err.push_back(sim_a.y_err[i]);
-      }
-      fig.add(l);
-      fig.add(an);
-    }
-
-    Plot panel;
-    panel.title = s_label(s);
-    panel.x.label = "θ (deg)";
-    panel.y.label = "probability (1)";
-    panel.font_size = 11;
-    analytic.label = "Sun Γ₀ (eq. 3.4.23)";
-    smith.label = "Smith G1";
-    smith0.label = "Smith, h = 0";
-    sim_l.label = "sim., leaving above";
-    sim_a.label = "sim., any crossing";
-    panel.add(analytic);
-    panel.add(smith);
-    panel.add(smith0);
-    panel.add(sim_l);
-    panel.add(sim_a);
-    panels.push_back(std::move(panel));
-  }
-  // Legend keys for the styles (the colours are labelled by the solid curves).
-  const PlotColor grey{0.3, 0.3, 0.3};
-  PlotSeries k1({NAN}, {NAN}, "Smith G1", PlotStyle::Dashed),
-      k2({NAN}, {NAN}, "sim., leaving above", PlotStyle::Markers),
-      k3({NAN}, {NAN}, "sim., any crossing", PlotStyle::Markers);
-  k1.color = k2.color = k3.color = grey;
-  k3.marker = MarkerShape::Triangle;
-  fig.add(k1);
-  fig.add(k2);
-  fig.add(k3);
-
-  if (!a.output.empty()) emit_csv(a.output, csv.str());
-  if (!a.plot.empty()) fig.write(a.plot, 900, 620);
-  if (!a.plot_grid.empty())
-    write_plot_grid(panels, std::min<std::size_t>(3, panels.size()), a.plot_grid, 420, 320);
-  if (a.json)
-    print_json({{"command", "sun simulate-ftp"},
-                {"samples", a.samples},
-                {"seed", a.seed},
-                {"samples_per_tau", a.samples_per_tau},
-                {"rays_per_second", total_sec > 0 ? total_rays / total_sec : 0},
-                {"results", per_s}});
-}
-
-// ---------------------------------------------------------------------------------------------
 
 void run_slice(const SunArgs& a) {
-  check_plot_name(a.plot);
+  check_plot_name("--plot", a.plot);
   if (a.s.size() != 1) throw InputError("slice: give one --s value");
   const double s = a.s[0];
   check_s_list(a.s);
   const double ti = parse_angle(a.theta_i);
   if (!(ti >= 0 && ti < M_PI / 2)) throw InputError("--theta-i must be in [0, 90) deg");
-  const bool have_nk = !std::isnan(a.n) || !std::isnan(a.k);
-  if (have_nk && (std::isnan(a.n) || std::isnan(a.k) || !(a.n > 0) || a.k < 0))
-    throw InputError("--n and --k go together (n > 0, k >= 0)");
-  // The shared exact conductor Fresnel (complex index n + ik, constant in wavelength).
-  std::shared_ptr<const Fresnel> fresnel;
-  if (have_nk) fresnel = std::make_shared<ConductorFresnel>(constant_index(a.n, a.k));
+  // The material's Fresnel term; without one R = 1 (Sun's upper bound for energy checks).
+  MaterialSpec perfect;
+  perfect.form = MaterialSpec::Form::Perfect;
+  const MaterialSpec mat = material_spec(a.material, perfect);
+  const bool have_fresnel = mat.form != MaterialSpec::Form::Perfect;
+  const auto fresnel = have_fresnel ? make_fresnel(mat) : nullptr;
   const Fresnel* F = fresnel.get();
-  constexpr double kLambda = 555e-9;  // irrelevant for a constant index
+  constexpr double kLambda = 555e-9;  // the wavelength of the Fresnel term
   const double step = parse_angle(a.theta_step);
   if (!(step > 0) || step > M_PI / 4) throw InputError("--theta-step must be in (0, 45] deg");
 
-  // Light at azimuth 0; theta_o > 0 on the far side (mirror direction at theta_o = theta_i).
-  const Eigen::Vector3d wi(std::sin(ti), 0, std::cos(ti));
+  // The slice convention of every slice (brdf_slice.hpp): light at azimuth 180 deg, theta_o
+  // signed with the mirror direction at +theta_i.
+  const Vec3 wi = slice_light(ti);
   std::ostringstream csv;
   csv << "theta_o_deg,brdf_as_published,brdf_standard,published_over_standard,fresnel,gamma0_i,"
          "gamma0_o\n";
@@ -384,7 +152,7 @@ void run_slice(const SunArgs& a) {
   for (int i = -n; i <= n; ++i) {
     const double to = i * step;
     if (std::abs(to) >= M_PI / 2 - 1e-12) continue;  // at the horizon the BRDF is 0
-    const Eigen::Vector3d wo(-std::sin(to), 0, std::cos(to));
+    const Vec3 wo = slice_view(ti, to, SlicePlane::In);
     const double fp = sun::brdf(wi, wo, s, sun::BrdfForm::AsPublished, F, kLambda);
     const double fs = sun::brdf(wi, wo, s, sun::BrdfForm::Standard, F, kLambda);
     const double cd = wi.dot((wi + wo).normalized());
@@ -400,39 +168,28 @@ void run_slice(const SunArgs& a) {
   }
   Plot p;
   char title[160];
-  std::snprintf(title, sizeof title, "Sun 2002 BRDF, plane of incidence: s = %g, θi = %g°%s", s,
-                ti / kDeg, have_nk ? "" : ", R = 1");
-  p.title = title;
-  if (have_nk) p.title += ", n = " + num(a.n) + " + " + num(a.k) + "i";
-  p.x.label = "viewing angle θo (deg; > 0 on the mirror side)";
+  std::snprintf(title, sizeof title, "Sun 2002 BRDF, plane of incidence: s = %g, θi = %g°, ", s,
+                ti / kDeg);
+  p.title = title + mat.describe();
+  p.x.label = "viewing angle θo (deg; mirror direction at +θi)";
   p.y.label = "BRDF (1/sr)";
   if (a.log_y) p.y.scale = AxisScale::Log;
   p.add(pub);
   p.add(stdf);
-  if (!a.output.empty()) emit_csv(a.output, csv.str());
+  if (!a.output.empty()) emit_text(a.output, csv.str());
   if (!a.plot.empty()) p.write(a.plot);
   if (a.json) {
-    print_json(
-        {{"command", "sun slice"},
-         {"s", s},
-         {"theta_i_deg", deg(ti)},
-         {"fresnel", have_nk ? nlohmann::json{{"n", a.n}, {"k", a.k}} : nlohmann::json("R = 1")},
-         {"albedo_as_published", sun::albedo(ti, s, sun::BrdfForm::AsPublished, F, kLambda)},
-         {"albedo_standard", sun::albedo(ti, s, sun::BrdfForm::Standard, F, kLambda)},
-         {"peak_as_published", {{"value", peak_pub}, {"theta_o_deg", deg(at_pub)}}},
-         {"peak_standard", {{"value", peak_std}, {"theta_o_deg", deg(at_std)}}}});
+    print_json({{"command", "sun slice"},
+                {"s", s},
+                {"theta_i_deg", deg(ti)},
+                {"fresnel", have_fresnel ? mat.to_json() : nlohmann::json("R = 1")},
+                {"albedo_as_published", sun::albedo(ti, s, sun::BrdfForm::AsPublished, F, kLambda)},
+                {"albedo_standard", sun::albedo(ti, s, sun::BrdfForm::Standard, F, kLambda)},
+                {"peak_as_published", {{"value", peak_pub}, {"theta_o_deg", deg(at_pub)}}},
+                {"peak_standard", {{"value", peak_std}, {"theta_o_deg", deg(at_std)}}}});
   } else if (a.output.empty()) {
-    emit_csv("-", csv.str());
+    emit_text("-", csv.str());
   }
-}
-
-void add_s(CLI::App* c, SunArgs& a, bool list) {
-  auto* o =
-      c->add_option("--s", a.s,
-                    list ? "Smoothness tau/sigma, one value or a list: 0.5 or 0.1,0.25,0.5,1,2,5"
-                         : "Smoothness tau/sigma (correlation length / rms height)");
-  o->required();
-  if (list) o->delimiter(',');
 }
 
 }  // namespace
@@ -450,6 +207,8 @@ void register_sun(CLI::App& app) {
       "  microbrdf sun ftp --s 0.5 --theta-step 1deg -o curve.csv --plot ftp.png\n"
       "  microbrdf sun simulate-ftp --s 0.1,0.25,0.5,1,2,5 --samples 100000 --seed 1 -o sim.csv "
       "--plot fig7.png\n"
+      "Slices: the light at azimuth 180 deg, theta_o signed with the mirror direction at\n"
+      "+theta_i (the convention of `brdf slice`).\n"
       "  microbrdf sun slice --s 2 --theta-i 30deg --n 0.2 --k 3.0 -o slice.csv --plot slice.png");
 
   auto* f = sunc->add_subcommand(
@@ -489,9 +248,7 @@ void register_sun(CLI::App& app) {
   add_s(sl, *a, false);
   sl->add_option("--theta-i", a->theta_i, "Polar angle of the light")->capture_default_str();
   sl->add_option("--theta-step", a->theta_step, "Viewing angle step")->capture_default_str();
-  sl->add_option("--n", a->n,
-                 "Real part of the metal's relative refractive index (with --k; default R = 1)");
-  sl->add_option("--k", a->k, "Extinction coefficient (imaginary part)");
+  add_material_flags(sl, a->material, "default: R = 1");
   sl->add_flag("--log", a->log_y, "Logarithmic BRDF axis in the plot");
   sl->add_option("-o,--output", a->output, "CSV file (default: CSV on stdout)");
   sl->add_option("--plot", a->plot, "Also draw the slice (.png or .svg)");

@@ -9,18 +9,20 @@
 #include "microbrdf/microfacet.hpp"
 #include "microbrdf/ndf_io.hpp"
 #include "microbrdf/units.hpp"
+#include "spec_flags.hpp"
 
 namespace microbrdf::cli {
 namespace {
 
-struct TabulateArgs : ModelFlags {
+struct TabulateArgs {
+  SpecFlags model;
   std::size_t resolution = 1025;
   std::string output;
   bool json = false;
 };
 
 void run(const TabulateArgs& a) {
-  const NdfSpec s = ndf_spec(a);
+  const NdfSpec s = ndf_spec(a.model);
   if (a.resolution < 3 || a.resolution > 8193) throw InputError("--resolution must lie in 3..8193");
   auto d = make_distribution(s);
   auto t = tabulate(*d, s.model, a.resolution);
@@ -56,14 +58,16 @@ void register_tabulate(CLI::App& app) {
       "node sum before normalising is recorded in the metadata).\n"
       "Ellipsoid (Dong 2015 eqs. 10-12): A = S R, R = Rx(theta_x) Ry(theta_y) Rz(theta_z); the "
       "peak\n"
-      "is at R^T z: theta_x > 0 tilts it towards +y, theta_y > 0 towards -x.\n\n"
+      "is at R^T z: theta_x > 0 tilts it towards +y, theta_y > 0 towards -x.\n"
+      "Angles take units (5deg, 0.05rad; a bare number is degrees); --json reports radians\n"
+      "(phi_rad, theta_rad), as `fit --json` does.\n\n"
       "Examples:\n"
       "  microbrdf tabulate --model ggx --alpha 0.1 -o ggx.npy\n"
       "  microbrdf tabulate --model beckmann --alpha-x 0.05 --alpha-y 0.2 --phi 30deg -o b.npy\n"
       "  microbrdf tabulate --model ellipsoid --alpha-x 0.1 --alpha-y 0.3 --theta-x 5deg --theta-z "
       "20deg \\\n"
       "      --resolution 513 -o ell.npy --json");
-  add_model_flags(c, *a);
+  add_model_flags(c, a->model);
   c->add_option("--resolution", a->resolution, "Nodes per side")->capture_default_str();
   c->add_option("-o,--output", a->output, "Output table (.npy with a JSON sidecar, or .exr)")
       ->required();

@@ -35,7 +35,7 @@ struct TextureArgs {
 
 // An exemplar: a parameter-texture EXR as is, or the texels fitted from scans.
 ParamTexture exemplar(const std::vector<std::string>& inputs, const TextureArgs& a, bool stack_y,
-                      const char* role) {
+                      const char* role, nlohmann::json& mpi) {
   if (inputs.size() == 1 && is_param_texture_file(inputs[0])) {
     std::fprintf(stderr, "microbrdf texture: %s exemplar: parameter texture %s\n", role,
                  inputs[0].c_str());
@@ -45,7 +45,7 @@ ParamTexture exemplar(const std::vector<std::string>& inputs, const TextureArgs&
     if (is_param_texture_file(p))
       throw InputError("give a parameter texture (" + p +
                        ") alone, not mixed with other inputs, as an exemplar");
-  const auto paths = expand_scan_inputs(inputs);
+  const auto paths = scan_inputs(inputs);
   TexelFitOptions o;
   o.texel_m = parse_length(a.texel);
   o.filter_sigma_m = parse_length(a.filter_sigma);
@@ -64,7 +64,10 @@ ParamTexture exemplar(const std::vector<std::string>& inputs, const TextureArgs&
   std::fprintf(stderr, "microbrdf texture: %s: fitting %s texels of %zu scan(s)\n", role,
                format_length(o.texel_m).c_str(), paths.size());
   const auto t0 = std::chrono::steady_clock::now();
-  ParamTexture t = fit_texels(paths, read_options(a.read), o);
+  WorkStats stats;
+  ParamTexture t = fit_texels(paths, read_options(a.read), o, &stats);
+  // One scan set: "mpi" as for ndf; two strips: one record each under "along" and "across".
+  (stack_y || std::string(role) == "along" ? mpi[role] : mpi) = stats.to_json("scans_per_rank");
   std::fprintf(stderr, "microbrdf texture: %s: %zu x %zu texels, %zu failed, %.3g s\n", role, t.nx,
                t.ny, t.size() - t.valid_count(),
                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
@@ -109,7 +112,8 @@ void run(const TextureArgs& a) {
   nlohmann::json j;
   ParamTexture out;
   if (a.size == 0) {  // fit only: the texel parameter image of the scans
-    out = exemplar(a.inputs, a, false, "texels");
+    out = exemplar(a.inputs, a, false, "texels", j["mpi"]);
+    if (!mpi_is_root()) return;  // rank 0 writes the outputs
     j["mode"] = "fit";
   } else {
     SynthesisOptions so;
@@ -118,8 +122,9 @@ void run(const TextureArgs& a) {
     so.lognormal_alpha = a.lognormal;
     so.texel_m = a.pitch.empty() ? 0.0 : parse_length(a.pitch);
     if (strips) {
-      const ParamTexture along = exemplar(a.along, a, false, "along");
-      const ParamTexture across = exemplar(a.across, a, true, "across");
+      const ParamTexture along = exemplar(a.along, a, false, "along", j["mpi"]);
+      const ParamTexture across = exemplar(a.across, a, true, "across", j["mpi"]);
+      if (!mpi_is_root()) return;
       if (!a.texels_out.empty()) {
         const auto stem = std::filesystem::path(a.texels_out);
         write_param_texture(along, stem.string() + ".along.exr");
@@ -128,7 +133,8 @@ void run(const TextureArgs& a) {
       out = synthesize_texture(along, across, so);
       j["exemplars"] = {{"along", summary(along)}, {"across", summary(across)}};
     } else {
-      const ParamTexture ex = exemplar(a.inputs, a, false, "exemplar");
+      const ParamTexture ex = exemplar(a.inputs, a, false, "exemplar", j["mpi"]);
+      if (!mpi_is_root()) return;
       if (!a.texels_out.empty()) write_param_texture(ex, a.texels_out);
       out = synthesize_texture(ex, so);
       j["exemplars"] = {{"exemplar", summary(ex)}};

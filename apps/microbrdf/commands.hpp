@@ -15,6 +15,7 @@ void register_tabulate(CLI::App& app);
 void register_slice(CLI::App& app);
 void register_plot(CLI::App& app);
 void register_brdf(CLI::App& app);
+void register_brdf_sh(CLI::App* brdf);  ///< info, sh-project, sh-estimate under `brdf`
 void register_sun(CLI::App& app);
 void register_fit(CLI::App& app);
 void register_predict(CLI::App& app);

@@ -4,13 +4,17 @@
 #include <exception>
 
 #include "commands.hpp"
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/interrupt.hpp"
 #include "microbrdf/memory_budget.hpp"
 
 int main(int argc, char** argv) {
-  // First, before any thread exists: SIGINT / SIGTERM remove temporaries and exit 130 / 143.
+  // First, before any thread exists (MPI's included): SIGINT / SIGTERM remove temporaries and
+  // exit 130 / 143.
   microbrdf::install_interrupt_cleanup();
+  // MPI only under mpirun (docs/scale.md); finalised when main returns.
+  microbrdf::MpiSession mpi(argc, argv);
   CLI::App app{
       "microbrdf: predicts how a surface reflects light from its measured microgeometry.\n"
       "Lengths take units (110nm, 1um); angles are degrees unless marked (0.05rad)."};
@@ -35,7 +39,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every other parse failure (unknown or missing flag, a value
+    // a validator refuses, a missing input file) is a usage error: exit code 2, whatever
+    // CLI11's own code for it (105, 106, ...).
+    return app.exit(e) == 0 ? 0 : 2;
   }
   return microbrdf::cli::exit_code();
 }

@@ -5,13 +5,55 @@
 
 #include "commands.hpp"
 #include "microbrdf/atomic_file.hpp"
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/memory_budget.hpp"
 
 namespace microbrdf::cli {
 namespace {
 int g_exit = 0;
+
+// Under mpirun these commands spread their work over the ranks (docs/scale.md); every other
+// command runs on rank 0 alone while the other ranks wait.
+bool distributed(const std::string& command) {
+  return command == "ndf" || command == "info" || command == "texture" || command == "simulate" ||
+         command == "predict";
 }
+
+// The message and exit code of an exception, as every command reports it.
+int report(const char* command, std::string* message) {
+  char buf[64];
+  try {
+    throw;
+  } catch (const FileError& e) {
+    *message = e.what();
+    std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
+    *message = buf + *message;
+    return 1;
+  } catch (const InputError& e) {
+    std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
+    *message = buf + std::string(e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    // Readers check the memory budget before they allocate; this is what is left (a large
+    // but legitimate job on a small machine).
+    std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
+    *message = buf + std::string("out of memory (budget ") + format_bytes(memory_budget()) +
+               "; --max-memory sets it; try a smaller input, resolution or thread count)";
+    return 1;
+  } catch (const std::length_error&) {
+    std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
+    *message = buf + std::string(
+                         "a size beyond what can be allocated was asked for (an absurd count or "
+                         "dimension in the input)");
+    return 1;
+  } catch (const std::exception& e) {
+    std::snprintf(buf, sizeof buf, "microbrdf %s: internal error: ", command);
+    *message = buf + std::string(e.what());
+    return 1;
+  }
+}
+}  // namespace
 
 void register_all(CLI::App& app) {
   register_info(app);
@@ -31,33 +73,19 @@ void register_all(CLI::App& app) {
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {
+  if (!mpi_is_root() && !distributed(command)) return;
   try {
     OutputGroup outputs;  // every file the command writes: all committed at the end, or none
     body();
     outputs.commit();
-  } catch (const FileError& e) {
-    std::fprintf(stderr, "microbrdf %s: error: %s\n", command, e.what());
-    g_exit = 1;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "microbrdf %s: error: %s\n", command, e.what());
-    g_exit = 2;
-  } catch (const std::bad_alloc&) {
-    // Readers check the memory budget before they allocate; this is what is left (a large
-    // but legitimate job on a small machine).
-    std::fprintf(stderr,
-                 "microbrdf %s: error: out of memory (budget %s; --max-memory sets it; try a "
-                 "smaller input, resolution or thread count)\n",
-                 command, format_bytes(memory_budget()).c_str());
-    g_exit = 1;
-  } catch (const std::length_error&) {
-    std::fprintf(stderr,
-                 "microbrdf %s: error: a size beyond what can be allocated was asked for "
-                 "(an absurd count or dimension in the input)\n",
-                 command);
-    g_exit = 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "microbrdf %s: internal error: %s\n", command, e.what());
-    g_exit = 1;
+  } catch (...) {
+    std::string message;
+    const int code = report(command, &message);
+    // Errors inside a distributed run reach rank 0 alone; one here on another rank happened
+    // outside it (rank 0 may be waiting for this rank): end every rank rather than hang.
+    if (!mpi_is_root()) mpi_abort(message, code);
+    std::fprintf(stderr, "%s\n", message.c_str());
+    g_exit = code;
   }
 }
 

@@ -4,7 +4,7 @@ targets into fuzz/corpus/{dat,datx,sur,plu}/.
 
 The real fixtures are large, so each seed keeps a real file's header and shrinks the grid to
 8 x 6 with matching data (a few invalid points included). The header fixtures are read from
-tests/data/ (metropro-1.dat, sur-2.sur) and ../shared/data/surfaces/plu-1.plu.
+tests/data/ (metropro-1.dat, sur-2.sur, plu-1-heights.plu).
 
 The .datx seed is a small HDF5 file with the structure of zygo_test.datx (a /Data/Surface
 dataset with Unit, No Data, Wavelength, scale factors and X/Y Converter attributes, plus an
@@ -23,7 +23,6 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 TEST_DATA = os.path.join(ROOT, "tests", "data")
-SHARED = os.path.normpath(os.path.join(ROOT, "..", "shared", "data", "surfaces"))
 
 NX, NY = 8, 6
 
@@ -99,9 +98,9 @@ def sur_seeds():
 
 # ---- Sensofar .plu -----------------------------------------------------------------------
 def plu_seeds():
-    path = os.path.join(SHARED, "plu-1.plu")
+    path = os.path.join(TEST_DATA, "plu-1-heights.plu")
     if not os.path.exists(path):
-        print("plu: skipped (plu-1.plu not found at " + path + ")")
+        print("plu: skipped (" + path + " not found)")
         return
     h = bytearray(read(path)[:500])
     struct.pack_into("<II", h, 388, NY, NX)  # calibration grid

@@ -1,31 +1,32 @@
 #pragma once
-// The BRDF interface and the microfacet BRDF (Dong 2015 eq. 1).
+// The BRDF interface every reflectance model of the project implements.
 //
-// Local frame (ARCHITECTURE.md): macro normal n = +z, x and y in the surface; wi (light) and wo
-// (viewer) both point away from the surface; f(wi, wo) in 1/sr; wavelength in metres.
-//
-// Slices (tabulate_slice): wi = (-sin theta_i, 0, cos theta_i), i.e. the light at azimuth 180 deg.
-//  - in-plane:  wo(t) = (sin t, 0, cos t), t in [-90, 90] deg; the mirror direction is t =
-//  +theta_i;
-//  - out-of-plane: wo(t) = cos t r + sin t y with r = (sin theta_i, 0, cos theta_i) the mirror
-//    direction, t in [-90, 90] deg (the great circle through r perpendicular to the plane of
-//    incidence).
+// Local frame (docs/architecture.md): macro normal n = +z, x and y in the surface; wi (light) and
+// wo (viewer) both point away from the surface; f(wi, wo) in 1/sr; wavelength in metres. The BRDFs
+// themselves: microfacet_brdf.hpp (Dong 2015 eq. 1), kirchhoff_brdf.hpp (eq. 8), sun_brdf.hpp (Sun
+// 2002), sh_brdf.hpp (Westin 1992), lambertian_brdf.hpp, mirror_brdf.hpp; the one way to build any
+// of them from a description: brdf_spec.hpp.
 
-#include <Eigen/Core>
-#include <memory>
 #include <optional>
 #include <string>
-#include <vector>
 
-#include "microbrdf/fresnel.hpp"
-#include "microbrdf/microfacet.hpp"
+#include "microbrdf/vec3.hpp"
 
 namespace microbrdf {
 
+/// The kinds of reflection a BRDF has; a renderer chooses its estimators by them (a delta lobe
+/// has no density: it is only reached by sampling, never by light sampling or MIS).
+struct Lobes {
+  bool delta = false;    ///< ideal specular: f is a Dirac delta (eval() and pdf() are 0)
+  bool glossy = false;   ///< a lobe of finite width around a preferred direction
+  bool diffuse = false;  ///< spread over the whole hemisphere
+};
+
 struct BrdfSample {
   Vec3 wo;
-  double weight = 0;  ///< f(wi, wo) cos(theta_o) / pdf
-  double pdf = 0;     ///< per steradian of wo
+  double weight = 0;   ///< f(wi, wo) cos(theta_o) / pdf (for a delta lobe: the reflectance)
+  double pdf = 0;      ///< per steradian of wo (0 for a delta lobe)
+  bool delta = false;  ///< drawn from a delta lobe
 };
 
 class Brdf {
@@ -36,32 +37,15 @@ class Brdf {
   /// Draws wo for the light direction wi; nothing when the sample is absorbed/invalid.
   virtual std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
                                            double wavelength_m) const = 0;
-  /// Density of sample() per steradian of wo.
+  /// Density of sample() per steradian of wo (0 for the delta part).
   virtual double pdf(const Vec3& wi, const Vec3& wo) const = 0;
+  /// Directional albedo a(wi) = integral f(wi, wo) cos(theta_o) dwo (dimensionless). By default
+  /// estimated with the BRDF's own sampler on a 256 x 256 stratified grid
+  /// (directional_albedo_sampled, brdf_albedo.hpp); BRDFs with an exact integral override it.
+  virtual double albedo(const Vec3& wi, double wavelength_m) const;
+  /// Which lobes the BRDF has (default: glossy).
+  virtual Lobes lobes() const { return {false, true, false}; }
   virtual std::string describe() const = 0;
-};
-
-/// Dong 2015 eq. 1: f = F(wi.h) D(h) G(wi, wo) / (4 |wi.n| |wo.n|), h = (wi + wo)/|wi + wo|.
-/// G is Smith's height-correlated G2 by default; `separable_g` gives G1(wi) G1(wo) (Dong eq. 13).
-/// Sampling draws h with the distribution's sample_visible (the visible normals of wi for the
-/// analytic models) and reflects: pdf = q(h) / (4 wi.h) with q = sampling_pdf(wi, h) (D_wi(h)
-/// for visible normals, then weight = F G2 / G1u(wi)); weight = F D G2 (wi.h) / ((wi.n) q).
-class MicrofacetBrdf final : public Brdf {
- public:
-  MicrofacetBrdf(std::shared_ptr<const MicrofacetDistribution> d, std::shared_ptr<const Fresnel> f,
-                 bool separable_g = false);
-  double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
-  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
-                                   double wavelength_m) const override;
-  double pdf(const Vec3& wi, const Vec3& wo) const override;
-  std::string describe() const override;
-  const MicrofacetDistribution& distribution() const { return *d_; }
-  const Fresnel& fresnel() const { return *f_; }
-
- private:
-  std::shared_ptr<const MicrofacetDistribution> d_;
-  std::shared_ptr<const Fresnel> f_;
-  bool separable_;
 };
 
 /// The reflection half vector h = (wi + wo)/|wi + wo| and wi.h, or nothing when either direction
@@ -72,28 +56,5 @@ struct HalfVector {
   double wi_dot_h;
 };
 std::optional<HalfVector> reflection_half_vector(const Vec3& wi, const Vec3& wo);
-
-/// Directional albedo a(wi) = integral f(wi, wo) cos(theta_o) dwo by product quadrature:
-/// Gauss-Legendre in cos(theta_o) (n_theta nodes) times the midpoint rule in phi_o (n_phi).
-/// Accurate for lobes wider than a few grid steps (alpha >~ 0.05 at the defaults).
-double directional_albedo(const Brdf& brdf, const Vec3& wi, double wavelength_m, int n_theta = 128,
-                          int n_phi = 256);
-/// The same estimated with the BRDF's own sampler on an n x n stratified grid (any lobe width).
-double directional_albedo_sampled(const Brdf& brdf, const Vec3& wi, double wavelength_m,
-                                  int n = 512);
-
-enum class SlicePlane { in, out };
-struct BrdfSlice {
-  std::vector<double> angle_deg;  ///< signed angle t of wo (see the header comment)
-  std::vector<double> value;      ///< f, 1/sr
-  std::vector<Vec3> wo;
-};
-/// Tabulates f along an in-plane or out-of-plane cut for light at theta_i (rad); `samples` angles
-/// spread evenly over [-90, 90] deg (end points nudged 1e-9 rad inside the hemisphere).
-BrdfSlice tabulate_slice(const Brdf& brdf, double theta_i, double wavelength_m, SlicePlane plane,
-                         std::size_t samples = 721);
-
-/// Gauss-Legendre nodes and weights on [-1, 1].
-void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w);
 
 }  // namespace microbrdf

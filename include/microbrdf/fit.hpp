@@ -18,6 +18,9 @@
 //    (equal projected area): a Hellinger distance between the two densities; sqrt is the
 //    variance-stabilising transform of histogram (Poisson) counts, so unweighted least squares is
 //    close to maximum likelihood, and the tails count without a log's blow-up at D = 0.
+//  - NaN nodes are unmeasured (effective NDFs inferred from measured BRDFs, measured_ndf.hpp):
+//    they carry no residual and no error; such tables (or meta.method "measured") are fitted
+//    in Node mode with a free amplitude and start from the moments of the measured nodes.
 
 #include <cstddef>
 #include <memory>

@@ -1,5 +1,5 @@
 #pragma once
-// Fresnel reflectance and the optical constants of materials (theory notes sections 5.3-5.5).
+// Fresnel reflectance and the optical constants of materials (docs/theory.md §5.3-5.5).
 //
 // Conventions: cos_i = cosine of the angle of incidence, measured in the incident medium (a
 // vacuum/air of index 1 unless said otherwise); eta = relative index n_t / n_i. The complex index
@@ -16,11 +16,11 @@
 
 namespace microbrdf {
 
-/// Exact unpolarised reflectance of a conductor, complex form (theory 5.4):
+/// Exact unpolarised reflectance of a conductor, complex form (docs/theory.md §5.4):
 /// cos_t = sqrt(1 - sin^2_i / eta~^2) (principal root), r_p = (eta~ c_i - c_t)/(eta~ c_i + c_t),
 /// r_s = (c_i - eta~ c_t)/(c_i + eta~ c_t), R = (|r_s|^2 + |r_p|^2)/2. |cos_i| is used.
 double fresnel_conductor(double cos_i, std::complex<double> eta);
-/// The same in the real Siegel-Howell form (theory 5.4); agrees to ~1e-15.
+/// The same in the real Siegel-Howell form (docs/theory.md §5.4); agrees to ~1e-15.
 double fresnel_conductor_siegel(double cos_i, double eta, double kappa);
 /// Sun 2002 eqs. 5.7-5.8 exactly as printed (5.8 with the squared term, 5.7's R_parallel): kept
 /// only to document the error (see docs/models.md). Do not use for physics.

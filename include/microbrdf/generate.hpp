@@ -27,11 +27,11 @@ namespace microbrdf {
 ///    slope scatter by ~10%), as with a real measurement.
 struct GaussianSurfaceParams {
   std::size_t nx = 1024, ny = 1024;
-  double dx = 110e-9, dy = 110e-9;
-  double sigma = 0.1e-6;
-  double tau_x = 2e-6;
-  double tau_y = 2e-6;
-  double angle = 0;
+  double dx = 110e-9, dy = 110e-9;  ///< sample spacing, m
+  double sigma = 0.1e-6;            ///< rms height, m
+  double tau_x = 2e-6;              ///< correlation length along the first axis, m
+  double tau_y = 2e-6;              ///< correlation length along the second axis, m
+  double angle = 0;                 ///< first axis from the x axis, rad
   std::uint64_t seed = 1;
   bool exact_spectrum = true;
 };
@@ -44,9 +44,9 @@ Surface generate_gaussian(const GaussianSurfaceParams& p);
 struct ProfileParams {
   std::size_t n = 65536;
   std::size_t rows = 1;
-  double dx = 0.01e-6;
-  double sigma = 0.1e-6;
-  double tau = 1e-6;
+  double dx = 0.01e-6;    ///< sample spacing, m
+  double sigma = 0.1e-6;  ///< rms height, m
+  double tau = 1e-6;      ///< correlation length, m
   std::uint64_t seed = 1;
 };
 Surface generate_profiles(const ProfileParams& p);
@@ -61,14 +61,14 @@ Surface generate_profiles(const ProfileParams& p);
 /// heavier-tailed than Beckmann (docs/fitting.md), and small texels differ in roughness.
 struct BrushedParams {
   std::size_t nx = 2048, ny = 1024;
-  double dx = 110e-9, dy = 110e-9;
-  double angle = 0;            ///< brushing direction from the x axis, rad
-  double sigma = 0.2e-6;       ///< rms height of the base, m
-  double tau_along = 50e-6;    ///< base correlation length along the brushing, m
-  double tau_across = 2e-6;    ///< base correlation length across, m
-  double scratch_density = 0;  ///< scratches per metre across the brushing
-  double scratch_depth = 0;    ///< mean depth (exponentially distributed), m
-  double scratch_width = 0;    ///< mean Gaussian sigma of the cross-section, m
+  double dx = 110e-9, dy = 110e-9;  ///< sample spacing, m
+  double angle = 0;                 ///< brushing direction from the x axis, rad
+  double sigma = 0.2e-6;            ///< rms height of the base, m
+  double tau_along = 50e-6;         ///< base correlation length along the brushing, m
+  double tau_across = 2e-6;         ///< base correlation length across, m
+  double scratch_density = 0;       ///< scratches per metre across the brushing
+  double scratch_depth = 0;         ///< mean depth (exponentially distributed), m
+  double scratch_width = 0;         ///< mean Gaussian sigma of the cross-section, m
   std::uint64_t seed = 1;
   bool exact_spectrum = true;    ///< for the base, see GaussianSurfaceParams
   double modulation = 0;         ///< log-amplitude rms m of the depth modulation (0 = none)
@@ -95,7 +95,7 @@ std::vector<std::string> brushed_preset_names();
 
 /// Base parameters that give the filtered widths alpha_along, alpha_across for a Gaussian
 /// filter of standard deviation `filter_sigma`, keeping tau_across fixed. Uses
-/// <b_u^2> = tau_u tau_v sigma^2 / (8 a_u^{3/2} a_v^{1/2}), a = s^2 + tau^2/4 (theory notes 3.4,
+/// <b_u^2> = tau_u tau_v sigma^2 / (8 a_u^{3/2} a_v^{1/2}), a = s^2 + tau^2/4 (docs/theory.md §3.4,
 /// anisotropic form). Throws InputError when no solution exists.
 void solve_brushed_base(BrushedParams& p, double alpha_along, double alpha_across,
                         double filter_sigma);

@@ -1,9 +1,9 @@
 #pragma once
-// The Kirchhoff distribution D_K (Dong 2015 eqs. 3-8 and Appendix A; theory notes section 4)
-// computed from height maps, and the Kirchhoff BRDF (Dong eq. 8). docs/kirchhoff.md has the
-// derivations, the accuracy figures and the pictures.
+// The Kirchhoff distribution D_K (Dong 2015 eqs. 3-8 and Appendix A; docs/theory.md §4)
+// computed from height maps; the Kirchhoff BRDF (Dong eq. 8) over them is kirchhoff_brdf.hpp.
+// docs/kirchhoff.md has the derivations, the accuracy figures and the pictures.
 //
-// Definition (eq. 6, height-field form of theory 4.1), for q = (4 pi / lambda_q) h:
+// Definition (eq. 6, height-field form of docs/theory.md §4.1), for q = (4 pi / lambda_q) h:
 //   I(q)   = integral over the patch of w (q.m) exp(-i q.s) dS
 //          = integral w(x,y) (q_z - q_x h_x - q_y h_y) exp(-i (q_x x + q_y y + q_z h)) dx dy
 //   D_K(q) = |I(q)|^2 / (4 pi^2 A_w),   A_w = integral w^2 dx dy
@@ -32,13 +32,13 @@
 #include <string>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/surface.hpp"
 #include "microbrdf/tabulated_ndf.hpp"
 
 namespace microbrdf {
 
-/// Apodisation of each patch (theory 4.5). D_K is the true D_K blurred by |FT(w)|^2 / (4 pi^2 A_w):
+/// Apodisation of each patch (docs/theory.md §4.5). D_K is the true D_K blurred by |FT(w)|^2 / (4
+/// pi^2 A_w):
 ///  - None: sinc^2 blur, first zero at q = 2 pi / L, side lobes decaying as 1/q^2 (a hard
 ///    aperture diffracts into a cross along the patch axes);
 ///  - Hann: sin^2 taper over the whole patch; main lobe twice as wide, side lobes 1/q^6;
@@ -130,6 +130,17 @@ struct KirchhoffOptions {
   std::function<void(double)> progress;
 };
 
+/// One scan's share of a KirchhoffAccumulator: the sum over its patches of A_w,p D_K,p and the
+/// counters, so that scans can be computed anywhere and folded in scan order (distribute.hpp).
+struct KirchhoffScanPartial {
+  TabulatedNdf table;  ///< sum over the scan's patches of A_w,p D_K,p (physical)
+  double area_w2 = 0, valid_area = 0, aliased = 0;
+  std::size_t patches = 0, used = 0, skipped = 0;
+  std::string tiles, leveling, source;
+  KirchhoffFastInfo info;
+  bool has_info = false;  ///< the fast method ran on at least one patch
+};
+
 /// Averages D_K over patches and scans (Dong App. A): each scan is cut into tiles of about
 /// patch_x x patch_y (round(L / patch) equal tiles per axis, at least 1, the remainder of the
 /// division left out at the far edges), D_K is computed per tile, and the intensities are
@@ -137,11 +148,17 @@ struct KirchhoffOptions {
 class KirchhoffAccumulator {
  public:
   explicit KirchhoffAccumulator(const KirchhoffOptions& options);
+  /// merge(estimate(s)).
   void add(const Surface& s);
+  /// One scan's share, computed without touching the accumulator (any thread or rank); calls
+  /// options().progress per patch.
+  KirchhoffScanPartial estimate(const Surface& s) const;
+  /// Folds one scan's share in (table sum node by node, counters, sources).
+  void merge(const KirchhoffScanPartial& p);
   /// The averaged D_K normalised to sum D Delta^2 = 1; meta.method = "kirchhoff",
   /// meta.wavelength_m = lambda_q. Throws InputError if nothing was accumulated.
   TabulatedNdf result() const;
-  /// sum D_K Delta^2 of the physical average before normalising (~1; theory 4.3.6).
+  /// sum D_K Delta^2 of the physical average before normalising (~1; docs/theory.md §4.3).
   double raw_integral() const;
   std::size_t patches() const { return patches_; }
   /// Fraction of the (A_w-weighted, physical) D_K mass removed by the Nyquist mask.
@@ -161,37 +178,5 @@ class KirchhoffAccumulator {
 
 /// One scan's D_K (KirchhoffAccumulator with one add).
 TabulatedNdf estimate_kirchhoff(const Surface& s, const KirchhoffOptions& options);
-
-/// Dong 2015 eq. 8: f = D_K(4 pi h / lambda_q) F(wi.h) G(wi, wo) / (4 |wi.n| |wo.n|).
-/// - One table: D_K at a fixed lambda_q is used for every wavelength and angle (Dong section 7).
-/// - Several tables (computed at different lambda_q): the actual lambda_q = 2 lambda / |wi + wo|
-///   (eq. 5) is formed per evaluation and the table values are interpolated linearly in
-///   1/lambda_q between the two bracketing tables (clamped at the ends): spectral use, e.g.
-///   diffraction colours of gratings.
-/// G: Smith G2 of the `shadowing` distribution when one is given (e.g. a fitted Beckmann or
-/// ellipsoid, as Dong does), else 1 (plain Kirchhoff, eq. 7). Sampling draws h from the table
-/// closest to 555 nm (NdfSampler: density D(h)(h.n)) and reflects.
-class KirchhoffBrdf final : public Brdf {
- public:
-  KirchhoffBrdf(std::vector<TabulatedNdf> tables, std::shared_ptr<const Fresnel> fresnel,
-                std::shared_ptr<const MicrofacetDistribution> shadowing = nullptr);
-  KirchhoffBrdf(const KirchhoffBrdf&) = delete;  // the sampler points into tables_
-  KirchhoffBrdf& operator=(const KirchhoffBrdf&) = delete;
-  double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
-  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
-                                   double wavelength_m) const override;
-  double pdf(const Vec3& wi, const Vec3& wo) const override;
-  std::string describe() const override;
-  /// D_K(h) at lambda_q (interpolated between tables as described above).
-  double dk(const Vec3& h, double lambda_q) const;
-  const std::vector<TabulatedNdf>& tables() const { return tables_; }
-
- private:
-  std::vector<TabulatedNdf> tables_;  // sorted by lambda_q
-  std::shared_ptr<const Fresnel> f_;
-  std::shared_ptr<const MicrofacetDistribution> g_;
-  std::size_t sample_table_ = 0;
-  std::shared_ptr<const void> sampler_;  // NdfSampler of tables_[sample_table_]
-};
 
 }  // namespace microbrdf

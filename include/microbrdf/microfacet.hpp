@@ -4,7 +4,7 @@
 // Local frame: macro normal n = +z; every direction points away from the surface. D(m) is per
 // steradian, normalised so that integral D(m) (m.n) dw_m = 1 over the hemisphere.
 //   sigma+(v) = integral D(m) <v.m>+ dw_m         projected area of the microsurface seen from v
-//   Lambda(v) = sigma+(v) / (v.n) - 1             Smith (theory 1.4, 2.3; Heitz 2014)
+//   Lambda(v) = sigma+(v) / (v.n) - 1             Smith (docs/theory.md §1.4, 2.3; Heitz 2014)
 //   G1(v, m)  = chi+((v.m)/(v.n)) min(1, 1/(1 + Lambda(v)))
 //   D_v(m)    = <v.m>+ D(m) / sigma+(v) = G1u(v) <v.m>+ D(m) / (v.n)   (visible normals; G1u the
 //               unclamped Smith term, which is the exact normaliser even when G1 > 1)
@@ -14,17 +14,16 @@
 //
 // Anisotropy: alpha_x along the in-plane axis at azimuth `phi` (rad, counter-clockwise from +x),
 // alpha_y perpendicular to it. The ellipsoid NDF is Dong et al. 2015 eqs. 10-14; see
-// docs/models.md and theory notes section 1 for its conventions.
+// docs/models.md and docs/theory.md §1 for its conventions.
 
 #include <Eigen/Core>
 #include <memory>
 #include <string>
 
 #include "microbrdf/tabulated_ndf.hpp"
+#include "microbrdf/vec3.hpp"
 
 namespace microbrdf {
-
-using Vec3 = Eigen::Vector3d;
 
 class MicrofacetDistribution {
  public:
@@ -112,8 +111,8 @@ struct EllipsoidParams {
 };
 
 /// Dong 2015 eq. 10: D(m) = chi+(m.n) / (pi |det A| ||A n|| ||A^-T m||^4); eq. 14 G1 via
-/// sigma+(u) = ||Au||/(2||An||) + (Au).(An)/(2||An||^2) (theory 1.4); visible normals sampled on
-/// the ellipsoid mapped to the unit sphere (theory 1.5), exact pdf D_v.
+/// sigma+(u) = ||Au||/(2||An||) + (Au).(An)/(2||An||^2) (docs/theory.md §1.4); visible normals
+/// sampled on the ellipsoid mapped to the unit sphere (docs/theory.md §1.5), exact pdf D_v.
 class EllipsoidDistribution final : public MicrofacetDistribution {
  public:
   explicit EllipsoidDistribution(const EllipsoidParams& p);
@@ -126,7 +125,8 @@ class EllipsoidDistribution final : public MicrofacetDistribution {
   const Eigen::Matrix3d& R() const { return r_; }
   /// The direction of the maximum of D (for alpha_x, alpha_y < 1): R^T z, flipped up if needed.
   Vec3 peak() const;
-  /// integral D(m) m dw = A^T A n / ||A n||^2 (theory 1.2), the mean normal (not unit length).
+  /// integral D(m) m dw = A^T A n / ||A n||^2 (docs/theory.md §1.2), the mean normal (not unit
+  /// length).
   Vec3 mean_normal() const;
 
  private:

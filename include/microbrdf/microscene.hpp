@@ -35,13 +35,13 @@ namespace microbrdf {
 /// What happens where a ray meets a micro-surface (W92 sections 4.2-4.4).
 struct MicroMaterial {
   enum class Kind {
-    mirror,      ///< ideal specular reflection, energy times F(cos) (W92 eq. 22)
-    dielectric,  ///< smooth interface: reflect with probability F, else refract; Beer inside
-    lambert,     ///< ideal diffuse, albedo; cosine-sampled
-    brdf,        ///< any Brdf (analytic or a previously simulated ShBrdf) in the local frame
-    absorber     ///< absorbs everything (velvet base)
+    Mirror,      ///< ideal specular reflection, energy times F(cos) (W92 eq. 22)
+    Dielectric,  ///< smooth interface: reflect with probability F, else refract; Beer inside
+    Lambert,     ///< ideal diffuse, albedo; cosine-sampled
+    Brdf,        ///< any Brdf (analytic or a previously simulated ShBrdf) in the local frame
+    Absorber     ///< absorbs everything (velvet base)
   };
-  Kind kind = Kind::absorber;
+  Kind kind = Kind::Absorber;
   std::string name;
   std::shared_ptr<const Fresnel> fresnel;  ///< mirror: reflectance; null = 1
   double eta = 1.5;                        ///< dielectric: index inside / index outside
@@ -52,7 +52,7 @@ struct MicroMaterial {
   /// the BRDF's own importance sampling (same expectation, usually far less variance).
   bool uniform_sampling = false;
   /// Whether the material spawns the N_b branches (diffuse-like).
-  bool diffuse() const { return kind == Kind::lambert || kind == Kind::brdf; }
+  bool diffuse() const { return kind == Kind::Lambert || kind == Kind::Brdf; }
 };
 
 /// A capsule: the points within `radius` of the segment a-b (a sphere when a == b). Open-ended
@@ -147,10 +147,10 @@ struct MicroHit {
 };
 
 enum class TraceEnd {
-  hit,
-  escaped_up,    ///< left the top of the scene (an exit ray)
-  escaped_down,  ///< fell below the scene (transmitted; lost for a BRDF)
-  lost           ///< ran along the tile without end (a ray exactly parallel to the plane)
+  Hit,
+  EscapedUp,    ///< left the top of the scene (an exit ray)
+  EscapedDown,  ///< fell below the scene (transmitted; lost for a BRDF)
+  Lost          ///< ran along the tile without end (a ray exactly parallel to the plane)
 };
 
 /// A built scene; thread-safe for tracing. Holds an Embree device and scene.

@@ -1,5 +1,5 @@
 #pragma once
-// Geometric NDFs estimated from height maps (Dong 2015 section 5.1, eq. 2; theory notes 2-3).
+// Geometric NDFs estimated from height maps (Dong 2015 section 5.1, eq. 2; docs/theory.md §2-3).
 
 #include <cstddef>
 #include <string>
@@ -15,12 +15,21 @@ enum class NdfMethod { Naive, Filtered };
 struct NdfEstimateOptions {
   NdfMethod method = NdfMethod::Filtered;
   std::size_t resolution = 1025;
-  double filter_sigma = 1e-6;  ///< Gaussian std of the local plane fit, m (Filtered)
-  double truncate_sigmas = 4;  ///< kernel support, in filter sigmas
+  double filter_sigma_m = 1e-6;  ///< Gaussian std of the local plane fit, m (Filtered)
+  double truncate_sigmas = 4;    ///< kernel support, in filter sigmas
   /// A filtered sample is used only if its weighted support (the sum of Gaussian weights over
   /// valid neighbours) is at least this fraction of the full-grid value: fits near borders and
-  /// holes that see too little surface are skipped and counted (theory notes 3.3).
+  /// holes that see too little surface are skipped and counted (docs/theory.md §3.3).
   double min_support = 0.5;
+};
+
+/// One scan's share of an NdfAccumulator: its own unnormalised table (projected area per node)
+/// and counters. Scans are estimated on their own and their shares folded in scan order, so a
+/// scan set gives the same table bit for bit wherever and in whatever order its scans were
+/// estimated (distribute.hpp).
+struct NdfScanPartial {
+  TabulatedNdf table;
+  NdfMetadata meta;  ///< samples_used, samples_skipped, projected_area_m2, sources, leveling
 };
 
 /// Accumulates normals of many scans, weighted by projected area, into one NDF; memory is one
@@ -28,8 +37,13 @@ struct NdfEstimateOptions {
 class NdfAccumulator {
  public:
   explicit NdfAccumulator(const NdfEstimateOptions& options);
-  /// Adds one scan (levelled as the caller wants; a residual tilt shifts the NDF).
+  /// Adds one scan (levelled as the caller wants; a residual tilt shifts the NDF):
+  /// merge(estimate(s)).
   void add(const Surface& s);
+  /// One scan's share, computed without touching the accumulator (any thread or rank).
+  NdfScanPartial estimate(const Surface& s) const;
+  /// Folds one scan's share in (table sum node by node, counters, sources).
+  void merge(const NdfScanPartial& p);
   /// The normalised NDF of everything added. Throws InputError if nothing was accumulated.
   TabulatedNdf result() const;
   const NdfEstimateOptions& options() const { return opt_; }

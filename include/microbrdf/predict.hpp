@@ -29,6 +29,7 @@
 
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
+#include "microbrdf/material_spec.hpp"
 
 namespace microbrdf {
 
@@ -37,7 +38,9 @@ struct PredictOptions {
   ReadOptions read;                 ///< spacing overrides for formats without one
   LevelingSpec leveling;            ///< applied to every scan and strip (default: plane)
 
-  std::string metal = "Fe";      ///< optical constants (fresnel.hpp metal()) for the BRDFs
+  /// The material of every BRDF (material_spec.hpp: a metal, n/k, an n,k CSV, R0 or a colour;
+  /// exact or Schlick Fresnel).
+  MaterialSpec material = MaterialSpec::named_metal("Fe");
   double filter_sigma_m = 1e-6;  ///< filtered NDF: Gaussian std of the local plane fit, m
   std::size_t ndf_resolution = 1025;
   bool kirchhoff = false;        ///< also compute D_K (slow: ~20 s per 2 M samples)

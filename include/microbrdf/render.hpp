@@ -19,25 +19,25 @@
 namespace microbrdf {
 
 enum class PreviewScene {
-  cylinders,  ///< two cylinder sections, the BRDF rotated 90 degrees between them (Dong Fig. 10)
-  plate,      ///< a flat plate seen from above under a small area light (Dong Fig. 13)
-  sphere,
-  vase,           ///< a surface of revolution
-  obj,            ///< an OBJ mesh (RenderScene::obj_path)
-  furnace_sphere  ///< a sphere alone in a uniform white environment (tests)
+  Cylinders,  ///< two cylinder sections, the BRDF rotated 90 degrees between them (Dong Fig. 10)
+  Plate,      ///< a flat plate seen from above under a small area light (Dong Fig. 13)
+  Sphere,
+  Vase,          ///< a surface of revolution
+  Obj,           ///< an OBJ mesh (RenderScene::obj_path)
+  FurnaceSphere  ///< a sphere alone in a uniform white environment (tests)
 };
 PreviewScene parse_preview_scene(const std::string& name);  ///< throws InputError listing names
 std::string preview_scene_name(PreviewScene s);
 
 enum class Brushing {
-  linear,     ///< tangent (the BRDF's x axis) along a fixed direction, `brush_angle_rad` about n
-  rotational  ///< tangent along circles about the object's axis (Westin's wheel)
+  Linear,     ///< tangent (the BRDF's x axis) along a fixed direction, `brush_angle_rad` about n
+  Rotational  ///< tangent along circles about the object's axis (Westin's wheel)
 };
 
 struct RenderScene {
-  PreviewScene kind = PreviewScene::cylinders;
+  PreviewScene kind = PreviewScene::Cylinders;
   std::string obj_path;
-  Brushing brushing = Brushing::linear;
+  Brushing brushing = Brushing::Linear;
   double brush_angle_rad = 0;
   double uv_scale = 1;  ///< texture repeats per unit length (SVBRDF textures)
 };
@@ -71,7 +71,7 @@ struct RenderLights {
 /// Lambertian surface facing the light would have radiance 1).
 RenderLights::Disk dong_plate_light();
 
-enum class MisMode { mis, brdf_only, light_only };
+enum class MisMode { Mis, BrdfOnly, LightOnly };
 
 struct RenderOptions {
   int width = 512, height = 512;
@@ -80,7 +80,7 @@ struct RenderOptions {
   int wavelengths = 4;  ///< hero-wavelength samples per path (360-830 nm)
   std::uint64_t seed = 1;
   int threads = 0;  ///< 0 = all cores
-  MisMode mis = MisMode::mis;
+  MisMode mis = MisMode::Mis;
   double exposure = 0;                            ///< stops, for the PNG only
   std::function<void(double fraction)> progress;  ///< called from one thread, fraction in [0, 1]
 };
@@ -103,37 +103,6 @@ struct RenderImage {
 RenderImage render(const RenderScene& scene,
                    const std::vector<std::shared_ptr<const Svbrdf>>& materials,
                    const RenderLights& lights, const RenderOptions& options);
-
-/// A Lambertian reflector f = albedo / pi (furnace tests, diffuse props); cosine-weighted
-/// sampling, weight = albedo.
-class LambertianBrdf final : public Brdf {
- public:
-  explicit LambertianBrdf(double albedo = 1.0);
-  double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
-  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
-                                   double wavelength_m) const override;
-  double pdf(const Vec3& wi, const Vec3& wo) const override;
-  std::string describe() const override;
-
- private:
-  double albedo_;
-};
-
-/// An ideal mirror (a delta lobe): eval() and pdf() are 0, sample() returns the mirror direction
-/// with pdf 0 and weight F(cos theta_i) (F = 1 without a Fresnel term). The renderer treats a
-/// sample with pdf 0 and a positive weight as a delta lobe (no MIS, no light sampling).
-class SpecularMirrorBrdf final : public Brdf {
- public:
-  explicit SpecularMirrorBrdf(std::shared_ptr<const Fresnel> f = nullptr) : f_(std::move(f)) {}
-  double eval(const Vec3&, const Vec3&, double) const override { return 0; }
-  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
-                                   double wavelength_m) const override;
-  double pdf(const Vec3&, const Vec3&) const override { return 0; }
-  std::string describe() const override;
-
- private:
-  std::shared_ptr<const Fresnel> f_;
-};
 
 /// Linear EXR (half floats, RGB) with the render settings in the header; atomic.
 void write_render_exr(const RenderImage& img, const std::string& path);

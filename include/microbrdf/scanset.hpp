@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/surface.hpp"
 
@@ -25,5 +26,16 @@ std::vector<std::string> expand_scan_inputs(const std::vector<std::string>& inpu
 /// Surface is alive at a time. Errors from reading propagate (FileError naming the file).
 void for_each_scan(const std::vector<std::string>& paths, const ReadOptions& options,
                    const std::function<void(std::size_t, const std::string&, Surface&)>& fn);
+
+/// The scans of a set over all ranks and threads (distribute.hpp): each scan is read with
+/// `options` on whichever rank takes it and handed to `compute` (index, path, surface), which
+/// returns what rank 0 needs of it; `consume` runs on rank 0 in scan order. A rank holds one
+/// surface per thread at a time. A read error names the file (FileError) and ends the run on
+/// every rank.
+WorkStats distribute_scans(
+    const std::vector<std::string>& paths, const ReadOptions& options,
+    const std::function<WorkResult(std::size_t, const std::string&, Surface&)>& compute,
+    const std::function<void(std::size_t, WorkResult&&)>& consume,
+    const DistributeOptions& distribute_options = {});
 
 }  // namespace microbrdf

@@ -1,13 +1,15 @@
 #pragma once
 // Westin, Arvo & Torrance 1992: BRDFs as matrices of real spherical-harmonic coefficients
-// (theory notes section 6). Directions are unit vectors in the local frame of brdf.hpp (n = +z).
+// (docs/theory.md §6). Directions are unit vectors in the local frame of brdf.hpp (n = +z).
 //
 // Stored quantity: f(wi, wo) = rho(wi, wo) cos(theta_i) cos(theta_o), completed oddly in z in both
-// arguments (W92 section 2.5), so only the basis functions with l + m odd survive (theory 6.2).
-// f(wi, wo) = Y(wi)^T M Y(wo) over that kept basis; M is symmetric (reciprocity by construction).
-// The BRDF is grey (one matrix); a simulation at one wavelength says which in its metadata.
+// arguments (W92 section 2.5), so only the basis functions with l + m odd survive (docs/theory.md
+// §6.2). f(wi, wo) = Y(wi)^T M Y(wo) over that kept basis; M is symmetric (reciprocity by
+// construction). The BRDF is grey (one matrix); a simulation at one wavelength says which in its
+// metadata.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <span>
@@ -15,83 +17,9 @@
 #include <vector>
 
 #include "microbrdf/brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 
 namespace microbrdf {
-
-/// Largest lmax the evaluators accept (recurrence tables are precomputed up to it).
-constexpr int kShMaxL = 128;
-/// Index of Y_lm in the full real basis, k = l^2 + l + m (-l <= m <= l).
-constexpr int sh_index(int l, int m) { return l * l + l + m; }
-/// Number of functions in the full basis up to lmax: (lmax + 1)^2.
-constexpr int sh_count(int lmax) { return (lmax + 1) * (lmax + 1); }
-/// All real spherical harmonics Y_k(w), k < sh_count(lmax), orthonormal on the sphere, by the
-/// normalised recurrence (stable to lmax >= 40). `out` must hold sh_count(lmax) values.
-/// Convention: Y_l0 = Kbar P_l, Y_lm = sqrt2 Kbar P_l^|m| cos(m phi) (m > 0), sin(|m| phi) (m < 0),
-/// without the Condon-Shortley phase; phi = atan2(w_y, w_x) (0 at the pole); w need not be unit.
-/// Throws InputError for lmax outside [0, kShMaxL].
-void sh_eval(int lmax, const Vec3& w, double* out);
-/// Position of (l, m), l + m odd, in the kept basis: l (l - 1) / 2 + (m + l - 1) / 2.
-constexpr int sh_odd_index(int l, int m) { return l * (l - 1) / 2 + (m + l - 1) / 2; }
-
-/// The basis kept after the odd completion: the (l, m) with l + m odd, l <= lmax, in increasing k.
-class ShOddBasis {
- public:
-  /// Throws InputError for lmax outside [1, kShMaxL].
-  explicit ShOddBasis(int lmax);
-  int lmax() const { return lmax_; }
-  int size() const { return static_cast<int>(l_.size()); }  ///< lmax (lmax + 1) / 2
-  int l(int j) const { return l_[j]; }
-  int m(int j) const { return m_[j]; }
-  /// Y_j(w) for the kept functions; `out` holds size() values. Cost O(lmax^2).
-  void eval(const Vec3& w, double* out) const;
-  /// Integral of Y_j over the upper hemisphere (for albedos); 0 unless m = 0.
-  const std::vector<double>& hemisphere_integrals() const { return hemi_; }
-
- private:
-  int lmax_;
-  std::vector<int> l_, m_;
-  std::vector<double> hemi_;
-};
-
-/// The Monte Carlo estimator of W92 eq. 17 / 25 with the constants of theory 6.4:
-///   m~_jk = (1/N) sum_n [cos(theta_U) / p_U(U)] * 4 * Y_j(U_n) sum_exits R Y_k(V) / (rays per U)
-/// Callers trace rays for one incident direction U at a time, sum R * Y(V) over all exits of all
-/// the rays started for U (N_p target points x N_b branches), and hand over that sum.
-/// Memory is O(size^2), independent of the number of rays. Not thread-safe: one per thread, merge.
-class ShEstimator {
- public:
-  explicit ShEstimator(int lmax);
-  const ShOddBasis& basis() const { return basis_; }
-  /// One incident direction `u` (upper hemisphere) drawn with density `pdf_u` per steradian,
-  /// `exit_sum[k]` = sum over exits of R * Y_k(V) (kept basis), `rays` = rays started for u
-  /// (every ray counts, including absorbed ones), `energy` = sum of exit R (for the albedo check).
-  /// A `u` at or below the horizon counts in N and adds nothing. Throws InputError for
-  /// pdf_u <= 0 or rays = 0.
-  void add_incident(const Vec3& u, double pdf_u, const double* exit_sum, std::size_t rays,
-                    double energy);
-  void merge(const ShEstimator& other);
-  std::size_t incident_count() const { return n_incident_; }
-  std::size_t ray_count() const { return n_rays_; }
-  /// The unsymmetrised estimate M~ (kept basis, size() x size()).
-  Eigen::MatrixXd raw() const;
-  /// W92 eqs. 26-27 with the J^2 normalisation of theory 6.5: Q = sum |M~ - M~^T| / J^2.
-  double q() const;
-  /// Mean exit energy per ray, averaged with weight cos(theta_U)/(pi p_U): the estimate of the
-  /// hemispherical albedo (1/pi) integral a(U) cos(theta_U) dU; diagnostics only.
-  double mean_energy() const;
-
- private:
-  void flush() const;  // folds the pending batch into sum_ (one matrix product)
-  ShOddBasis basis_;
-  // sum over incident directions of w(U) Y(U) exit_sum^T / rays; the last < kPending outer
-  // products wait in pend_u_/pend_v_ so that they are added as one GEMM (2.5x faster than
-  // rank-1 updates at lmax 30).
-  mutable Eigen::MatrixXd sum_, pend_u_, pend_v_;
-  mutable int n_pend_ = 0;
-  static constexpr int kPending = 32;
-  std::size_t n_incident_ = 0, n_rays_ = 0;
-  double energy_sum_ = 0;
-};
 
 /// A synthetic "ray tracer" for validating the estimator without geometry: `n_incident`
 /// directions U drawn cosine-weighted (p_U = cos/pi), and for each `rays` exits drawn with
@@ -99,6 +27,16 @@ class ShEstimator {
 /// Deterministic for a seed. Used by tests and `microbrdf brdf sh-estimate`.
 void sh_estimate_by_sampling(ShEstimator& e, const Brdf& brdf, std::size_t n_incident, int rays,
                              std::uint64_t seed, double wavelength_m);
+
+/// Chunks of sh_estimate_chunked (fixed, so the result depends on the seed only).
+constexpr std::size_t kShEstimateChunks = 16;
+/// sh_estimate_by_sampling over min(16, n_incident) chunks of the incident directions, chunk c
+/// seeded with seed * 1000003 + c, estimated in parallel (OpenMP) and merged in chunk order: the
+/// result depends on the seed only, not on the thread count. `progress(done, chunks)` is called
+/// as chunks finish (under a lock). Throws InputError for n_incident or rays < 1.
+ShEstimator sh_estimate_chunked(const Brdf& brdf, int lmax, std::size_t n_incident, int rays,
+                                std::uint64_t seed, double wavelength_m,
+                                const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 class ShBrdf final : public Brdf {
  public:
@@ -151,6 +89,8 @@ class ShBrdf final : public Brdf {
   /// Directional albedo a(wi) = integral over the upper hemisphere of rho cos(theta_o) dwo, exact
   /// for the truncated expansion (hemisphere integrals of the basis).
   double albedo(const Vec3& wi) const;
+  /// The same (the expansion is grey: the wavelength is ignored).
+  double albedo(const Vec3& wi, double) const override { return albedo(wi); }
   /// The average of M over rotations about n (exact: 2 lmax + 1 equally spaced angles), i.e. the
   /// isotropic part of the BRDF; couplings between different |m| become exactly 0. For surfaces
   /// known to be isotropic this removes the anisotropic part of the Monte Carlo noise, and
@@ -158,8 +98,8 @@ class ShBrdf final : public Brdf {
   ShBrdf isotropic_average() const;
   /// True when every coefficient coupling different |m| is exactly 0 (eval uses the |m| blocks).
   bool block_diagonal_in_m() const { return !blocks_.empty(); }
-  /// Gibbs attenuation (theory 6.6): w(l) = 1 for l <= l_filter, exp(-(l - l_filter)^2 / (2
-  /// width^2)) above; m_jk <- w(l_j) w(l_k) m_jk.
+  /// Gibbs attenuation (docs/theory.md §6.6): w(l) = 1 for l <= l_filter, exp(-(l - l_filter)^2 /
+  /// (2 width^2)) above; m_jk <- w(l_j) w(l_k) m_jk.
   ShBrdf damped(int l_filter, double width) const;
 
   /// Binary file: magic "MBSHBRDF", uint32 JSON header length, JSON header (lmax, size, basis
@@ -195,5 +135,22 @@ class ShBrdf final : public Brdf {
   std::shared_ptr<LazyTable> lazy_;
   const SamplingTable& table() const;
 };
+
+/// Directional albedo a(theta_i) of the expansion (exact) at azimuth 0 for theta_i = 0, 30, 45,
+/// 60, 75 and 85 deg.
+struct ShAlbedoPoint {
+  double theta_i_deg = 0, albedo = 0;
+};
+std::vector<ShAlbedoPoint> sh_albedo_table(const ShBrdf& b);
+/// Hemispherical albedo (1/pi) integral a(wi) cos(theta_i) dwi of the expansion (exact).
+double sh_hemispherical_albedo(const ShBrdf& b);
+/// Ringing of the truncated expansion: where is f = rho cos cos negative? On a grid of 9 x 8
+/// incident (theta at cell centres of 10 deg, phi every 45 deg) and 18 x 36 outgoing (cell
+/// centres of 5 x 10 deg) directions.
+struct ShRinging {
+  double negative_fraction = 0;  ///< of the 72 x 648 direction pairs
+  double min_cosine_weighted = 0, max_cosine_weighted = 0;
+};
+ShRinging sh_ringing(const ShBrdf& b);
 
 }  // namespace microbrdf

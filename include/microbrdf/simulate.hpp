@@ -2,7 +2,8 @@
 // The Westin-Arvo-Torrance 1992 Monte Carlo BRDF simulation on a MicroScene (docs/westin.md,
 // "Estimator"): rays from uniformly drawn incident directions U hit the tile at uniform points
 // (N_p per direction), scatter through the microgeometry (N_b branches at the first diffuse
-// event), and every exit (direction V, energy fraction R) feeds the estimator of theory 6.4,
+// event), and every exit (direction V, energy fraction R) feeds the estimator of docs/theory.md
+// §6.4,
 //   m~_jk = (1/N) sum 8 pi cos(theta_U) Y_j(U) R Y_k(V)      (uniform U, odd completion),
 // which is W92 eq. 25 for f = rho cos(theta_i) cos(theta_r): the radiance conversion (divide by
 // cos theta_r, W92 section 4) and the cosine of the representation cancel, so R enters as is.
@@ -21,8 +22,9 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/microscene.hpp"
-#include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 
 namespace microbrdf {
 
@@ -134,14 +136,17 @@ struct SimulateStats {
   double seconds = 0;
   double q = 0;
   int threads = 1;
+  WorkStats work;  ///< blocks and seconds per MPI rank
   double exit_rays_per_second() const;
   nlohmann::json to_json() const;
 };
 
-/// Runs the estimator. Deterministic for a seed and thread count when incident_directions is
-/// used (direction k always gets random stream k; blocks of directions go to threads in a fixed
-/// order; one ShEstimator per thread, merged in order, so other thread counts differ only by
-/// rounding).
+/// Runs the estimator over all threads and MPI ranks (distribute.hpp): blocks of 256 incident
+/// directions, each traced single-threaded into its own estimator and merged on rank 0 in block
+/// order. Direction k always draws from random stream (seed, k), so with incident_directions
+/// the matrix is bit-identical for any number of threads and ranks (not with time_limit_s,
+/// where the number of directions depends on the speed). On ranks other than 0 the returned
+/// estimator is empty and `stats` untouched.
 ShEstimator simulate(const MicroScene& scene, const SimulateOptions& options,
                      SimulateStats* stats = nullptr);
 
@@ -178,7 +183,7 @@ FractionEstimate free_travel_probability(const MicroScene& scene, double theta, 
                                          std::uint64_t samples, std::uint64_t seed);
 
 /// He, Torrance, Sillion & Greenberg 1991 directional-diffuse term in its geometric-optics limit
-/// (theory 6.7): F(wi.h) S(theta_i) S(theta_r) D_Beckmann(h; alpha = 2 sigma_0 / tau) /
+/// (docs/theory.md §6.7): F(wi.h) S(theta_i) S(theta_r) D_Beckmann(h; alpha = 2 sigma_0 / tau) /
 /// (4 cos theta_i cos theta_r), with He's shadowing S (errata form with exp(-a^2); `errata` =
 /// false gives the printed eq. 25) and the effective roughness sigma_0(theta_i, theta_r).
 /// sigma, tau in metres (C(r) = sigma^2 exp(-r^2 / tau^2)); fresnel null = 1. 1/sr.

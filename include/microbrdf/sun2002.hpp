@@ -2,14 +2,15 @@
 // Sun 2002, "Deriving Analytic BRDFs of Metallic Rough Surfaces" (Purdue CSD TR 02-006):
 // the free travel probability (FTP) Gamma_0, the analytic one-bounce BRDF (eq. 3.5.3) as
 // published and in the standard microfacet form, Smith's masking for the same surface, and the
-// numerical FTP experiment of the paper's section 4. See docs/sun2002.md for the derivations,
+// numerical FTP experiment of the paper's section 4 (the BRDF behind the Brdf interface:
+// sun_brdf.hpp). See docs/sun2002.md for the derivations,
 // the paper's slips and what we do about them.
 //
 // Surface: Gaussian heights (rms sigma), correlation C(r) = exp(-r^2/tau^2), smoothness
 // s = tau/sigma (eq. 3.4.22). Slopes per axis are Gaussian with std sqrt(2) sigma/tau =
 // sqrt(2)/s (eq. 3.3.8), i.e. a Beckmann distribution of width alpha = 2/s.
 //
-// Conventions (ARCHITECTURE.md): macro normal n = +z; directions point away from the surface;
+// Conventions (docs/architecture.md): macro normal n = +z; directions point away from the surface;
 // wi = towards the light (Sun's psi / l), wo = towards the viewer (Sun's v); angles in radians;
 // BRDF in 1/sr. Directions need not be normalised.
 
@@ -21,7 +22,6 @@
 #include <string>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/microfacet.hpp"
 
@@ -68,7 +68,7 @@ enum class BrdfForm {
   AsPublished,
   /// Standard microfacet form R D(h) G / (4 cos th_i cos th_o) with the same D (Beckmann,
   /// alpha = 2/s) and G = Gamma_0(th_i) Gamma_0(th_o).
-  /// AsPublished / Standard = (h.n) cos th_i cos th_o / (wi.h) (theory notes 5.2).
+  /// AsPublished / Standard = (h.n) cos th_i cos th_o / (wi.h) (docs/theory.md §5.2).
   Standard,
 };
 
@@ -88,32 +88,6 @@ double published_over_standard(const Eigen::Vector3d& wi, const Eigen::Vector3d&
 /// (Sun's eq. 5.1 integral).
 double albedo(double theta_i, double s, BrdfForm form, const Fresnel* fresnel = nullptr,
               double wavelength_m = 555e-9, bool weight_cos = true, int n_u = 128, int n_phi = 128);
-
-/// Sun's BRDF behind the shared Brdf interface (include/microbrdf/brdf.hpp): eval() is brdf()
-/// above. Sampling draws h from the visible normals of wi for the Beckmann distribution of the
-/// same surface (alpha = 2/s, exact, BeckmannDistribution::sample_visible) and reflects:
-/// pdf(wo) = D_wi(h) / (4 wi.h), weight = f cos(theta_o) / pdf (for the standard form this is
-/// R Gamma_0(th_i) Gamma_0(th_o) sigma+(wi) / (wi.n), <= R Gamma_0 Gamma_0 / G1(wi)). Samples
-/// below the horizon are dropped (no sample).
-class SunBrdf final : public Brdf {
- public:
-  /// s > 0 (InputError otherwise); a null Fresnel means R = 1.
-  explicit SunBrdf(double s, BrdfForm form = BrdfForm::Standard,
-                   std::shared_ptr<const Fresnel> f = nullptr);
-  double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
-  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
-                                   double wavelength_m) const override;
-  double pdf(const Vec3& wi, const Vec3& wo) const override;
-  std::string describe() const override;
-  double smoothness() const { return s_; }
-  BrdfForm form() const { return form_; }
-
- private:
-  double s_;
-  BrdfForm form_;
-  std::shared_ptr<const Fresnel> f_;
-  BeckmannDistribution d_;
-};
 
 // ---------------------------------------------------------------------------------------------
 // The numerical experiment of section 4
@@ -164,5 +138,29 @@ struct FtpSimResult {
 /// Standard errors by batches of 4096 samples (about 256 tau: independent). Deterministic.
 /// OpenMP-parallel. Throws InputError for bad parameters.
 FtpSimResult simulate_ftp(const FtpSimParams& p);
+
+/// Least-squares k_tau of Gamma_0(theta; s, k_tau) (ftp()) against values g at the angles theta
+/// (rad): golden-section search on log k_tau over [0.01, 100] (100 steps, relative accuracy
+/// ~1e-20 in log k). NaN when theta is empty.
+double fit_k_tau(double s, const std::vector<double>& theta, const std::vector<double>& g);
+
+/// The largest deviation of a simulated curve from a model: the signed difference sim - model
+/// with the largest magnitude, and the angle (rad) where it occurs.
+struct FtpDeviation {
+  double diff = 0, theta = 0;
+  void take(double d, double t);
+};
+
+/// How one simulation of simulate_ftp() agrees with Sun's Gamma_0 (eq. 3.4.23, k_tau = 1), with
+/// Smith's G1 and with Smith's masking at the mean plane, over the simulated angles (theta <
+/// pi/2), and the k_tau that fits it best.
+struct FtpAgreement {
+  FtpDeviation leaving_minus_sun, leaving_minus_smith_g1, leaving_minus_smith_mean_plane,
+      any_minus_sun;
+  double best_k_tau_leaving = 0, best_k_tau_any = 0;  ///< fit_k_tau of the two counts (NaN: none)
+  double max_standard_error_leaving = 0;              ///< over every point
+  std::size_t rays = 0;                               ///< rays cast, all angles
+};
+FtpAgreement compare_ftp(const FtpSimResult& r);
 
 }  // namespace microbrdf::sun2002

@@ -1,7 +1,7 @@
 #pragma once
 // The Surface model: a measured or generated height map.
 //
-// Conventions (ARCHITECTURE.md):
+// Conventions (docs/architecture.md):
 //  - Row-major storage z[iy*nx + ix]; x = x0 + ix*dx (columns), y = y0 + iy*dy (rows).
 //  - Readers keep the file's storage order: iy = 0 is the first row stored in the file, and
 //    y grows with the storage row. Nothing is flipped. (Formats disagree on whether the first

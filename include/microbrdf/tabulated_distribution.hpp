@@ -1,5 +1,5 @@
 #pragma once
-// A TabulatedNdf used as a microfacet distribution (theory notes sections 2.3 and 2.4).
+// A TabulatedNdf used as a microfacet distribution (docs/theory.md §2.3 and 2.4).
 //
 //  - D(m) = TabulatedNdf::eval(m) / Z, Z = NdfSampler::normalisation() (the integral of the
 //    bilinear interpolant over the disk), so that integral D(m)(m.n) dw = 1 exactly and D is the
@@ -19,7 +19,7 @@
 //    not cross (the error of the crossed bins grows with the bin size relative to the lobe:
 //    max |G1 - Smith| 2e-5 for Beckmann alpha 0.3, 3e-4 for alpha 0.03 at 1025^2). The masses
 //    are scaled so that sigma+(n) = 1 exactly (G1(n) = 1).
-//  - Sampling (TabulatedSampling::visible, the default): approximately the visible normals
+//  - Sampling (TabulatedSampling::Visible, the default): approximately the visible normals
 //    D_v(m) = G1(v) <v.m>+ D(m) / (v.n), with an exact pdf. Two levels over the table's cells:
 //    coarse cells C (default 128 x 128 blocks) drawn with probability
 //      P(C | v) = (1 - eps) sum_k w_k(v) P_k(C) + eps M_C / Z,
@@ -34,7 +34,7 @@
 //    D(m)(m.n) (the factor <v.m>+ / m_z is replaced by its mean over the cell), so the weights
 //    of MicrofacetBrdf, F G2 D (wi.m) / ((wi.n) q), are close to F G2 / G1(wi). About 43 MB
 //    and ~0.2 s extra for a 1025^2 table (docs/benchmarks.md).
-//  - TabulatedSampling::ndf (the former sampler, kept for comparison): sample_visible ignores v
+//  - TabulatedSampling::Ndf (the former sampler, kept for comparison): sample_visible ignores v
 //    and draws m with density D(m)(m.n) (NdfSampler); the weights are F G2 (wi.m) /
 //    ((wi.n)(m.n)), with a much larger variance at grazing wi.
 //    pdf_visible(v, m) gives the true visible-normal density D_v in both cases.
@@ -45,7 +45,7 @@
 #include <vector>
 
 #include "microbrdf/microfacet.hpp"
-#include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_sampler.hpp"
 #include "microbrdf/tabulated_ndf.hpp"
 
 namespace microbrdf {
@@ -56,8 +56,8 @@ class VisibleNormalTables;
 
 /// How sample_visible draws microfacet normals (see the header comment).
 enum class TabulatedSampling {
-  visible,  ///< approximate visible normals of v, exact pdf (default)
-  ndf,      ///< D(m)(m.n) whatever v (the plain table sampler)
+  Visible,  ///< approximate visible normals of v, exact pdf (default)
+  Ndf,      ///< D(m)(m.n) whatever v (the plain table sampler)
 };
 /// "visible" | "ndf"; InputError otherwise.
 TabulatedSampling parse_tabulated_sampling(const std::string& name);
@@ -67,7 +67,7 @@ struct TabulatedDistributionOptions {
   std::size_t sigma_bins = 256;  ///< slope bins per side for the sigma+ sums (<= resolution)
   std::size_t theta_steps = 90;  ///< sigma+ grid steps over theta_k in [0, 90] deg
   std::size_t phi_steps = 180;   ///< sigma+ grid steps over phi_k in [0, 360) deg
-  TabulatedSampling sampling = TabulatedSampling::visible;
+  TabulatedSampling sampling = TabulatedSampling::Visible;
   std::size_t vn_coarse = 128;      ///< visible sampling: coarse cells per side (<= cells)
   std::size_t vn_theta_steps = 18;  ///< view-node steps over theta_v in [0, 90] deg
   std::size_t vn_phi_steps = 24;    ///< view-node steps over phi_v in [0, 360) deg

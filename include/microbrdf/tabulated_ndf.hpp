@@ -1,6 +1,6 @@
 #pragma once
 // TabulatedNdf: a normal distribution function tabulated on the projected unit disk
-// (Dong 2015 section 5.1; theory notes section 2; ARCHITECTURE.md).
+// (Dong 2015 section 5.1; docs/theory.md §2; docs/architecture.md).
 //
 //  - N x N nodes (default 1025), node-centred: m_x = -1 + 2 ix/(N-1), m_y = -1 + 2 iy/(N-1),
 //    row iy; value D(m) per steradian; 0 outside the unit disk.

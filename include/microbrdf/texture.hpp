@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/brdf_spec.hpp"
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/level.hpp"
@@ -73,9 +75,12 @@ struct TexelFitOptions {
 
 /// Cuts every scan of the set into whole texels (partial texels at the borders are dropped, the
 /// count is in meta) and fits an ellipsoid NDF to each texel's filtered NDF. One scan in memory at
-/// a time; the texels of successive scans are laid side by side along x.
+/// a time; the texels of successive scans are laid side by side along x. Under mpirun the scans
+/// are spread over the ranks (distribute.hpp) and assembled on rank 0 in scan order (the same
+/// texture for any number of ranks and threads); other ranks get an empty texture. `stats`
+/// (rank 0): scans and seconds per rank.
 ParamTexture fit_texels(const std::vector<std::string>& scans, const ReadOptions& read,
-                        const TexelFitOptions& options);
+                        const TexelFitOptions& options, WorkStats* stats = nullptr);
 /// The same for one surface already in memory.
 ParamTexture fit_texels(const Surface& s, const TexelFitOptions& options);
 
@@ -141,5 +146,10 @@ class EllipsoidTextureSvbrdf final : public Svbrdf {
   std::shared_ptr<const Fresnel> f_;
   EllipsoidParams mean_;
 };
+
+/// The Svbrdf a BRDF spec describes: for the texture kind the texture read from spec.texture as
+/// an EllipsoidTextureSvbrdf with the material's Fresnel term, for every other kind
+/// UniformSvbrdf(make_brdf(spec, material)). Throws FileError / InputError as make_brdf does.
+std::shared_ptr<const Svbrdf> make_svbrdf(const BrdfSpec& spec, const MaterialSpec& material);
 
 }  // namespace microbrdf

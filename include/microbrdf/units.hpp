@@ -22,7 +22,7 @@ struct LengthPair {
 LengthPair parse_length_pair(std::string_view text);
 
 /// Formats a length in metres with an SI prefix that keeps 1 <= |mantissa| < 1000,
-/// e.g. 1.1e-7 -> "110 nm". `digits` significant digits.
+/// e.g. 1.1e-7 -> "110 nm". `digits` significant digits. NaN or infinite prints as "n/a".
 std::string format_length(double metres, int digits = 4);
 
 /// Unit conversion factor to metres for a unit name as found in instrument files

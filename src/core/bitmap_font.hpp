@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "microbrdf/preview.hpp"
+#include "microbrdf/image.hpp"
 
 namespace microbrdf::detail {
 

@@ -1,7 +1,7 @@
 #include "microbrdf/json_read.hpp"
 
 #include "microbrdf/error.hpp"
-#include "microbrdf/io.hpp"
+#include "microbrdf/file_read.hpp"
 
 namespace microbrdf {
 

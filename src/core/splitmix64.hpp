@@ -13,4 +13,11 @@ inline std::uint64_t splitmix64(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
+/// The seed of chunk (or row, or stream) `index` of a computation seeded with `seed`, for work
+/// split into independent pieces whose results must not depend on how they are scheduled:
+/// seed * 1000003 + index (1000003 is prime, so nearby seeds give disjoint chunk seeds).
+inline std::uint64_t chunk_seed(std::uint64_t seed, std::uint64_t index) {
+  return seed * 1000003ull + index;
+}
+
 }  // namespace microbrdf::detail

@@ -86,7 +86,7 @@ LengthPair parse_length_pair(std::string_view text) {
 }
 
 std::string format_length(double metres, int digits) {
-  if (!std::isfinite(metres)) return std::to_string(metres) + " m";
+  if (!std::isfinite(metres)) return "n/a";
   struct P {
     double scale;
     const char* name;

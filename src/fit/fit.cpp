@@ -199,7 +199,9 @@ struct FitContext {
     std::vector<T> v(nc);
     row_values(me, iy, v.data());
     const double* gt_row = &gt[(iy - iy0) * nc];
-    for (std::size_t c = 0; c < nc; ++c) r[c] = (g(v[c] * amp) - T(gt_row[c])) * T(delta);
+    // NaN marks an unmeasured node (effective NDFs from measured BRDFs): no residual.
+    for (std::size_t c = 0; c < nc; ++c)
+      r[c] = std::isnan(gt_row[c]) ? T(0) : (g(v[c] * amp) - T(gt_row[c])) * T(delta);
   }
 
   // 1/2 sum r^2 in double.
@@ -238,6 +240,15 @@ struct RowCost {
   }
 };
 
+// Effective NDFs inferred from measured BRDFs (Dong eq. 9): absolute, not renormalised, NaN where
+// nothing was measured.
+bool measured_table(const TabulatedNdf& t) {
+  if (lower(t.meta.method) == "measured") return true;
+  for (double v : t.values())
+    if (std::isnan(v)) return true;
+  return false;
+}
+
 bool made_by_tabulate(const TabulatedNdf& t) {
   const std::string m = lower(t.meta.method);
   return m == "beckmann" || m == "ggx" || m == "ellipsoid" || m == "trowbridge-reitz" ||
@@ -251,7 +262,9 @@ FitContext make_context(const TabulatedNdf& t, const FitOptions& o, const Ellips
   c.n = t.resolution();
   c.delta = t.spacing();
   FitSampling smp = o.sampling;
-  if (smp == FitSampling::Auto) smp = made_by_tabulate(t) ? FitSampling::Node : FitSampling::Tent;
+  const bool measured = measured_table(t);
+  if (smp == FitSampling::Auto)
+    smp = made_by_tabulate(t) || measured ? FitSampling::Node : FitSampling::Tent;
   c.tent = smp == FitSampling::Tent;
   if (c.tent) {
     int s = o.tent_subsamples;
@@ -267,7 +280,7 @@ FitContext make_context(const TabulatedNdf& t, const FitOptions& o, const Ellips
   if (!(vmax > 0) || !std::isfinite(vmax))
     throw InputError("the NDF table is empty (no positive finite value); nothing to fit");
   c.eps = o.floor * vmax;
-  if (t.meta.samples_used > 0 && !made_by_tabulate(t))
+  if (t.meta.samples_used > 0 && !made_by_tabulate(t) && !measured)
     c.eps = std::max(c.eps, 0.375 / (static_cast<double>(t.meta.samples_used) * c.delta * c.delta));
   c.lin_scale = 1.0 / std::sqrt(vmax);
   // Region of interest: the box of nodes above roi_threshold * max, widened.
@@ -289,7 +302,8 @@ FitContext make_context(const TabulatedNdf& t, const FitOptions& o, const Ellips
   c.gt.resize(c.rows() * c.cols());
   for (std::size_t iy = c.iy0; iy <= c.iy1; ++iy)
     for (std::size_t ix = c.ix0; ix <= c.ix1; ++ix)
-      c.gt[(iy - c.iy0) * c.cols() + (ix - c.ix0)] = c.g0(std::max(0.0, t.at(ix, iy)));
+      c.gt[(iy - c.iy0) * c.cols() + (ix - c.ix0)] =
+          std::isnan(t.at(ix, iy)) ? t.at(ix, iy) : c.g0(std::max(0.0, t.at(ix, iy)));
   return c;
 }
 
@@ -475,7 +489,18 @@ double fit_objective(const TabulatedNdf& ndf, const FitOptions& o, const Ellipso
 FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   if (ndf.resolution() < 5) throw InputError("NDF table too small to fit");
-  EllipsoidParams start = o.initial ? *o.initial : initial_guess(ndf, o.model);
+  // Moments for the starting point come from the measured nodes only (NaN -> 0).
+  EllipsoidParams start;
+  if (o.initial) {
+    start = *o.initial;
+  } else if (measured_table(ndf)) {
+    TabulatedNdf filled = ndf;
+    for (double& v : filled.values())
+      if (!(v > 0)) v = 0;
+    start = initial_guess(filled, o.model);
+  } else {
+    start = initial_guess(ndf, o.model);
+  }
   if (o.model != FitModel::Ellipsoid) start.theta_x = start.theta_y = 0;
   const double alpha_min = std::max(1e-5, ndf.spacing() / 20);
   start.alpha_x = std::clamp(start.alpha_x, alpha_min, kAlphaMax);
@@ -618,7 +643,7 @@ FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
   for (std::size_t iy = 0; iy < ndf.resolution(); ++iy)
     for (std::size_t ix = 0; ix < ndf.resolution(); ++ix) {
       const double x = ndf.node_x(ix), y = ndf.node_y(iy);
-      if (x * x + y * y >= 1) continue;
+      if (x * x + y * y >= 1 || std::isnan(ndf.at(ix, iy))) continue;  // unmeasured
       const double tv = std::max(0.0, ndf.at(ix, iy)), mv = m.at(ix, iy);
       se += (tv - mv) * (tv - mv);
       st += tv * tv;

@@ -9,9 +9,9 @@
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fit.hpp"
-#include "microbrdf/ndf_io.hpp"
+#include "microbrdf/image.hpp"
+#include "microbrdf/ndf_preview.hpp"
 #include "microbrdf/plot.hpp"
-#include "microbrdf/preview.hpp"
 
 namespace microbrdf {
 namespace {

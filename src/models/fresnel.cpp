@@ -1,4 +1,4 @@
-// Fresnel reflectance (include/microbrdf/fresnel.hpp; theory notes sections 5.3-5.5).
+// Fresnel reflectance (include/microbrdf/fresnel.hpp; docs/theory.md §5.3-5.5).
 #include "microbrdf/fresnel.hpp"
 
 #include <algorithm>

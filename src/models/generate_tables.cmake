@@ -2,7 +2,7 @@
 #
 # Reads
 #   - the CIE 1931 2-degree colour matching functions and CIE D65 from Debian's colord-data
-#     package (CGATS/IT8 text files, 5 nm grid; see ../shared/data/color/README.md), and
+#     package (CGATS/IT8 text files, 5 nm grid; see data/color/README.md), and
 #   - the optical constants of metals in data/optical/*.csv (header wavelength_nm,n,k),
 # and writes one C++ source file that defines the arrays declared in src/models/tables.hpp.
 # The numbers are copied as text (no rounding). Any malformed input stops the build.

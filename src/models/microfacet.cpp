@@ -279,7 +279,7 @@ double EllipsoidDistribution::lambda(const Vec3& v) const {
 }
 
 Vec3 EllipsoidDistribution::sample_visible(const Vec3& v, double u1, double u2) const {
-  // Theory notes 1.5: map the ellipsoid to the unit sphere (points A^-1 s), where uniform
+  // docs/theory.md §1.5: map the ellipsoid to the unit sphere (points A^-1 s), where uniform
   // projected area along v becomes uniform projected area along v' = Av/|Av|, and the cut
   // m.n > 0 becomes s.n' > 0 with n' = An/|An|.
   const Vec3 np = an_ / an_norm_;

@@ -1,12 +1,13 @@
-// Real spherical harmonics by the normalised associated-Legendre recurrence (theory notes 6.1)
-// and the odd-completion basis (theory 6.2). See include/microbrdf/sh_brdf.hpp.
+// Real spherical harmonics by the normalised associated-Legendre recurrence (docs/theory.md §6.1)
+// and the odd-completion basis (docs/theory.md §6.2). See include/microbrdf/sh_basis.hpp.
+#include "microbrdf/sh_basis.hpp"
+
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/quadrature.hpp"
 
 namespace microbrdf {
 namespace {
@@ -16,7 +17,7 @@ constexpr double kPi = 3.14159265358979323846;
 // Recurrence coefficients up to kShMaxL, computed once (a function-local static is initialised
 // thread-safely). Indexed by tri(l, m) = l (l + 1) / 2 + m, m <= l.
 struct Tables {
-  std::vector<double> a, b;  // a_lm, b_lm of theory 6.1 (l >= m + 2)
+  std::vector<double> a, b;  // a_lm, b_lm of docs/theory.md §6.1 (l >= m + 2)
   std::vector<double> diag;  // sqrt((2m+1)/(2m)): Pbar_m^m from Pbar_{m-1}^{m-1}
   std::vector<double> sub;   // sqrt(2m+3): Pbar_{m+1}^m from Pbar_m^m
   Tables() {

@@ -1,10 +1,10 @@
 // The Monte Carlo estimator of the SH coefficient matrix (W92 eqs. 17 and 25, constants of
-// theory notes 6.4) and the convergence measure Q (eqs. 26-27 with 1/J^2, theory 6.5).
+// docs/theory.md §6.4) and the convergence measure Q (eqs. 26-27 with 1/J^2, docs/theory.md §6.5).
 #include <cmath>
 #include <string>
 
 #include "microbrdf/error.hpp"
-#include "microbrdf/sh_brdf.hpp"
+#include "microbrdf/sh_basis.hpp"
 
 namespace microbrdf {
 namespace {
@@ -33,8 +33,8 @@ void ShEstimator::add_incident(const Vec3& u, double pdf_u, const double* exit_s
   n_rays_ += rays;
   const double cos_u = u.z() / u.norm();
   if (!(cos_u > 0)) return;  // a direction below the horizon contributes nothing (counts in N)
-  // m~ = (1/N) sum_U [cos/p] 4 Y(U) (sum_exits R Y(V)) / rays  (theory 6.4: the 4 is the odd
-  // completion in both arguments, cos/p the measure of the incident directions).
+  // m~ = (1/N) sum_U [cos/p] 4 Y(U) (sum_exits R Y(V)) / rays  (docs/theory.md §6.4: the 4 is the
+  // odd completion in both arguments, cos/p the measure of the incident directions).
   const double w = 4 * cos_u / pdf_u / static_cast<double>(rays);
   const int n = basis_.size();
   basis_.eval(u, pend_u_.col(n_pend_).data());
@@ -55,6 +55,28 @@ void ShEstimator::merge(const ShEstimator& other) {
   n_incident_ += other.n_incident_;
   n_rays_ += other.n_rays_;
   energy_sum_ += other.energy_sum_;
+}
+
+std::vector<double> ShEstimator::pack() const {
+  flush();
+  std::vector<double> v(sum_.data(), sum_.data() + sum_.size());
+  // Counts below 2^53 travel exactly as doubles.
+  v.push_back(static_cast<double>(n_incident_));
+  v.push_back(static_cast<double>(n_rays_));
+  v.push_back(energy_sum_);
+  return v;
+}
+
+void ShEstimator::merge_packed(const std::vector<double>& state) {
+  const auto j = static_cast<std::size_t>(basis_.size());
+  if (state.size() != j * j + 3)
+    throw InputError("ShEstimator::merge_packed: " + std::to_string(state.size()) +
+                     " numbers for a " + std::to_string(j) + " x " + std::to_string(j) + " matrix");
+  flush();
+  sum_ += Eigen::Map<const Eigen::MatrixXd>(state.data(), basis_.size(), basis_.size());
+  n_incident_ += static_cast<std::size_t>(state[j * j]);
+  n_rays_ += static_cast<std::size_t>(state[j * j + 1]);
+  energy_sum_ += state[j * j + 2];
 }
 
 Eigen::MatrixXd ShEstimator::raw() const {

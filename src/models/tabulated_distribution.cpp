@@ -16,13 +16,13 @@ constexpr double kPi = 3.14159265358979323846;
 }
 
 TabulatedSampling parse_tabulated_sampling(const std::string& name) {
-  if (name == "visible") return TabulatedSampling::visible;
-  if (name == "ndf") return TabulatedSampling::ndf;
+  if (name == "visible") return TabulatedSampling::Visible;
+  if (name == "ndf") return TabulatedSampling::Ndf;
   throw InputError("unknown tabulated sampling '" + name + "' (visible | ndf)");
 }
 
 std::string to_string(TabulatedSampling s) {
-  return s == TabulatedSampling::visible ? "visible" : "ndf";
+  return s == TabulatedSampling::Visible ? "visible" : "ndf";
 }
 
 TabulatedDistribution::~TabulatedDistribution() = default;
@@ -142,7 +142,7 @@ TabulatedDistribution::TabulatedDistribution(TabulatedNdf ndf,
   for (double& v : sigma_) v /= s_n;
   for (double& v : bm_) v /= s_n;
 
-  if (opt_.sampling == TabulatedSampling::visible)
+  if (opt_.sampling == TabulatedSampling::Visible)
     vn_ = std::make_unique<detail::VisibleNormalTables>(*ndf_, opt_.vn_coarse, opt_.vn_theta_steps,
                                                         opt_.vn_phi_steps, opt_.vn_defensive);
 }

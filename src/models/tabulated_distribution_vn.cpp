@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/bilinear_cell.hpp"
 #include "microbrdf/error.hpp"
-#include "ndf/bilinear_cell.hpp"
 
 namespace microbrdf::detail {
 namespace {

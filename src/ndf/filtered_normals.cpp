@@ -1,5 +1,5 @@
 // Gaussian-weighted local plane fits at every sample (Dong 2015 section 5.1), computed with
-// separable correlations of masked moment images (theory notes 3.3: first-order normalized
+// separable correlations of masked moment images (docs/theory.md §3.3: first-order normalized
 // convolution). Coordinates inside are in units of the filter sigma for conditioning.
 #include <cmath>
 #include <vector>

@@ -1,5 +1,5 @@
 // Kirchhoff distribution of scans and scan sets: tiling into coherence-area patches and
-// intensity averaging (Dong 2015 App. A; theory notes 4.5).
+// intensity averaging (Dong 2015 App. A; docs/theory.md §4.5).
 #include <cmath>
 #include <cstdio>
 
@@ -28,18 +28,20 @@ KirchhoffAccumulator::KirchhoffAccumulator(const KirchhoffOptions& options)
   if (opt_.resolution < 17) throw InputError("Kirchhoff: resolution must be >= 17");
 }
 
-void KirchhoffAccumulator::add(const Surface& s) {
+KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
   s.check();
-  if (!s.meta.source_path.empty()) sources_.push_back(s.meta.source_path);
-  leveling_ = s.meta.leveling;
+  KirchhoffScanPartial r;
+  r.table = TabulatedNdf(opt_.resolution);
+  r.source = s.meta.source_path;
+  r.leveling = s.meta.leveling;
   std::size_t cx, lx, cy, ly;
   tiling(s.nx, s.dx, opt_.patch_x, cx, lx);
   tiling(s.ny, s.dy, opt_.patch_y, cy, ly);
   char buf[160];
   std::snprintf(buf, sizeof buf, "%zux%zu tiles of %zux%zu samples (%.4g x %.4g um)", cx, cy, lx,
                 ly, static_cast<double>(lx) * s.dx * 1e6, static_cast<double>(ly) * s.dy * 1e6);
-  tiles_ = buf;
-  skipped_ += s.size() - cx * lx * cy * ly;  // margins left out by the tiling
+  r.tiles = buf;
+  r.skipped += s.size() - cx * lx * cy * ly;  // margins left out by the tiling
   const std::size_t N = opt_.resolution;
   std::vector<std::size_t> all;
   if (opt_.direct) {
@@ -57,15 +59,16 @@ void KirchhoffAccumulator::add(const Surface& s) {
     for (std::size_t tx = 0; tx < cx; ++tx) {
       KirchhoffPatch p =
           make_kirchhoff_patch(s, tx * lx, ty * ly, lx, ly, opt_.window, opt_.gauss_fraction);
-      used_ += p.valid;
-      skipped_ += p.invalid;
+      r.used += p.valid;
+      r.skipped += p.invalid;
       if (!(p.area_w2 > 0)) {
         tick();
         continue;
       }
       std::vector<double> d =
           opt_.direct ? kirchhoff_nodes_direct(p, opt_.wavelength_q, N, all)
-                      : kirchhoff_table_fast(p, opt_.wavelength_q, N, opt_.accuracy, &info_);
+                      : kirchhoff_table_fast(p, opt_.wavelength_q, N, opt_.accuracy, &r.info);
+      r.has_info = r.has_info || !opt_.direct;
       if (opt_.nyquist_mask) {
         const double qm = 4 * M_PI / opt_.wavelength_q, del = 2.0 / static_cast<double>(N - 1);
         const double bx = M_PI / s.dx, by = M_PI / s.dy;
@@ -74,19 +77,40 @@ void KirchhoffAccumulator::add(const Surface& s) {
             double qx = qm * std::fabs(-1 + del * static_cast<double>(ix));
             double qy = qm * std::fabs(-1 + del * static_cast<double>(iy));
             if (qx > bx || qy > by) {
-              aliased_ += p.area_w2 * d[iy * N + ix] * del * del;
+              r.aliased += p.area_w2 * d[iy * N + ix] * del * del;
               d[iy * N + ix] = 0;
             }
           }
       }
-      auto& v = acc_.values();
+      auto& v = r.table.values();
       for (std::size_t i = 0; i < v.size(); ++i) v[i] += p.area_w2 * d[i];
-      area_w2_ += p.area_w2;
-      valid_area_ += p.valid_area;
-      ++patches_;
+      r.area_w2 += p.area_w2;
+      r.valid_area += p.valid_area;
+      ++r.patches;
       tick();
     }
+  return r;
 }
+
+void KirchhoffAccumulator::merge(const KirchhoffScanPartial& p) {
+  if (p.table.resolution() != acc_.resolution())
+    throw InputError("Kirchhoff accumulator: a scan's table has the wrong resolution");
+  if (!p.source.empty()) sources_.push_back(p.source);
+  leveling_ = p.leveling;
+  tiles_ = p.tiles;
+  auto& v = acc_.values();
+  const auto& w = p.table.values();
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
+  area_w2_ += p.area_w2;
+  valid_area_ += p.valid_area;
+  aliased_ += p.aliased;
+  patches_ += p.patches;
+  used_ += p.used;
+  skipped_ += p.skipped;
+  if (p.has_info) info_ = p.info;
+}
+
+void KirchhoffAccumulator::add(const Surface& s) { merge(estimate(s)); }
 
 double KirchhoffAccumulator::aliased_fraction() const {
   double kept = acc_.integral();

@@ -1,5 +1,5 @@
 // Kirchhoff distribution: patch preparation (slopes, aperture, windows) and the direct-summation
-// reference of eq. 6 (theory notes 4.1). See include/microbrdf/kirchhoff.hpp.
+// reference of eq. 6 (docs/theory.md §4.1). See include/microbrdf/kirchhoff.hpp.
 #include <algorithm>
 #include <cmath>
 #include <complex>

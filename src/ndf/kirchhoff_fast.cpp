@@ -1,4 +1,4 @@
-// Kirchhoff distribution on the full N x N table at fixed lambda_q, fast (theory notes 4.3).
+// Kirchhoff distribution on the full N x N table at fixed lambda_q, fast (docs/theory.md §4.3).
 //
 // On the table q = |q| (m_x, m_y, m_z) and q_z = |q| m_z runs over [0, |q|]. Write
 // q_z = q_c + r t, q_c = r = |q|/2, t in [-1, 1], and h' = h - h_c (h_c the middle of the height

@@ -18,6 +18,8 @@
 // Cost: two gathers of ~ (pi/4) N^2 * pi R^2 kernel evaluations; N = 1025, FWHM 1.5 deg:
 // R = 22.8 nodes, ~1.4e9 evaluations per gather. Rows and columns farther than R from any
 // non-zero node are skipped, so narrow NDFs cost far less.
+#include "microbrdf/ndf_convolve.hpp"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -26,8 +28,6 @@
 #include <cstring>
 #include <numbers>
 #include <vector>
-
-#include "microbrdf/ndf_io.hpp"
 
 // The vector helpers below have internal linkage and are inlined: the ABI note GCC gives for
 // passing 32-byte vectors without AVX does not concern them.

@@ -60,7 +60,8 @@ std::string sidecar_path(const std::string& path) {
   return fs::path(path).replace_extension(".json").string();
 }
 
-// Validates a table read from `path`: square N x N, N >= 3, finite non-negative values.
+// Validates a table read from `path`: square N x N, N >= 3, non-negative values; NaN is allowed
+// and means "unmeasured" (effective NDFs inferred from measured BRDFs), infinities are not.
 void validate(const std::string& path, std::size_t rows, std::size_t cols,
               const std::vector<double>& v) {
   if (rows != cols)
@@ -70,10 +71,10 @@ void validate(const std::string& path, std::size_t rows, std::size_t cols,
   if (rows > kMaxResolution)
     throw FileError(path, "NDF table resolution " + std::to_string(rows) + " is absurdly large");
   for (std::size_t i = 0; i < v.size(); ++i) {
-    if (!std::isfinite(v[i]) || v[i] < 0)
+    if (std::isinf(v[i]) || v[i] < 0)
       throw FileError(path, "NDF value at row " + std::to_string(i / cols) + ", column " +
                                 std::to_string(i % cols) + " is " +
-                                (std::isfinite(v[i]) ? "negative" : "not finite"));
+                                (std::isfinite(v[i]) ? "negative" : "infinite"));
   }
   // Finite values whose sum overflows (1e308 everywhere) cannot be normalised, nor can a
   // table with nothing inside the unit disk (the only part that counts).
@@ -94,8 +95,8 @@ void validate(const std::string& path, std::size_t rows, std::size_t cols,
 
 void check_writable(const TabulatedNdf& ndf, const std::string& path, bool as_float) {
   for (double v : ndf.values()) {
-    if (!std::isfinite(v) || v < 0)
-      throw FileError(path, "cannot write an NDF with negative or non-finite values");
+    if (std::isinf(v) || v < 0)  // NaN = unmeasured is kept
+      throw FileError(path, "cannot write an NDF with negative or infinite values");
     if (as_float && v > std::numeric_limits<float>::max())
       throw FileError(path, "NDF value exceeds the float range of EXR");
   }

@@ -1,6 +1,8 @@
 // Log-scale false-colour previews of tabulated NDFs: the disk (m_x to the right, m_y up), the
 // unit circle, an optional zoom panel around the peak and a colour bar labelled in decades
 // of 1/sr.
+#include "microbrdf/ndf_preview.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -8,15 +10,15 @@
 
 #include "core/bitmap_font.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/ndf_io.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/image.hpp"
 
 namespace microbrdf {
 namespace {
 
-constexpr std::uint8_t kBackground[3] = {36, 36, 40};  // outside the disk, margins
-constexpr std::uint8_t kBelow[3] = {6, 6, 10};         // zero / below the colour range
-constexpr std::uint8_t kLine[3] = {210, 210, 210};     // circle, frames, zoom rectangle
+constexpr std::uint8_t kBackground[3] = {36, 36, 40};   // outside the disk, margins
+constexpr std::uint8_t kBelow[3] = {6, 6, 10};          // zero / below the colour range
+constexpr std::uint8_t kLine[3] = {210, 210, 210};      // circle, frames, zoom rectangle
+constexpr std::uint8_t kUnmeasured[3] = {96, 96, 104};  // NaN nodes (no measurement)
 constexpr std::uint8_t kText[3] = {230, 230, 230};
 constexpr std::size_t kMargin = 10, kBar = 16;
 constexpr int kFont = 2;
@@ -63,6 +65,10 @@ void render_panel(const TabulatedNdf& ndf, const LogScale& scale, RgbImage& img,
         }
       if (inside == 0) {
         paint(img, x0 + px, y0 + py, kBackground);
+        continue;
+      }
+      if (std::isnan(sum)) {
+        paint(img, x0 + px, y0 + py, kUnmeasured);
         continue;
       }
       colour_of(scale(sum / (ss * ss)), rgb);
@@ -136,7 +142,13 @@ RgbImage render_ndf_preview(const TabulatedNdf& ndf, const NdfPreviewOptions& op
     const Eigen::Vector3d pk = ndf.peak();
     double hw = opt.zoom_half_width;
     if (!(hw > 0)) {
-      const double s = std::max(ndf.rms_slope(0), ndf.rms_slope(std::numbers::pi / 2));
+      double s = std::max(ndf.rms_slope(0), ndf.rms_slope(std::numbers::pi / 2));
+      if (!std::isfinite(s)) {  // unmeasured (NaN) nodes: moments of the measured part
+        TabulatedNdf filled = ndf;
+        for (double& v : filled.values())
+          if (std::isnan(v)) v = 0;
+        s = std::max(filled.rms_slope(0), filled.rms_slope(std::numbers::pi / 2));
+      }
       hw = std::max(4 * s / std::sqrt(1 + s * s), 8 * ndf.spacing());
     }
     hw = std::min(hw, 1.0);

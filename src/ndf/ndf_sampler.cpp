@@ -1,5 +1,5 @@
-// Importance sampling of a tabulated NDF, exactly consistent with TabulatedNdf::eval (theory
-// notes section 2.4, piecewise-bilinear variant).
+// Importance sampling of a tabulated NDF, exactly consistent with TabulatedNdf::eval
+// (docs/theory.md §2.4, piecewise-bilinear variant).
 //
 // Target density on the disk: p(m_x, m_y) = eval_disk(m_x, m_y) / Z (bilinear interpolant of
 // the nodes, 0 outside the unit disk), i.e. D(m)(m.n)/Z per steradian.
@@ -10,12 +10,13 @@
 // the disk (only in cells the circle crosses) are rejected and the whole draw is repeated, so
 // the accepted points follow the target exactly. Z = mass of the interpolant inside the disk:
 // full masses for cells inside, numerical integration for cells the circle crosses.
+#include "microbrdf/ndf_sampler.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "microbrdf/ndf_io.hpp"
-#include "ndf/bilinear_cell.hpp"
+#include "core/bilinear_cell.hpp"
 
 namespace microbrdf {
 namespace {

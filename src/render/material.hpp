@@ -9,7 +9,7 @@
 
 #include <memory>
 
-#include "microbrdf/brdf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/svbrdf.hpp"
 
 namespace microbrdf::pt {

@@ -2,12 +2,12 @@
 //
 // Per pixel sample: a camera ray with a box-filter jitter, `wavelengths` hero wavelengths
 // (spectral.hpp) carried together, next-event estimation from one uniformly chosen light and a
-// BRDF-sampled continuation, combined by the power heuristic (MisMode::mis) or used alone
+// BRDF-sampled continuation, combined by the power heuristic (MisMode::Mis) or used alone
 // (light_only: emission reached by BRDF sampling is dropped except after a delta bounce;
 // brdf_only: no light samples, point lights are invisible). The BRDF's sampler is driven by the
 // first (hero) wavelength; its pdf does not depend on wavelength (Brdf::pdf), so every
-// wavelength is weighted by f(l_k) cos / pdf. Samples with pdf 0 and a positive weight are delta
-// lobes: each wavelength takes the weight its own sample() gives for the same random numbers.
+// wavelength is weighted by f(l_k) cos / pdf. Samples from a delta lobe (BrdfSample::delta)
+// take, per wavelength, the weight its own sample() gives for the same random numbers.
 // The BRDF is evaluated as f(wi = light, wo = viewer) in the local frame of the shading point.
 //
 // Determinism: the random stream of each (pixel, sample) is seeded from (seed, pixel, sample)
@@ -79,8 +79,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
   std::uint64_t rays = 0;
   bool specular = true;  // camera ray or a delta bounce: emission counts fully
   double prev_pdf = 0;   // BRDF-sampling density of the current ray direction
-  const bool use_nee = c.opt.mis != MisMode::brdf_only;
-  const bool use_brdf_emission = c.opt.mis != MisMode::light_only;
+  const bool use_nee = c.opt.mis != MisMode::BrdfOnly;
+  const bool use_brdf_emission = c.opt.mis != MisMode::LightOnly;
   const double eps = c.geo.epsilon();
   auto add_emission = [&](const V3& rgb, double light_pdf) {
     double w = 1;
@@ -127,7 +127,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
           if (!c.geo.occluded(origin, ls->dir, tmax) &&
               !(c.lights.hit_area(origin, ls->dir, tmax).t > 0)) {
             double w = 1;
-            if (!ls->delta && c.opt.mis == MisMode::mis)
+            if (!ls->delta && c.opt.mis == MisMode::Mis)
               w = power_heuristic(ls->pdf, m.pdf(sp.u, sp.v, wv, wl));
             const double scale = w * wl.z() / ls->pdf;
             double f[pt::kMaxWavelengths];
@@ -144,7 +144,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
     const auto s = m.sample(sp.u, sp.v, wv, u1, u2, lm[0]);
     if (!s || !(s->weight > 0) || !(s->wo.z() > 0)) return rays;
     const V3 wl = s->wo;
-    if (s->pdf > 0 && std::isfinite(s->pdf)) {
+    if (!s->delta) {
+      if (!(s->pdf > 0 && std::isfinite(s->pdf))) return rays;
       double f[pt::kMaxWavelengths];
       mat.eval(sp.u, sp.v, wl, wv, lm, n, f);
       for (int k = 0; k < n; ++k) T[k] *= f[k] * wl.z() / s->pdf;
@@ -251,9 +252,9 @@ RenderImage render(const RenderScene& scene,
   os << " points " << lights.points.size() << " spheres " << lights.spheres.size() << " disks "
      << lights.disks.size() << "; " << opt.width << "x" << opt.height << ", " << opt.spp << " spp, "
      << n << " wavelengths/path, max depth " << opt.max_depth << ", seed " << opt.seed << ", mis "
-     << (opt.mis == MisMode::mis         ? "power"
-         : opt.mis == MisMode::brdf_only ? "brdf_only"
-                                         : "light_only");
+     << (opt.mis == MisMode::Mis        ? "power"
+         : opt.mis == MisMode::BrdfOnly ? "brdf_only"
+                                        : "light_only");
   img.settings = os.str();
   return img;
 }

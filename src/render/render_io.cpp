@@ -11,7 +11,7 @@
 
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/spectrum.hpp"
 
@@ -22,12 +22,12 @@ struct SceneName {
   PreviewScene s;
   const char* name;
 };
-constexpr SceneName kScenes[] = {{PreviewScene::cylinders, "cylinders"},
-                                 {PreviewScene::plate, "plate"},
-                                 {PreviewScene::sphere, "sphere"},
-                                 {PreviewScene::vase, "vase"},
-                                 {PreviewScene::obj, "obj"},
-                                 {PreviewScene::furnace_sphere, "furnace_sphere"}};
+constexpr SceneName kScenes[] = {{PreviewScene::Cylinders, "cylinders"},
+                                 {PreviewScene::Plate, "plate"},
+                                 {PreviewScene::Sphere, "sphere"},
+                                 {PreviewScene::Vase, "vase"},
+                                 {PreviewScene::Obj, "obj"},
+                                 {PreviewScene::FurnaceSphere, "furnace_sphere"}};
 
 }  // namespace
 

@@ -46,17 +46,17 @@ V3 any_perpendicular(const V3& n) {
 Camera preview_camera(PreviewScene s) {
   const V3 up(0, 1, 0);
   switch (s) {
-    case PreviewScene::cylinders:
+    case PreviewScene::Cylinders:
       return look_at(V3(0, 0, 6), V3::Zero(), up, 1.2 / 6);
-    case PreviewScene::plate:
+    case PreviewScene::Plate:
       return look_at(V3(0, kPlateCamera, 0), V3::Zero(), V3(0, 0, -1),
                      1.1 * kPlateHalf / kPlateCamera);
-    case PreviewScene::vase:
+    case PreviewScene::Vase:
       return look_at(V3(0, 0.8, 4.5), V3(0, -0.05, 0), up, 0.26);
-    case PreviewScene::obj:
+    case PreviewScene::Obj:
       return look_at(V3(0, 0, 4.5), V3::Zero(), up, 0.27);
-    case PreviewScene::sphere:
-    case PreviewScene::furnace_sphere:
+    case PreviewScene::Sphere:
+    case PreviewScene::FurnaceSphere:
       break;
   }
   return look_at(V3(0, 0, 4), V3::Zero(), up, 1.15 / 4);
@@ -70,21 +70,21 @@ PreviewGeometry::PreviewGeometry(const RenderScene& scene) : scene_(scene) {
     rtcSetSceneFlags(rtc_, RTC_SCENE_FLAG_ROBUST);
     camera_ = preview_camera(scene.kind);
     switch (scene.kind) {
-      case PreviewScene::cylinders:
+      case PreviewScene::Cylinders:
         build_cylinder(V3(-kCylX, 0, 0), kCylR, kCylHalf, 0);
         build_cylinder(V3(kCylX, 0, 0), kCylR, kCylHalf, M_PI / 2);
         break;
-      case PreviewScene::plate:
+      case PreviewScene::Plate:
         build_plate(kPlateHalf);
         break;
-      case PreviewScene::sphere:
-      case PreviewScene::furnace_sphere:
+      case PreviewScene::Sphere:
+      case PreviewScene::FurnaceSphere:
         add_sphere(V3::Zero(), 1);
         break;
-      case PreviewScene::vase:
+      case PreviewScene::Vase:
         build_vase();
         break;
-      case PreviewScene::obj:
+      case PreviewScene::Obj:
         build_obj(scene.obj_path);
         break;
     }
@@ -114,7 +114,7 @@ void PreviewGeometry::add_sphere(const V3& c, double r) {
   rtcAttachGeometry(rtc_, g);
   rtcReleaseGeometry(g);
   Object o;
-  o.shape = Shape::sphere;
+  o.shape = Shape::Sphere;
   o.centre = c;
   o.radius = r;
   objects_.push_back(o);
@@ -163,7 +163,7 @@ void PreviewGeometry::build_cylinder(const V3& c, double r, double half, double 
     const unsigned a = 2 * i, b = 2 * i + 1, c2 = 2 * i + 2, d = 2 * i + 3;
     idx.insert(idx.end(), {a, c2, b, b, c2, d});
   }
-  add_mesh(Shape::cylinder, pos, idx, nrm, uv, c, r, turn);
+  add_mesh(Shape::Cylinder, pos, idx, nrm, uv, c, r, turn);
 }
 
 void PreviewGeometry::build_plate(double half) {
@@ -172,7 +172,7 @@ void PreviewGeometry::build_plate(double half) {
   std::vector<float> nrm = {0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0};
   std::vector<float> uv = {float(-half), float(half),  float(half),  float(half),
                            float(half),  float(-half), float(-half), float(-half)};
-  add_mesh(Shape::plate, pos, {0, 2, 1, 0, 3, 2}, nrm, uv, V3::Zero(), half, 0);
+  add_mesh(Shape::Plate, pos, {0, 2, 1, 0, 3, 2}, nrm, uv, V3::Zero(), half, 0);
 }
 
 void PreviewGeometry::build_vase() {
@@ -196,7 +196,7 @@ void PreviewGeometry::build_vase() {
       const unsigned a = i * (ny + 1) + k, b = a + 1, c = a + ny + 1, d = c + 1;
       idx.insert(idx.end(), {a, c, b, b, c, d});
     }
-  add_mesh(Shape::mesh, pos, idx, nrm, uv, V3::Zero(), 1, 0);
+  add_mesh(Shape::Mesh, pos, idx, nrm, uv, V3::Zero(), 1, 0);
 }
 
 void PreviewGeometry::build_obj(const std::string& path) {
@@ -265,7 +265,7 @@ void PreviewGeometry::build_obj(const std::string& path) {
     uv.insert(uv.end(), {float(u), float(v)});
     idx.push_back(unsigned(i));
   }
-  add_mesh(Shape::mesh, pos, idx, nrm, uv, V3::Zero(), 1, 0);
+  add_mesh(Shape::Mesh, pos, idx, nrm, uv, V3::Zero(), 1, 0);
 }
 
 double PreviewGeometry::intersect(const V3& o, const V3& d, double tfar, ShadingPoint& sp) const {
@@ -307,14 +307,14 @@ void PreviewGeometry::shade(unsigned geom, unsigned prim, float bu, float bv, co
   double u0 = 0, v0 = 0;
   V3 n = V3(0, 0, 1);
   switch (o.shape) {
-    case Shape::sphere: {
+    case Shape::Sphere: {
       n = (p - o.centre).normalized();
       ng = n;
       u0 = std::atan2(n.x(), n.z()) * o.radius;
       v0 = p.y() - o.centre.y();
       break;
     }
-    case Shape::cylinder: {
+    case Shape::Cylinder: {
       V3 r = p - o.centre;
       r -= r.dot(o.axis) * o.axis;
       n = r.normalized();
@@ -322,12 +322,12 @@ void PreviewGeometry::shade(unsigned geom, unsigned prim, float bu, float bv, co
       v0 = (p - o.centre).dot(o.axis);
       break;
     }
-    case Shape::plate:
+    case Shape::Plate:
       n = V3(0, 1, 0);
       u0 = p.x();
       v0 = -p.z();
       break;
-    case Shape::mesh: {
+    case Shape::Mesh: {
       const unsigned* ix = &o.indices[3 * prim];
       const double w0 = 1.0 - bu - bv;
       const float *n0 = &o.normals[3 * ix[0]], *n1 = &o.normals[3 * ix[1]],
@@ -350,7 +350,7 @@ void PreviewGeometry::shade(unsigned geom, unsigned prim, float bu, float bv, co
   // Brushing direction: a fixed direction (the camera's right turned by the brush angle) or
   // circles about the object's axis, projected into the tangent plane, then turned about n.
   V3 t0;
-  if (scene_.brushing == Brushing::rotational) {
+  if (scene_.brushing == Brushing::Rotational) {
     t0 = o.axis.cross(p - o.centre);
   } else {
     t0 = camera_.right;

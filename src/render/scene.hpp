@@ -64,7 +64,7 @@ class PreviewGeometry {
   double epsilon() const { return 1e-4 * extent_; }
 
  private:
-  enum class Shape { sphere, cylinder, plate, mesh };
+  enum class Shape { Sphere, Cylinder, Plate, Mesh };
   struct Object {
     Shape shape;
     V3 centre = V3::Zero(), axis = V3(0, 1, 0);

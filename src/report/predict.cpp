@@ -18,6 +18,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/interrupt.hpp"
+#include "microbrdf/material_spec.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 #include "report/predict_stages.hpp"
@@ -114,7 +115,8 @@ nlohmann::json settings_json(const PredictOptions& o, const OpticalConstants& m)
            {o.read.dx ? nlohmann::json(*o.read.dx) : nlohmann::json("from the file"),
             o.read.dy ? nlohmann::json(*o.read.dy) : nlohmann::json("from the file")}},
           {"leveling", o.leveling.name()},
-          {"metal", o.metal},
+          {"metal",
+           o.material.form == MaterialSpec::Form::Metal ? o.material.metal : o.material.describe()},
           {"optical_constants", {{"name", m.name}, {"source", m.source}}},
           {"filter_sigma_m", o.filter_sigma_m},
           {"ndf_resolution", o.ndf_resolution},
@@ -207,7 +209,7 @@ void check_predict_options(const PredictOptions& o) {
     if (o.texture_size < 8 || o.texture_size > 8192)
       throw InputError("texture size must lie in 8..8192 texels");
   }
-  (void)metal(o.metal);  // throws InputError listing the names
+  (void)optical_constants(o.material);  // an unknown metal or unreadable CSV fails here
   const auto paths = expand_scan_inputs(o.inputs);
   check_inputs_exist(paths, "scan");
 }
@@ -229,7 +231,8 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
     throw FileError(out_dir,
                     "exists and is not a predict output (no summary.json/report.html); "
                     "choose another folder or remove it");
-  const OpticalConstants material = metal(o.metal);
+  const OpticalConstants material = optical_constants(o.material);
+  const auto fresnel = make_fresnel(o.material);
   const auto paths = expand_scan_inputs(o.inputs);
 
   Staging staging{fs::path(out_dir)};
@@ -256,11 +259,11 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   timed("fits", [&] { summary["fits"] = report::stage_fits(c, ndfs, fits, timing); });
   timed("ndf_cuts", [&] { summary["ndf_cuts"] = report::stage_ndf_slices(c, ndfs, fits); });
   c.log("[3/6] BRDF slices");
-  timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, material); });
+  timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, fresnel); });
   c.log("[4/6] renders");
-  timed("renders", [&] { summary["renders"] = report::stage_render(c, ndfs, material, timing); });
+  timed("renders", [&] { summary["renders"] = report::stage_render(c, ndfs, fresnel, timing); });
   c.log("[5/6] texture");
-  timed("texture", [&] { summary["texture"] = report::stage_texture(c, material, timing); });
+  timed("texture", [&] { summary["texture"] = report::stage_texture(c, fresnel, timing); });
   c.log("[6/6] report");
 
   nlohmann::json files = nlohmann::json::array();

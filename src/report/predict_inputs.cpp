@@ -4,11 +4,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "microbrdf/height_preview.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/level.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/ndf_io.hpp"
-#include "microbrdf/preview.hpp"
+#include "microbrdf/ndf_preview.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/statistics.hpp"
 #include "microbrdf/units.hpp"
@@ -37,7 +39,7 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
   no.resolution = o.ndf_resolution;
   NdfEstimateOptions fo = no;
   fo.method = NdfMethod::Filtered;
-  fo.filter_sigma = o.filter_sigma_m;
+  fo.filter_sigma_m = o.filter_sigma_m;
   NdfAccumulator naive(no), filtered(fo);
   std::unique_ptr<KirchhoffAccumulator> kirchhoff;
   if (o.kirchhoff) {

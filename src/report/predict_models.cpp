@@ -6,7 +6,10 @@
 #include <cstdio>
 
 #include "microbrdf/brdf.hpp"
-#include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/brdf_albedo.hpp"
+#include "microbrdf/brdf_slice.hpp"
+#include "microbrdf/kirchhoff_brdf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/plot.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "microbrdf/units.hpp"
@@ -24,15 +27,13 @@ nlohmann::json finite_array(const std::vector<double>& v) {
   return a;
 }
 
-/// f along the cut of tabulate_slice (brdf.hpp) at the given signed angles (deg).
+/// f along the cut of tabulate_slice (brdf_slice.hpp) at the given signed angles (deg).
 std::vector<double> slice_values(const Brdf& b, double ti, double lambda, SlicePlane plane,
                                  const std::vector<double>& angles_deg) {
-  const Vec3 wi(-std::sin(ti), 0, std::cos(ti)), r(std::sin(ti), 0, std::cos(ti));
+  const Vec3 wi = slice_light(ti);
   std::vector<double> v;
   for (double a : angles_deg) {
-    const double t = a / kDeg;
-    const Vec3 wo = plane == SlicePlane::in ? Vec3(std::sin(t), 0, std::cos(t))
-                                            : Vec3(std::cos(t) * r + std::sin(t) * Vec3(0, 1, 0));
+    const Vec3 wo = slice_view(ti, a / kDeg, plane);
     v.push_back(wo.z() > 1e-9 ? b.eval(wi, wo, lambda) : 0.0);
   }
   return v;
@@ -134,9 +135,8 @@ nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
 }
 
 nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vector<FitResult>& fits,
-                          const OpticalConstants& material) {
+                          const std::shared_ptr<const Fresnel>& fresnel) {
   const auto& o = c.opt;
-  auto fresnel = std::make_shared<ConductorFresnel>(material);
   std::vector<NamedBrdf> models;
   c.log("BRDF: tabulated distribution of the filtered NDF (Smith shadowing)");
   models.push_back({"measured", "measured (filtered NDF)",
@@ -164,8 +164,8 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
     for (const auto& m : models)
       a["albedo"][m.key] = directional_albedo_sampled(*m.brdf, wi, o.wavelength_m, 128);
     albedo.push_back(std::move(a));
-    for (SlicePlane plane : {SlicePlane::in, SlicePlane::out}) {
-      const char* pname = plane == SlicePlane::in ? "in" : "out";
+    for (SlicePlane plane : {SlicePlane::In, SlicePlane::Out}) {
+      const char* pname = plane == SlicePlane::In ? "in" : "out";
       c.log(std::string("BRDF: ") + pname + "-plane slice, theta_i " + std::to_string(ti * kDeg) +
             " deg");
       Plot p;
@@ -173,7 +173,7 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
       std::snprintf(title, sizeof title, "BRDF %s-plane, θi = %.4g°, λ = %s", pname, ti * kDeg,
                     format_length(o.wavelength_m).c_str());
       p.title = title;
-      p.x.label = plane == SlicePlane::in
+      p.x.label = plane == SlicePlane::In
                       ? "θo in the plane of incidence (deg; mirror at +θi)"
                       : "angle from the mirror direction across the plane (deg)";
       p.y.label = "BRDF (1/sr)";

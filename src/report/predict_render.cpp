@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "microbrdf/brdf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "report/predict_stages.hpp"
@@ -44,11 +44,10 @@ RenderOptions predict_render_options(const PredictOptions& o, int width, int hei
   return ro;
 }
 
-nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalConstants& material,
-                            nlohmann::json& timing) {
+nlohmann::json stage_render(const Context& c, const NdfSet& ndfs,
+                            const std::shared_ptr<const Fresnel>& fresnel, nlohmann::json& timing) {
   const auto& o = c.opt;
   if (!o.render) return {{"skipped", "rendering turned off (--no-render)"}};
-  auto fresnel = std::make_shared<ConductorFresnel>(material);
   auto brdf = std::make_shared<MicrofacetBrdf>(
       std::make_shared<TabulatedDistribution>(*ndfs.filtered), fresnel);
   std::vector<std::shared_ptr<const Svbrdf> > mats{std::make_shared<UniformSvbrdf>(brdf)};
@@ -61,11 +60,11 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalC
   };
   const int w = o.render_width;
   const Job jobs[] = {
-      {PreviewScene::cylinders, "cylinders",
+      {PreviewScene::Cylinders, "cylinders",
        "Cylinder pair (Dong 2015 Fig. 10): the same measured BRDF, the brushing direction turned "
        "90 degrees between the two",
        w, w},
-      {PreviewScene::sphere, "sphere",
+      {PreviewScene::Sphere, "sphere",
        "Sphere with the measured BRDF (brushing along the camera's "
        "horizontal)",
        w, w}};

@@ -46,10 +46,10 @@ nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
                                 const std::vector<FitResult>& fits);
 /// BRDF slices and albedos of every model; returns the "brdf" object.
 nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vector<FitResult>& fits,
-                          const OpticalConstants& material);
+                          const std::shared_ptr<const Fresnel>& fresnel);
 /// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`.
-nlohmann::json stage_render(const Context& c, const NdfSet& ndfs, const OpticalConstants& material,
-                            nlohmann::json& timing);
+nlohmann::json stage_render(const Context& c, const NdfSet& ndfs,
+                            const std::shared_ptr<const Fresnel>& fresnel, nlohmann::json& timing);
 /// The lights of every predict render: the environment map if given, else a dim uniform sky
 /// and two disk softboxes.
 RenderLights predict_lights(const PredictOptions& o);
@@ -58,7 +58,7 @@ std::string predict_lights_description(const PredictOptions& o);
 /// Render options of a predict render of width x height pixels (spp, seed, threads from `o`).
 RenderOptions predict_render_options(const PredictOptions& o, int width, int height);
 /// Texture synthesis from strips; returns the "texture" object.
-nlohmann::json stage_texture(const Context& c, const OpticalConstants& material,
+nlohmann::json stage_texture(const Context& c, const std::shared_ptr<const Fresnel>& fresnel,
                              nlohmann::json& timing);
 
 /// Versions of the library and what it is built with.

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "microbrdf/preview.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/texture.hpp"
 #include "report/predict_stages.hpp"
@@ -65,7 +65,7 @@ nlohmann::json describe_texture(const Context& c, const ParamTexture& t, const s
 
 }  // namespace
 
-nlohmann::json stage_texture(const Context& c, const OpticalConstants& material,
+nlohmann::json stage_texture(const Context& c, const std::shared_ptr<const Fresnel>& fresnel,
                              nlohmann::json& timing) {
   const auto& o = c.opt;
   if (o.strips_along.empty()) return {{"skipped", "no --strips given"}};
@@ -98,10 +98,9 @@ nlohmann::json stage_texture(const Context& c, const OpticalConstants& material,
                         {"synthesised", describe_texture(c, *synth, "synthesised")}};
   if (o.render) {
     c.log("texture: render of the textured cylinder pair");
-    auto svbrdf = std::make_shared<EllipsoidTextureSvbrdf>(
-        synth, std::make_shared<ConductorFresnel>(material));
+    auto svbrdf = std::make_shared<EllipsoidTextureSvbrdf>(synth, fresnel);
     RenderScene scene;
-    scene.kind = PreviewScene::cylinders;
+    scene.kind = PreviewScene::Cylinders;
     // Scene units read as 5 cm of real surface (as the 10 cm plate of Dong Fig. 13, 2 units).
     scene.uv_scale = 0.05 / std::max(1e-12, synth->texel_m * static_cast<double>(synth->nx));
     const RenderOptions ro = predict_render_options(o, o.render_width, o.render_width);

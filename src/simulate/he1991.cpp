@@ -1,4 +1,4 @@
-// He et al. 1991 in the geometric-optics limit (theory notes 6.7): the reference for W92 Fig. 6.
+// He et al. 1991 in the geometric-optics limit (docs/theory.md §6.7): the reference for W92 Fig. 6.
 #include <algorithm>
 #include <cmath>
 

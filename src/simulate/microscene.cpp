@@ -382,16 +382,16 @@ TraceEnd MicroScene::trace(Eigen::Vector3d o, const Eigen::Vector3d& d, MicroHit
       if (hit.p.x() < 0) hit.p.x() += W;
       if (hit.p.y() >= H) hit.p.y() -= H;
       if (hit.p.y() < 0) hit.p.y() += H;
-      return TraceEnd::hit;
+      return TraceEnd::Hit;
     }
-    if (t_z <= t_side) return d.z() > 0 ? TraceEnd::escaped_up : TraceEnd::escaped_down;
+    if (t_z <= t_side) return d.z() > 0 ? TraceEnd::EscapedUp : TraceEnd::EscapedDown;
     // Next tile: move to the wall and wrap.
     o += t_side * d;
     travelled += t_side;
     if (t_x <= t_y) o.x() = d.x() > 0 ? 0.0 : W;
     if (t_y <= t_x) o.y() = d.y() > 0 ? 0.0 : H;
   }
-  return TraceEnd::lost;
+  return TraceEnd::Lost;
 }
 
 }  // namespace microbrdf

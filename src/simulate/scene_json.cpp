@@ -4,11 +4,15 @@
 #include <fstream>
 #include <sstream>
 
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/brdf_spec.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/json_read.hpp"
+#include "microbrdf/material_spec.hpp"
 #include "microbrdf/memory_budget.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/microscene.hpp"
 #include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/units.hpp"
@@ -96,38 +100,28 @@ std::string text(const Ctx& c, const json& o, const char* key, const std::string
   return o.at(key).get<std::string>();
 }
 
-// "one" | metal name | {"metal": name} | {"n": .., "k": ..} | {"dielectric": eta} |
-// {"file": csv} | {"schlick": r0}
-std::shared_ptr<const Fresnel> fresnel(const Ctx& c, const json& v) {
+// The reflectance of a mirror or microfacet material: the keys of the material vocabulary
+// (material_spec.hpp: metal, n + k, nk_csv, r0, color, fresnel) or "eta" (a dielectric's
+// reflectance); with none, R = 1 (null). A relative nk_csv path is relative to the scene file.
+std::shared_ptr<const Fresnel> surface_fresnel(const Ctx& c, const std::string& name,
+                                               const json& m) {
   try {
-    if (v.is_string()) {
-      const std::string s = v.get<std::string>();
-      if (s == "one" || s == "1" || s == "perfect") return nullptr;
-      return std::make_shared<ConductorFresnel>(metal(s));
+    MaterialSpec spec;
+    spec.form = MaterialSpec::Form::Perfect;
+    if (m.contains("eta") && !has_material(m)) {
+      spec.form = MaterialSpec::Form::Dielectric;
+      spec.eta = number(c, m, "eta", 1.5);
+    } else {
+      spec = parse_material(m, spec, KeyStyle::Json);
     }
-    if (v.is_object()) {
-      if (v.contains("metal"))
-        return std::make_shared<ConductorFresnel>(metal(v.at("metal").get<std::string>()));
-      if (v.contains("n"))
-        return std::make_shared<ConductorFresnel>(
-            constant_index(v.at("n").get<double>(), v.value("k", 0.0)));
-      if (v.contains("dielectric"))
-        return std::make_shared<DielectricFresnel>(
-            Spectrum::constant(v.at("dielectric").get<double>()));
-      if (v.contains("file"))
-        return std::make_shared<ConductorFresnel>(
-            read_optical_constants_csv(c.path(v.at("file").get<std::string>())));
-      if (v.contains("schlick"))
-        return std::make_shared<SchlickFresnel>(Spectrum::constant(v.at("schlick").get<double>()));
-    }
+    if (spec.form == MaterialSpec::Form::Perfect) return nullptr;
+    if (spec.form == MaterialSpec::Form::NkCsv) spec.nk_csv = c.path(spec.nk_csv);
+    return make_fresnel(spec);
   } catch (const InputError& e) {
-    c.fail(std::string("fresnel: ") + e.what());
-  } catch (const json::exception& e) {
-    c.fail(std::string("fresnel: ") + e.what());
+    c.fail("material '" + name + "': " + e.what() +
+           " (the reflectance is given by \"metal\", \"n\" + \"k\", \"nk_csv\", \"r0\", "
+           "\"color\" or \"eta\", with \"fresnel\": \"exact\" or \"schlick\")");
   }
-  c.fail(
-      "fresnel must be \"one\", a metal name, {\"n\",\"k\"}, {\"dielectric\"}, {\"file\"} or "
-      "{\"schlick\"}");
 }
 
 MicroMaterial material(const Ctx& c, const std::string& name, const json& m) {
@@ -136,45 +130,47 @@ MicroMaterial material(const Ctx& c, const std::string& name, const json& m) {
   out.name = name;
   const std::string type = text(c, m, "type", "");
   if (type == "mirror") {
-    out.kind = MicroMaterial::Kind::mirror;
-    if (m.contains("fresnel")) out.fresnel = fresnel(c, m.at("fresnel"));
+    out.kind = MicroMaterial::Kind::Mirror;
+    out.fresnel = surface_fresnel(c, name, m);
   } else if (type == "dielectric") {
-    out.kind = MicroMaterial::Kind::dielectric;
+    out.kind = MicroMaterial::Kind::Dielectric;
     out.eta = number(c, m, "eta", 1.5);
     if (!(out.eta > 0)) c.fail("material '" + name + "': eta must be > 0");
     out.absorption = m.contains("absorption") ? 1 / length(c, m, "absorption") : 0;
     // "absorption" is the Beer length 1/kappa (e.g. "2mm"); "absorption_per_m" the coefficient.
     if (m.contains("absorption_per_m")) out.absorption = number(c, m, "absorption_per_m", 0);
   } else if (type == "lambert") {
-    out.kind = MicroMaterial::Kind::lambert;
+    out.kind = MicroMaterial::Kind::Lambert;
     out.albedo = number(c, m, "albedo", 1.0);
     if (!(out.albedo >= 0 && out.albedo <= 1))
       c.fail("material '" + name + "': albedo must be in [0, 1]");
   } else if (type == "microfacet") {
-    out.kind = MicroMaterial::Kind::brdf;
-    NdfSpec spec;
-    spec.model = text(c, m, "distribution", "beckmann");
-    const double alpha = number(c, m, "alpha", 0.1);
-    spec.alpha_x = number(c, m, "alpha_x", alpha);
-    spec.alpha_y = number(c, m, "alpha_y", spec.alpha_x);
-    spec.phi = angle(c, m, "phi", 0);
-    std::shared_ptr<const Fresnel> f =
-        m.contains("fresnel") ? fresnel(c, m.at("fresnel")) : nullptr;
+    out.kind = MicroMaterial::Kind::Brdf;
+    // The BRDF vocabulary's analytic model (brdf_spec.hpp; default beckmann, alpha 0.1).
+    if (m.contains("distribution")) c.fail("material '" + name + "': the NDF is \"model\"");
+    json keys = m;
+    if (!keys.contains("model")) keys["model"] = "beckmann";
+    if (!keys.contains("alpha") && !keys.contains("alpha_x")) keys["alpha"] = 0.1;
+    std::shared_ptr<const Fresnel> f = surface_fresnel(c, name, m);
     if (!f) f = std::make_shared<PerfectMirrorFresnel>();
     try {
-      out.brdf = std::make_shared<MicrofacetBrdf>(make_distribution(spec), f);
+      const BrdfSpec spec = parse_brdf(keys, std::nullopt, KeyStyle::Json);
+      if (spec.kind != BrdfSpec::Kind::Analytic)
+        c.fail("material '" + name + "': a microfacet material takes an analytic model");
+      out.brdf =
+          std::make_shared<MicrofacetBrdf>(make_distribution(spec.model), f, spec.separable_g);
     } catch (const InputError& e) {
       c.fail("material '" + name + "': " + e.what());
     }
     out.uniform_sampling = text(c, m, "sampling", "brdf") == "uniform";
   } else if (type == "shbrdf") {
-    out.kind = MicroMaterial::Kind::brdf;
+    out.kind = MicroMaterial::Kind::Brdf;
     const std::string file = text(c, m, "file", "");
     if (file.empty()) c.fail("material '" + name + "': shbrdf needs \"file\"");
     out.brdf = std::make_shared<ShBrdf>(ShBrdf::load(c.path(file)));
     out.uniform_sampling = text(c, m, "sampling", "brdf") == "uniform";
   } else if (type == "absorber") {
-    out.kind = MicroMaterial::Kind::absorber;
+    out.kind = MicroMaterial::Kind::Absorber;
   } else {
     c.fail("material '" + name +
            "': type must be mirror, dielectric, lambert, microfacet, shbrdf "

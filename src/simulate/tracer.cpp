@@ -64,15 +64,15 @@ bool MicroTracer::follow(Path& path, SimRng& rng, TraceCounters& c, Vec& v) {
     std::size_t segments = 0;
     const TraceEnd end = scene_.trace(path.o, path.d, h, &segments);
     c.segments += segments;
-    if (end == TraceEnd::escaped_up) {
+    if (end == TraceEnd::EscapedUp) {
       v = path.d;
       return true;
     }
-    if (end == TraceEnd::escaped_down) {
+    if (end == TraceEnd::EscapedDown) {
       c.energy_down += path.w;
       return false;
     }
-    if (end == TraceEnd::lost) {
+    if (end == TraceEnd::Lost) {
       c.energy_lost += path.w;
       return false;
     }
@@ -88,9 +88,9 @@ bool MicroTracer::follow(Path& path, SimRng& rng, TraceCounters& c, Vec& v) {
     const Vec d = path.d;
     const double cos_out = d.dot(h.n);  // < 0: arriving from outside the solid
     switch (m.kind) {
-      case MicroMaterial::Kind::absorber:
+      case MicroMaterial::Kind::Absorber:
         return false;
-      case MicroMaterial::Kind::mirror: {
+      case MicroMaterial::Kind::Mirror: {
         const Vec n = cos_out < 0 ? h.n : Vec(-h.n);
         const double ci = -d.dot(n);
         if (m.fresnel) path.w *= m.fresnel->eval(ci, lambda);
@@ -98,7 +98,7 @@ bool MicroTracer::follow(Path& path, SimRng& rng, TraceCounters& c, Vec& v) {
         path.o = h.p + eps * n;
         break;
       }
-      case MicroMaterial::Kind::dielectric: {
+      case MicroMaterial::Kind::Dielectric: {
         const bool inside = cos_out > 0;
         const Vec n = inside ? Vec(-h.n) : h.n;  // faces the arriving ray
         const double ci = -d.dot(n);
@@ -116,15 +116,15 @@ bool MicroTracer::follow(Path& path, SimRng& rng, TraceCounters& c, Vec& v) {
         }
         break;
       }
-      case MicroMaterial::Kind::lambert:
-      case MicroMaterial::Kind::brdf: {
+      case MicroMaterial::Kind::Lambert:
+      case MicroMaterial::Kind::Brdf: {
         const Vec n = cos_out < 0 ? h.n : Vec(-h.n);  // two-sided
         const Vec t = h.tangent, b = n.cross(t);
         const Vec wi(-d.dot(t), -d.dot(b), -d.dot(n));
         // One scattered direction and its weight f cos / pdf; false when absorbed.
         auto scatter = [&](Vec& out, double& weight) {
           Vec wo;
-          if (m.kind == MicroMaterial::Kind::lambert) {
+          if (m.kind == MicroMaterial::Kind::Lambert) {
             const double u1 = rng.uniform(), u2 = rng.uniform();
             const double r = std::sqrt(u1), phi = 2 * M_PI * u2;
             wo = Vec(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1 - u1)));

@@ -15,7 +15,7 @@ using Vec = Eigen::Vector3d;
 // A surface point under a uniform point of the tile (first hit of a vertical ray from the top).
 bool surface_point(const MicroScene& sc, SimRng& rng, MicroHit& h) {
   const Vec o(rng.uniform() * sc.width(), rng.uniform() * sc.height(), sc.zmax());
-  return sc.trace(o, Vec(0, 0, -1), h) == TraceEnd::hit;
+  return sc.trace(o, Vec(0, 0, -1), h) == TraceEnd::Hit;
 }
 
 // Weighted Bernoulli mean over threads in fixed blocks (deterministic for a thread count).
@@ -69,7 +69,7 @@ FractionEstimate visible_fraction(const MicroScene& sc, double theta, std::uint6
     if (!(vn > 0) || !(h.n.z() > 0)) return false;
     w = vn / h.n.z();  // projected area towards v per unit of the mean plane
     MicroHit h2;
-    visible = sc.trace(h.p + eps * h.n, v, h2) == TraceEnd::escaped_up;
+    visible = sc.trace(h.p + eps * h.n, v, h2) == TraceEnd::EscapedUp;
     return true;
   });
 }
@@ -90,7 +90,7 @@ FractionEstimate free_travel_probability(const MicroScene& sc, double theta, dou
     if (!(v.dot(h.n) > 0)) return false;  // the facet faces the ray
     w = 1;
     MicroHit h2;
-    visible = sc.trace(h.p + eps * h.n, v, h2) == TraceEnd::escaped_up;
+    visible = sc.trace(h.p + eps * h.n, v, h2) == TraceEnd::EscapedUp;
     return true;
   });
 }

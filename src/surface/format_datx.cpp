@@ -1,6 +1,6 @@
 // Zygo .datx reader (HDF5 container written by MetroPro >= 8 / Mx).
 //
-// Layout (shared/notes/formats.md section 3): the height map is the first dataset under
+// Layout (docs/formats.md §3): the height map is the first dataset under
 // /Data/Surface, a 2-D float64 (or float32) array (rows, columns), row-major, x fastest. Its
 // attributes give Unit ("Fringes" -> x Wavelength x Interferometric Scale Factor x Obliquity
 // Factor; or a length unit), "No Data" (values >= it are invalid) and the X/Y Converter

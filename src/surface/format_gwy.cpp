@@ -1,4 +1,4 @@
-// Gwyddion native .gwy (GWYP), read + write. Layout: docs/formats.md / shared notes section 4.
+// Gwyddion native .gwy (GWYP), read + write. Layout: docs/formats.md §4.
 //
 // Reader: a recursive parser for the serialized object tree (depth-limited, every size checked
 // against the bytes that remain before anything is allocated). From the top GwyContainer it

@@ -1,6 +1,6 @@
 // Zygo MetroPro binary .dat reader (header formats 1, 2 and 3).
 //
-// Layout (docs: shared/notes/formats.md section 2): a big-endian header of `header_size` bytes
+// Layout (docs/formats.md §2): a big-endian header of `header_size` bytes
 // (834 for formats 1/2, 4096 for format 3), then n_buckets intensity frames of w*h uint16 BE
 // (skipped), then the phase block of w*h int32 BE, row-major, x fastest. Phase values
 // >= 2147483640 are invalid. height [m] = raw * scale_factor * obliquity * wavelength / R with

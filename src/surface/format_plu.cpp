@@ -1,6 +1,6 @@
 // Sensofar .plu reader (topography measurements).
 //
-// Layout (shared/notes/formats.md section 6), little-endian, no magic:
+// Layout (docs/formats.md §6), little-endian, no magic:
 //     0  char[128]  date string ("Fri Mar 10 16:35:59 2023")
 //   128  u32        time (Unix seconds)
 //   132  char[256]  comment

@@ -1,6 +1,6 @@
 // Digital Surf .sur reader (binary, PC byte order).
 //
-// Layout (shared/notes/formats.md section 5): a fixed 512-byte little-endian header, then
+// Layout (docs/formats.md §5): a fixed 512-byte little-endian header, then
 // comment_size bytes of comment, private_size bytes of private zone, then xres*yres points of
 // int16 or int32 (point size 16/32), row-major with x fastest. Heights: z = raw*dz + z offset,
 // in the dz unit. Rows are kept in file order.

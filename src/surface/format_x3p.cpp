@@ -2,7 +2,7 @@
 //
 // An x3p file is a ZIP archive holding main.xml (the description), md5checksum.hex (MD5 of
 // main.xml), the binary heights (conventionally bindata/data.bin) and optionally a validity bit
-// array (bindata/valid.bin). See docs/formats.md section 1 for the layout and the real-world
+// array (bindata/valid.bin). See docs/formats.md §1 for the layout and the real-world
 // deviations handled here (main.xml in a subfolder, ISO5436 root without namespace, +Inf for
 // invalid points, upper-case MD5, empty <Offset/>).
 //

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "core/fft.hpp"
+#include "core/splitmix64.hpp"
 #include "microbrdf/error.hpp"
 
 namespace microbrdf {
@@ -112,7 +113,8 @@ Surface generate_profiles(const ProfileParams& p) {
   Surface s(p.n, p.rows, p.dx, p.dx);
 #pragma omp parallel for schedule(dynamic)
   for (long r = 0; r < static_cast<long>(p.rows); ++r) {
-    auto eps = white_noise(p.n + 2 * half, p.seed * 1000003ULL + static_cast<std::uint64_t>(r));
+    auto eps =
+        white_noise(p.n + 2 * half, detail::chunk_seed(p.seed, static_cast<std::uint64_t>(r)));
     for (std::size_t i = 0; i < p.n; ++i) {
       double acc = 0;
       for (std::size_t j = 0; j < w.size(); ++j) acc += w[j] * eps[i + j];

@@ -1,26 +1,13 @@
-// False-colour height-map previews with a colour bar.
+// False-colour height-map previews with a colour bar (include/microbrdf/height_preview.hpp).
+#include "microbrdf/height_preview.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 #include "core/bitmap_font.hpp"
-#include "microbrdf/preview.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf {
-
-void false_colour(double t, std::uint8_t rgb[3]) {
-  // Piecewise-linear through hand-picked anchors, monotone in lightness.
-  static constexpr double kAnchors[][3] = {{0.10, 0.05, 0.30}, {0.15, 0.30, 0.60},
-                                           {0.10, 0.55, 0.60}, {0.35, 0.75, 0.45},
-                                           {0.80, 0.85, 0.25}, {0.99, 0.95, 0.60}};
-  constexpr int n = 6;
-  t = std::clamp(t, 0.0, 1.0) * (n - 1);
-  int i = std::min(static_cast<int>(t), n - 2);
-  double f = t - i;
-  for (int c = 0; c < 3; ++c)
-    rgb[c] = static_cast<std::uint8_t>(
-        std::lround(255 * ((1 - f) * kAnchors[i][c] + f * kAnchors[i + 1][c])));
-}
 
 RgbImage render_height_preview(const Surface& s, std::size_t max_size) {
   // Box-filter down to at most max_size on the long side, keeping the physical aspect ratio.

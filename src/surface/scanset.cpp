@@ -87,4 +87,18 @@ void for_each_scan(const std::vector<std::string>& paths, const ReadOptions& opt
   }
 }
 
+WorkStats distribute_scans(
+    const std::vector<std::string>& paths, const ReadOptions& options,
+    const std::function<WorkResult(std::size_t, const std::string&, Surface&)>& compute,
+    const std::function<void(std::size_t, WorkResult&&)>& consume,
+    const DistributeOptions& distribute_options) {
+  return distribute(
+      paths.size(),
+      [&](std::size_t i) {
+        Surface s = read_surface(paths[i], options);  // freed when the item is done
+        return compute(i, paths[i], s);
+      },
+      consume, distribute_options);
+}
+
 }  // namespace microbrdf

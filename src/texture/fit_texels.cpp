@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/ndf_estimate.hpp"
@@ -146,6 +147,42 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
   return r;
 }
 
+// A scan's fits as sent between ranks: 5 parameters and the flag per texel as exact doubles (NaN
+// included), reasons and counters as JSON.
+WorkResult pack(const ScanResult& r) {
+  WorkResult w;
+  w.values.reserve(r.p.size() * 6);
+  for (std::size_t i = 0; i < r.p.size(); ++i) {
+    const EllipsoidParams& p = r.p[i];
+    w.values.insert(w.values.end(),
+                    {p.alpha_x, p.alpha_y, p.theta_x, p.theta_y, p.theta_z, double(r.ok[i])});
+  }
+  w.text =
+      nlohmann::json{
+          {"tx", r.tx}, {"ty", r.ty}, {"why", r.why}, {"info", r.info}, {"lifted", r.lifted.load()}}
+          .dump();
+  return w;
+}
+
+ScanResult unpack(const WorkResult& w) {
+  const auto j = nlohmann::json::parse(w.text);
+  ScanResult r;
+  r.tx = j.at("tx");
+  r.ty = j.at("ty");
+  r.why = j.at("why").get<std::vector<std::string>>();
+  r.info = j.at("info");
+  r.lifted = j.at("lifted").get<std::size_t>();
+  const std::size_t n = r.tx * r.ty;
+  if (w.values.size() != 6 * n || r.why.size() != n)
+    throw std::runtime_error("texel fits: a scan's result does not match its texel count");
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* v = w.values.data() + 6 * i;
+    r.p.push_back(EllipsoidParams{v[0], v[1], v[2], v[3], v[4]});
+    r.ok.push_back(static_cast<std::uint8_t>(v[5]));
+  }
+  return r;
+}
+
 nlohmann::json options_json(const TexelFitOptions& o) {
   return {{"texel_m", o.texel_m},
           {"filter_sigma_m", o.filter_sigma_m},
@@ -236,17 +273,23 @@ ParamTexture fit_texels(const Surface& s, const TexelFitOptions& options) {
 }
 
 ParamTexture fit_texels(const std::vector<std::string>& scans, const ReadOptions& read,
-                        const TexelFitOptions& options) {
+                        const TexelFitOptions& options, WorkStats* stats) {
   if (scans.empty()) throw InputError("no scans given");
   Assembler a(options);
-  for_each_scan(scans, read, [&](std::size_t i, const std::string& path, Surface& s) {
-    level_surface(s, options.leveling);
-    a.add(fit_scan(s, options), path);
-    if (options.progress)
-      options.progress(static_cast<double>(i + 1) / static_cast<double>(scans.size()));
-  });
-  ParamTexture t = a.finish();
-  return t;
+  WorkStats st = distribute_scans(
+      scans, read,
+      [&](std::size_t, const std::string&, Surface& s) {
+        level_surface(s, options.leveling);
+        return pack(fit_scan(s, options));
+      },
+      [&](std::size_t i, WorkResult&& r) {
+        a.add(unpack(r), scans[i]);
+        if (options.progress)
+          options.progress(static_cast<double>(i + 1) / static_cast<double>(scans.size()));
+      });
+  if (!mpi_is_root()) return ParamTexture{};
+  if (stats) *stats = st;
+  return a.finish();
 }
 
 }  // namespace microbrdf

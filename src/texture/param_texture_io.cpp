@@ -14,14 +14,14 @@
 #include <fstream>
 
 #include "core/bitmap_font.hpp"
+#include "core/exr_guard.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/json_read.hpp"
 #include "microbrdf/memory_budget.hpp"
-#include "microbrdf/preview.hpp"
 #include "microbrdf/texture.hpp"
-#include "surface/exr_guard.hpp"
 
 namespace microbrdf {
 namespace {

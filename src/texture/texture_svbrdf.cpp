@@ -78,4 +78,13 @@ std::string EllipsoidTextureSvbrdf::describe() const {
   return buf + f_->describe();
 }
 
+std::shared_ptr<const Svbrdf> make_svbrdf(const BrdfSpec& spec, const MaterialSpec& material) {
+  if (spec.kind == BrdfSpec::Kind::Texture) {
+    // Each texel's ellipsoid parameters with the material's Fresnel term; (u, v) wraps.
+    auto tex = std::make_shared<const ParamTexture>(read_param_texture(spec.texture));
+    return std::make_shared<EllipsoidTextureSvbrdf>(tex, make_fresnel(material));
+  }
+  return std::make_shared<UniformSvbrdf>(make_brdf(spec, material));
+}
+
 }  // namespace microbrdf

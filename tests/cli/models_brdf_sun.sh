@@ -124,7 +124,7 @@ expect_error ".png or .svg" $BIN brdf slice --model ggx --alpha 0.1 --metal Au -
 expect_error "theta-i" $BIN brdf slice --model ggx --alpha 0.1 --metal Au --theta-i 95deg -o "$T/x.csv"
 expect_error "alpha" $BIN brdf slice --model ggx --alpha -1 --metal Au -o "$T/x.csv"
 expect_error "metal\|Au" $BIN brdf color --metal Unobtainium
-expect_error "exactly one material" $BIN brdf color --metal Au --r0 0.5
+expect_error "give one material" $BIN brdf color --metal Au --r0 0.5
 expect_error "s must\|positive\|--s" $BIN sun ftp --s -1
 expect_error "model" $BIN tabulate --model phong --alpha 0.1 -o "$T/p.npy"
 printf 'not an npy' >"$T/bad.npy"

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # `microbrdf render` as a user meets it: help, JSON, outputs, determinism, errors.
 set -u
-BIN=$1 SHARED=$3
+BIN=$1 DATA=$3
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
-ENV="$SHARED/envmaps/blender_studio.hdr"
+ENV="$DATA/envmaps/blender_studio.hdr"
 
 $BIN render --help >"$T/help" 2>&1 || fail "--help exits non-zero"
 grep -q "Examples" "$T/help" || fail "--help has no examples"
@@ -35,11 +35,12 @@ $BIN ndf "$T/g.x3p" --method kirchhoff --wavelength 555nm --resolution 129 -o "$
 $BIN render --scene sphere --kirchhoff "$T/dk.npy" --metal Au --size 16 --spp 2 -o "$T/k.png" --quiet >/dev/null 2>"$T/err" ||
   fail "kirchhoff: $(cat "$T/err")"
 
-# Errors: usage problems exit 2, file problems exit 1, nothing is written.
+# Errors: usage problems (a missing input file included) exit 2, unreadable files exit 1,
+# nothing is written.
 $BIN render --scene teapot --lambertian 1 -o "$T/x.png" 2>"$T/err"; [ $? -eq 2 ] || fail "unknown scene not exit 2"
 grep -q "known: cylinders" "$T/err" || fail "unknown scene message: $(cat "$T/err")"
 $BIN render --scene sphere --lambertian 1 --envmap "$T/nope.hdr" -o "$T/x.png" 2>"$T/err"
-[ $? -eq 1 ] || fail "missing env map not exit 1"
+[ $? -eq 2 ] || fail "missing env map not exit 2 (a usage error)"
 grep -q "nope.hdr" "$T/err" || fail "missing env map message: $(cat "$T/err")"
 head -c 300 "$ENV" >"$T/cut.hdr"
 $BIN render --scene sphere --lambertian 1 --envmap "$T/cut.hdr" -o "$T/x.png" 2>"$T/err" && fail "truncated env map accepted"

@@ -4,7 +4,7 @@
 # ellipsoid renders like `--model ellipsoid` with those parameters; missing or corrupt files and
 # clashing flags give a clear error, a non-zero exit and no output.
 set -u
-BIN=$1 SHARED=$3
+BIN=$1 DATA=$3
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 mean() { python3 -c "import json,sys; print(' '.join(map(str, json.load(open(sys.argv[1]))['mean_linear_srgb'])))" "$1"; }
@@ -17,7 +17,7 @@ for x, y in zip(a, b):
     assert x > 0.01 and abs(x / y - 1) < tol, (a, b)
 PY
 }
-RENDER=(--size 32 --spp 16 --threads 2 --seed 3 --quiet --json --envmap "$SHARED/envmaps/blender_studio.hdr")
+RENDER=(--size 32 --spp 16 --threads 2 --seed 3 --quiet --json --envmap "$DATA/envmaps/blender_studio.hdr")
 
 # All renders: 32^2 pixels, 16 spp, under the studio map (so the mean pixel depends on the lobe
 # width: GGX alpha 0.2 or 0.5 instead of 0.35 moves it by 18-20 %).
@@ -79,8 +79,8 @@ SEEDS=$(dirname "$0")/../../fuzz/corpus/paramtex
 expect_error "corrupt header: attribute 'comments' claims" --texture "$SEEDS/regress_huge_string_attr.exr"
 expect_error "corrupt header" --texture "$SEEDS/regress_box2i_size0.exr"
 expect_error "no channel 'alpha_x'" --texture "$SEEDS/z_float_rle.exr"
-expect_error "exactly one material" --sh "$T/g.shbrdf" --texture "$T/tex.exr"
-expect_error "exactly one material" --sh "$T/g.shbrdf" --model ggx --alpha 0.2
+expect_error "give one BRDF" --sh "$T/g.shbrdf" --texture "$T/tex.exr"
+expect_error "give one BRDF" --sh "$T/g.shbrdf" --model ggx --alpha 0.2
 expect_error "do not apply" --sh "$T/g.shbrdf" --metal Fe
 ls "$T" | grep -q tmp && fail "temporary file left behind"
 echo ok

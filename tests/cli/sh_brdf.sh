@@ -54,11 +54,11 @@ s20, s50 = load("s20.csv"), load("s50.csv")
 assert abs(s20[50.0] - s50[20.0]) < 1e-9 * max(1, s20[50.0]), (s20[50.0], s50[20.0])
 PY
 
-# sh-estimate: a white Lambertian plane gives albedo 1 within 1 % (theory 6.3), the same result
+# sh-estimate: a white Lambertian plane gives albedo 1 within 1 % (docs/theory.md §6.3), the same result
 # for any thread count, and Q falls as N^-1/2 over two decades.
-OMP_NUM_THREADS=2 $BIN brdf sh-estimate --lambert 1 --lmax 6 --incident 400000 --seed 3 --json \
-  -o "$T/lam.shbrdf" >"$T/lam.json" 2>/dev/null || fail "sh-estimate --lambert"
-OMP_NUM_THREADS=1 $BIN brdf sh-estimate --lambert 1 --lmax 6 --incident 400000 --seed 3 --json \
+OMP_NUM_THREADS=2 $BIN brdf sh-estimate --lambertian 1 --lmax 6 --incident 400000 --seed 3 --json \
+  -o "$T/lam.shbrdf" >"$T/lam.json" 2>/dev/null || fail "sh-estimate --lambertian"
+OMP_NUM_THREADS=1 $BIN brdf sh-estimate --lambertian 1 --lmax 6 --incident 400000 --seed 3 --json \
   >"$T/lam1.json" 2>/dev/null || fail "sh-estimate one thread"
 for n in 400 4000 40000; do
   $BIN brdf sh-estimate --model ggx --alpha 0.3 --metal Al --lmax 8 --incident $n --seed 5 \
@@ -90,7 +90,7 @@ $BIN brdf slice --sh "$T/info.json" -o "$T/x.csv" 2>"$T/e3" && fail "JSON accept
 grep -q "MBSHBRDF" "$T/e3" || fail "wrong-format message"
 $BIN brdf slice --sh "$T/g.shbrdf" --model ggx --alpha 0.2 -o "$T/x.csv" 2>"$T/e4" \
   && fail "--sh with --model accepted"
-grep -q "replaces" "$T/e4" || fail "--sh/--model message"
+grep -q "give one BRDF, not --model/--alpha, --sh" "$T/e4" || fail "--sh/--model message"
 $BIN brdf slice --sh "$T/g.shbrdf" --l-filter 3 -o "$T/x.csv" 2>/dev/null \
   && fail "--l-filter without width accepted"
 [ ! -e "$T/x.csv" ] || fail "partial output written"

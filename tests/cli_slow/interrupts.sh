@@ -48,10 +48,10 @@ run_case() {  # name target old-cmd new-cmd (strings)
   for sig in INT KILL; do
     for ((i = 0; i < TRIALS; i++)); do
       local delay=$(( RANDOM % (ms_new + 1) ))
-      eval "$new" >/dev/null 2>&1 &
+      eval "exec $new" >/dev/null 2>&1 &
       local pid=$!
       sleep "$(printf '%d.%03d' $((delay / 1000)) $((delay % 1000)))"
-      kill -s $sig $pid 2>/dev/null
+      kill -s $sig -- -$pid 2>/dev/null  # the run's process group
       wait $pid; local rc=$?
       if [ $sig = INT ]; then
         [ $rc -eq 130 ] && int_hit=$((int_hit + 1))

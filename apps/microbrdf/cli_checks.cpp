@@ -1,0 +1,195 @@
+#include "cli_checks.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "microbrdf/error.hpp"
+#include "microbrdf/fresnel.hpp"
+
+namespace microbrdf::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+std::string shown(double v) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+/// The folder a new file or folder at `path` would be created in.
+fs::path parent_of(const std::string& path) {
+  fs::path p = fs::path(path).parent_path();
+  return p.empty() ? fs::path(".") : p;
+}
+
+}  // namespace
+
+void Preflight::add(std::string_view flag, const std::string& problem) {
+  problems_.push_back(std::string(flag) + ": " + problem);
+}
+
+void Preflight::writable_parent(std::string_view flag, const std::string& path) {
+  const fs::path dir = parent_of(path);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    add(flag, path + ": folder " + dir.string() + " does not exist");
+  else if (access(dir.c_str(), W_OK) != 0)
+    add(flag, path + ": folder " + dir.string() + " is not writable");
+}
+
+Preflight& Preflight::require(bool ok, std::string_view flag, const std::string& problem) {
+  if (!ok) add(flag, problem);
+  return *this;
+}
+
+Preflight& Preflight::input(std::string_view flag, const std::string& path) {
+  std::error_code ec;
+  if (path.empty()) {
+    add(flag, "empty file name");
+  } else if (!fs::exists(path, ec)) {
+    add(flag, path + ": no such file or folder");
+  } else if (access(path.c_str(), R_OK) != 0) {
+    add(flag, path + ": not readable (permissions)");
+  }
+  return *this;
+}
+
+Preflight& Preflight::output(std::string_view flag, const std::string& path,
+                             std::initializer_list<std::string_view> extensions) {
+  const std::string ext = lower(fs::path(path).extension().string());
+  bool known = false;
+  std::string list;
+  for (auto e : extensions) {
+    known = known || ext == e;
+    list += (list.empty() ? "" : ", ") + std::string(e);
+  }
+  std::error_code ec;
+  if (path.empty()) {
+    add(flag, "empty file name");
+  } else if (!known) {
+    add(flag, path + ": unknown extension '" + ext + "' (expected " + list + ")");
+  } else if (fs::is_directory(path, ec)) {
+    add(flag, path + ": is a folder, not a file");
+  } else {
+    writable_parent(flag, path);
+  }
+  return *this;
+}
+
+Preflight& Preflight::output_dir(std::string_view flag, const std::string& path) {
+  std::error_code ec;
+  if (path.empty()) {
+    add(flag, "empty folder name");
+  } else if (fs::exists(path, ec)) {
+    if (!fs::is_directory(path, ec))
+      add(flag, path + ": exists and is not a folder");
+    else if (access(path.c_str(), W_OK) != 0)
+      add(flag, path + ": folder is not writable");
+  } else {
+    writable_parent(flag, path);
+  }
+  return *this;
+}
+
+Preflight& Preflight::envmap(std::string_view flag, const std::string& path) {
+  const std::size_t before = problems_.size();
+  input(flag, path);
+  if (problems_.size() != before) return *this;
+  std::ifstream in(path, std::ios::binary);
+  char head[10] = {};
+  in.read(head, sizeof head);
+  const std::string_view h(head, static_cast<std::size_t>(in.gcount()));
+  const bool exr = h.size() >= 4 && static_cast<unsigned char>(h[0]) == 0x76 &&
+                   static_cast<unsigned char>(h[1]) == 0x2f &&
+                   static_cast<unsigned char>(h[2]) == 0x31 &&
+                   static_cast<unsigned char>(h[3]) == 0x01;
+  const bool radiance = h.substr(0, 2) == "#?";
+  if (fs::is_directory(path))
+    add(flag, path + ": is a folder, not an environment map");
+  else if (!exr && !radiance)
+    add(flag, path + ": not an OpenEXR or Radiance .hdr file (wrong signature)");
+  return *this;
+}
+
+Preflight& Preflight::metal(std::string_view flag, const std::string& name) {
+  try {
+    (void)microbrdf::metal(name);
+  } catch (const std::exception& e) {
+    add(flag, e.what());
+  }
+  return *this;
+}
+
+Preflight& Preflight::positive(std::string_view flag, double value) {
+  if (!(value > 0) || !std::isfinite(value)) add(flag, "must be > 0 (got " + shown(value) + ")");
+  return *this;
+}
+
+Preflight& Preflight::in_range(std::string_view flag, double value, double lo, double hi) {
+  if (!(value >= lo && value <= hi))
+    add(flag, "must be in [" + shown(lo) + ", " + shown(hi) + "] (got " + shown(value) + ")");
+  return *this;
+}
+
+void Preflight::done() const {
+  if (problems_.empty()) return;
+  std::string all;
+  for (const auto& p : problems_) all += (all.empty() ? "" : "; ") + p;
+  throw InputError(all);
+}
+
+namespace {
+/// Parses the whole of `text` as a number into `v`; returns an error message or "".
+std::string parse_number(const std::string& text, double& v) {
+  try {
+    std::size_t used = 0;
+    v = std::stod(text, &used);
+    if (used == text.size()) return {};
+  } catch (const std::exception&) {
+  }
+  return "not a number: '" + text + "'";
+}
+}  // namespace
+
+CLI::Validator positive_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0;
+        if (auto e = parse_number(text, v); !e.empty()) return e;
+        if (!(v > 0) || !std::isfinite(v)) return "must be > 0 (got " + text + ")";
+        return {};
+      },
+      "> 0", "POSITIVE");
+}
+
+CLI::Validator number_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        double v = 0;
+        if (auto e = parse_number(text, v); !e.empty()) return e;
+        if (!(v >= lo && v <= hi))
+          return "must be in [" + shown(lo) + ", " + shown(hi) + "] (got " + text + ")";
+        return {};
+      },
+      "in [" + shown(lo) + ", " + shown(hi) + "]", "RANGE");
+}
+
+std::string number_or_na(double v, const char* format) {
+  if (!std::isfinite(v)) return "n/a";
+  char b[64];
+  std::snprintf(b, sizeof b, format, v);
+  return b;
+}
+
+}  // namespace microbrdf::cli

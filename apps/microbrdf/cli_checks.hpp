@@ -1,0 +1,56 @@
+#pragma once
+// Checks a command makes before any heavy work, so that a wrong flag costs a second, not the
+// minutes of a render or a D_K: inputs exist, outputs have a known extension and a writable
+// folder, the environment map is an EXR or Radiance file, the metal is known, numbers are in
+// range. Every problem names its flag; all of them are reported at once as one InputError
+// (exit code 2, a usage error). Also: CLI11 validators that name the flag, and "n/a" for values
+// that do not exist.
+#include <CLI/CLI.hpp>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace microbrdf::cli {
+
+class Preflight {
+ public:
+  /// An input file (or folder, for scan sets) that must exist and be readable.
+  Preflight& input(std::string_view flag, const std::string& path);
+  /// An output file: its extension must be one of `extensions` (lower case, with the dot; case
+  /// is ignored), it must not be a folder, and its folder must exist and be writable.
+  Preflight& output(std::string_view flag, const std::string& path,
+                    std::initializer_list<std::string_view> extensions);
+  /// An output folder: it is created later, so its parent must exist and be writable (or the
+  /// folder itself must exist and be writable).
+  Preflight& output_dir(std::string_view flag, const std::string& path);
+  /// An environment map: readable, with the signature of an OpenEXR or a Radiance .hdr file.
+  Preflight& envmap(std::string_view flag, const std::string& path);
+  /// A built-in metal name (`microbrdf::metal`).
+  Preflight& metal(std::string_view flag, const std::string& name);
+  /// value > 0 (and finite).
+  Preflight& positive(std::string_view flag, double value);
+  /// lo <= value <= hi.
+  Preflight& in_range(std::string_view flag, double value, double lo, double hi);
+  /// Any other condition; `problem` is said after the flag when `ok` is false.
+  Preflight& require(bool ok, std::string_view flag, const std::string& problem);
+
+  const std::vector<std::string>& problems() const { return problems_; }
+  /// Throws InputError listing every problem ("--flag: problem; --other: problem") if any.
+  void done() const;
+
+ private:
+  void add(std::string_view flag, const std::string& problem);
+  void writable_parent(std::string_view flag, const std::string& path);  // the folder of `path`
+  std::vector<std::string> problems_;
+};
+
+/// CLI11 validators; CLI11 prefixes the message with the flag ("--alpha: must be > 0 (got
+/// -0.1)"), and main() turns every parse error into exit code 2.
+CLI::Validator positive_number();
+CLI::Validator number_in(double lo, double hi);
+
+/// printf-style formatting of a number, or "n/a" when it does not exist (NaN or infinite).
+std::string number_or_na(double v, const char* format = "%.4g");
+
+}  // namespace microbrdf::cli

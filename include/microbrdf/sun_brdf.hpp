@@ -1,0 +1,42 @@
+#pragma once
+// Sun 2002's analytic BRDF (sun2002.hpp) behind the Brdf interface.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/fresnel.hpp"
+#include "microbrdf/microfacet.hpp"
+#include "microbrdf/sun2002.hpp"
+
+namespace microbrdf::sun2002 {
+
+/// Sun's BRDF behind the shared Brdf interface: eval() is sun2002::brdf(). Sampling draws h from
+/// the visible normals of wi for the Beckmann distribution of the same surface (alpha = 2/s,
+/// exact, BeckmannDistribution::sample_visible) and reflects: pdf(wo) = D_wi(h) / (4 wi.h),
+/// weight = f cos(theta_o) / pdf (for the standard form this is
+/// R Gamma_0(th_i) Gamma_0(th_o) sigma+(wi) / (wi.n), <= R Gamma_0 Gamma_0 / G1(wi)). Samples
+/// below the horizon are dropped (no sample).
+class SunBrdf final : public Brdf {
+ public:
+  /// s > 0 (InputError otherwise); a null Fresnel means R = 1.
+  explicit SunBrdf(double s, BrdfForm form = BrdfForm::Standard,
+                   std::shared_ptr<const Fresnel> f = nullptr);
+  double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
+  std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
+                                   double wavelength_m) const override;
+  double pdf(const Vec3& wi, const Vec3& wo) const override;
+  std::string describe() const override;
+  double smoothness() const { return s_; }
+  BrdfForm form() const { return form_; }
+  const Fresnel* fresnel() const { return f_.get(); }
+
+ private:
+  double s_;
+  BrdfForm form_;
+  std::shared_ptr<const Fresnel> f_;
+  BeckmannDistribution d_;
+};
+
+}  // namespace microbrdf::sun2002

@@ -1,0 +1,62 @@
+"""microbrdf: how a metal surface reflects light, predicted from its measured microgeometry.
+
+Every stage of the command-line tool as a function on numpy arrays, in SI units (metres,
+radians), with the keyword names of the CLI flags (``--filter-sigma`` -> ``filter_sigma``):
+
+    import microbrdf as mb
+    s = mb.read_surface("scan.x3p")            # Surface: s.heights, s.valid (numpy views)
+    mb.statistics(s)                           # dict, the keys of `microbrdf info --json`
+    D = mb.ndf(s, method="filtered", filter_sigma=1e-6, resolution=1025)
+    mb.fit(D, model="ellipsoid")               # dict, the keys of `microbrdf fit --json`
+    b = mb.brdf(ndf=D, metal="Al")
+    b.eval(wi, wo, wavelength=555e-9)          # (N, 3), (N, 3) -> (N,), 1/sr
+
+Arrays returned are views on the library's own buffers (no copies); long calls release the
+GIL, take an optional ``progress`` callback and stop on Ctrl-C. File problems raise FileError
+(an OSError naming the file), bad values InputError (a ValueError). See docs/python.md.
+"""
+
+from ._microbrdf import (  # noqa: F401
+    Brdf,
+    FileError,
+    InputError,
+    KirchhoffBrdf,
+    LambertianBrdf,
+    MicrofacetBrdf,
+    ShBrdf,
+    Surface,
+    TabulatedNdf,
+    brdf,
+    fit,
+    ndf,
+    predict,
+    read_ndf,
+    _input_address,
+    read_surface,
+    render,
+    simulate,
+    statistics,
+    tabulate,
+)
+
+__all__ = [
+    "Brdf",
+    "FileError",
+    "InputError",
+    "KirchhoffBrdf",
+    "LambertianBrdf",
+    "MicrofacetBrdf",
+    "ShBrdf",
+    "Surface",
+    "TabulatedNdf",
+    "brdf",
+    "fit",
+    "ndf",
+    "predict",
+    "read_ndf",
+    "read_surface",
+    "render",
+    "simulate",
+    "statistics",
+    "tabulate",
+]

@@ -1,0 +1,221 @@
+# Type stubs of the microbrdf module. SI units: metres, radians, 1/sr.
+import os
+from typing import Any, Callable, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+PathLike = Union[str, os.PathLike[str]]
+Length2 = Union[float, Tuple[float, float]]
+Directions = npt.ArrayLike  # (N, 3) or (3,)
+ScanLike = Union["Surface", PathLike]
+Scans = Union[ScanLike, Sequence[ScanLike]]
+
+class FileError(OSError):
+    """A file that cannot be read or written, or is corrupt; filename names it."""
+    def __init__(self, filename: str, problem: str, errno: Optional[int] = ...) -> None: ...
+
+class InputError(ValueError):
+    """A bad value that is not a file."""
+
+class Surface:
+    """A height map (metres, NaN = invalid); heights/valid are numpy views (no copy)."""
+    def __init__(self, heights: npt.ArrayLike, spacing: Length2, mask: Optional[npt.ArrayLike] = ...) -> None: ...
+    @property
+    def heights(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def valid(self) -> npt.NDArray[np.bool_]: ...
+    @property
+    def spacing(self) -> Tuple[float, float]: ...
+    @property
+    def shape(self) -> Tuple[int, int]: ...
+    @property
+    def nx(self) -> int: ...
+    @property
+    def ny(self) -> int: ...
+    @property
+    def x0(self) -> float: ...
+    @property
+    def y0(self) -> float: ...
+    @property
+    def z0(self) -> float: ...
+    @property
+    def metadata(self) -> dict[str, str]: ...
+    @property
+    def path(self) -> str: ...
+    @property
+    def valid_fraction(self) -> float: ...
+    def sync_mask(self) -> None: ...
+    def copy(self) -> Surface: ...
+    def level(self, mode: str = "plane") -> Surface: ...
+    def save(self, path: PathLike) -> None: ...
+
+def read_surface(path: PathLike, spacing: Optional[Length2] = ...) -> Surface: ...
+@overload
+def statistics(surface: ScanLike, level: str = ..., spacing: Optional[Length2] = ...) -> dict[str, Any]: ...
+@overload
+def statistics(surface: Sequence[ScanLike], level: str = ..., spacing: Optional[Length2] = ...) -> list[dict[str, Any]]: ...
+
+class TabulatedNdf:
+    """An N x N table of D(m) (1/sr) on the projected disk; np.asarray(D) is a view."""
+    def __init__(self, values: npt.ArrayLike) -> None: ...
+    def __buffer__(self, flags: int) -> memoryview: ...
+    @property
+    def values(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def resolution(self) -> int: ...
+    @property
+    def spacing(self) -> float: ...
+    @property
+    def nodes(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def metadata(self) -> dict[str, Any]: ...
+    @overload
+    def eval(self, m: Sequence[float]) -> float: ...
+    @overload
+    def eval(self, m: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
+    def integral(self) -> float: ...
+    def normalise(self) -> None: ...
+    def moments(self) -> dict[str, Any]: ...
+    def rms_slope(self, azimuth: float) -> float: ...
+    def slice(self, azimuth: float = 0.0, samples: int = 1025) -> dict[str, npt.NDArray[np.float64]]: ...
+    def resampled(self, resolution: int) -> TabulatedNdf: ...
+    def save(self, path: PathLike) -> None: ...
+    def save_preview(self, path: PathLike, zoom: bool = False) -> None: ...
+
+def read_ndf(path: PathLike) -> TabulatedNdf: ...
+def ndf(
+    surface: Scans,
+    method: str = "filtered",
+    filter_sigma: float = 1e-6,
+    resolution: int = 1025,
+    level: str = "plane",
+    spacing: Optional[Length2] = None,
+    min_support: float = 0.5,
+    instrument_fwhm: float = 0.0,
+    wavelength: float = 555e-9,
+    patch: Optional[Length2] = (70e-6, 53e-6),
+    window: str = "none",
+    accuracy: float = 1e-3,
+    direct: bool = False,
+    keep_aliases: bool = False,
+    progress: Optional[Callable[[float], None]] = None,
+) -> TabulatedNdf: ...
+def tabulate(
+    model: str = "ggx",
+    alpha_x: float = 0.1,
+    alpha_y: float = 0.0,
+    phi: float = 0.0,
+    theta_x: float = 0.0,
+    theta_y: float = 0.0,
+    theta_z: float = 0.0,
+    resolution: int = 1025,
+) -> TabulatedNdf: ...
+def fit(
+    ndf: Union[TabulatedNdf, PathLike],
+    model: str = "ellipsoid",
+    objective: str = "sqrt",
+    sampling: str = "auto",
+    subsamples: int = 0,
+    threads: int = 0,
+) -> dict[str, Any]: ...
+
+class Brdf:
+    """f(wi, wo) in 1/sr in the local frame (n = +z); directions (N, 3) float64."""
+    @overload
+    def eval(self, wi: Sequence[float], wo: Sequence[float], wavelength: float = 555e-9) -> float: ...
+    @overload
+    def eval(self, wi: Directions, wo: Directions, wavelength: float = 555e-9) -> npt.NDArray[np.float64]: ...
+    @overload
+    def pdf(self, wi: Sequence[float], wo: Sequence[float]) -> float: ...
+    @overload
+    def pdf(self, wi: Directions, wo: Directions) -> npt.NDArray[np.float64]: ...
+    def sample(
+        self, wi: Directions, u: Optional[npt.ArrayLike] = None, wavelength: float = 555e-9, seed: Optional[int] = None
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+    def albedo(
+        self, wi: Directions, wavelength: float = 555e-9, method: str = "quadrature", n: int = 128
+    ) -> Union[float, npt.NDArray[np.float64]]: ...
+    def describe(self) -> str: ...
+
+class MicrofacetBrdf(Brdf): ...
+class KirchhoffBrdf(Brdf): ...
+class LambertianBrdf(Brdf): ...
+
+class ShBrdf(Brdf):
+    """Westin 1992 SH-matrix BRDF; matrix is a read-only view."""
+    @property
+    def lmax(self) -> int: ...
+    @property
+    def matrix(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def metadata(self) -> dict[str, Any]: ...
+    def isotropic_average(self) -> ShBrdf: ...
+    def damped(self, l_filter: int, width: float) -> ShBrdf: ...
+    def save(self, path: PathLike) -> None: ...
+    @staticmethod
+    def load(path: PathLike) -> ShBrdf: ...
+
+def brdf(**flags: Any) -> Brdf: ...
+def simulate(
+    scene: PathLike,
+    lmax: int = 15,
+    rays: int = 2000000,
+    points: int = 16,
+    branches: int = 1,
+    max_depth: int = 100,
+    seed: int = 1,
+    threads: int = 0,
+    independent: bool = False,
+    time: float = 0.0,
+    progress: Optional[Callable[[float], None]] = None,
+) -> ShBrdf: ...
+def render(
+    brdf: Union[Brdf, Sequence[Brdf]],
+    scene: str = "cylinders",
+    size: int = 256,
+    width: int = 0,
+    height: int = 0,
+    spp: int = 16,
+    max_depth: int = 6,
+    wavelengths: int = 4,
+    seed: int = 1,
+    threads: int = 0,
+    mis: str = "mis",
+    envmap: Optional[PathLike] = None,
+    env_scale: float = 1.0,
+    env_rotation: float = 0.0,
+    white_env: bool = False,
+    point: Sequence[Any] = ...,
+    sphere_light: Sequence[Any] = ...,
+    disk_light: Sequence[Any] = ...,
+    brushing: str = "linear",
+    brush_angle: float = 0.0,
+    obj: Optional[PathLike] = None,
+    uv_scale: float = 1.0,
+    progress: Optional[Callable[[float], None]] = None,
+) -> npt.NDArray[np.float32]: ...
+def predict(
+    inputs: Union[PathLike, Sequence[PathLike]],
+    out_dir: PathLike,
+    metal: str = "Fe",
+    filter_sigma: float = 1e-6,
+    resolution: int = 1025,
+    kirchhoff: bool = False,
+    wavelength: float = 555e-9,
+    patch: Optional[Length2] = (70e-6, 53e-6),
+    theta_i: Sequence[float] = ...,
+    envmap: Optional[PathLike] = None,
+    envmap_scale: float = 1.0,
+    render_width: int = 256,
+    spp: int = 32,
+    no_render: bool = False,
+    strips: Optional[Tuple[Any, Any]] = None,
+    texel: float = 53e-6,
+    texture_size: int = 128,
+    seed: int = 1,
+    threads: int = 0,
+    level: str = "plane",
+    spacing: Optional[Length2] = None,
+    progress: Optional[Callable[[str], None]] = None,
+) -> dict[str, Any]: ...

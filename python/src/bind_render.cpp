@@ -1,0 +1,198 @@
+// The preview renderer (image as a numpy view) and the whole predict pipeline (summary dict).
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "microbrdf/brdf.hpp"
+#include "microbrdf/error.hpp"
+#include "microbrdf/predict.hpp"
+#include "microbrdf/render.hpp"
+
+namespace microbrdf::python {
+namespace {
+
+Eigen::Vector3d vec3(const py::handle& obj, const char* what) {
+  auto seq = obj.cast<py::sequence>();
+  if (seq.size() != 3) throw py::value_error(std::string(what) + ": expected 3 numbers");
+  return {seq[0].cast<double>(), seq[1].cast<double>(), seq[2].cast<double>()};
+}
+
+RenderLights lights(PreviewScene kind, const py::object& envmap, double env_scale,
+                    double env_rotation, bool white_env, const py::list& points,
+                    const py::list& spheres, const py::list& disks) {
+  RenderLights l;
+  if (!envmap.is_none()) l.envmap_path = fspath(envmap);
+  l.envmap_scale = env_scale;
+  l.envmap_rotation_rad = env_rotation;
+  l.uniform_white_env = white_env;
+  for (auto p : points) {
+    auto t = p.cast<py::sequence>();
+    if (t.size() != 2) throw py::value_error("point: ((x, y, z), (r, g, b)) per light");
+    l.points.push_back({vec3(t[0], "point position"), vec3(t[1], "point intensity")});
+  }
+  for (auto p : spheres) {
+    auto t = p.cast<py::sequence>();
+    if (t.size() != 3) throw py::value_error("sphere_light: ((x, y, z), radius, (r, g, b))");
+    const double r = t[1].cast<double>();
+    if (!(r > 0)) throw InputError("sphere_light: the radius must be > 0");
+    l.spheres.push_back({vec3(t[0], "sphere_light centre"), r, vec3(t[2], "sphere_light rgb")});
+  }
+  for (auto p : disks) {
+    auto t = p.cast<py::sequence>();
+    if (t.size() != 4)
+      throw py::value_error("disk_light: ((x, y, z), (nx, ny, nz), radius, (r, g, b))");
+    const double r = t[2].cast<double>();
+    if (!(r > 0)) throw InputError("disk_light: the radius must be > 0");
+    l.disks.push_back({vec3(t[0], "disk_light centre"), vec3(t[1], "disk_light normal"), r,
+                       vec3(t[3], "disk_light rgb")});
+  }
+  // No light at all: the plate gets Dong's disk light, everything else a white sky (as the CLI).
+  const bool none = l.envmap_path.empty() && !l.uniform_white_env && l.points.empty() &&
+                    l.spheres.empty() && l.disks.empty();
+  if (none && kind == PreviewScene::Plate)
+    l.disks.push_back(dong_plate_light());
+  else if (none)
+    l.uniform_white_env = true;
+  return l;
+}
+
+py::array render_image(const py::object& brdfs, const std::string& scene, int size, int width,
+                       int height, int spp, int max_depth, int wavelengths, std::uint64_t seed,
+                       int threads, const std::string& mis, const py::object& envmap,
+                       double env_scale, double env_rotation, bool white_env, const py::list& point,
+                       const py::list& sphere_light, const py::list& disk_light,
+                       const std::string& brushing, double brush_angle, const py::object& obj,
+                       double uv_scale, const py::object& progress) {
+  RenderScene sc;
+  sc.kind = parse_preview_scene(scene);
+  if (!obj.is_none()) sc.obj_path = fspath(obj);
+  if (brushing == "linear")
+    sc.brushing = Brushing::Linear;
+  else if (brushing == "rotational")
+    sc.brushing = Brushing::Rotational;
+  else
+    throw InputError("brushing must be 'linear' or 'rotational'");
+  sc.brush_angle_rad = brush_angle;
+  sc.uv_scale = uv_scale;
+  std::vector<std::shared_ptr<const Svbrdf>> mats;
+  if (py::isinstance<Brdf>(brdfs)) {
+    mats.push_back(std::make_shared<UniformSvbrdf>(brdfs.cast<std::shared_ptr<Brdf>>()));
+  } else {
+    for (auto b : brdfs.cast<py::sequence>())
+      mats.push_back(std::make_shared<UniformSvbrdf>(b.cast<std::shared_ptr<Brdf>>()));
+  }
+  RenderOptions o;
+  o.width = width > 0 ? width : size;
+  o.height = height > 0 ? height : size;
+  o.spp = spp;
+  o.max_depth = max_depth;
+  o.wavelengths = wavelengths;
+  o.seed = seed;
+  o.threads = threads;
+  if (mis == "mis")
+    o.mis = MisMode::Mis;
+  else if (mis == "brdf")
+    o.mis = MisMode::BrdfOnly;
+  else if (mis == "light")
+    o.mis = MisMode::LightOnly;
+  else
+    throw InputError("mis must be 'mis', 'brdf' or 'light'");
+  o.progress = progress_hook<double>(progress);
+  const RenderLights l =
+      lights(sc.kind, envmap, env_scale, env_rotation, white_env, point, sphere_light, disk_light);
+  auto* img = new RenderImage;
+  py::capsule owner(img, [](void* p) { delete static_cast<RenderImage*>(p); });
+  *img = call_released([&] { return render(sc, mats, l, o); });
+  return view(img->rgb.data(), {img->height, img->width, 3}, owner);
+}
+
+py::object predict_run(const py::object& inputs, const py::object& out_dir,
+                       const std::string& metal, double filter_sigma, std::size_t resolution,
+                       bool kirchhoff, double wavelength, const py::object& patch,
+                       const std::vector<double>& theta_i, const py::object& envmap,
+                       double envmap_scale, int render_width, int spp, bool no_render,
+                       const py::object& strips, double texel, std::size_t texture_size,
+                       std::uint64_t seed, int threads, const std::string& level,
+                       const py::object& spacing, const py::object& progress) {
+  PredictOptions o;
+  o.inputs = path_list(inputs);
+  o.read = read_options(spacing);
+  o.leveling = LevelingSpec::parse(level);
+  o.material = MaterialSpec::named_metal(metal);
+  o.filter_sigma_m = filter_sigma;
+  o.ndf_resolution = resolution;
+  o.kirchhoff = kirchhoff;
+  o.wavelength_m = wavelength;
+  if (auto p = length_pair(patch, "patch")) {
+    o.kirchhoff_patch_x_m = p->first;
+    o.kirchhoff_patch_y_m = p->second;
+  }
+  if (!theta_i.empty()) o.slice_theta_i_rad = theta_i;
+  if (!envmap.is_none()) o.envmap_path = fspath(envmap);
+  o.envmap_scale = envmap_scale;
+  o.render = !no_render;
+  o.render_width = render_width;
+  o.render_spp = spp;
+  if (!strips.is_none()) {
+    auto s = strips.cast<py::sequence>();
+    if (s.size() != 2) throw py::value_error("strips: (along, across), each a path or a list");
+    o.strips_along = path_list(s[0]);
+    o.strips_across = path_list(s[1]);
+  }
+  o.texel_m = texel;
+  o.texture_size = texture_size;
+  o.seed = seed;
+  o.threads = threads;
+  o.log = progress_hook<const std::string&>(progress);
+  const std::string dir = fspath(out_dir);
+  const std::string dumped = call_released([&] { return predict(o, dir).summary.dump(); });
+  return json_to_py(dumped);
+}
+
+}  // namespace
+
+void bind_render(py::module_& m) {
+  m.def("render", &render_image, py::arg("brdf"), py::arg("scene") = "cylinders",
+        py::arg("size") = 256, py::arg("width") = 0, py::arg("height") = 0, py::arg("spp") = 16,
+        py::arg("max_depth") = 6, py::arg("wavelengths") = 4, py::arg("seed") = 1,
+        py::arg("threads") = 0, py::arg("mis") = "mis", py::arg("envmap") = py::none(),
+        py::arg("env_scale") = 1.0, py::arg("env_rotation") = 0.0, py::arg("white_env") = false,
+        py::arg("point") = py::list(), py::arg("sphere_light") = py::list(),
+        py::arg("disk_light") = py::list(), py::arg("brushing") = "linear",
+        py::arg("brush_angle") = 0.0, py::arg("obj") = py::none(), py::arg("uv_scale") = 1.0,
+        py::arg("progress") = py::none(),
+        R"(Renders a BRDF on preview objects, as `microbrdf render`; returns the image.
+
+brdf: a Brdf, or a list (one per object). scene: 'cylinders' (Dong Fig. 10) | 'plate' |
+'sphere' | 'vase' | 'obj' (with obj=path) | 'furnace_sphere'. size (or width, height): pixels.
+spp: samples per pixel. wavelengths: hero wavelengths per path. seed: same seed, same image,
+any thread count. mis: 'mis' | 'brdf' | 'light'.
+Lights: envmap=path (.exr/.hdr, equirectangular) with env_scale, env_rotation (rad);
+white_env=True; point=[((x, y, z), (r, g, b)) intensity W/sr]; sphere_light=[((x, y, z), radius,
+(r, g, b))]; disk_light=[((x, y, z), (nx, ny, nz), radius, (r, g, b))] (radiance). No light:
+a white sky (the plate: Dong's disk light).
+brushing: 'linear' | 'rotational'; brush_angle (rad).
+Returns linear sRGB radiance, float32 (height, width, 3), row 0 at the top: a view on the
+renderer's buffer (no copy). Runs without the GIL; progress(fraction) is called from the
+calling thread; Ctrl-C is honoured when the image is finished.)");
+
+  m.def("predict", &predict_run, py::arg("inputs"), py::arg("out_dir"), py::arg("metal") = "Fe",
+        py::arg("filter_sigma") = 1e-6, py::arg("resolution") = 1025, py::arg("kirchhoff") = false,
+        py::arg("wavelength") = 555e-9, py::arg("patch") = py::make_tuple(70e-6, 53e-6),
+        py::arg("theta_i") = std::vector<double>{}, py::arg("envmap") = py::none(),
+        py::arg("envmap_scale") = 1.0, py::arg("render_width") = 256, py::arg("spp") = 32,
+        py::arg("no_render") = false, py::arg("strips") = py::none(), py::arg("texel") = 53e-6,
+        py::arg("texture_size") = 128, py::arg("seed") = 1, py::arg("threads") = 0,
+        py::arg("level") = "plane", py::arg("spacing") = py::none(),
+        py::arg("progress") = py::none(),
+        R"(The whole pipeline, as `microbrdf predict`: scans -> NDFs -> fits -> BRDF slices ->
+renders -> out_dir/report.html and summary.json. Returns the summary (a dict, SI units).
+
+inputs: a path (or glob, directory, @manifest) or a list. metal: optical constants of the BRDFs.
+filter_sigma (m), resolution (N), kirchhoff (also D_K), wavelength (m), patch ((dx, dy) m),
+theta_i (radians, the slices' angles of incidence), envmap, envmap_scale, render_width (pixels),
+spp, no_render, strips=(along, across) exemplar scans for the texture, texel (m),
+texture_size, seed, threads, level, spacing. progress: optional callable(str) receiving the
+progress lines. Nothing is left in out_dir when it fails; Ctrl-C interrupts between stages.)");
+}
+
+}  // namespace microbrdf::python

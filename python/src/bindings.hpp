@@ -1,0 +1,141 @@
+#pragma once
+// Pieces every binding file shares: the registration functions, (N, 3) direction arrays in and
+// out, and the guard that runs a long library call without the GIL while keeping Ctrl-C and an
+// optional Python progress callback alive.
+#include <omp.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace microbrdf::python {
+
+namespace py = pybind11;
+
+void bind_errors(py::module_& m);
+void bind_surface(py::module_& m);
+void bind_ndf(py::module_& m);
+void bind_fit(py::module_& m);
+void bind_brdf(py::module_& m);
+void bind_simulate(py::module_& m);
+void bind_render(py::module_& m);
+
+/// A float64, C-contiguous array: one that already is one is taken as it is (no copy); anything
+/// else numpy converts once (forcecast).
+using CArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// A stack of 3-vectors: shape (N, 3), or (3,) for one vector (N = 1). Reads the array in place.
+struct Vec3Array {
+  CArray array;
+  std::size_t n = 0;
+  bool single = false;  ///< the input was one vector (3,)
+  Eigen::Vector3d operator[](std::size_t i) const {
+    const double* p = array.data() + 3 * i;
+    return {p[0], p[1], p[2]};
+  }
+};
+/// Checks the shape; throws ValueError naming `what` otherwise.
+Vec3Array vec3_array(const py::handle& obj, const char* what);
+/// The count two stacks broadcast to (equal, or one of them a single vector); ValueError else.
+std::size_t broadcast_count(const Vec3Array& a, const Vec3Array& b);
+
+/// An array viewing `data` (no copy), kept alive by `owner`.
+template <class T>
+py::array view(const T* data, std::vector<py::ssize_t> shape, py::handle owner,
+               bool writable = true) {
+  py::array a(py::dtype::of<T>(), std::move(shape), {}, data, owner);
+  if (!writable)
+    py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+/// Thrown from inside a library call (through its progress hook) when Ctrl-C was pressed or the
+/// Python progress callback raised; the Python error is already set and is re-raised once the
+/// call has unwound and the GIL is back (call_released).
+struct Interrupted {};
+
+/// Progress for the library: a std::function that, when called from the thread running the
+/// call, takes the GIL, calls the user's callback (if any) with the arguments, and checks for
+/// Ctrl-C; either failing throws Interrupted (the Python error stays set). Inside an OpenMP
+/// parallel region (the renderer reports from its thread 0) an exception cannot unwind, so the
+/// failure is remembered and thrown at the next call made outside one.
+template <class... Args>
+std::function<void(Args...)> progress_hook(const py::object& callback) {
+  auto failed = std::make_shared<bool>(false);
+  return [callback, failed](Args... args) {
+    py::gil_scoped_acquire gil;
+    if (!*failed) {
+      if (!callback.is_none()) {
+        try {
+          callback(args...);
+        } catch (py::error_already_set& e) {
+          e.restore();
+          *failed = true;
+        }
+      }
+      if (!*failed && PyErr_CheckSignals() != 0) *failed = true;
+    }
+    if (*failed && !omp_in_parallel()) throw Interrupted{};
+  };
+}
+
+/// Runs `f` without the GIL; an Interrupted from a hook becomes the Python error it stands for,
+/// anything else propagates to the exception translators.
+template <class F>
+auto call_released(F&& f) -> decltype(f()) {
+  try {
+    py::gil_scoped_release release;
+    return f();
+  } catch (Interrupted&) {
+    throw py::error_already_set();
+  }
+}
+
+/// Raises KeyboardInterrupt (as Interrupted) if Ctrl-C was pressed; for loops between library
+/// calls. Takes the GIL for the check.
+void check_interrupt();
+
+/// os.fspath(obj) as a string: a str or any os.PathLike (pathlib.Path).
+std::string fspath(const py::handle& obj);
+/// Whether obj names a file (str or os.PathLike).
+bool is_path(const py::handle& obj);
+/// One path, or a sequence of paths, as strings.
+std::vector<std::string> path_list(const py::handle& obj);
+
+/// Lengths: a float in metres, or a (dx, dy) pair; nothing for None.
+std::optional<std::pair<double, double>> length_pair(const py::object& obj, const char* what);
+
+/// A Python object as JSON (dicts, lists, numbers, strings, None, bools) and back.
+py::object json_to_py(const std::string& dumped);
+
+}  // namespace microbrdf::python
+
+// ---- scans: Surface objects or paths -------------------------------------------------------
+#include "microbrdf/io.hpp"
+#include "microbrdf/level.hpp"
+#include "microbrdf/surface.hpp"
+
+namespace microbrdf::python {
+
+/// What functions taking scans accept: one Surface, one path (str or os.PathLike, which may be a
+/// glob, a directory or an @manifest, as on the command line), or a list of those.
+struct ScanInputs {
+  std::vector<std::shared_ptr<const Surface>> surfaces;  ///< in order; null where a path stands
+  std::vector<std::string> paths;                        ///< "" where a Surface stands
+  std::size_t size() const { return surfaces.size(); }
+};
+ScanInputs scan_inputs(const py::object& obj);
+ReadOptions read_options(const py::object& spacing);
+
+/// Scan i, levelled as asked: a path is read (without the GIL) and levelled in place; a
+/// Surface is used as it is for level "none", else levelled on a copy. `keep` holds the copy.
+const Surface& load_scan(const ScanInputs& in, std::size_t i, const ReadOptions& read,
+                         const LevelingSpec& level, Surface& keep);
+
+}  // namespace microbrdf::python

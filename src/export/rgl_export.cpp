@@ -1,0 +1,137 @@
+// RGL `.bsdf` writer (include/microbrdf/export.hpp; docs/measured.md).
+#include <algorithm>
+#include <cmath>
+
+#include "core/marginal2d.hpp"
+#include "microbrdf/error.hpp"
+#include "microbrdf/export.hpp"
+
+namespace microbrdf {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double u2theta(double u) { return u * u * (kPi / 2); }
+double u2phi(double u) { return (2 * u - 1) * kPi; }
+double theta2u(double t) { return std::sqrt(std::max(0.0, t) * (2 / kPi)); }
+double phi2u(double p) { return (p + kPi) / (2 * kPi); }
+Vec3 spherical(double theta, double phi) {
+  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+}
+double node(std::size_t i, std::size_t n) { return double(i) / double(n - 1); }
+
+}  // namespace
+
+std::vector<double> RglExportOptions::default_wavelengths() {
+  std::vector<double> w(25);
+  for (std::size_t i = 0; i < w.size(); ++i) w[i] = 360.0 + 470.0 * double(i) / 24.0;
+  return w;
+}
+
+TensorFile rgl_tensor(const Brdf& brdf, const MicrofacetDistribution& ndf,
+                      const RglExportOptions& o) {
+  if (o.theta_i < 2 || o.ndf_theta < 2 || o.ndf_phi < 2 || o.samples < 2 ||
+      (!o.isotropic && o.phi_i < 2))
+    throw InputError("RGL export: every grid needs at least 2 nodes");
+  if (o.wavelengths_nm.empty()) throw InputError("RGL export: no wavelengths");
+  for (std::size_t i = 0; i + 1 < o.wavelengths_nm.size(); ++i)
+    if (!(o.wavelengths_nm[i + 1] > o.wavelengths_nm[i]))
+      throw InputError("RGL export: wavelengths must increase");
+  if (!(o.theta_i_max > 0 && o.theta_i_max < kPi / 2))
+    throw InputError("RGL export: theta_i_max must lie in (0, 90) deg");
+  const std::size_t nt = o.ndf_theta, np = o.ndf_phi, ns = o.samples;
+  const std::size_t nwl = o.wavelengths_nm.size();
+  std::vector<double> theta_i(o.theta_i), phi_i(o.isotropic ? 1 : o.phi_i, 0.0);
+  for (std::size_t k = 0; k < o.theta_i; ++k) theta_i[k] = o.theta_i_max * node(k, o.theta_i);
+  if (!o.isotropic)
+    for (std::size_t k = 0; k < o.phi_i; ++k) phi_i[k] = -kPi + 2 * kPi * node(k, o.phi_i);
+  const std::size_t npi = phi_i.size(), nti = theta_i.size();
+
+  // ndf and sigma on the (u_phi rows, u_theta columns) grid.
+  std::vector<float> ndf_v(np * nt), sigma_v(np * nt);
+  for (std::size_t j = 0; j < np; ++j)
+    for (std::size_t i = 0; i < nt; ++i) {
+      const double th = u2theta(node(i, nt)), ph = u2phi(node(j, np));
+      ndf_v[j * nt + i] = static_cast<float>(ndf.D(spherical(th, ph)));
+      // sigma at the horizon: its limit from just above (projected_area is 0 at v.z = 0).
+      sigma_v[j * nt + i] =
+          static_cast<float>(ndf.projected_area(spherical(std::min(th, kPi / 2 - 1e-4), ph)));
+    }
+  const detail::Marginal2D ndf_i(ndf_v, nt, np, {}, false), sigma_i(sigma_v, nt, np, {}, false);
+
+  // vndf per incident node.
+  std::vector<float> vndf_v(npi * nti * np * nt);
+  for (std::size_t a = 0; a < npi; ++a)
+    for (std::size_t b = 0; b < nti; ++b) {
+      const Vec3 wi = spherical(theta_i[b], phi_i[a]);
+      float* out = vndf_v.data() + (a * nti + b) * np * nt;
+      for (std::size_t j = 0; j < np; ++j)
+        for (std::size_t i = 0; i < nt; ++i) {
+          const double u = node(i, nt), th = u2theta(u);
+          const Vec3 m = spherical(th, u2phi(node(j, np)) + (o.isotropic ? phi_i[a] : 0.0));
+          out[j * nt + i] =
+              static_cast<float>(std::max(0.0, ndf_i.eval({u, node(j, np)}, nullptr)) *
+                                 std::max(0.0, wi.dot(m)) * u * std::sin(th));
+        }
+    }
+  const detail::Marginal2D vndf_i(vndf_v, nt, np, {phi_i, theta_i}, true);
+
+  // spectra and luminance on the sample grid.
+  std::vector<float> spec_v(npi * nti * nwl * ns * ns), lum_v(npi * nti * ns * ns);
+#pragma omp parallel for collapse(2) schedule(dynamic)
+  for (std::size_t a = 0; a < npi; ++a)
+    for (std::size_t b = 0; b < nti; ++b) {
+      const Vec3 wi = spherical(theta_i[b], phi_i[a]);
+      const double params[2] = {phi_i[a], theta_i[b]};
+      const double sig = sigma_i.eval({theta2u(theta_i[b]), phi2u(phi_i[a])}, nullptr);
+      float* lum = lum_v.data() + (a * nti + b) * ns * ns;
+      double lmax = 0;
+      for (std::size_t j = 0; j < ns; ++j)
+        for (std::size_t i = 0; i < ns; ++i) {
+          const auto u_m = vndf_i.sample({node(i, ns), node(j, ns)}, params).first;
+          const Vec3 m = spherical(u2theta(u_m[0]), u2phi(u_m[1]) + (o.isotropic ? phi_i[a] : 0.0));
+          const Vec3 wo = 2 * wi.dot(m) * m - wi;
+          const double d = ndf_i.eval(u_m, nullptr);
+          double ysum = 0;
+          for (std::size_t w = 0; w < nwl; ++w) {
+            double r = 0;
+            if (wo.z() > 0 && wi.dot(m) > 0 && d > 0 && sig > 0) {
+              r = brdf.eval(wi, wo, o.wavelengths_nm[w] * 1e-9) * wo.z() * 4 * sig / d;
+              if (!std::isfinite(r) || r < 0) r = 0;
+            }
+            spec_v[(((a * nti + b) * nwl + w) * ns + j) * ns + i] = static_cast<float>(r);
+            ysum += r;
+          }
+          lum[j * ns + i] = static_cast<float>(ysum / double(nwl));
+          lmax = std::max(lmax, ysum / double(nwl));
+        }
+      for (std::size_t k = 0; k < ns * ns; ++k)
+        lum[k] = lmax > 0 ? std::max(lum[k], static_cast<float>(1e-4 * lmax)) : 1.0f;
+    }
+
+  TensorFile f;
+  const std::vector<std::uint8_t> desc(o.description.begin(), o.description.end());
+  const std::uint8_t one = 1;
+  const std::vector<double> wl(o.wavelengths_nm);
+  f.fields.push_back(TensorField::uint8("description", {desc.size()}, desc));
+  f.fields.push_back(TensorField::uint8("jacobian", {1}, std::span<const std::uint8_t>(&one, 1)));
+  f.fields.push_back(TensorField::float32("theta_i", {nti}, std::span<const double>(theta_i)));
+  f.fields.push_back(TensorField::float32("phi_i", {npi}, std::span<const double>(phi_i)));
+  f.fields.push_back(TensorField::float32("ndf", {np, nt}, std::span<const float>(ndf_v)));
+  f.fields.push_back(TensorField::float32("sigma", {np, nt}, std::span<const float>(sigma_v)));
+  f.fields.push_back(
+      TensorField::float32("vndf", {npi, nti, np, nt}, std::span<const float>(vndf_v)));
+  f.fields.push_back(
+      TensorField::float32("luminance", {npi, nti, ns, ns}, std::span<const float>(lum_v)));
+  f.fields.push_back(
+      TensorField::float32("spectra", {npi, nti, nwl, ns, ns}, std::span<const float>(spec_v)));
+  f.fields.push_back(TensorField::float32("wavelengths", {nwl}, std::span<const double>(wl)));
+  return f;
+}
+
+void write_rgl_bsdf(const Brdf& brdf, const MicrofacetDistribution& ndf,
+                    const RglExportOptions& options, const std::string& path) {
+  write_tensor_file(rgl_tensor(brdf, ndf, options), path);
+}
+
+}  // namespace microbrdf
