@@ -15,6 +15,10 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
+#include "microbrdf/json_read.hpp"
+#include "microbrdf/memory_budget.hpp"
+#include "microbrdf/microscene.hpp"
+#include "microbrdf/ndf_io.hpp"
 #include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/texture.hpp"
 #include "render/envmap.hpp"
@@ -39,8 +43,79 @@ const std::string& scratch_path() {
 }  // namespace
 #endif
 
+#ifdef FUZZ_SIDECAR
+namespace {
+/// A scratch folder (in /dev/shm when it exists) holding a valid height map h.npy and NDF
+/// table n.npy; each input becomes both of their JSON sidecars.
+const std::string& scratch_dir() {
+  static const std::string dir = [] {
+    std::string tmpl =
+        (access("/dev/shm", W_OK) == 0 ? std::string("/dev/shm") : std::string(P_tmpdir)) +
+        "/microbrdf-fuzz-sidecar-XXXXXX";
+    if (!mkdtemp(tmpl.data())) std::abort();
+    microbrdf::Surface s(8, 8, 1e-6, 1e-6);
+    for (std::size_t i = 0; i < s.z.size(); ++i) s.z[i] = 1e-8 * double(i % 5);
+    s.sync_mask();
+    microbrdf::write_surface(s, tmpl + "/h.npy");
+    microbrdf::TabulatedNdf ndf(9);
+    for (double& v : ndf.values()) v = 1;
+    ndf.clear_outside_disk();
+    ndf.normalise();
+    microbrdf::write_ndf(ndf, tmpl + "/n.npy");
+    std::atexit([] {
+      for (const char* f : {"/h.npy", "/h.json", "/n.npy", "/n.json", ""})
+        std::remove((scratch_dir() + f).c_str());
+    });
+    return tmpl;
+  }();
+  return dir;
+}
+void write_scratch(const std::string& path, const std::uint8_t* data, std::size_t size) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f || std::fwrite(data, 1, size, f) != size || std::fclose(f) != 0) std::abort();
+}
+}  // namespace
+#endif
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  // What a reader may allocate, as in a run with --max-memory 512M: a fuzzer input that asks
+  // for more must be refused with a message, not grow to the fuzzer's RSS limit.
+  microbrdf::set_memory_budget(std::uint64_t{512} << 20);
+  return 0;
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-#if defined(FUZZ_HDR)
+#if defined(FUZZ_SCENE)
+  // A micro-scene JSON: parsed with the depth limit, interpreted (objects built, no tracing).
+  try {
+    const auto j = microbrdf::parse_json_text(
+        std::string_view(reinterpret_cast<const char*>(data), size), "fuzz-scene.json", true);
+    const auto d = microbrdf::parse_micro_scene(j, "/nonexistent-fuzz-dir", "fuzz-scene.json");
+    if (!(d.width > 0) || !(d.height > 0)) __builtin_trap();
+  } catch (const microbrdf::FileError&) {
+  } catch (const microbrdf::InputError&) {
+  }
+  return 0;
+#elif defined(FUZZ_SIDECAR)
+  // JSON sidecars: the spacing sidecar of a .npy height map and the metadata of an NDF table.
+  const std::string& dir = scratch_dir();
+  write_scratch(dir + "/h.json", data, size);
+  write_scratch(dir + "/n.json", data, size);
+  try {
+    const auto s = microbrdf::read_surface(dir + "/h.npy");
+    s.check();
+    if (!(s.dx > 0) || !(s.dy > 0)) __builtin_trap();
+  } catch (const microbrdf::FileError&) {
+  } catch (const microbrdf::InputError&) {
+  }
+  try {
+    const auto ndf = microbrdf::read_ndf(dir + "/n.npy");
+    if (ndf.resolution() != 9) __builtin_trap();
+  } catch (const microbrdf::FileError&) {
+  } catch (const microbrdf::InputError&) {
+  }
+  return 0;
+#elif defined(FUZZ_HDR)
   // The Radiance .hdr environment-map reader: what it accepts must be a consistent image.
   try {
     const std::vector<std::uint8_t> bytes(data, data + size);

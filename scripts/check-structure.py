@@ -34,10 +34,11 @@ LAYERS = {
 PUBLIC_HEADERS = {
     # core: errors, units, files, images, numbers
     "error": "core", "units": "core", "atomic_file": "core", "image": "core", "vec3": "core",
-    "quadrature": "core", "plot": "plot",
+    "quadrature": "core", "plot": "plot", "distribute": "core", "json_read": "core",
+    "file_read": "core", "memory_budget": "core", "interrupt": "core", "threads": "core",
     # surface: height maps, their files, statistics, levelling, generators, previews
     "surface": "surface", "io": "surface", "level": "surface", "generate": "surface",
-    "statistics": "surface", "scanset": "surface", "height_preview": "surface",
+    "statistics": "surface", "scanset": "surface", "ndf_scanset": "ndf", "height_preview": "surface",
     # ndf: tabulated distributions of normals and how they are estimated, stored and drawn
     "tabulated_ndf": "ndf", "ndf_estimate": "ndf", "ndf_io": "ndf", "ndf_preview": "ndf",
     "ndf_sampler": "ndf", "ndf_convolve": "ndf", "kirchhoff": "ndf",

@@ -9,7 +9,7 @@ mkdir -p "$work/corpus"
 [ -d "$seeds" ] && cp -r "$seeds"/. "$work/corpus/" 2>/dev/null || true
 cd "$work"
 echo "fuzzing $(basename "$fuzzer") for ${secs}s (scratch: $work)"
-"$fuzzer" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+"$fuzzer" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=262144 \
   -print_final_stats=1 corpus 2>fuzz.log || { tail -n 60 fuzz.log; echo "FUZZ FAILURE: reproducer in $work"; exit 1; }
 grep -E "stat::number_of_executed_units|stat::peak_rss_mb" fuzz.log || true
 rm -rf "$work"

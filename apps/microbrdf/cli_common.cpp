@@ -38,6 +38,35 @@ ReadOptions read_options(const ReadFlags& flags) {
   return o;
 }
 
+namespace {
+void warn_if_sparse(const std::string& path, std::size_t valid, std::size_t nx, std::size_t ny) {
+  const double f = double(valid) / double(std::max<std::size_t>(1, nx * ny));
+  if (f < kSparseValidFraction)
+    std::fprintf(stderr,
+                 "microbrdf: %s: warning: only %.3g%% of the samples are valid (%zu of %zu x "
+                 "%zu); statistics rest on few points\n",
+                 path.c_str(), 100 * f, valid, nx, ny);
+}
+
+}  // namespace
+
+void SampleTally::add(const std::string& path, const nlohmann::json& scan) {
+  const auto nx = scan.at("nx").get<std::size_t>(), ny = scan.at("ny").get<std::size_t>();
+  const auto valid = scan.at("valid").get<std::size_t>();
+  all += nx * ny;
+  invalid += nx * ny - valid;
+  warn_if_sparse(path, valid, nx, ny);
+}
+
+void SampleTally::print(const char* command) const {
+  std::fprintf(stderr, "microbrdf %s: %zu of %zu height samples invalid (%.3g%%), skipped\n",
+               command, invalid, all, all ? 100.0 * double(invalid) / double(all) : 0.0);
+}
+
+void warn_if_sparse(const std::string& path, const Surface& s) {
+  warn_if_sparse(path, s.valid_count(), s.nx, s.ny);
+}
+
 std::vector<std::string> scan_inputs(const std::vector<std::string>& inputs) {
   auto paths = expand_scan_inputs(inputs);
   Preflight pre;
@@ -50,7 +79,8 @@ Surface load_surface(const std::string& path, const ReadFlags& flags, std::strin
   auto spec = LevelingSpec::parse(flags.level);  // validate before the (maybe long) read
   Preflight().input("input", path).done();
   Surface s = read_surface(path, read_options(flags));
-  auto r = level_surface(s, spec);
+  warn_if_sparse(path, s);
+  auto r = about_file(path, [&] { return level_surface(s, spec); });
   if (report) *report = r.description;
   return s;
 }

@@ -31,7 +31,7 @@ void run(const FitArgs& a) {
   if (a.subsamples < 0 || a.subsamples > 8) throw InputError("--subsamples must lie in 0..8");
   o.tent_subsamples = a.subsamples;
   const TabulatedNdf ndf = read_ndf(a.input);
-  const FitResult r = fit_ndf(ndf, o);
+  const FitResult r = about_file(a.input, [&] { return fit_ndf(ndf, o); });
   if (!a.report.empty()) write_fit_report(ndf, r, a.report);
   if (a.json) {
     nlohmann::json j = fit_result_json(r);

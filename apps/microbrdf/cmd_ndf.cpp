@@ -172,9 +172,11 @@ void run(const NdfArgs& a) {
     throw InputError("--resolution must be in 17..8193");
   auto paths = scan_inputs(a.inputs);
   bool warned = false;
+  SampleTally tally;
   ScanSetOptions set = scan_set_options(a, paths.size());
   set.on_scan = [&](std::size_t i, const std::string& path, const nlohmann::json& scan) {
     progress("ndf", i, paths.size(), path);
+    tally.add(path, scan);
     const double d = std::max(scan.at("dx_m").get<double>(), scan.at("dy_m").get<double>());
     if (o.method == NdfMethod::Filtered && !warned && o.filter_sigma_m < d) {
       std::fprintf(stderr,
@@ -199,9 +201,11 @@ void run(const NdfArgs& a) {
   write_outputs(ndf, a);
   if (a.json) {
     auto j = ndf_json(ndf, a.output);
+    j["samples_invalid"] = tally.invalid;  // height samples the scans mark invalid
     j["mpi"] = stats.to_json("scans_per_rank");
     print_json(j);
   } else {
+    tally.print("ndf");
     std::fprintf(stderr,
                  "microbrdf ndf: %s NDF of %zu scan(s) -> %s (%zu x %zu); %zu elements used, %zu "
                  "skipped; rms slope x "

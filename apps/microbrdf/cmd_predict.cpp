@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "cli_threads.hpp"
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
@@ -68,7 +69,7 @@ void run(const PredictArgs& a) {
   o.texel_m = parse_length(a.texel);
   o.texture_size = a.texture_size;
   o.seed = a.seed;
-  o.threads = a.threads;
+  o.threads = bounded_threads("predict", a.threads);
   if (!a.quiet)
     o.log = [](const std::string& line) {
       std::fprintf(stderr, "microbrdf predict: %s\n", line.c_str());

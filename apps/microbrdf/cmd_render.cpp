@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "cli_threads.hpp"
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/render.hpp"
@@ -139,7 +140,7 @@ void run(RenderArgs& a) {
   opt.max_depth = a.max_depth;
   opt.wavelengths = a.wavelengths;
   opt.seed = a.seed;
-  opt.threads = a.threads;
+  opt.threads = bounded_threads("render", a.threads);
   opt.exposure = a.exposure;
   if (a.mis == "mis")
     opt.mis = MisMode::Mis;

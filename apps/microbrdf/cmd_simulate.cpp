@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "cli_threads.hpp"
 #include "commands.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
@@ -48,13 +49,15 @@ void run_sh(const SimArgs& a, const MicroScene& scene) {
   o.points = a.points;
   o.trace = trace_options(a);
   o.seed = a.seed;
-  o.threads = a.threads;
+  o.threads = bounded_threads("simulate", a.threads);
   o.stratify = !a.independent;
   if (!a.time.empty()) {
     o.time_limit_s = parse_seconds(a.time);
     if (!(o.time_limit_s > 0)) throw InputError("--time must be positive");
   } else {
-    if (a.points < 1) throw InputError("--points must be >= 1");
+    if (a.rays < 1) throw InputError("--rays must be >= 1");
+    if (a.points < 1 || std::uint64_t(a.points) > a.rays)
+      throw InputError("--points must lie in 1..--rays (" + std::to_string(a.rays) + ")");
     o.incident_directions = std::max<std::uint64_t>(1, a.rays / std::uint64_t(a.points));
   }
   Progress progress("simulate", a.quiet);

@@ -34,7 +34,8 @@ TraceOptions trace_options(const SimArgs& a) {
   TraceOptions t;
   t.branches = a.branches;
   t.max_depth = a.max_depth;
-  if (a.branches < 1) throw InputError("--branches must be >= 1");
+  if (a.branches < 1 || a.branches > kMaxBranches)
+    throw InputError("--branches must lie in 1.." + std::to_string(kMaxBranches));
   if (a.max_depth < 1) throw InputError("--max-depth must be >= 1");
   return t;
 }

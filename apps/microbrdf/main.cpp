@@ -5,8 +5,14 @@
 
 #include "commands.hpp"
 #include "microbrdf/distribute.hpp"
+#include "microbrdf/error.hpp"
+#include "microbrdf/interrupt.hpp"
+#include "microbrdf/memory_budget.hpp"
 
 int main(int argc, char** argv) {
+  // First, before any thread exists (MPI's included): SIGINT / SIGTERM remove temporaries and
+  // exit 130 / 143.
+  microbrdf::install_interrupt_cleanup();
   // MPI only under mpirun (docs/scale.md); finalised when main returns.
   microbrdf::MpiSession mpi(argc, argv);
   CLI::App app{
@@ -14,6 +20,21 @@ int main(int argc, char** argv) {
       "Lengths take units (110nm, 1um); angles are degrees unless marked (0.05rad)."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "microbrdf 0.1.0");
+  app.add_option_function<std::string>(
+         "--max-memory",
+         [](const std::string& v) {
+           try {
+             microbrdf::set_memory_budget(microbrdf::parse_byte_size(v));
+           } catch (const microbrdf::InputError& e) {
+             throw CLI::ValidationError("--max-memory", e.what());
+           }
+         },
+         "Most memory one input may make the tool allocate (e.g. 2G, 512M); default: half the "
+         "physical memory, and at most 64x the size of the file (or 256 MiB) for what a file "
+         "expands to")
+      ->envname("MICROBRDF_MAX_MEMORY")
+      ->trigger_on_parse();
+  app.fallthrough();
   microbrdf::cli::register_all(app);
   try {
     app.parse(argc, argv);

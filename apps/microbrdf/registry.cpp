@@ -1,10 +1,14 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <new>
+#include <stdexcept>
 
 #include "commands.hpp"
+#include "microbrdf/atomic_file.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/memory_budget.hpp"
 
 namespace microbrdf::cli {
 namespace {
@@ -34,6 +38,19 @@ int report(const char* command, std::string* message) {
     std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
     *message = buf + std::string(e.what());
     return 2;
+  } catch (const std::bad_alloc&) {
+    // Readers check the memory budget before they allocate; this is what is left (a large
+    // but legitimate job on a small machine).
+    std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
+    *message = buf + std::string("out of memory (budget ") + format_bytes(memory_budget()) +
+               "; --max-memory sets it; try a smaller input, resolution or thread count)";
+    return 1;
+  } catch (const std::length_error&) {
+    std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
+    *message = buf + std::string(
+                         "a size beyond what can be allocated was asked for (an absurd count or "
+                         "dimension in the input)");
+    return 1;
   } catch (const std::exception& e) {
     std::snprintf(buf, sizeof buf, "microbrdf %s: internal error: ", command);
     *message = buf + std::string(e.what());
@@ -67,7 +84,9 @@ void run_guarded(const char* command, const std::function<void()>& body) {
     mpi_set_solo(true);  // library calls that could spread work keep it on this rank
   }
   try {
+    OutputGroup outputs;  // every file the command writes: all committed at the end, or none
     body();
+    outputs.commit();
   } catch (...) {
     std::string message;
     const int code = report(command, &message);

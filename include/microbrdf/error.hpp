@@ -26,4 +26,16 @@ class FileError : public std::runtime_error {
   std::string problem_;
 };
 
+/// Runs `f` on the data of the file at `path`: an InputError it raises (a property of that
+/// data: too few valid samples, no normal, no mass) becomes FileError(path, message), so the
+/// user learns which file it is about.
+template <class F>
+auto about_file(const std::string& path, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw FileError(path, e.what());
+  }
+}
+
 }  // namespace microbrdf

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/file_read.hpp"
 #include "microbrdf/surface.hpp"
 
 namespace microbrdf {
@@ -63,8 +64,5 @@ std::string format_name(SurfaceFormat format);
 bool format_can_write(SurfaceFormat format);
 /// Whether the format needs ReadOptions::dx/dy (no spacing stored).
 bool format_needs_spacing(SurfaceFormat format);
-
-/// Reads a whole file into memory, refusing files over `max_bytes`. Throws FileError.
-std::vector<std::uint8_t> read_file_bytes(const std::string& path, std::uint64_t max_bytes);
 
 }  // namespace microbrdf

@@ -90,12 +90,16 @@ struct MicroSceneDesc {
 
 // --- Builders (they append to desc.capsules; all lengths in metres, angles in radians) -------
 
+/// Most capsules one scene may hold: counts come from files, and each capsule costs about
+/// 256 bytes once the ray-tracing structures are built (the memory budget applies too).
+inline constexpr std::int64_t kMaxSceneObjects = std::int64_t{1} << 25;
+
 /// Parallel cylinders along the scene's x axis (y when `along_y`), `count` of them across the
 /// tile (the pitch is the tile size / count so the array is periodic), axes at height z_axis,
 /// each shifted across by a uniform random amount in [-jitter, jitter] * pitch. Other
 /// orientations: turn the whole scene (MicroSceneDesc::rotation).
-void add_cylinders(MicroSceneDesc& d, double radius, int count, double z_axis, double jitter,
-                   std::uint64_t seed, int material, bool along_y = false);
+void add_cylinders(MicroSceneDesc& d, double radius, std::int64_t count, double z_axis,
+                   double jitter, std::uint64_t seed, int material, bool along_y = false);
 /// Spheres on a square grid of `pitch` (tile / pitch must be a whole number), centres at z,
 /// jittered by [-jitter, jitter] * pitch in x and y.
 void add_spheres(MicroSceneDesc& d, double radius, double pitch, double z, double jitter,
@@ -104,7 +108,7 @@ void add_spheres(MicroSceneDesc& d, double radius, double pitch, double z, doubl
 /// length `length`, tilted from the normal by tilt +- tilt_spread (uniform) towards azimuth
 /// tilt_azimuth +- azimuth_spread.
 struct FiberParams {
-  int count = 400;
+  std::int64_t count = 400;
   double radius = 5e-6, length = 300e-6;
   double tilt = 0.17, tilt_spread = 0.1, tilt_azimuth = 0, azimuth_spread = M_PI;
   std::uint64_t seed = 1;
@@ -117,7 +121,7 @@ void add_fibers(MicroSceneDesc& d, const FiberParams& p);
 /// must be a whole even number of pitches.
 struct WeaveParams {
   double pitch = 200e-6, radius = 50e-6, crimp = 50e-6;
-  int segments_per_pitch = 12;
+  std::int64_t segments_per_pitch = 12;
   int warp_material = 0, weft_material = 0;
 };
 void add_weave(MicroSceneDesc& d, const WeaveParams& p);

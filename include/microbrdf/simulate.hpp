@@ -40,8 +40,13 @@ class SimRng {
   std::uint64_t s_;
 };
 
+/// Bounds on the counts a user sets (each path keeps its branches on a stack; a direction's
+/// points are traced before the next direction starts).
+inline constexpr int kMaxBranches = 4096;
+inline constexpr int kMaxPointsPerDirection = 1 << 20;
+
 struct TraceOptions {
-  int branches = 1;     ///< N_b: rays spawned at the first diffuse event of a path
+  int branches = 1;     ///< N_b: rays spawned at the first diffuse event of a path (1..4096)
   int max_depth = 100;  ///< scattering events before a path is cut (reported)
   int rr_depth = 6;     ///< Russian roulette from this many events on
 };

@@ -11,6 +11,8 @@
 #include "core/byte_reader.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_read.hpp"
+#include "microbrdf/json_read.hpp"
 #include "microbrdf/sh_basis.hpp"
 #include "microbrdf/sh_brdf.hpp"
 
@@ -65,12 +67,9 @@ ShBrdf ShBrdf::load_bytes(std::span<const std::uint8_t> bytes, const std::string
   const auto hlen = r.le<std::uint32_t>(8, "header length");
   if (hlen > kMaxHeader) r.fail("corrupt: JSON header length " + std::to_string(hlen));
   auto hb = r.bytes(12, hlen, "JSON header");
-  nlohmann::json h;
-  try {
-    h = nlohmann::json::parse(hb.begin(), hb.end());
-  } catch (const nlohmann::json::exception& e) {
-    r.fail(std::string("corrupt JSON header: ") + e.what());
-  }
+  // Depth-limited: the header's "meta" is copied into the BRDF.
+  nlohmann::json h =
+      parse_json_text(std::string_view(reinterpret_cast<const char*>(hb.data()), hb.size()), name);
   if (!h.is_object()) r.fail("corrupt: the JSON header is not an object");
   auto get_int = [&](const char* key) -> long long {
     auto it = h.find(key);
@@ -111,12 +110,8 @@ ShBrdf ShBrdf::load_bytes(std::span<const std::uint8_t> bytes, const std::string
 }
 
 ShBrdf ShBrdf::load(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path, "cannot open for reading");
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                  std::istreambuf_iterator<char>());
-  if (in.bad()) throw FileError(path, "read error");
-  return load_bytes(bytes, path);
+  // A regular file (a FIFO would block), checked against the memory budget.
+  return load_bytes(read_file_bytes(path, std::uint64_t{1} << 34), path);
 }
 
 }  // namespace microbrdf

@@ -8,34 +8,99 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/interrupt.hpp"
 
 namespace microbrdf {
 
 namespace {
 std::atomic<unsigned> g_counter{0};
+std::atomic<OutputGroup*> g_group{nullptr};
+std::mutex g_group_mutex;
+
+void remove_temporary(const std::string& temp) {
+  std::error_code ec;
+  std::filesystem::remove(temp, ec);
+  unregister_temporary(temp);
 }
+}  // namespace
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   temp_ = path_ + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(g_counter++);
+  register_temporary(temp_);
 }
 
 AtomicFile::~AtomicFile() {
-  if (!committed_) {
-    std::error_code ec;
-    std::filesystem::remove(temp_, ec);
-  }
+  if (!committed_) remove_temporary(temp_);
 }
 
 void AtomicFile::commit() {
-  if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
-    std::string why = std::strerror(errno);
-    std::error_code ec;
-    std::filesystem::remove(temp_, ec);
-    throw FileError(path_, "cannot write: " + why);
+  {
+    std::lock_guard lock(g_group_mutex);
+    if (OutputGroup* g = g_group.load()) {
+      g->adopt(temp_, path_);
+      committed_ = true;
+      return;
+    }
   }
+  without_interrupts([&] {
+    if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
+      std::string why = std::strerror(errno);
+      remove_temporary(temp_);
+      throw FileError(path_, "cannot write: " + why);
+    }
+    unregister_temporary(temp_);
+  });
   committed_ = true;
+}
+
+OutputGroup::OutputGroup() {
+  std::lock_guard lock(g_group_mutex);
+  g_group.store(this);
+}
+
+OutputGroup::~OutputGroup() {
+  {
+    std::lock_guard lock(g_group_mutex);
+    if (g_group.load() == this) g_group.store(nullptr);
+  }
+  if (!done_)
+    for (const auto& [temp, path] : staged_) remove_temporary(temp);
+}
+
+void OutputGroup::adopt(const std::string& temp, const std::string& path) {
+  staged_.emplace_back(temp, path);
+}
+
+void OutputGroup::commit() {
+  {
+    std::lock_guard lock(g_group_mutex);
+    if (g_group.load() == this) g_group.store(nullptr);
+  }
+  done_ = true;
+  without_interrupts([&] {
+    for (std::size_t i = 0; i < staged_.size(); ++i) {
+      const auto& [temp, path] = staged_[i];
+      if (std::rename(temp.c_str(), path.c_str()) != 0) {
+        const std::string why = std::strerror(errno);
+        for (std::size_t k = i; k < staged_.size(); ++k) remove_temporary(staged_[k].first);
+        throw FileError(path, "cannot write: " + why);
+      }
+      unregister_temporary(temp);
+    }
+  });
+}
+
+OutputGroup::Bypass::Bypass() {
+  std::lock_guard lock(g_group_mutex);
+  saved_ = g_group.exchange(nullptr);
+}
+
+OutputGroup::Bypass::~Bypass() {
+  std::lock_guard lock(g_group_mutex);
+  g_group.store(saved_);
 }
 
 void write_file_atomic(const std::string& path, std::span<const std::uint8_t> bytes) {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_read.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "models/tables.hpp"
 
@@ -97,6 +98,7 @@ OpticalConstants constant_index(double n, double k) {
 }
 
 OpticalConstants read_optical_constants_csv(const std::string& path) {
+  require_regular_file(path);  // a FIFO or device would block or never end
   std::ifstream in(path);
   if (!in) throw FileError(path, "cannot open");
   std::string line;

@@ -88,9 +88,17 @@ void NdfAccumulator::merge(const NdfScanPartial& p) {
 void NdfAccumulator::add(const Surface& s) { merge(estimate(s)); }
 
 TabulatedNdf NdfAccumulator::result() const {
-  if (!(acc_.meta.projected_area_m2 > 0))
-    throw InputError(
-        "no normal could be estimated (every element touches an invalid sample or lacks support)");
+  if (!(acc_.meta.projected_area_m2 > 0)) {
+    const char* why =
+        "no normal could be estimated (every element touches an invalid sample or lacks support)";
+    if (acc_.meta.sources.empty()) throw InputError(why);
+    // The scans are the problem: name them (the first few).
+    std::string names;
+    for (std::size_t i = 0; i < acc_.meta.sources.size() && i < 3; ++i)
+      names += (i ? ", " : "") + acc_.meta.sources[i];
+    if (acc_.meta.sources.size() > 3) names += ", ...";
+    throw FileError(names, why);
+  }
   TabulatedNdf out = acc_;
   // Rim splats can reach nodes just outside the unit disk, where D is 0 by convention.
   out.clear_outside_disk();

@@ -30,6 +30,7 @@
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
+#include "microbrdf/json_read.hpp"
 
 namespace microbrdf {
 namespace fs = std::filesystem;
@@ -75,6 +76,21 @@ void validate(const std::string& path, std::size_t rows, std::size_t cols,
                                 std::to_string(i % cols) + " is " +
                                 (std::isfinite(v[i]) ? "negative" : "infinite"));
   }
+  // Finite values whose sum overflows (1e308 everywhere) cannot be normalised, nor can a
+  // table with nothing inside the unit disk (the only part that counts).
+  double sum = 0, inside = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    sum += v[i];
+    const double mx = -1 + 2 * double(i % cols) / double(cols - 1);
+    const double my = -1 + 2 * double(i / cols) / double(rows - 1);
+    if (mx * mx + my * my < 1) inside += v[i];
+  }
+  if (!std::isfinite(sum))
+    throw FileError(path,
+                    "NDF values are so large that their integral overflows (not a "
+                    "normalisable table)");
+  if (!(inside > 0))
+    throw FileError(path, "the NDF table holds no positive value inside the unit disk");
 }
 
 void check_writable(const TabulatedNdf& ndf, const std::string& path, bool as_float) {
@@ -110,16 +126,7 @@ nlohmann::json metadata_json(const TabulatedNdf& ndf) {
 }
 
 void read_sidecar(const std::string& side, std::size_t resolution, NdfMetadata& m) {
-  nlohmann::json j;
-  try {
-    std::ifstream in(side);
-    if (!in) throw FileError(side, "cannot open sidecar");
-    j = nlohmann::json::parse(in);
-  } catch (const FileError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw FileError(side, std::string("invalid JSON sidecar: ") + e.what());
-  }
+  const nlohmann::json j = read_json_file(side);
   if (!j.is_object()) throw FileError(side, "JSON sidecar is not an object");
   auto bad = [&](const char* key, const char* what) {
     throw FileError(side, std::string("'") + key + "' must be " + what);
@@ -256,9 +263,7 @@ void write_exr_ndf(const TabulatedNdf& ndf, const std::string& path) {
 }
 
 TabulatedNdf read_exr_ndf(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw FileError(path, "no such file");
-  if (fs::is_directory(path, ec)) throw FileError(path, "is a directory, not a file");
+  require_regular_file(path);
   try {
     Imf::InputFile file(path.c_str(), 0);
     const Imf::Header& h = file.header();

@@ -9,8 +9,12 @@ namespace microbrdf {
 namespace {
 
 nlohmann::json scan_info(const Surface& s) {
-  return {
-      {"nx", s.nx}, {"ny", s.ny}, {"dx_m", s.dx}, {"dy_m", s.dy}, {"leveling", s.meta.leveling}};
+  return {{"nx", s.nx},
+          {"ny", s.ny},
+          {"dx_m", s.dx},
+          {"dy_m", s.dy},
+          {"valid", s.valid_count()},
+          {"leveling", s.meta.leveling}};
 }
 
 // Table rows [first, last] holding a non-zero value, appended after `head` numbers; the empty
@@ -121,9 +125,12 @@ std::optional<NdfAccumulator> accumulate_ndf_scans(const std::vector<std::string
   NdfAccumulator acc(options);
   WorkStats st = distribute_scans(
       paths, set.read,
-      [&](std::size_t, const std::string&, Surface& s) {
-        level_surface(s, set.leveling);
-        return pack_partial(acc.estimate(s), scan_info(s));
+      [&](std::size_t, const std::string& path, Surface& s) {
+        // Errors about the data (too few valid samples, no normal) name the scan.
+        return about_file(path, [&] {
+          level_surface(s, set.leveling);
+          return pack_partial(acc.estimate(s), scan_info(s));
+        });
       },
       [&](std::size_t i, WorkResult&& r) {
         report(set, i, paths, r);
@@ -143,8 +150,8 @@ std::optional<KirchhoffAccumulator> accumulate_kirchhoff_scans(
   KirchhoffAccumulator acc(options);
   WorkStats st = distribute_scans(
       paths, set.read,
-      [&](std::size_t i, const std::string&, Surface& s) {
-        level_surface(s, set.leveling);
+      [&](std::size_t i, const std::string& path, Surface& s) {
+        about_file(path, [&] { level_surface(s, set.leveling); });
         KirchhoffOptions o = options;
         o.progress = nullptr;
         if (local && options.progress)

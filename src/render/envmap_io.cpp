@@ -154,6 +154,7 @@ RgbFloatImage read_exr_rgb(const std::string& path) {
     Imf::Header::setMaxImageSize(kMaxSide, kMaxSide);
     Imf::Header::setMaxTileSize(1 << 14, 1 << 14);
   });
+  require_regular_file(path);
   try {
     Imf::InputFile file(path.c_str(), 0);
     const Imf::Header& hdr = file.header();

@@ -24,6 +24,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/spectrum.hpp"
+#include "microbrdf/threads.hpp"
 #include "render/lights.hpp"
 #include "render/material.hpp"
 #include "render/scene.hpp"
@@ -214,7 +215,7 @@ RenderImage render(const RenderScene& scene,
   const int n = opt.wavelengths;
   std::atomic<int> rows_done{0};
   std::uint64_t rays = 0;
-  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  const int threads = resolve_thread_count(opt.threads);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : rays)
   for (int y = 0; y < opt.height; ++y) {
     for (int x = 0; x < opt.width; ++x) {

@@ -17,6 +17,7 @@
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/interrupt.hpp"
 #include "microbrdf/material_spec.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
@@ -52,6 +53,7 @@ class Staging {
     if (ec) throw FileError(parent.string(), "cannot create the folder: " + ec.message());
     const std::string stem = target_.filename().string();
     tmp_ = parent / ("." + stem + ".partial-" + std::to_string(::getpid()));
+    register_temporary(tmp_.string());  // removed on SIGINT / SIGTERM too
     fs::remove_all(tmp_, ec);
     fs::create_directories(tmp_ / "img", ec);
     if (ec) throw FileError(tmp_.string(), "cannot create the staging folder: " + ec.message());
@@ -60,12 +62,19 @@ class Staging {
     if (!committed_) {
       std::error_code ec;
       fs::remove_all(tmp_, ec);
+      unregister_temporary(tmp_.string());
     }
   }
   Staging(const Staging&) = delete;
   Staging& operator=(const Staging&) = delete;
   const fs::path& dir() const { return tmp_; }
+  // The swap runs with interrupts held off: an interrupt never leaves the target moved aside.
   void commit() {
+    without_interrupts([&] { swap_in(); });
+  }
+
+ private:
+  void swap_in() {
     std::error_code ec;
     if (!replaceable(target_))
       throw FileError(target_.string(), "exists and is not a predict output; not replaced");
@@ -83,10 +92,10 @@ class Staging {
       throw FileError(target_.string(), "cannot rename the staging folder: " + ec.message());
     }
     committed_ = true;
+    unregister_temporary(tmp_.string());
     if (!old.empty()) fs::remove_all(old, ec);
   }
 
- private:
   fs::path target_, tmp_;
   bool committed_ = false;
 };
@@ -205,7 +214,9 @@ void check_predict_options(const PredictOptions& o) {
   check_inputs_exist(paths, "scan");
 }
 
-PredictResult predict(const PredictOptions& o, const std::string& out_dir_given) {
+namespace {
+
+PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir_given) {
   const auto t_start = Clock::now();
   check_predict_options(o);
   // "out/" names the folder "out": the staging folder goes beside it, not into it.
@@ -225,6 +236,7 @@ PredictResult predict(const PredictOptions& o, const std::string& out_dir_given)
   const auto paths = expand_scan_inputs(o.inputs);
 
   Staging staging{fs::path(out_dir)};
+  const OutputGroup::Bypass whole_folder;  // the staging folder is the commit unit
   report::Context c{o, staging.dir()};
   nlohmann::json timing = nlohmann::json::object();
   nlohmann::json summary;
@@ -276,6 +288,25 @@ PredictResult predict(const PredictOptions& o, const std::string& out_dir_given)
   r.summary_path = (fs::path(out_dir) / "summary.json").string();
   r.summary = std::move(summary);
   return r;
+}
+
+}  // namespace
+
+PredictResult predict(const PredictOptions& o, const std::string& out_dir) {
+  try {
+    return predict_staged(o, out_dir);
+  } catch (const FileError& e) {
+    // A failed write names the user's folder, not the hidden staging folder.
+    std::string t = out_dir;
+    while (t.size() > 1 && t.back() == '/') t.pop_back();
+    const fs::path target(t);
+    const std::string staged =
+        ((target.has_parent_path() ? target.parent_path() : fs::path(".")) /
+         ("." + target.filename().string() + ".partial-" + std::to_string(::getpid())))
+            .string();
+    if (!e.path().starts_with(staged)) throw;
+    throw FileError(t + e.path().substr(staged.size()), e.problem());
+  }
 }
 
 }  // namespace microbrdf

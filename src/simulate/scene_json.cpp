@@ -9,7 +9,9 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/io.hpp"
+#include "microbrdf/json_read.hpp"
 #include "microbrdf/material_spec.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/microscene.hpp"
 #include "microbrdf/sh_brdf.hpp"
@@ -69,7 +71,27 @@ double number(const Ctx& c, const json& o, const char* key, double def) {
 int integer(const Ctx& c, const json& o, const char* key, int def) {
   if (!o.contains(key)) return def;
   if (!o.at(key).is_number_integer()) c.fail(std::string("'") + key + "' must be an integer");
-  return o.at(key).get<int>();
+  const json& v = o.at(key);
+  // Read as 64-bit and range-checked: 4294967304 must not become 8.
+  if (v.is_number_unsigned()
+          ? v.get<std::uint64_t>() > std::uint64_t(INT32_MAX)
+          : (v.get<std::int64_t>() > INT32_MAX || v.get<std::int64_t>() < INT32_MIN))
+    c.fail(std::string("'") + key + "' is out of range (" + v.dump() + ")");
+  return v.get<int>();
+}
+
+// A count of objects or samples: an integer in [lo, hi], read as 64-bit.
+std::int64_t count(const Ctx& c, const json& o, const char* key, std::int64_t def, std::int64_t lo,
+                   std::int64_t hi) {
+  if (!o.contains(key)) return def;
+  const json& v = o.at(key);
+  if (!v.is_number_integer()) c.fail(std::string("'") + key + "' must be an integer");
+  const bool big = v.is_number_unsigned() && v.get<std::uint64_t>() > std::uint64_t(INT64_MAX);
+  const std::int64_t n = big ? INT64_MAX : v.get<std::int64_t>();
+  if (big || n < lo || n > hi)
+    c.fail(std::string("'") + key + "' is " + v.dump() + "; it must lie in " + std::to_string(lo) +
+           ".." + std::to_string(hi));
+  return n;
 }
 
 std::string text(const Ctx& c, const json& o, const char* key, const std::string& def) {
@@ -172,8 +194,10 @@ Surface heightfield_surface(const Ctx& c, const json& o) {
     const std::string kind = text(c, g, "kind", "gaussian");
     if (kind == "gaussian") {
       GaussianSurfaceParams p;
-      p.nx = static_cast<std::size_t>(integer(c, g, "nx", 512));
-      p.ny = static_cast<std::size_t>(integer(c, g, "ny", static_cast<int>(p.nx)));
+      p.nx = static_cast<std::size_t>(count(c, g, "nx", 512, 2, 1 << 15));
+      p.ny =
+          static_cast<std::size_t>(count(c, g, "ny", static_cast<std::int64_t>(p.nx), 2, 1 << 15));
+      check_memory(c.origin, mul_sat(p.nx * p.ny, 64), "a generated height field");
       p.dx = p.dy = length(c, g, "spacing");
       p.sigma = length(c, g, "sigma");
       p.tau_x = length(c, g, "tau");
@@ -200,14 +224,12 @@ Surface heightfield_surface(const Ctx& c, const json& o) {
   return s;
 }
 
-}  // namespace
-
-MicroSceneDesc parse_micro_scene(const json& j, const std::string& base_dir,
-                                 const std::string& origin) {
+// Everything but `source`: the callers decide whether the document is copied or moved.
+MicroSceneDesc parse_scene_objects(const json& j, const std::string& base_dir,
+                                   const std::string& origin) {
   const Ctx c{origin, base_dir};
   if (!j.is_object()) c.fail("a micro-scene is a JSON object");
   MicroSceneDesc d;
-  d.source = j;
   d.name = text(c, j, "name", std::filesystem::path(origin).stem().string());
   d.wavelength_m = j.contains("wavelength") ? length(c, j, "wavelength") : 550e-9;
   d.rotation = angle(c, j, "rotation", 0);
@@ -256,16 +278,18 @@ MicroSceneDesc parse_micro_scene(const json& j, const std::string& base_dir,
         const bool along_y = std::abs(ang - M_PI / 2) < 1e-9;
         if (!along_y && std::abs(ang) > 1e-9)
           c.fail("cylinders: angle must be 0 or 90 deg (turn the scene with \"rotation\")");
-        int count = integer(c, o, "count", 8);
+        std::int64_t n_cyl = count(c, o, "count", 8, 1, kMaxSceneObjects);
         if (o.contains("pitch")) {
           const double across = along_y ? d.width : d.height;
           const double n = across / length(c, o, "pitch");
-          count = static_cast<int>(std::lround(n));
-          if (count < 1 || std::abs(n - count) > 1e-6 * n)
+          if (!(n >= 0.5 && n < double(kMaxSceneObjects)))
+            c.fail("cylinders: " + std::to_string(n) + " pitches across the tile");
+          n_cyl = std::llround(n);
+          if (std::abs(n - double(n_cyl)) > 1e-6 * n)
             c.fail("cylinders: the tile must be a whole number of pitches (" + std::to_string(n) +
                    ")");
         }
-        add_cylinders(d, r, count, length(c, o, "z", r), number(c, o, "jitter", 0),
+        add_cylinders(d, r, n_cyl, length(c, o, "z", r), number(c, o, "jitter", 0),
                       integer(c, o, "seed", 1), mat(o), along_y);
       } else if (type == "spheres") {
         const double r = length(c, o, "radius");
@@ -273,7 +297,7 @@ MicroSceneDesc parse_micro_scene(const json& j, const std::string& base_dir,
                     integer(c, o, "seed", 1), mat(o));
       } else if (type == "fibers") {
         FiberParams p;
-        p.count = integer(c, o, "count", p.count);
+        p.count = count(c, o, "count", p.count, 1, kMaxSceneObjects);
         p.radius = length(c, o, "radius", p.radius);
         p.length = length(c, o, "length", p.length);
         p.tilt = angle(c, o, "tilt", p.tilt);
@@ -288,7 +312,7 @@ MicroSceneDesc parse_micro_scene(const json& j, const std::string& base_dir,
         p.pitch = length(c, o, "pitch", p.pitch);
         p.radius = length(c, o, "radius", p.radius);
         p.crimp = length(c, o, "crimp", p.radius);
-        p.segments_per_pitch = integer(c, o, "segments", p.segments_per_pitch);
+        p.segments_per_pitch = count(c, o, "segments", p.segments_per_pitch, 2, 4096);
         if (o.contains("material")) p.warp_material = p.weft_material = mat(o);
         if (o.contains("warp_material")) p.warp_material = mat(o, "warp_material");
         if (o.contains("weft_material")) p.weft_material = mat(o, "weft_material");
@@ -305,17 +329,21 @@ MicroSceneDesc parse_micro_scene(const json& j, const std::string& base_dir,
   return d;
 }
 
+}  // namespace
+
+MicroSceneDesc parse_micro_scene(const json& j, const std::string& base_dir,
+                                 const std::string& origin) {
+  MicroSceneDesc d = parse_scene_objects(j, base_dir, origin);
+  d.source = j;
+  return d;
+}
+
 MicroSceneDesc load_micro_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw FileError(path, "cannot open the scene file");
-  json j;
-  try {
-    j = json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const json::exception& e) {
-    throw FileError(path, std::string("not valid JSON: ") + e.what());
-  }
+  json j = read_json_file(path, /*ignore_comments=*/true);
   const auto dir = std::filesystem::path(path).parent_path().string();
-  return parse_micro_scene(j, dir.empty() ? "." : dir, path);
+  MicroSceneDesc d = parse_scene_objects(j, dir.empty() ? "." : dir, path);
+  d.source = std::move(j);  // kept as metadata: moved, never copied
+  return d;
 }
 
 }  // namespace microbrdf

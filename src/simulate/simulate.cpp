@@ -13,6 +13,7 @@
 
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/threads.hpp"
 
 namespace microbrdf {
 namespace {
@@ -112,10 +113,15 @@ nlohmann::json SimulateStats::to_json() const {
 
 ShEstimator simulate(const MicroScene& scene, const SimulateOptions& o, SimulateStats* stats) {
   if (o.lmax < 1 || o.lmax > 64) throw InputError("simulate: lmax must be in [1, 64]");
-  if (o.points < 1) throw InputError("simulate: points per direction must be >= 1");
+  if (o.trace.branches > kMaxBranches)  // checked here: the tracers are built in the workers
+    throw InputError("simulate: branches must lie in 1.." + std::to_string(kMaxBranches) +
+                     " (--branches)");
+  if (o.points < 1 || o.points > kMaxPointsPerDirection)
+    throw InputError("simulate: points per direction must lie in 1.." +
+                     std::to_string(kMaxPointsPerDirection) + " (--points)");
   if (o.time_limit_s <= 0 && o.incident_directions == 0)
     throw InputError("simulate: give a number of incident directions or a time limit");
-  const int nt = o.threads > 0 ? o.threads : omp_get_max_threads();
+  const int nt = resolve_thread_count(o.threads);
   const bool timed = o.time_limit_s > 0;
   const std::uint64_t total = timed ? 0 : o.incident_directions;
   // Timed runs hand out blocks until the time is up, always finishing the round they are in.

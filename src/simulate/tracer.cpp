@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "microbrdf/error.hpp"
 #include "microbrdf/simulate.hpp"
 
 namespace microbrdf {
@@ -46,6 +47,10 @@ Vec uniform_hemisphere(double u1, double u2) {
 
 MicroTracer::MicroTracer(const MicroScene& scene, const TraceOptions& options)
     : scene_(scene), opt_(options) {
+  if (opt_.branches > kMaxBranches)
+    throw InputError("branches at the first diffuse event must lie in 1.." +
+                     std::to_string(kMaxBranches) + " (got " + std::to_string(opt_.branches) +
+                     "; --branches)");
   opt_.branches = std::max(1, opt_.branches);
   stack_.reserve(64);
 }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "microbrdf/error.hpp"
 #include "microbrdf/simulate.hpp"
 
 namespace microbrdf {
@@ -20,6 +21,9 @@ bool surface_point(const MicroScene& sc, SimRng& rng, MicroHit& h) {
 // Weighted Bernoulli mean over threads in fixed blocks (deterministic for a thread count).
 template <class Sample>
 FractionEstimate weighted_fraction(std::uint64_t samples, std::uint64_t seed, Sample&& sample) {
+  if (samples < 1 || samples > (std::uint64_t{1} << 32))
+    throw InputError("visibility samples per angle must lie in 1..4294967296 (got " +
+                     std::to_string(samples) + "; --visibility-samples)");
   const std::int64_t blocks = static_cast<std::int64_t>((samples + 255) / 256);
   double sw = 0, swv = 0, sw2 = 0, sw2v = 0;
   std::uint64_t n = 0;

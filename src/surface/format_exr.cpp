@@ -75,6 +75,9 @@ Surface read_exr_impl(Bytes data, const ByteReader& r, const ReadOptions& option
     if (zscale == 0) r.fail("exr: unknown z_unit '" + zunit.substr(0, 40) + "'");
   }
 
+  // Heights, mask and the 4-byte pixel buffer OpenEXR decodes into.
+  check_surface_memory(r.name(), data.size(), static_cast<std::uint64_t>(w) * h,
+                       static_cast<std::uint64_t>(w) * h * 4);
   const auto nx = static_cast<std::size_t>(w), ny = static_cast<std::size_t>(h);
   Surface s;
   s.nx = nx;
@@ -121,7 +124,7 @@ Surface read_exr(Bytes data, const std::string& name, const ReadOptions& options
   } catch (const FileError&) {
     throw;
   } catch (const std::bad_alloc&) {
-    r.fail("exr: out of memory while reading (corrupt header?)");
+    r.fail("exr: out of memory while reading (corrupt header?; --max-memory)");
   } catch (const std::exception& e) {
     r.fail(std::string("exr: ") + e.what());
   }

@@ -178,6 +178,8 @@ Surface read_tiff(Bytes data, const std::string& name, const ReadOptions& option
     fail("image " + std::to_string(w) + " x " + std::to_string(h) + " is too large for a " +
          std::to_string(data.size()) + "-byte file");
 
+  check_surface_memory(name, data.size(), std::uint64_t{w} * h);
+
   Surface s;
   s.nx = w;
   s.ny = h;

@@ -31,6 +31,7 @@
 
 #include "core/byte_reader.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "surface/formats.hpp"
 
 namespace microbrdf::detail {
@@ -377,6 +378,8 @@ Surface read_x3p(Bytes data, const std::string& name) {
   if (xml_size > kMaxXmlBytes)
     r.fail("x3p: main.xml is " + std::to_string(xml_size) + " bytes, over the limit of " +
            std::to_string(kMaxXmlBytes));
+  // pugixml's tree takes about eight times the text (a node per empty <Datum/>).
+  check_expansion(name, data.size(), mul_sat(xml_size, 10), "main.xml and its document tree");
   std::vector<std::uint8_t> xml = zip.read(static_cast<std::size_t>(main_idx), xml_size);
 
   pugi::xml_document doc;
@@ -489,6 +492,7 @@ Surface read_x3p(Bytes data, const std::string& name) {
       r.fail("x3p: " + quote(data_path) + " holds " + std::to_string(have) +
              " bytes, but main.xml declares " + grid_text + " points of type " +
              type_letter(ztype) + " = " + std::to_string(need) + " bytes");
+    check_surface_memory(name, data.size(), n, need);
     std::vector<std::uint8_t> raw = zip.read(static_cast<std::size_t>(di), need);
     check_md5(s, text(child(link, "MD5ChecksumPointData")), raw, data_path);
 
@@ -543,6 +547,7 @@ Surface read_x3p(Bytes data, const std::string& name) {
              " Datum values, but main.xml "
              "declares " +
              grid_text + " = " + std::to_string(n) + " points");
+    check_surface_memory(name, data.size(), n);
     s.z.resize(static_cast<std::size_t>(n));
     s.valid.assign(static_cast<std::size_t>(n), 1);
     std::size_t i = 0;

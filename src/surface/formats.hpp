@@ -16,6 +16,12 @@ namespace microbrdf::detail {
 
 using Bytes = std::span<const std::uint8_t>;
 
+/// Asks the memory budget (microbrdf/memory_budget.hpp) before a reader allocates a height map
+/// of `samples` points (8-byte height + 1-byte mask each) plus `extra` bytes of decoded payload,
+/// for a file of `file_bytes` bytes. Throws FileError naming `name` and the bytes asked.
+void check_surface_memory(const std::string& name, std::uint64_t file_bytes, std::uint64_t samples,
+                          std::uint64_t extra = 0);
+
 Surface read_x3p(Bytes data, const std::string& name);
 void write_x3p(const Surface& s, const std::string& path);
 

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +13,8 @@
 
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/json_read.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "surface/formats.hpp"
 
 namespace microbrdf {
@@ -56,13 +60,7 @@ const FormatInfo& info(SurfaceFormat f) {
 void read_npy_sidecar(const std::string& path, ReadOptions& opt, double& x0, double& y0) {
   fs::path side = fs::path(path).replace_extension(".json");
   if (!fs::exists(side)) return;
-  nlohmann::json j;
-  try {
-    std::ifstream in(side);
-    j = nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw FileError(side.string(), std::string("invalid JSON sidecar: ") + e.what());
-  }
+  const nlohmann::json j = read_json_file(side.string());
   auto get = [&](const char* key) -> std::optional<double> {
     if (!j.contains(key)) return std::nullopt;
     if (!j[key].is_number() || !(j[key].get<double>() > 0))
@@ -94,7 +92,36 @@ void write_npy_sidecar(const Surface& s, const std::string& path) {
   write_file_atomic(side.string(), j.dump(2) + "\n");
 }
 
+// Heights beyond 1e12 m are corrupt data: refusing them here keeps squares and sums of heights
+// finite everywhere downstream (1e308 squared is inf). The bound leaves room for integer files
+// that store raw counts (up to 2^32) as heights.
+constexpr double kMaxAbsHeight = 1e12;
+constexpr double kMaxSpacing = 1.0;
+
+void check_heights(const Surface& s, const std::string& name) {
+  for (std::size_t iy = 0; iy < s.ny; ++iy)
+    for (std::size_t ix = 0; ix < s.nx; ++ix) {
+      const std::size_t i = iy * s.nx + ix;
+      if (s.valid[i] && !(std::abs(s.z[i]) <= kMaxAbsHeight)) {
+        char v[32];
+        std::snprintf(v, sizeof v, "%g", s.z[i]);
+        throw FileError(name, std::string("height ") + v + " m at sample (x " + std::to_string(ix) +
+                                  ", y " + std::to_string(iy) +
+                                  ") is absurd (beyond 1e12 m): corrupt data or a wrong unit");
+      }
+    }
+}
+
 }  // namespace
+
+namespace detail {
+void check_surface_memory(const std::string& name, std::uint64_t file_bytes, std::uint64_t samples,
+                          std::uint64_t extra) {
+  const std::uint64_t bytes = mul_sat(samples, sizeof(double) + 1);
+  check_expansion(name, file_bytes, bytes > UINT64_MAX - extra ? UINT64_MAX : bytes + extra,
+                  "a height map of " + std::to_string(samples) + " samples");
+}
+}  // namespace detail
 
 std::string format_name(SurfaceFormat format) {
   if (format == SurfaceFormat::Auto) return "auto";
@@ -137,24 +164,28 @@ SurfaceFormat format_from_magic(std::span<const std::uint8_t> h) {
   return SurfaceFormat::Auto;
 }
 
-std::vector<std::uint8_t> read_file_bytes(const std::string& path, std::uint64_t max_bytes) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw FileError(path, "no such file");
-  if (fs::is_directory(path, ec)) throw FileError(path, "is a directory, not a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path, std::string("cannot open: ") + std::strerror(errno));
-  in.seekg(0, std::ios::end);
-  std::streamoff n = in.tellg();
-  if (n < 0) throw FileError(path, "cannot determine file size");
-  if (static_cast<std::uint64_t>(n) > max_bytes)
-    throw FileError(path, "file is " + std::to_string(n) + " bytes, over the limit of " +
-                              std::to_string(max_bytes));
-  in.seekg(0);
-  std::vector<std::uint8_t> data(static_cast<std::size_t>(n));
-  in.read(reinterpret_cast<char*>(data.data()), n);
-  if (!in) throw FileError(path, "read error");
-  return data;
+namespace {
+Surface read_surface_file(const std::string& path, const ReadOptions& options,
+                          SurfaceFormat format) {
+  auto data = read_file_bytes(path, options.max_file_bytes);
+  if (format == SurfaceFormat::Auto) format = format_from_magic(data);
+  if (format == SurfaceFormat::Auto) format = format_from_extension(path);
+  ReadOptions opt = options;
+  double x0 = 0, y0 = 0;
+  if (format == SurfaceFormat::Npy) read_npy_sidecar(path, opt, x0, y0);
+  if (format != SurfaceFormat::Auto && format_needs_spacing(format) &&
+      format != SurfaceFormat::AsciiGrid && (!opt.dx || !opt.dy))
+    throw FileError(path, "the " + format_name(format) +
+                              " format stores no sample spacing: pass --spacing (e.g. 110nm)" +
+                              (format == SurfaceFormat::Npy ? " or add a JSON sidecar" : ""));
+  Surface s = read_surface_bytes(data, format, path, opt);
+  if (format == SurfaceFormat::Npy) {
+    s.x0 = x0;
+    s.y0 = y0;
+  }
+  return s;
 }
+}  // namespace
 
 Surface read_surface_bytes(std::span<const std::uint8_t> data, SurfaceFormat format,
                            const std::string& name, const ReadOptions& options) {
@@ -205,30 +236,24 @@ Surface read_surface_bytes(std::span<const std::uint8_t> data, SurfaceFormat for
   if (options.dy) s.dy = *options.dy;
   if (!(s.dx > 0) || !(s.dy > 0) || !std::isfinite(s.dx) || !std::isfinite(s.dy))
     throw FileError(name, "spacing is missing, zero or not finite; pass --spacing");
+  if (s.dx > kMaxSpacing || s.dy > kMaxSpacing)
+    throw FileError(name, "spacing " + std::to_string(s.dx) + " x " + std::to_string(s.dy) +
+                              " m is absurd (over 1 m); wrong unit? pass --spacing");
   s.sync_mask();
   if (s.valid_count() == 0) throw FileError(name, "contains no valid height sample");
+  check_heights(s, name);
   if (s.meta.source_path.empty()) s.meta.source_path = name;
   if (s.meta.format.empty()) s.meta.format = format_name(format);
   return s;
 }
 
 Surface read_surface(const std::string& path, const ReadOptions& options, SurfaceFormat format) {
-  auto data = read_file_bytes(path, options.max_file_bytes);
-  if (format == SurfaceFormat::Auto) format = format_from_magic(data);
-  if (format == SurfaceFormat::Auto) format = format_from_extension(path);
-  ReadOptions opt = options;
-  double x0 = 0, y0 = 0;
-  if (format == SurfaceFormat::Npy) read_npy_sidecar(path, opt, x0, y0);
-  if (format_needs_spacing(format) && format != SurfaceFormat::AsciiGrid && (!opt.dx || !opt.dy))
-    throw FileError(path, "the " + format_name(format) +
-                              " format stores no sample spacing: pass --spacing (e.g. 110nm)" +
-                              (format == SurfaceFormat::Npy ? " or add a JSON sidecar" : ""));
-  Surface s = read_surface_bytes(data, format, path, opt);
-  if (format == SurfaceFormat::Npy) {
-    s.x0 = x0;
-    s.y0 = y0;
+  try {
+    return read_surface_file(path, options, format);
+  } catch (const std::bad_alloc&) {
+    throw FileError(path, "out of memory while reading (memory budget " +
+                              format_bytes(memory_budget()) + "; --max-memory)");
   }
-  return s;
 }
 
 void write_surface(const Surface& s, const std::string& path, SurfaceFormat format) {

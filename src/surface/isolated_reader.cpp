@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/interrupt.hpp"
 
 // ASan reserves terabytes of address space for its shadow memory: no RLIMIT_AS under it.
 #if defined(__SANITIZE_ADDRESS__)
@@ -168,6 +169,7 @@ Surface read_isolated(const std::string& name, const std::string& library,
   }
   if (pid == 0) {
     ::close(fds[0]);
+    unblock_interrupts_in_child();  // the parent's watcher thread is not in the child
     child_main(fds[1], reader, timeout_s);
   }
   ::close(fds[1]);

@@ -70,8 +70,10 @@ LevelingResult level_surface(Surface& s, const LevelingSpec& spec) {
   const int degree = spec.mode == Leveling::Plane ? 1 : spec.degree;
   const int nterms = (degree + 1) * (degree + 2) / 2;
   if (s.valid_count() < static_cast<std::size_t>(3 * nterms))
-    throw InputError("too few valid samples to fit a degree-" + std::to_string(degree) +
-                     " polynomial");
+    throw InputError("too few valid samples (" + std::to_string(s.valid_count()) + " of " +
+                     std::to_string(s.nx) + " x " + std::to_string(s.ny) + ") to fit a degree-" +
+                     std::to_string(degree) + " polynomial (at least " +
+                     std::to_string(3 * nterms) + "; --level none skips levelling)");
 
   // Coordinates scaled to [-1, 1] for conditioning; heights about a reference for precision.
   const double hx = std::max<double>(1.0, (static_cast<double>(s.nx) - 1) / 2.0);

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_read.hpp"
 
 namespace microbrdf {
 namespace fs = std::filesystem;
@@ -41,6 +42,7 @@ std::vector<std::string> directory_scans(const std::string& dir) {
 }
 
 std::vector<std::string> manifest_scans(const std::string& manifest) {
+  require_regular_file(manifest);  // a FIFO would block
   std::ifstream in(manifest);
   if (!in) throw FileError(manifest, "cannot open manifest");
   fs::path base = fs::path(manifest).parent_path();

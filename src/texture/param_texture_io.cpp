@@ -19,6 +19,8 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/image.hpp"
 #include "microbrdf/io.hpp"
+#include "microbrdf/json_read.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "microbrdf/texture.hpp"
 
 namespace microbrdf {
@@ -121,6 +123,12 @@ ParamTexture read_param_texture(const std::string& path) {
       if (!h.channels().findChannel(ParamTexture::channel_names[c]))
         throw FileError(path, std::string("not a parameter texture: no channel '") +
                                   ParamTexture::channel_names[c] + "'");
+    // Five channels and the valid mask (float each), the flags and an empty reason per texel.
+    check_expansion(
+        path, bytes.size(),
+        mul_sat(static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(ht),
+                6 * sizeof(float) + 1 + sizeof(std::string)),
+        "a parameter texture of " + std::to_string(w) + " x " + std::to_string(ht) + " texels");
     t.nx = static_cast<std::size_t>(w);
     t.ny = static_cast<std::size_t>(ht);
     for (auto& c : t.channel) c.assign(t.size(), 0.0f);
@@ -147,7 +155,7 @@ ParamTexture read_param_texture(const std::string& path) {
       if (!ok) t.why_invalid[i] = valid[i] > 0.5f ? "non-finite parameter in file" : "invalid";
     }
     if (const auto* a = h.findTypedAttribute<Imf::StringAttribute>(kAttr)) {
-      const auto j = nlohmann::json::parse(a->value());
+      const auto j = parse_json_text(a->value(), path + " (" + kAttr + " attribute)");
       t.texel_m = j.value("texel_m", 0.0);
       t.meta = j.value("meta", nlohmann::json::object());
       if (j.contains("why_invalid"))
@@ -160,6 +168,8 @@ ParamTexture read_param_texture(const std::string& path) {
     }
   } catch (const FileError&) {
     throw;
+  } catch (const std::bad_alloc&) {
+    throw FileError(path, "out of memory reading the parameter texture (--max-memory)");
   } catch (const std::exception& e) {
     throw FileError(path, std::string("cannot read parameter texture: ") + e.what());
   }
