@@ -49,7 +49,7 @@ PUBLIC_HEADERS = {
     "brdf": "brdf", "microfacet_brdf": "brdf", "brdf_albedo": "brdf", "brdf_slice": "brdf",
     "kirchhoff_brdf": "brdf", "sun_brdf": "brdf", "sh_brdf": "brdf", "lambertian_brdf": "brdf",
     "mirror_brdf": "brdf", "svbrdf": "brdf", "brdf_spec": "brdf", "measured": "brdf",
-    "measured_ndf": "brdf", "rgl_bsdf": "brdf", "tensor_file": "brdf",
+    "measured_ndf": "brdf", "rgl_bsdf": "brdf", "rgl_coords": "brdf", "tensor_file": "brdf",
     # experiments and products built on BRDFs
     "fit": "fit", "microscene": "simulate", "simulate": "simulate", "goniometer": "simulate",
     "render": "render", "texture": "texture", "measured_compare": "fit", "export": "export",

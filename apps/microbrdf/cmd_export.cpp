@@ -57,7 +57,11 @@ void run_bsdf(const BsdfArgs& a) {
   o.description = "microbrdf export of " + fs::path(a.input).filename().string();
   // The grids follow the BRDF's own lobe (eq. 9 shape at theta_d = 14.14 deg).
   const auto lobe = lobe_distribution(*brdf, 257);
-  write_rgl_bsdf(*brdf, *lobe, o, a.output);
+  {
+    // One output file, renamed into place at once: it may commit now, so its size can be read.
+    OutputGroup::Bypass direct;
+    write_rgl_bsdf(*brdf, *lobe, o, a.output);
+  }
   const auto bytes = fs::file_size(a.output);
   if (a.json)
     print_json({{"input", a.input},

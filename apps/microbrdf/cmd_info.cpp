@@ -71,7 +71,9 @@ void write_psd_csv(const std::string& path, const Surface& s) {
 
 // One scan's record: the JSON of `info --json` or the text of the human listing.
 WorkResult describe(const InfoArgs& a, const std::string& path, Surface& s, bool with_files) {
-  std::string lev = level_surface(s, LevelingSpec::parse(a.read.level)).description;
+  const auto spec = LevelingSpec::parse(a.read.level);
+  warn_if_sparse(path, s);
+  std::string lev = about_file(path, [&] { return level_surface(s, spec); }).description;
   auto st = compute_stats(s);
   WorkResult r;
   if (a.json) {

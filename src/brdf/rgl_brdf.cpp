@@ -3,11 +3,11 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "brdf/rgl_coords.hpp"
 #include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/measured.hpp"
 #include "microbrdf/rgl_bsdf.hpp"
+#include "microbrdf/rgl_coords.hpp"
 
 namespace microbrdf {
 namespace {

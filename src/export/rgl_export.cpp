@@ -2,10 +2,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "brdf/rgl_coords.hpp"
 #include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/export.hpp"
+#include "microbrdf/rgl_coords.hpp"
 
 namespace microbrdf {
 namespace {

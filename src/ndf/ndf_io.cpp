@@ -80,6 +80,7 @@ void validate(const std::string& path, std::size_t rows, std::size_t cols,
   // table with nothing inside the unit disk (the only part that counts).
   double sum = 0, inside = 0;
   for (std::size_t i = 0; i < v.size(); ++i) {
+    if (std::isnan(v[i])) continue;  // an unmeasured node (NaN) adds nothing
     sum += v[i];
     const double mx = -1 + 2 * double(i % cols) / double(cols - 1);
     const double my = -1 + 2 * double(i / cols) / double(rows - 1);
