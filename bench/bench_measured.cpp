@@ -9,8 +9,8 @@
 #include "microbrdf/export.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/measured.hpp"
-#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/measured_ndf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 
 using namespace microbrdf;
 

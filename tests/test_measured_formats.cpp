@@ -6,12 +6,12 @@
 #include <cstring>
 #include <random>
 
-#include "microbrdf/error.hpp"
 #include "microbrdf/brdf_albedo.hpp"
+#include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
-#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/measured.hpp"
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/tensor_file.hpp"
 #include "test_microfacet_common.hpp"
 
