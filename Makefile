@@ -30,9 +30,15 @@ test-slow: build
 
 # predict on a real scan and a synthetic brushed surface -> HTML reports, screenshot in Chromium
 # (install-deps --report adds chromium; `make test` and CI do not need it).
-demo: build
+# Builds only the command-line tool the demo runs (about 4 minutes on 2 cores from scratch);
+# the tests, benchmarks and Python module are built by `make test` / `make build`.
+demo: deps
 	@scripts/install-deps.sh --report
+	@cmake --preset release >/dev/null
+	@cmake --build --preset release -j $(JOBS) --target microbrdf_cli
 	@scripts/demo.sh $(BIN) $(DEMO_OUT)
+	@echo "make demo: built only the CLI; 'make test' builds the rest (library tests, benchmarks,"
+	@echo "  Python module: about 10 more minutes on 2 cores) and runs the suite."
 
 bench: build
 	build/bin/microbrdf_bench --benchmark_counters_tabular=true

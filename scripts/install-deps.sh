@@ -44,6 +44,7 @@ PACKAGES=(
   libtinyobjloader-dev # OBJ meshes for the renderer
   libgtest-dev libgmock-dev libbenchmark-dev
   ccache               # compiler cache (used by CMake when present; speeds rebuilds)
+  time                 # /usr/bin/time: max RSS of each hostile-input case in the CLI tests
   libopenmpi-dev openmpi-bin # scale-out: the same binary alone or under mpirun
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib # Python module + tests
 )

@@ -322,7 +322,7 @@ TEST(Render, EnvironmentSamplingPdfIntegratesToOne) {
   for (int k = 0; k < 100; ++k) {
     double pdf;
     Eigen::Vector3d rgb;
-    const auto d = map.sample((k + 0.5) / 100, std::fmod(k * 0.618, 1.0), 0.5, pdf, &rgb);
+    const auto d = map.sample((k + 0.5) / 100, std::fmod(k * 0.618, 1.0), pdf, &rgb);
     EXPECT_NEAR(map.pdf(d), pdf, 1e-6 * pdf + 1e-9);
     EXPECT_EQ(map.rgb(d), rgb);
   }
@@ -349,7 +349,7 @@ TEST(Render, BadInputsAreRefused) {
   EXPECT_THROW(render(sc, m, l, small(8, 1)), FileError);
 }
 
-TEST(Render, AliasTableDrawsCellsWithTheirWeights) {
+TEST(Render, EnvironmentDistributionDrawsCellsWithTheirWeights) {
   // 8 x 4 cells with uneven weights (one empty): frequencies of 400 000 draws match the weights
   // within 5 standard deviations, and the reported density is w_i n / sum.
   std::vector<double> w(32);
@@ -365,7 +365,8 @@ TEST(Render, AliasTableDrawsCellsWithTheirWeights) {
   const int n = 400000;
   for (int k = 0; k < n; ++k) {
     double u, v, pdf;
-    d.sample(uni(), uni(), uni(), u, v, pdf);
+    const double u1 = uni(), u2 = uni();
+    d.sample(u1, u2, u, v, pdf);
     const int col = int(u * 8), row = int(v * 4);
     ASSERT_NEAR(pdf, w[row * 8 + col] * 32 / sum, 1e-5);
     ++count[row * 8 + col];

@@ -31,6 +31,7 @@ struct RenderArgs {
   int size = 256, width = 0, height = 0, spp = 64, max_depth = 6, wavelengths = 4, threads = 0;
   std::uint64_t seed = 1;
   std::string mis = "mis";
+  std::string sampler = "sobol";
   double exposure = 0;
   std::vector<std::string> outputs;
   bool json = false, quiet = false;
@@ -114,6 +115,7 @@ void preflight(const RenderArgs& a) {
               "--size", "the image needs at least 1 x 1 pixels");
   pre.positive("--env-scale", a.env_scale);
   pre.done();
+  (void)parse_render_sampler(a.sampler, "--sampler");
   (void)brdf_spec(a.spec);  // the BRDF and material flags, before any file is read
   (void)material_spec(a.spec, MaterialSpec::named_metal("Al"));
 }
@@ -150,6 +152,7 @@ void run(RenderArgs& a) {
     opt.mis = MisMode::LightOnly;
   else
     throw InputError("--mis must be mis, brdf or light");
+  opt.sampler = parse_render_sampler(a.sampler, "--sampler");
   const auto mats = make_materials(a);
   const auto lights = make_lights(a, sc.kind);
   Progress progress("render", a.quiet);
@@ -176,6 +179,7 @@ void run(RenderArgs& a) {
                 {"wavelengths_per_path", opt.wavelengths},
                 {"max_depth", opt.max_depth},
                 {"mis", a.mis},
+                {"sampler", render_sampler_name(opt.sampler)},
                 {"seconds", img.seconds},
                 {"samples_per_second", img.samples_per_second},
                 {"rays", img.rays},
@@ -260,6 +264,10 @@ void register_render(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--threads", a->threads, "Threads (0 = all cores)")->capture_default_str();
   c->add_option("--mis", a->mis, "mis (power heuristic), brdf (BRDF sampling only) or light")
+      ->capture_default_str();
+  c->add_option("--sampler", a->sampler,
+                "sobol (Owen-scrambled Sobol' points, stratified per pixel) or independent "
+                "(plain Monte Carlo)")
       ->capture_default_str();
   c->add_option("--exposure", a->exposure, "Exposure of the PNG, stops")->capture_default_str();
   c->add_option("-o,--output", a->outputs, "Output .png and/or .exr (repeatable)");

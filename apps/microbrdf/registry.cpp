@@ -30,10 +30,15 @@ int report(const char* command, std::string* message) {
     *message = e.what();
     std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
     *message = buf + *message;
-    // A file that is not there is a usage error (2), like a wrong flag: the user named it. A
-    // file that exists but cannot be read or parsed is a failure while working (1).
+    // An input file that is not there is a usage error (2), like a wrong flag: the user named
+    // it. A file that exists but cannot be read or parsed, or an output that cannot be written
+    // (disk full, no permission; its path need not exist yet), is a failure while working (1).
     std::error_code ec;
-    return !e.path().empty() && !std::filesystem::exists(e.path(), ec) ? 2 : 1;
+    const bool reading =
+        e.problem().rfind("no such file", 0) == 0 || e.problem().rfind("cannot open", 0) == 0;
+    const bool missing_input =
+        reading && !e.path().empty() && !std::filesystem::exists(e.path(), ec);
+    return missing_input ? 2 : 1;
   } catch (const InputError& e) {
     std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
     *message = buf + std::string(e.what());

@@ -73,6 +73,14 @@ RenderLights::Disk dong_plate_light();
 
 enum class MisMode { Mis, BrdfOnly, LightOnly };
 
+/// How the random numbers of each path are drawn: Sobol = padded Owen-scrambled Sobol' points
+/// (stratified per pixel; the default, lower noise at equal time), Independent = plain Monte
+/// Carlo (docs/render.md, "Sampling").
+enum class RenderSampler { Sobol, Independent };
+/// "sobol" or "independent"; throws InputError naming `flag` otherwise.
+RenderSampler parse_render_sampler(const std::string& name, const std::string& flag);
+std::string render_sampler_name(RenderSampler s);
+
 struct RenderOptions {
   int width = 512, height = 512;
   int spp = 64;         ///< samples per pixel
@@ -81,6 +89,7 @@ struct RenderOptions {
   std::uint64_t seed = 1;
   int threads = 0;  ///< 0 = all cores
   MisMode mis = MisMode::Mis;
+  RenderSampler sampler = RenderSampler::Sobol;
   double exposure = 0;                            ///< stops, for the PNG only
   std::function<void(double fraction)> progress;  ///< called from one thread, fraction in [0, 1]
 };

@@ -182,6 +182,7 @@ def render(
     seed: int = 1,
     threads: int = 0,
     mis: str = "mis",
+    sampler: str = "sobol",
     envmap: Optional[PathLike] = None,
     env_scale: float = 1.0,
     env_rotation: float = 0.0,

@@ -57,11 +57,11 @@ RenderLights lights(PreviewScene kind, const py::object& envmap, double env_scal
 
 py::array render_image(const py::object& brdfs, const std::string& scene, int size, int width,
                        int height, int spp, int max_depth, int wavelengths, std::uint64_t seed,
-                       int threads, const std::string& mis, const py::object& envmap,
-                       double env_scale, double env_rotation, bool white_env, const py::list& point,
-                       const py::list& sphere_light, const py::list& disk_light,
-                       const std::string& brushing, double brush_angle, const py::object& obj,
-                       double uv_scale, const py::object& progress) {
+                       int threads, const std::string& mis, const std::string& sampler,
+                       const py::object& envmap, double env_scale, double env_rotation,
+                       bool white_env, const py::list& point, const py::list& sphere_light,
+                       const py::list& disk_light, const std::string& brushing, double brush_angle,
+                       const py::object& obj, double uv_scale, const py::object& progress) {
   RenderScene sc;
   sc.kind = parse_preview_scene(scene);
   if (!obj.is_none()) sc.obj_path = fspath(obj);
@@ -96,6 +96,7 @@ py::array render_image(const py::object& brdfs, const std::string& scene, int si
     o.mis = MisMode::LightOnly;
   else
     throw InputError("mis must be 'mis', 'brdf' or 'light'");
+  o.sampler = parse_render_sampler(sampler, "sampler");
   o.progress = progress_hook<double>(progress);
   const RenderLights l =
       lights(sc.kind, envmap, env_scale, env_rotation, white_env, point, sphere_light, disk_light);
@@ -154,18 +155,19 @@ void bind_render(py::module_& m) {
   m.def("render", &render_image, py::arg("brdf"), py::arg("scene") = "cylinders",
         py::arg("size") = 256, py::arg("width") = 0, py::arg("height") = 0, py::arg("spp") = 16,
         py::arg("max_depth") = 6, py::arg("wavelengths") = 4, py::arg("seed") = 1,
-        py::arg("threads") = 0, py::arg("mis") = "mis", py::arg("envmap") = py::none(),
-        py::arg("env_scale") = 1.0, py::arg("env_rotation") = 0.0, py::arg("white_env") = false,
-        py::arg("point") = py::list(), py::arg("sphere_light") = py::list(),
-        py::arg("disk_light") = py::list(), py::arg("brushing") = "linear",
-        py::arg("brush_angle") = 0.0, py::arg("obj") = py::none(), py::arg("uv_scale") = 1.0,
-        py::arg("progress") = py::none(),
+        py::arg("threads") = 0, py::arg("mis") = "mis", py::arg("sampler") = "sobol",
+        py::arg("envmap") = py::none(), py::arg("env_scale") = 1.0, py::arg("env_rotation") = 0.0,
+        py::arg("white_env") = false, py::arg("point") = py::list(),
+        py::arg("sphere_light") = py::list(), py::arg("disk_light") = py::list(),
+        py::arg("brushing") = "linear", py::arg("brush_angle") = 0.0, py::arg("obj") = py::none(),
+        py::arg("uv_scale") = 1.0, py::arg("progress") = py::none(),
         R"(Renders a BRDF on preview objects, as `microbrdf render`; returns the image.
 
 brdf: a Brdf, or a list (one per object). scene: 'cylinders' (Dong Fig. 10) | 'plate' |
 'sphere' | 'vase' | 'obj' (with obj=path) | 'furnace_sphere'. size (or width, height): pixels.
 spp: samples per pixel. wavelengths: hero wavelengths per path. seed: same seed, same image,
-any thread count. mis: 'mis' | 'brdf' | 'light'.
+any thread count. mis: 'mis' | 'brdf' | 'light'. sampler: 'sobol' (Owen-scrambled Sobol'
+points, stratified per pixel; lower noise) | 'independent' (plain Monte Carlo).
 Lights: envmap=path (.exr/.hdr, equirectangular) with env_scale, env_rotation (rad);
 white_env=True; point=[((x, y, z), (r, g, b)) intensity W/sr]; sphere_light=[((x, y, z), radius,
 (r, g, b))]; disk_light=[((x, y, z), (nx, ny, nz), radius, (r, g, b))] (radiance). No light:

@@ -70,16 +70,16 @@ Eigen::Vector3d EnvironmentMap::rgb(const Eigen::Vector3d& d) const {
   return {p[0], p[1], p[2]};
 }
 
-Eigen::Vector3d EnvironmentMap::sample(double u1, double u2, double u3, double& pdf,
+Eigen::Vector3d EnvironmentMap::sample(double u1, double u2, double& pdf,
                                        Eigen::Vector3d* rgb) const {
   if (uniform_) {
-    const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * M_PI * u2;
+    const double z = 1 - 2 * u2, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * M_PI * u1;
     pdf = 1 / (4 * M_PI);
     if (rgb) *rgb = uniform_rgb_;
     return {r * std::cos(phi), z, r * std::sin(phi)};
   }
   double u, v, p;
-  const std::size_t cell = dist_.sample(u1, u2, u3, u, v, p);
+  const std::size_t cell = dist_.sample(u1, u2, u, v, p);
   if (rgb) {
     // Cells index the stored image (the rotation acts in direction()).
     const float* q = &img_.rgb[cell * 3];
@@ -94,7 +94,7 @@ double EnvironmentMap::pdf(const Eigen::Vector3d& d) const {
   if (uniform_) return 1 / (4 * M_PI);
   int c, r;
   pixel_of(d, c, r);
-  const double st = std::sqrt(std::max(0.0, 1 - d.y() * d.y()));
+  const double st = std::hypot(d.x(), d.z()) / d.norm();  // sin theta, exact near the poles
   return st > 0 ? dist_.pdf(c, r) / (2 * M_PI * M_PI * st) : 0;
 }
 
@@ -105,7 +105,7 @@ Eigen::Vector3d EnvironmentMap::rgb_and_pdf(const Eigen::Vector3d& d, double& pd
   }
   int c, r;
   pixel_of(d, c, r);
-  const double st = std::sqrt(std::max(0.0, 1 - d.y() * d.y()));
+  const double st = std::hypot(d.x(), d.z()) / d.norm();  // sin theta, exact near the poles
   pdf = st > 0 ? dist_.pdf(c, r) / (2 * M_PI * M_PI * st) : 0;
   const float* p = &img_.rgb[(std::size_t(r) * img_.width + c) * 3];
   return {p[0], p[1], p[2]};

@@ -49,9 +49,10 @@ class EnvironmentMap {
   /// Linear sRGB radiance in direction d (unit, world frame).
   Eigen::Vector3d rgb(const Eigen::Vector3d& d) const;
   /// Draws a direction with density pdf(d) per steradian (proportional to the pixel's largest
-  /// channel times its solid angle) from three uniforms; returns the pdf through `pdf`.
-  /// `rgb`, when given, receives the radiance in that direction (saves a lookup).
-  Eigen::Vector3d sample(double u1, double u2, double u3, double& pdf,
+  /// channel times its solid angle) from a 2D point (u1 -> azimuth, u2 -> polar angle, each
+  /// monotone); returns the pdf through `pdf`. `rgb`, when given, receives the radiance in that
+  /// direction (saves a lookup).
+  Eigen::Vector3d sample(double u1, double u2, double& pdf,
                          Eigen::Vector3d* rgb = nullptr) const;
   double pdf(const Eigen::Vector3d& d) const;
   /// rgb(d) and pdf(d) with one pixel look-up.

@@ -57,16 +57,18 @@ LightSet::LightSet(const RenderLights& lights) : l_(lights) {
   count_ = (env_ ? 1 : 0) + int(l_.points.size() + l_.spheres.size() + l_.disks.size());
 }
 
-std::optional<LightSample> LightSet::sample(const V3& x, double uc, double u1, double u2,
-                                            double u3) const {
+std::optional<LightSample> LightSet::sample(const V3& x, double u1, double u2) const {
   if (count_ == 0) return std::nullopt;
-  int i = std::min(int(uc * count_), count_ - 1);
+  // u1 chooses the light and is then stretched back to [0,1) for the light itself, so one
+  // stratified 2D point serves both.
+  int i = std::min(int(u1 * count_), count_ - 1);
+  u1 = std::min(u1 * count_ - i, std::nextafter(1.0, 0.0));
   const double choose = 1.0 / count_;
   LightSample s;
   if (env_) {
     if (i == 0) {
       double pdf;
-      s.dir = env_->sample(u1, u2, u3, pdf, &s.rgb);
+      s.dir = env_->sample(u1, u2, pdf, &s.rgb);
       if (!(pdf > 0)) return std::nullopt;
       s.pdf = pdf * choose;
       s.distance = kInf;

@@ -34,9 +34,9 @@ class LightSet {
   int count() const { return count_; }
   const EnvironmentMap* env() const { return env_.get(); }
 
-  /// Samples one light (chosen with uc) from x with three more uniforms.
-  std::optional<LightSample> sample(const Eigen::Vector3d& x, double uc, double u1, double u2,
-                                    double u3) const;
+  /// Samples one light from x with a 2D point: u1 chooses the light (uniformly) and, stretched
+  /// back to [0,1), places the sample on it together with u2.
+  std::optional<LightSample> sample(const Eigen::Vector3d& x, double u1, double u2) const;
   /// The nearest area light along x + t d, t in (0, tmax).
   LightHit hit_area(const Eigen::Vector3d& x, const Eigen::Vector3d& d, double tmax) const;
   /// Environment radiance and its light-sampling pdf (incl. choice) for an escaping ray.

@@ -10,9 +10,14 @@
 // take, per wavelength, the weight its own sample() gives for the same random numbers.
 // The BRDF is evaluated as f(wi = light, wo = viewer) in the local frame of the shading point.
 //
-// Determinism: the random stream of each (pixel, sample) is seeded from (seed, pixel, sample)
-// and the samples of a pixel are summed in order by one thread, so an image does not depend on
-// the number of threads.
+// Random numbers: one PathSampler per (pixel, sample) (path_sampler.hpp), asked in a fixed order
+// per path: jitter (2D), hero wavelength (1D), then per bounce the light sample (2D), the BRDF
+// sample (2D) and, after three bounces, Russian roulette (1D). With the Sobol sampler each of
+// these requests is stratified over the samples of a pixel.
+//
+// Determinism: the numbers of each (pixel, sample) are a function of (seed, pixel, sample) and
+// the samples of a pixel are summed in order by one thread, so an image does not depend on the
+// number of threads.
 #include "microbrdf/render.hpp"
 
 #include <omp.h>
@@ -27,6 +32,7 @@
 #include "microbrdf/threads.hpp"
 #include "render/lights.hpp"
 #include "render/material.hpp"
+#include "render/path_sampler.hpp"
 #include "render/scene.hpp"
 #include "render/spectral.hpp"
 
@@ -34,28 +40,6 @@ namespace microbrdf {
 namespace {
 
 using pt::V3;
-
-std::uint64_t splitmix(std::uint64_t& s) {
-  std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-class Rng {
- public:
-  Rng(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
-    std::uint64_t s = seed * 0xD1B54A32D192ED03ull;
-    s ^= splitmix(s) + pixel * 0x9E3779B97F4A7C15ull;
-    s ^= splitmix(s) + sample * 0xC2B2AE3D27D4EB4Full;
-    splitmix(s);
-    state_ = s;
-  }
-  double next() { return double(splitmix(state_) >> 11) * 0x1.0p-53; }
-
- private:
-  std::uint64_t state_;
-};
 
 double power_heuristic(double a, double b) {
   const double a2 = a * a, b2 = b * b;
@@ -71,8 +55,8 @@ struct PathContext {
 };
 
 /// Radiance (relative to D65) at the n hero wavelengths along one camera path, added to L.
-std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_nm, int n, Rng& rng,
-                         double* L) {
+std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_nm, int n,
+                         pt::PathSampler& rng, double* L) {
   double T[pt::kMaxWavelengths];
   double lm[pt::kMaxWavelengths];
   for (int k = 0; k < n; ++k) T[k] = 1, lm[k] = lambda_nm[k] * 1e-9;
@@ -116,8 +100,9 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
 
     // Next-event estimation.
     if (use_nee && c.lights.count() > 0) {
-      const double uc = rng.next(), u1 = rng.next(), u2 = rng.next(), u3 = rng.next();
-      if (auto ls = c.lights.sample(origin, uc, u1, u2, u3)) {
+      double u1, u2;
+      rng.get2d(u1, u2);
+      if (auto ls = c.lights.sample(origin, u1, u2)) {
         const V3 wl = sp.to_local(ls->dir);
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
           ++rays;
@@ -140,7 +125,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
     }
 
     // BRDF sampling (the viewer direction plays wi; see the header comment).
-    const double u1 = rng.next(), u2 = rng.next();
+    double u1, u2;
+    rng.get2d(u1, u2);
     const auto s = m.sample(sp.u, sp.v, wv, u1, u2, lm[0]);
     if (!s || !(s->weight > 0) || !(s->wo.z() > 0)) return rays;
     const V3 wl = s->wo;
@@ -172,13 +158,23 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
     if (!(tmax > 0)) return rays;
     if (depth >= 3) {
       const double q = std::min(1.0, tmax);
-      if (rng.next() >= q) return rays;
+      if (rng.get1d() >= q) return rays;
       for (int k = 0; k < n; ++k) T[k] /= q;
     }
   }
 }
 
 }  // namespace
+
+RenderSampler parse_render_sampler(const std::string& name, const std::string& flag) {
+  if (name == "sobol") return RenderSampler::Sobol;
+  if (name == "independent") return RenderSampler::Independent;
+  throw InputError(flag + " '" + name + "': give sobol or independent");
+}
+
+std::string render_sampler_name(RenderSampler s) {
+  return s == RenderSampler::Sobol ? "sobol" : "independent";
+}
 
 RenderImage render(const RenderScene& scene,
                    const std::vector<std::shared_ptr<const Svbrdf>>& materials,
@@ -216,16 +212,19 @@ RenderImage render(const RenderScene& scene,
   std::atomic<int> rows_done{0};
   std::uint64_t rays = 0;
   const int threads = resolve_thread_count(opt.threads);
+  const auto kind = opt.sampler == RenderSampler::Sobol ? pt::PathSamplerKind::Sobol
+                                                        : pt::PathSamplerKind::Independent;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : rays)
   for (int y = 0; y < opt.height; ++y) {
     for (int x = 0; x < opt.width; ++x) {
       const std::uint64_t pixel = std::uint64_t(y) * opt.width + x;
       Eigen::Vector3d xyz = Eigen::Vector3d::Zero();
       for (int s = 0; s < opt.spp; ++s) {
-        Rng rng(opt.seed, pixel, std::uint64_t(s));
-        const double jx = rng.next(), jy = rng.next();
+        pt::PathSampler rng(kind, opt.seed, pixel, std::uint32_t(s), std::uint32_t(opt.spp));
+        double jx, jy;
+        rng.get2d(jx, jy);
         double lambda[pt::kMaxWavelengths], L[pt::kMaxWavelengths] = {};
-        pt::hero_wavelengths(rng.next(), n, lambda);
+        pt::hero_wavelengths(rng.get1d(), n, lambda);
         const V3 d = cam.direction(x + jx, y + jy, opt.width, opt.height);
         rays += trace_path(ctx, cam.position, d, lambda, n, rng, L);
         Eigen::Vector3d sx = Eigen::Vector3d::Zero();
@@ -254,7 +253,8 @@ RenderImage render(const RenderScene& scene,
      << n << " wavelengths/path, max depth " << opt.max_depth << ", seed " << opt.seed << ", mis "
      << (opt.mis == MisMode::Mis        ? "power"
          : opt.mis == MisMode::BrdfOnly ? "brdf_only"
-                                        : "light_only");
+                                        : "light_only")
+     << ", sampler " << render_sampler_name(opt.sampler);
   img.settings = os.str();
   return img;
 }

@@ -59,4 +59,16 @@ $BIN predict "$T/g.x3p" "$T/junk.x3p" -o "$T/rep" --no-render --resolution 65 --
 grep -q "junk.x3p" "$T/err" || fail "predict: message does not name the scan: $(cat "$T/err")"
 [ "$(sum "$T/rep/summary.json")" = "$before" ] || fail "predict: the earlier report was changed"
 no_temps predict
+
+# predict on a full disk (a file-size limit of 40 KiB stands in for it): exit 1 (a failure
+# while working, not a usage error), a message naming the output under -o (not the hidden
+# staging folder), the earlier report unchanged and no staging folder left.
+(trap '' XFSZ; ulimit -f 40
+ $BIN predict "$T/g.x3p" -o "$T/rep" --no-render --resolution 129 --quiet 2>"$T/err" >/dev/null)
+rc=$?
+[ $rc -eq 1 ] || fail "predict on a full disk: exit $rc (want 1): $(cat "$T/err")"
+grep -q "$T/rep" "$T/err" || fail "predict on a full disk: message does not name -o: $(cat "$T/err")"
+grep -q "partial" "$T/err" && fail "predict on a full disk: message names the staging folder: $(cat "$T/err")"
+[ "$(sum "$T/rep/summary.json")" = "$before" ] || fail "predict on a full disk: the earlier report was changed"
+no_temps "predict (full disk)"
 echo ok

@@ -15,8 +15,15 @@ fail() { echo "FAIL: $*"; exit 1; }
 # and no internal error / bare std:: message.
 expect() {
   local code=$1 pat=$2; shift 3
-  (ulimit -v 3000000; "$@") >"$T/out" 2>"$T/err"
+  (ulimit -v 3000000; timeout 60 /usr/bin/time -o "$T/usage" -f '%M %e' "$@") >"$T/out" 2>"$T/err"
   local rc=$?
+  # Max RSS (KiB) and wall seconds of the command itself, asserted and printed per case.
+  local kib secs
+  # (GNU time writes "Command exited with non-zero status N" first when the exit is non-zero.)
+  read -r kib secs < <(tail -n 1 "$T/usage") || fail "no resource usage from: $*"
+  [ "$kib" -lt 1048576 ] || fail "max RSS $((kib / 1024)) MiB (over 1 GiB) from: $*"
+  [ "$rc" -ne 124 ] || fail "did not end within 60 s: $*"
+  printf 'case: exit %d, max RSS %d MiB, %s s: %s\n' "$rc" $((kib / 1024)) "$secs" "$*"
   if [ "$code" = nz ]; then [ $rc -ne 0 ] || fail "exit 0 from: $*"; else
     [ $rc -eq "$code" ] || fail "exit $rc (want $code) from: $*: $(cat "$T/err")"; fi
   grep -q -- "$pat" "$T/err" || fail "message does not match '$pat' from: $*: $(cat "$T/err")"
