@@ -22,6 +22,8 @@
 // the index itself, which permutes every range [0, 2^m).
 #include <cstdint>
 
+#include "core/splitmix64.hpp"
+
 namespace microbrdf::pt {
 
 enum class PathSamplerKind { Sobol, Independent };
@@ -105,11 +107,7 @@ class PathSampler {
     x ^= x * 0x51ED270Au;
     return x;
   }
-  static std::uint64_t mix(std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
+  static std::uint64_t mix(std::uint64_t z) { return detail::splitmix64(z); }
   static double to_unit(std::uint32_t x) { return double(x) * 0x1.0p-32; }
   // m for the smallest 2^m >= spp: the shuffled indices stay inside the first block of 2^m
   // points, which is a (0,m,2)-net (an index bit k moves the leading output bits of the second
