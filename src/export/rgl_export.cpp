@@ -1,10 +1,15 @@
 // RGL `.bsdf` writer (include/microbrdf/export.hpp; docs/measured.md).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/export.hpp"
+#include "microbrdf/measured.hpp"
+#include "microbrdf/measured_ndf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/rgl_bsdf.hpp"
 #include "microbrdf/rgl_coords.hpp"
 
 namespace microbrdf {
@@ -128,6 +133,64 @@ TensorFile rgl_tensor(const Brdf& brdf, const MicrofacetDistribution& ndf,
 void write_rgl_bsdf(const Brdf& brdf, const MicrofacetDistribution& ndf,
                     const RglExportOptions& options, const std::string& path) {
   write_tensor_file(rgl_tensor(brdf, ndf, options), path);
+}
+
+namespace {
+
+// splitmix64: a fixed, portable stream of uniforms for the isotropy probe.
+struct Uniforms {
+  std::uint64_t state = 0x9e3779b97f4a7c15ull;
+  double operator()() {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return double(z >> 11) * 0x1.0p-53;
+  }
+};
+
+Vec3 turned(const Vec3& v, double a) {
+  const double c = std::cos(a), s = std::sin(a);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y(), v.z()};
+}
+
+}  // namespace
+
+bool brdf_is_isotropic(const Brdf& brdf, double wavelength_m) {
+  if (dynamic_cast<const MerlBrdf*>(&brdf)) return true;
+  if (const auto* r = dynamic_cast<const RglBrdf*>(&brdf)) return r->isotropic();
+  Uniforms u;
+  std::vector<std::pair<Vec3, Vec3>> pairs;
+  for (int k = 0; k < 96; ++k) {
+    const double ti = 1.3 * u(), ph = 2 * kPi * u();
+    const Vec3 wi = spherical(ti, ph);
+    Vec3 wo = spherical(1.3 * u(), 2 * kPi * u());
+    if (k % 2 == 0)
+      if (const auto s = brdf.sample(wi, u(), u(), wavelength_m); s && s->wo.z() > 0.05) wo = s->wo;
+    pairs.emplace_back(wi, wo);
+  }
+  std::vector<double> base(pairs.size());
+  double vmax = 0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    base[k] = brdf.eval(pairs[k].first, pairs[k].second, wavelength_m);
+    if (std::isfinite(base[k])) vmax = std::max(vmax, std::abs(base[k]));
+  }
+  if (!(vmax > 0)) return true;
+  for (double a : {0.7, 1.9, 2.6, 4.0})
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const double v =
+          brdf.eval(turned(pairs[k].first, a), turned(pairs[k].second, a), wavelength_m);
+      if (std::isnan(v) && std::isnan(base[k])) continue;
+      if (!(std::abs(v - base[k]) <= 1e-3 * vmax)) return false;
+    }
+  return true;
+}
+
+std::shared_ptr<const MicrofacetDistribution> export_distribution(
+    const std::shared_ptr<const Brdf>& brdf) {
+  if (const auto m = std::dynamic_pointer_cast<const MicrofacetBrdf>(brdf))
+    return std::shared_ptr<const MicrofacetDistribution>(m, &m->distribution());
+  return lobe_distribution(*brdf, 257);
 }
 
 }  // namespace microbrdf
