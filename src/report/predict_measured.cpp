@@ -8,6 +8,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/measured.hpp"
 #include "microbrdf/measured_compare.hpp"
 #include "microbrdf/measured_ndf.hpp"
 #include "microbrdf/ndf_io.hpp"
@@ -37,13 +38,20 @@ std::string cell(const nlohmann::json& v) { return num_or(v, "&mdash;"); }
 void check_measured_option(const PredictOptions& o) {
   if (o.measured_path.empty()) return;
   if (!fs::exists(o.measured_path)) throw FileError(o.measured_path, "no such file (--measured)");
+  if (!(o.instrument_fwhm_rad >= 0 && o.instrument_fwhm_rad < 0.35))
+    throw InputError("instrument FWHM must lie in [0, 20) deg");
+  // Read it now (cheap next to the pipeline): a broken file fails before the scans are read.
   const std::string e = lower_extension(o.measured_path);
-  if (!is_table(o.measured_path) && e != ".csv" && e != ".binary" && e != ".bsdf")
+  if (is_table(o.measured_path))
+    (void)read_ndf(o.measured_path);
+  else if (e == ".csv")
+    (void)read_gonio_csv(o.measured_path);
+  else if (e == ".binary" || e == ".bsdf")
+    (void)read_measured_brdf(o.measured_path);
+  else
     throw InputError(o.measured_path +
                      ": --measured takes a goniometer .csv, a MERL .binary, an RGL .bsdf or an "
                      "effective NDF table (.npy/.exr from `measured ndf`)");
-  if (!(o.instrument_fwhm_rad >= 0 && o.instrument_fwhm_rad < 0.35))
-    throw InputError("instrument FWHM must lie in [0, 20) deg");
 }
 
 nlohmann::json stage_measured(const Context& c, const NdfSet& ndfs) {

@@ -12,7 +12,8 @@
 
 namespace microbrdf::report {
 
-/// Checks the measured file exists and has a known extension. Throws FileError / InputError.
+/// Checks the measured file: it exists, has a known extension and reads (a broken file fails
+/// before any scan is read). Throws FileError / InputError.
 void check_measured_option(const PredictOptions& o);
 /// Writes ndf_measured.npy and measured/<prediction>/ (compare.json, measured.png,
 /// predicted.png, slices.csv, slices.png); returns the "measured" object of summary.json.

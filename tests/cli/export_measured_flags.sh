@@ -75,6 +75,18 @@ print(f"  peak D {peak:.4g} 1/sr vs 1/(pi ax ay) = {1/(np.pi*0.12*0.3):.4g}")
 assert abs(peak * np.pi * 0.12 * 0.3 - 1) < 0.1, peak
 PY
 
+# The slice of the effective NDF: unmeasured stays NaN in the CSV (not 0), the plot skips it.
+$BIN slice eff.npy -o eff_slice.png --csv eff_slice.csv 2>err || fail "slice of eff.npy: $(cat err)"
+/usr/bin/python3 - eff_slice.csv <<'PY' || fail "slice of the effective NDF"
+import sys
+rows = [l.strip().split(",") for l in open(sys.argv[1]) if not l.startswith("#") and l[0].isalpha()]
+v = [float(r[3]) for r in rows[1:]]
+nan = sum(x != x for x in v); pos = sum(x > 0 for x in v)
+print(f"slice of eff.npy: {nan} unmeasured (NaN) and {pos} measured points")
+assert nan > 0 and pos > 50
+PY
+[ -s eff_slice.png ] || fail "no slice plot"
+
 # --- Each .bsdf against microbrdf's own BRDF along two cuts, by the independent reader. ------
 check_cuts() {  # file, tag, flags...
   local file=$1 tag=$2; shift 2
