@@ -19,11 +19,15 @@ for s in 1 2; do
   "$BIN" generate brushed --alpha-along 0.06 --alpha-across 0.2 --nx 1024 --ny 512 --seed $s \
     -o patch$s.x3p >/dev/null
 done
-# 2. The prediction from the scan: the filtered NDF (Dong 2015 sec. 5.1).
-"$BIN" ndf patch1.x3p --method filtered --filter-sigma 1um --resolution 513 -o predicted.npy \
-  --preview predicted.png >/dev/null
+# 2. The predictions from the scan: the filtered NDF (Dong 2015 sec. 5.1, geometric optics)
+#    and the Kirchhoff D_K (sec. 6, wave optics at 550 nm, 28 um tiles).
+"$BIN" ndf patch1.x3p --method filtered --filter-sigma 1um --resolution 513 -o filtered.npy \
+  >/dev/null
+"$BIN" ndf patch1.x3p --method kirchhoff --wavelength 550nm --patch 28x28um --resolution 513 \
+  -o kirchhoff.npy >/dev/null
 # 3. The virtual goniometer on patch 2.
-"$BIN" ndf patch2.x3p --method kirchhoff --wavelength 550nm --resolution 513 -o dk.npy >/dev/null
+"$BIN" ndf patch2.x3p --method kirchhoff --wavelength 550nm --patch 28x28um --resolution 513 \
+  -o dk.npy >/dev/null
 /usr/bin/python3 - <<'PY'
 import numpy as np, microbrdf as mb
 b = mb.brdf(kirchhoff="dk.npy", metal="Al")
@@ -46,11 +50,13 @@ np.savetxt("goniometer.csv", np.column_stack([ti, pi, to, po, np.full(len(f), 55
            comments="")
 print(f"goniometer.csv: {len(f)} points")
 PY
-# 4. Measurement -> effective NDF (Dong eq. 9), with the material's Fresnel term.
-"$BIN" measured ndf goniometer.csv --metal Al --resolution 513 -o measured.npy
+# 4. Measurement -> effective NDF (Dong eq. 9), with the material's Fresnel term; the points
+#    are splatted with a 1 deg kernel (about a detector's aperture).
+"$BIN" measured ndf goniometer.csv --metal Al --kernel 1deg --resolution 513 -o measured.npy
 "$BIN" fit measured.npy --model ggx --json >measured_fit.json
 # 5. The comparison (Dong Figs. 8-9 layout), and the same inside the predict report.
-"$BIN" measured compare measured.npy predicted.npy --report compare
-"$BIN" predict patch1.x3p --metal Al --no-render --resolution 513 --measured goniometer.csv \
+"$BIN" measured compare measured.npy filtered.npy kirchhoff.npy --report compare
+"$BIN" predict patch1.x3p --metal Al --no-render --resolution 513 --measured measured.npy \
   -o report --quiet >/dev/null
-echo "figures: $PWD/compare/{measured,predicted,slices}.png; report: $PWD/report/report.html"
+echo "figures: $PWD/compare/{filtered,kirchhoff}/{measured,predicted,slices}.png;" \
+  "report: $PWD/report/report.html"
