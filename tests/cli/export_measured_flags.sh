@@ -180,4 +180,19 @@ $BIN export pbrt --ndf ndf.npy --metal Fe --wavelengths 3 --theta-i 6 -o tab_pb 
 grep -q 'Material "measured" "string filename" "material.bsdf"' tab_pb/scene.pbrt \
   || fail "pbrt measured material"
 [ -s tab_pb/material.bsdf ] || fail "the .bsdf is not next to the pbrt scene"
+# A Kirchhoff D_K table (wave optics) goes through the BRDF's own lobe; a parameter texture is
+# exported as the ellipsoid of its mean texel (said on stderr), as the nearest GGX.
+$BIN ndf "$HERE/data/metropro-1.dat" --method kirchhoff --wavelength 550nm --resolution 257 \
+  -o dk.npy >/dev/null 2>err || fail "ndf kirchhoff: $(cat err)"
+$BIN export bsdf --kirchhoff dk.npy --metal Fe --theta-i 6 --wavelengths 3 -o k.bsdf >out 2>err \
+  || fail "export bsdf --kirchhoff: $(cat err)"
+[ -s k.bsdf ] || fail "no .bsdf of the Kirchhoff BRDF"
+$BIN generate brushed --preset stainless4 --nx 640 --ny 512 --seed 2 -o s.x3p >/dev/null 2>&1 \
+  || fail "generate"
+$BIN texture s.x3p --texel 14um -o tex.exr --no-preview >/dev/null 2>&1 || fail "texture fit"
+$BIN export mitsuba --texture tex.exr --metal Fe -o tex_mi >out 2>err \
+  || fail "export mitsuba --texture: $(cat err)"
+grep -q "mean valid texel" err || fail "texture export does not say it takes the mean: $(cat err)"
+grep -q 'type="roughconductor"' tex_mi/scene.xml || fail "texture mean is not a rough conductor"
+grep -q "nearest GGX of the ellipsoid" tex_mi/scene.xml || fail "texture export lacks the note"
 echo OK
