@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "cli_common.hpp"
+#include "cli_progress.hpp"
 #include "commands.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
@@ -135,7 +136,9 @@ void preflight(const ExportArgs& a, bool dir) {
 void run_bsdf(const ExportArgs& a) {
   preflight(a, false);
   const Source s = source_of(a, "bsdf");
-  const RglExportOptions o = grid_options(a.grid, *s.brdf, s.what, "bsdf");
+  RglExportOptions o = grid_options(a.grid, *s.brdf, s.what, "bsdf");
+  Progress progress("export bsdf", false, 0.25, "spectra");
+  o.progress = progress.fraction_callback();
   // The grids follow the BRDF's own NDF (microfacet BRDFs) or its lobe (eq. 9 shape).
   const auto d = export_distribution(s.brdf);
   {

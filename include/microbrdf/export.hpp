@@ -16,6 +16,7 @@
 // Isotropic files store phi_i = [0] (m relative to the incident azimuth); anisotropic files
 // store phi_i spanning [-pi, pi].
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,6 +37,9 @@ struct RglExportOptions {
   std::size_t samples = 32;        ///< luminance/spectra grid per side (>= 2)
   std::vector<double> wavelengths_nm = default_wavelengths();
   std::string description = "microbrdf";
+  /// Called from the calling thread with the fraction of incident nodes done (may throw to
+  /// stop the export: nothing is written then).
+  std::function<void(double)> progress;
   /// 360..830 nm in 25 steps (19.6 nm).
   static std::vector<double> default_wavelengths();
 };

@@ -181,6 +181,7 @@ def export_bsdf(
     ndf_grid: int = 64,
     samples: int = 32,
     wavelengths: Union[int, Sequence[float]] = 25,
+    progress: Optional[Callable[[float], None]] = None,
     **flags: Any,
 ) -> dict[str, Any]:
     """Writes a BRDF (measured=, brdf= or the keywords of brdf()) as an RGL .bsdf file for

@@ -65,7 +65,8 @@ py::object measured_ndf(const py::object& path, double theta_d, std::size_t reso
 py::dict export_bsdf(const py::object& output, const py::object& measured,
                      const py::object& brdf_obj, const py::object& isotropic, std::size_t theta_i,
                      std::size_t phi_i, std::size_t ndf_grid, std::size_t samples,
-                     const py::object& wavelengths, const py::kwargs& kwargs) {
+                     const py::object& wavelengths, const py::object& progress,
+                     const py::kwargs& kwargs) {
   const std::string out = fspath(output);
   const int given = int(!measured.is_none()) + int(!brdf_obj.is_none()) + int(kwargs.size() > 0);
   if (given != 1)
@@ -114,6 +115,7 @@ py::dict export_bsdf(const py::object& output, const py::object& measured,
   else
     o.isotropic = isotropic.cast<bool>();
   if (!o.isotropic && (phi_i < 3 || phi_i > 512)) throw InputError("phi_i must lie in 3..512");
+  o.progress = progress_hook<double>(progress);
   call_released([&] {
     const auto d = export_distribution(b);
     write_rgl_bsdf(*b, *d, o, out);
@@ -162,7 +164,7 @@ values.)");
   m.def("export_bsdf", &export_bsdf, py::arg("output"), py::arg("measured") = py::none(),
         py::kw_only(), py::arg("brdf") = py::none(), py::arg("isotropic") = py::none(),
         py::arg("theta_i") = 24, py::arg("phi_i") = 17, py::arg("ndf_grid") = 64,
-        py::arg("samples") = 32, py::arg("wavelengths") = 25,
+        py::arg("samples") = 32, py::arg("wavelengths") = 25, py::arg("progress") = py::none(),
         R"(Writes a BRDF as an RGL .bsdf tensor file (Dupuy & Jakob 2018), the format of Mitsuba
 3's `measured` plugin and pbrt-v4's MeasuredBxDF, as `microbrdf export bsdf` does.
 
@@ -177,6 +179,8 @@ theta_i: incident elevations over [0, 89 deg]; phi_i: incident azimuths (anisotr
 ndf_grid: ndf/sigma/vndf nodes per axis; samples: spectra/luminance nodes per axis (each
   2..512).
 wavelengths: a count spread over 360-830 nm, or a sequence of wavelengths in metres.
+progress: optional callable(fraction in [0, 1]), called from the calling thread; the call runs
+  without the GIL and Ctrl-C (or an exception from progress) stops it before anything is written.
 
 Defaults: about 3.0 MB isotropic, 50 MB anisotropic; median error of f cos(theta_o) on the lobe
 0.07-0.25 % for GGX lobes (docs/measured.md). Returns a dict: output, source, isotropic,

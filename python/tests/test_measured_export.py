@@ -153,6 +153,21 @@ def test_export_bsdf_of_a_brdf_object_and_of_a_merl_file(tmp_path, merl):
     assert a["alpha_x"] == pytest.approx(0.3, rel=0.05)
 
 
+def test_export_bsdf_reports_progress_and_stops_when_it_raises(tmp_path):
+    seen = []
+    mb.export_bsdf(tmp_path / "p.bsdf", model="ggx", alpha_x=0.1, alpha_y=0.3, metal="Al", theta_i=8,
+                   samples=8, wavelengths=2, progress=seen.append)
+    assert len(seen) >= 2 and seen == sorted(seen) and seen[-1] == 1.0
+
+    def stop(f):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        mb.export_bsdf(tmp_path / "q.bsdf", model="ggx", alpha_x=0.1, alpha_y=0.3, metal="Al", theta_i=8,
+                       samples=8, wavelengths=2, progress=stop)
+    assert not (tmp_path / "q.bsdf").exists()
+
+
 def test_errors_name_the_file_or_the_keyword(tmp_path):
     with pytest.raises(mb.FileError) as e:
         mb.measured_ndf(tmp_path / "none.csv")

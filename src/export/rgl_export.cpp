@@ -79,9 +79,14 @@ TensorFile rgl_tensor(const Brdf& brdf, const MicrofacetDistribution& ndf,
 
   // spectra and luminance on the sample grid.
   std::vector<float> spec_v(npi * nti * nwl * ns * ns), lum_v(npi * nti * ns * ns);
-#pragma omp parallel for collapse(2) schedule(dynamic)
-  for (std::size_t a = 0; a < npi; ++a)
-    for (std::size_t b = 0; b < nti; ++b) {
+  // Blocks of incident nodes, each in parallel; progress is reported between blocks from the
+  // calling thread (it may throw to stop the export).
+  const std::size_t total = npi * nti, block = 16;
+  for (std::size_t k0 = 0; k0 < total; k0 += block) {
+    const std::size_t k1 = std::min(total, k0 + block);
+#pragma omp parallel for schedule(dynamic)
+    for (std::size_t k = k0; k < k1; ++k) {
+      const std::size_t a = k / nti, b = k % nti;
       const Vec3 wi = spherical(theta_i[b], phi_i[a]);
       const double params[2] = {phi_i[a], theta_i[b]};
       const double sig = sigma_i.eval({theta2u(theta_i[b]), phi2u(phi_i[a])}, nullptr);
@@ -106,9 +111,11 @@ TensorFile rgl_tensor(const Brdf& brdf, const MicrofacetDistribution& ndf,
           lum[j * ns + i] = static_cast<float>(ysum / double(nwl));
           lmax = std::max(lmax, ysum / double(nwl));
         }
-      for (std::size_t k = 0; k < ns * ns; ++k)
-        lum[k] = lmax > 0 ? std::max(lum[k], static_cast<float>(1e-4 * lmax)) : 1.0f;
+      for (std::size_t q = 0; q < ns * ns; ++q)
+        lum[q] = lmax > 0 ? std::max(lum[q], static_cast<float>(1e-4 * lmax)) : 1.0f;
     }
+    if (o.progress) o.progress(double(k1) / double(total));
+  }
 
   TensorFile f;
   const std::vector<std::uint8_t> desc(o.description.begin(), o.description.end());
