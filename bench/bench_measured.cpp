@@ -1,7 +1,8 @@
 // Measured BRDFs at the default sizes: MERL read (parse of a 35 MB table from memory, next to a
 // memcpy of the same bytes), Dong eq. 9 on a MERL table (1025^2 nodes, next to the same number
-// of MerlBrdf::eval calls alone) and the RGL .bsdf export of an isotropic GGX conductor at the
-// default grids (next to the BRDF evaluations the export makes, alone).
+// of MerlBrdf::eval calls alone) and the RGL .bsdf export of a GGX conductor at the
+// default grids, isotropic and anisotropic (next to the BRDF evaluations the isotropic export
+// makes, alone; the anisotropic one makes 17 times as many).
 #include <benchmark/benchmark.h>
 
 #include <cstring>
@@ -90,6 +91,22 @@ void BM_ExportBsdfIsotropicGgx(benchmark::State& state) {
       static_cast<double>(state.iterations()) * 24 * 32 * 32 * 25, benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_ExportBsdfIsotropicGgx)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ExportBsdfAnisotropicGgx(benchmark::State& state) {
+  static const MicrofacetBrdf b(std::make_shared<GgxDistribution>(0.1, 0.3),
+                                std::make_shared<ConductorFresnel>(constant_index(1.2, 3.5)));
+  const GgxDistribution d(0.1, 0.3);
+  RglExportOptions o;  // defaults: 17 phi_i x 24 theta_i, 64 x 64 ndf grid, 32^2, 25 wavelengths
+  o.isotropic = false;
+  for (auto _ : state) {
+    auto t = rgl_tensor(b, d, o);
+    benchmark::DoNotOptimize(t.fields.data());
+  }
+  state.counters["brdf_evals/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * 17 * 24 * 32 * 32 * 25,
+                         benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_ExportBsdfAnisotropicGgx)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The export's BRDF evaluations alone (24 x 32^2 x 25, one thread).
 void BM_ExportBrdfEvalReference(benchmark::State& state) {

@@ -246,3 +246,21 @@ TEST(RglBsdf, MerlToBsdfKeepsTheMeasuredBrdf) {
   std::printf("[ MERL -> .bsdf ] median relative error against the MERL table %.4f\n", med);
   EXPECT_LT(med, 0.02);
 }
+
+TEST(RglBsdf, IsotropyProbeAndExportDistribution) {
+  EXPECT_TRUE(brdf_is_isotropic(*ggx(0.3, 0.3).brdf));
+  EXPECT_TRUE(brdf_is_isotropic(*ggx(0.3, 0.3, 0.7).brdf));  // phi of a round lobe is moot
+  EXPECT_FALSE(brdf_is_isotropic(*ggx(0.1, 0.3).brdf));
+  EXPECT_FALSE(brdf_is_isotropic(*ggx(0.3, 0.31, 0.4).brdf));  // 3 % anisotropy is seen
+  EXPECT_FALSE(brdf_is_isotropic(*ggx(0.01, 0.02).brdf));      // narrow lobes are probed
+  const MerlBrdf merl(MerlTable{});
+  EXPECT_TRUE(brdf_is_isotropic(merl));
+  // A microfacet BRDF is parameterised by its own NDF; anything else by its lobe.
+  const auto c = ggx(0.2, 0.2);
+  const auto d = export_distribution(c.brdf);
+  EXPECT_EQ(d.get(), c.d.get());
+  const auto m = std::make_shared<MerlBrdf>(tabulate_merl(*c.brdf));
+  const auto lobe = export_distribution(m);
+  EXPECT_NE(dynamic_cast<const TabulatedDistribution*>(lobe.get()), nullptr);
+  EXPECT_NEAR(lobe->D(Vec3(0, 0, 1)) / c.d->D(Vec3(0, 0, 1)), 1.0, 0.05);
+}

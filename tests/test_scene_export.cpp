@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <pugixml.hpp>
@@ -232,4 +233,47 @@ TEST(SceneExport, PbrtConductorAndMeasuredTokenize) {
   EXPECT_NONFATAL_FAILURE(parse_pbrt("Shape \"sphere\" \"float radius\" [ 1\n"), "unbalanced");
   fs::remove_all(dir);
   fs::remove_all(dm);
+}
+
+TEST(SceneExport, NearestGgxOfAnEllipsoidIsAFitAndSaysSo) {
+  // Untilted, the ellipsoid NDF is the GGX NDF (Dong eq. 10 with R = I): the fit finds it.
+  const auto flat =
+      nearest_rough_conductor(EllipsoidDistribution({0.1, 0.3, 0, 0, 0}), metal("Al"));
+  EXPECT_NEAR(flat.alpha_u, 0.1, 0.002);
+  EXPECT_NEAR(flat.alpha_v, 0.3, 0.006);
+  ASSERT_EQ(flat.notes.size(), 1u);
+  EXPECT_NE(flat.notes[0].find("nearest GGX of the ellipsoid"), std::string::npos);
+  EXPECT_NE(flat.notes[0].find("skew"), std::string::npos);
+  // A tilted peak: still a GGX near the ellipsoid's widths, with the note.
+  const auto tilted =
+      nearest_rough_conductor(EllipsoidDistribution({0.1, 0.3, 8 * M_PI / 180, 0, 0}), metal("Al"));
+  EXPECT_GT(tilted.alpha_u, 0.08);
+  EXPECT_LT(tilted.alpha_u, 0.12);
+  EXPECT_GT(tilted.alpha_v, 0.25);
+  EXPECT_LT(tilted.alpha_v, 0.35);
+  EXPECT_NE(tilted.notes.at(0).find("theta_x 8 deg"), std::string::npos) << tilted.notes[0];
+  // theta_z turns the axes: the renderers cannot, so that is a second note.
+  const auto turned =
+      nearest_rough_conductor(EllipsoidDistribution({0.1, 0.3, 0, 0, 0.4}), metal("Al"));
+  ASSERT_EQ(turned.notes.size(), 2u);
+  EXPECT_NE(turned.notes[1].find("texture coordinates"), std::string::npos);
+}
+
+TEST(SceneExport, GgxGoesAsItIsAndAQuarterTurnSwapsTheAxes) {
+  const auto g = nearest_rough_conductor(GgxDistribution(0.1, 0.3, 0), metal("Cu"));
+  EXPECT_DOUBLE_EQ(g.alpha_u, 0.1);
+  EXPECT_DOUBLE_EQ(g.alpha_v, 0.3);
+  EXPECT_TRUE(g.notes.empty());
+  EXPECT_EQ(g.constants.name, metal("Cu").name);
+  const auto q = nearest_rough_conductor(GgxDistribution(0.1, 0.3, M_PI / 2), metal("Cu"));
+  EXPECT_DOUBLE_EQ(q.alpha_u, 0.3);
+  EXPECT_DOUBLE_EQ(q.alpha_v, 0.1);
+  EXPECT_TRUE(q.notes.empty());
+  // Beckmann: the nearest GGX, said.
+  const auto b = nearest_rough_conductor(BeckmannDistribution(0.2), metal("Cu"));
+  EXPECT_NEAR(b.alpha_u, b.alpha_v, 1e-3);
+  EXPECT_GT(b.alpha_u, 0.1);
+  EXPECT_LT(b.alpha_u, 0.3);
+  ASSERT_EQ(b.notes.size(), 1u);
+  EXPECT_NE(b.notes[0].find("Beckmann"), std::string::npos);
 }

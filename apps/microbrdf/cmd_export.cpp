@@ -1,10 +1,12 @@
 // `microbrdf export bsdf|mitsuba|pbrt`: renderer-ready materials (RGL .bsdf files, Mitsuba 3 and
-// pbrt-v4 scenes; docs/measured.md).
+// pbrt-v4 scenes; docs/measured.md). The BRDF comes from a measured file or from the BRDF and
+// material flags of every other command (spec_flags.hpp).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 
 #include "cli_common.hpp"
+#include "cli_progress.hpp"
 #include "commands.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
@@ -12,89 +14,193 @@
 #include "microbrdf/io.hpp"
 #include "microbrdf/measured.hpp"
 #include "microbrdf/measured_ndf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/rgl_bsdf.hpp"
 #include "microbrdf/scene_export.hpp"
+#include "microbrdf/texture.hpp"
+#include "spec_flags.hpp"
 
 namespace microbrdf::cli {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct BsdfArgs {
-  std::string input, output;
-  bool anisotropic = false, json = false;
+struct GridArgs {
+  bool isotropic = false, anisotropic = false;
   std::size_t theta_i = 24, phi_i = 17, ndf_grid = 64, samples = 32, wavelengths = 25;
 };
 
-std::unique_ptr<Brdf> load_measured(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (e == ".binary") return std::make_unique<MerlBrdf>(read_merl(path), path);
-  if (e == ".bsdf") return std::make_unique<RglBrdf>(RglBrdf::load(path));
-  if (e == ".csv")
-    throw InputError(path + ": a goniometer point set is not a full BRDF; use `measured ndf`");
-  throw InputError(path + ": unknown measured-BRDF type (use .binary MERL or .bsdf RGL)");
+struct ExportArgs {
+  std::string input, output, bsdf, envmap;
+  SpecFlags spec;
+  GridArgs grid;
+  bool json = false;
+};
+
+/// The BRDF to export and, for analytic models (and a parameter texture's mean), its
+/// distribution and optical constants (what a rough conductor needs).
+struct Source {
+  std::shared_ptr<const Brdf> brdf;
+  std::shared_ptr<const MicrofacetDistribution> analytic;
+  std::optional<OpticalConstants> constants;
+  std::string what;  ///< for the file's description and the messages
+};
+
+void say(const char* cmd, const std::string& line) {
+  std::fprintf(stderr, "microbrdf export %s: %s\n", cmd, line.c_str());
 }
 
-void run_bsdf(const BsdfArgs& a) {
-  for (auto [v, name] : {std::pair{a.theta_i, "--theta-i"},
-                         {a.ndf_grid, "--ndf-grid"},
-                         {a.samples, "--samples"},
-                         {a.wavelengths, "--wavelengths"}})
+Source source_of(const ExportArgs& a, const char* cmd) {
+  Source s;
+  const nlohmann::json keys = a.spec.keys();
+  if (!a.input.empty()) {
+    if (!keys.empty())
+      throw InputError("give a measured FILE or the BRDF/material flags, not both");
+    s.brdf = read_measured_brdf(a.input);
+    s.what = fs::path(a.input).filename().string();
+    return s;
+  }
+  if (keys.empty())
+    throw InputError(
+        "give a measured FILE (.binary, .bsdf) or a BRDF (--model/--alpha, --ndf, --kirchhoff, "
+        "--sun, --sh, --texture, --lambertian) with its material");
+  const BrdfSpec spec = brdf_spec(a.spec);
+  const MaterialSpec material =
+      spec.uses_material() ? material_spec(a.spec, std::nullopt) : MaterialSpec{};
+  s.what = spec.describe() + (spec.uses_material() ? ", " + material.describe() : "");
+  if (spec.kind == BrdfSpec::Kind::Mirror)
+    throw InputError("--mirror: an ideal mirror is a delta lobe, which a .bsdf table cannot hold");
+  if (spec.kind == BrdfSpec::Kind::Texture) {
+    const EllipsoidParams p = read_param_texture(spec.texture).mean_valid();
+    auto d = std::make_shared<EllipsoidDistribution>(p);
+    s.brdf = std::make_shared<MicrofacetBrdf>(d, make_fresnel(material), spec.separable_g);
+    s.analytic = d;
+    say(cmd,
+        "the parameter texture is spatially varying: exporting the ellipsoid of its mean "
+        "valid texel (" +
+            d->describe() + ")");
+  } else {
+    s.brdf = make_brdf(spec, material);
+    if (spec.kind == BrdfSpec::Kind::Analytic)
+      s.analytic = std::shared_ptr<const MicrofacetDistribution>(
+          s.brdf, &static_cast<const MicrofacetBrdf&>(*s.brdf).distribution());
+  }
+  if (s.analytic) s.constants = optical_constants(material);
+  return s;
+}
+
+RglExportOptions grid_options(const GridArgs& g, const Brdf& brdf, const std::string& what,
+                              const char* cmd) {
+  for (auto [v, name] : {std::pair{g.theta_i, "--theta-i"},
+                         {g.ndf_grid, "--ndf-grid"},
+                         {g.samples, "--samples"},
+                         {g.wavelengths, "--wavelengths"}})
     if (v < 2 || v > 512) throw InputError(std::string(name) + " must lie in 2..512");
-  if (a.anisotropic && (a.phi_i < 3 || a.phi_i > 512))
-    throw InputError("--phi-i must lie in 3..512");
-  const auto brdf = load_measured(a.input);
+  if (g.isotropic && g.anisotropic) throw InputError("give --isotropic or --anisotropic, not both");
   RglExportOptions o;
-  o.isotropic = !a.anisotropic;
-  o.theta_i = a.theta_i;
-  o.phi_i = a.phi_i;
-  o.ndf_theta = o.ndf_phi = a.ndf_grid;
-  o.samples = a.samples;
-  o.wavelengths_nm.resize(a.wavelengths);
-  for (std::size_t i = 0; i < a.wavelengths; ++i)
-    o.wavelengths_nm[i] = 360.0 + 470.0 * double(i) / double(a.wavelengths - 1);
-  o.description = "microbrdf export of " + fs::path(a.input).filename().string();
-  // The grids follow the BRDF's own lobe (eq. 9 shape at theta_d = 14.14 deg).
-  const auto lobe = lobe_distribution(*brdf, 257);
+  if (g.isotropic || g.anisotropic) {
+    o.isotropic = g.isotropic;
+  } else {
+    o.isotropic = brdf_is_isotropic(brdf);
+    say(cmd, std::string(o.isotropic ? "isotropic" : "anisotropic") + " BRDF: " +
+                 (o.isotropic ? "one incident azimuth (phi_i = [0])"
+                              : std::to_string(g.phi_i) + " incident azimuths") +
+                 " (--isotropic / --anisotropic to choose)");
+  }
+  if (!o.isotropic && (g.phi_i < 3 || g.phi_i > 512))
+    throw InputError("--phi-i must lie in 3..512");
+  o.theta_i = g.theta_i;
+  o.phi_i = g.phi_i;
+  o.ndf_theta = o.ndf_phi = g.ndf_grid;
+  o.samples = g.samples;
+  o.wavelengths_nm.resize(g.wavelengths);
+  for (std::size_t i = 0; i < g.wavelengths; ++i)
+    o.wavelengths_nm[i] = 360.0 + 470.0 * double(i) / double(g.wavelengths - 1);
+  o.description = "microbrdf export of " + what;
+  return o;
+}
+
+void preflight(const ExportArgs& a, bool dir) {
+  Preflight pre;
+  if (!a.input.empty()) pre.input("file", a.input);
+  if (!a.bsdf.empty()) pre.input("--bsdf", a.bsdf);
+  check_spec_files(pre, a.spec);
+  if (dir)
+    pre.output_dir("-o", a.output);
+  else
+    pre.output("-o", a.output, {".bsdf"});
+  if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
+  pre.done();
+}
+
+void run_bsdf(const ExportArgs& a) {
+  preflight(a, false);
+  const Source s = source_of(a, "bsdf");
+  RglExportOptions o = grid_options(a.grid, *s.brdf, s.what, "bsdf");
+  Progress progress("export bsdf", false, 0.25, "spectra");
+  o.progress = progress.fraction_callback();
+  // The grids follow the BRDF's own NDF (microfacet BRDFs) or its lobe (eq. 9 shape).
+  const auto d = export_distribution(s.brdf);
   {
     // One output file, renamed into place at once: it may commit now, so its size can be read.
     OutputGroup::Bypass direct;
-    write_rgl_bsdf(*brdf, *lobe, o, a.output);
+    write_rgl_bsdf(*s.brdf, *d, o, a.output);
   }
   const auto bytes = fs::file_size(a.output);
   if (a.json)
-    print_json({{"input", a.input},
+    print_json({{"input", a.input.empty() ? s.what : a.input},
                 {"output", a.output},
                 {"isotropic", o.isotropic},
                 {"theta_i", o.theta_i},
                 {"phi_i", o.isotropic ? 1 : o.phi_i},
-                {"ndf_grid", a.ndf_grid},
+                {"ndf_grid", a.grid.ndf_grid},
                 {"samples", o.samples},
-                {"wavelengths", a.wavelengths},
+                {"wavelengths", a.grid.wavelengths},
                 {"bytes", bytes}});
   else
     std::printf("%s -> %s (%s, %zu theta_i, %zu x %zu samples, %zu wavelengths, %.1f MB)\n",
-                a.input.c_str(), a.output.c_str(), o.isotropic ? "isotropic" : "anisotropic",
-                o.theta_i, o.samples, o.samples, a.wavelengths, double(bytes) / 1e6);
+                (a.input.empty() ? s.what : a.input).c_str(), a.output.c_str(),
+                o.isotropic ? "isotropic" : "anisotropic", o.theta_i, o.samples, o.samples,
+                a.grid.wavelengths, double(bytes) / 1e6);
 }
 
-struct SceneArgs {
-  std::string bsdf, output, envmap;
-  bool json = false;
-};
-
-void run_scene(const SceneArgs& a, bool mitsuba) {
-  (void)RglBrdf::load(a.bsdf);  // refuse a broken file before writing anything
-  SceneExportOptions o;
-  o.envmap = a.envmap;
-  const std::string name = fs::path(a.bsdf).filename().string();
-  auto files = mitsuba ? export_mitsuba_measured(name, a.output, o)
-                       : export_pbrt_measured(name, a.output, o);
-  if (fs::absolute(a.bsdf) != fs::absolute(fs::path(a.output) / name)) {
-    write_file_atomic((fs::path(a.output) / name).string(),
-                      read_file_bytes(a.bsdf, std::uint64_t{1} << 32));
-    files.push_back(name);
+void run_scene(const ExportArgs& a, bool mitsuba) {
+  const char* cmd = mitsuba ? "mitsuba" : "pbrt";
+  preflight(a, true);
+  SceneExportOptions so;
+  so.envmap = a.envmap;
+  std::vector<std::string> files;
+  std::vector<std::string> notes;
+  if (!a.bsdf.empty()) {
+    if (!a.input.empty() || !a.spec.keys().empty())
+      throw InputError("--bsdf: give the .bsdf file alone (no measured FILE or BRDF flags)");
+    (void)RglBrdf::load(a.bsdf);  // refuse a broken file before writing anything
+    const std::string name = fs::path(a.bsdf).filename().string();
+    files = mitsuba ? export_mitsuba_measured(name, a.output, so)
+                    : export_pbrt_measured(name, a.output, so);
+    if (fs::absolute(a.bsdf) != fs::absolute(fs::path(a.output) / name)) {
+      write_file_atomic((fs::path(a.output) / name).string(),
+                        read_file_bytes(a.bsdf, std::uint64_t{1} << 32));
+      files.push_back(name);
+    }
+  } else {
+    const Source s = source_of(a, cmd);
+    if (s.analytic) {
+      const RoughConductor m = nearest_rough_conductor(*s.analytic, *s.constants);
+      for (const auto& n : m.notes) say(cmd, n);
+      files = mitsuba ? export_mitsuba(m, a.output, so) : export_pbrt(m, a.output, so);
+    } else {
+      // Tabulated and measured BRDFs: a `measured` material referencing a .bsdf written here.
+      const std::string name =
+          a.input.empty() ? "material.bsdf" : fs::path(a.input).stem().string() + ".bsdf";
+      const RglExportOptions o = grid_options(a.grid, *s.brdf, s.what, cmd);
+      notes.push_back("the BRDF (" + s.what + ") as an RGL .bsdf table: " + name);
+      files = mitsuba ? export_mitsuba_measured(name, a.output, so, notes)
+                      : export_pbrt_measured(name, a.output, so, notes);
+      write_rgl_bsdf(*s.brdf, *export_distribution(s.brdf), o,
+                     (fs::path(a.output) / name).string());
+      files.push_back(name);
+    }
   }
   if (a.json) {
     print_json({{"output", a.output}, {"files", files}});
@@ -103,55 +209,88 @@ void run_scene(const SceneArgs& a, bool mitsuba) {
   }
 }
 
+void add_grid_flags(CLI::App* c, GridArgs& g) {
+  c->add_flag("--isotropic", g.isotropic, "Store one incident azimuth (phi_i = [0])");
+  c->add_flag("--anisotropic", g.anisotropic,
+              "Store incident azimuths over 2 pi (default: whichever the BRDF is, tested)");
+  c->add_option("--theta-i", g.theta_i, "Incident elevations over [0, 89] deg")
+      ->capture_default_str();
+  c->add_option("--phi-i", g.phi_i, "Incident azimuths (anisotropic files)")->capture_default_str();
+  c->add_option("--ndf-grid", g.ndf_grid, "ndf/sigma/vndf nodes per axis")->capture_default_str();
+  c->add_option("--samples", g.samples, "luminance/spectra nodes per axis")->capture_default_str();
+  c->add_option("--wavelengths", g.wavelengths, "Wavelengths over 360-830 nm")
+      ->capture_default_str();
+}
+
+void add_source_flags(CLI::App* c, ExportArgs& a) {
+  c->add_option("file", a.input, "Measured BRDF: .binary (MERL) or .bsdf (RGL)");
+  add_brdf_flags(c, a.spec, (kFlagAllBrdfs & ~kFlagMirror) | kFlagTexture);
+  add_material_flags(c, a.spec, "required with a BRDF that has a Fresnel term");
+}
+
 }  // namespace
 
 void register_export(CLI::App& app) {
   auto* e = app.add_subcommand("export", "Renderer-ready materials: .bsdf, Mitsuba 3, pbrt-v4");
   e->require_subcommand(1);
-  auto a = std::make_shared<BsdfArgs>();
-  auto* b = e->add_subcommand("bsdf", "Write a measured BRDF as an RGL .bsdf tensor file");
+  auto a = std::make_shared<ExportArgs>();
+  auto* b = e->add_subcommand("bsdf", "Write a BRDF as an RGL .bsdf tensor file");
   b->footer(
       "The RGL format of Mitsuba 3's `measured` plugin and pbrt-v4's MeasuredBxDF (Dupuy & Jakob "
       "2018).\n"
-      "The grids follow the BRDF's own lobe; the file returns the BRDF exactly at its sample "
-      "nodes.\n"
-      "Defaults (isotropic): 24 theta_i, 64 x 64 ndf grid, 32 x 32 samples, 25 wavelengths "
-      "360-830 nm:\n"
-      "about 2.9 MB; median error of f cos(theta_o) on the lobe 0.07-0.25 % for GGX lobes "
-      "(docs/measured.md).\n\n"
+      "The BRDF is a measured FILE or any BRDF of the model/material flags (microbrdf's own, "
+      "height-\n"
+      "correlated Smith by default); the file returns it exactly at its sample nodes. The grids "
+      "follow\n"
+      "the BRDF's NDF (microfacet BRDFs) or its lobe. Isotropic or anisotropic: as the BRDF is "
+      "(tested),\n"
+      "or --isotropic / --anisotropic. Defaults: 24 theta_i, 17 phi_i (anisotropic), 64 x 64 ndf "
+      "grid,\n"
+      "32 x 32 samples, 25 wavelengths 360-830 nm: about 3.0 MB isotropic, 50 MB anisotropic; "
+      "median\n"
+      "error of f cos(theta_o) on the lobe 0.07-0.25 % for GGX lobes (docs/measured.md).\n\n"
       "Examples:\n"
-      "  microbrdf export bsdf alum.binary -o alum.bsdf\n"
-      "  microbrdf export bsdf alum.binary --theta-i 32 --samples 48 -o alum_fine.bsdf");
-  b->add_option("file", a->input, "Measured BRDF: .binary (MERL) or .bsdf (RGL)")->required();
+      "  microbrdf export bsdf --model ggx --alpha 0.3 --n 1.2 --k 3.5 -o g.bsdf\n"
+      "  microbrdf export bsdf --model ggx --alpha-x 0.1 --alpha-y 0.3 --metal Al -o a.bsdf\n"
+      "  microbrdf export bsdf --ndf ndf.npy --metal Fe -o t.bsdf\n"
+      "  microbrdf export bsdf alum.binary --theta-i 32 --samples 48 -o alum.bsdf");
+  add_source_flags(b, *a);
   b->add_option("-o,--output", a->output, "Output .bsdf file")->required();
-  b->add_flag("--anisotropic", a->anisotropic, "Store incident azimuths (phi_i over 2 pi)");
-  b->add_option("--theta-i", a->theta_i, "Incident elevations over [0, 89] deg")
-      ->capture_default_str();
-  b->add_option("--phi-i", a->phi_i, "Incident azimuths (--anisotropic)")->capture_default_str();
-  b->add_option("--ndf-grid", a->ndf_grid, "ndf/sigma/vndf nodes per axis")->capture_default_str();
-  b->add_option("--samples", a->samples, "luminance/spectra nodes per axis")->capture_default_str();
-  b->add_option("--wavelengths", a->wavelengths, "Wavelengths over 360-830 nm")
-      ->capture_default_str();
+  add_grid_flags(b, a->grid);
   b->add_flag("--json", a->json, "Print a JSON summary on stdout");
   b->callback([a] { run_guarded("export bsdf", [&] { run_bsdf(*a); }); });
 
   for (bool mitsuba : {true, false}) {
-    auto s = std::make_shared<SceneArgs>();
-    auto* c = e->add_subcommand(mitsuba ? "mitsuba" : "pbrt",
-                                mitsuba ? "Mitsuba 3 material + sphere scene for a .bsdf file"
-                                        : "pbrt-v4 material + sphere scene for a .bsdf file");
-    c->footer(std::string("Writes material.") + (mitsuba ? "xml" : "pbrt") + " and scene." +
-              (mitsuba ? "xml" : "pbrt") +
-              " into DIR with a `measured` material referencing the .bsdf (copied into DIR).\n" +
-              (mitsuba ? "--envmap FILE lights the sphere with that map (copied); default: a "
-                         "constant emitter.\n"
-                       : "pbrt-v4 wants equal-area environment maps: the scene uses a uniform "
-                         "infinite light.\n") +
-              "\nExample:\n  microbrdf export " + (mitsuba ? "mitsuba" : "pbrt") +
-              " --bsdf alum.bsdf -o scene/");
-    c->add_option("--bsdf", s->bsdf, "The .bsdf file (from `export bsdf`)")->required();
+    auto s = std::make_shared<ExportArgs>();
+    auto* c = e->add_subcommand(
+        mitsuba ? "mitsuba" : "pbrt",
+        mitsuba ? "Mitsuba 3 material + sphere scene" : "pbrt-v4 material + sphere scene");
+    c->footer(
+        std::string("Writes material.") + (mitsuba ? "xml" : "pbrt") + " and scene." +
+        (mitsuba ? "xml" : "pbrt") +
+        " into DIR. An analytic model (and a parameter texture's mean)\n"
+        "becomes a GGX rough conductor (" +
+        (mitsuba ? "roughconductor, alpha_u/alpha_v" : "conductor, uroughness/vroughness") +
+        ", eta/k spectrum files in nm);\n"
+        "Beckmann and the ellipsoid (whose skew the renderers lack) become the nearest GGX, "
+        "said in the\n"
+        "files and on stderr. Tabulated, Kirchhoff, measured BRDFs (FILE) become a `measured` "
+        "material\n"
+        "referencing a .bsdf written into DIR (grid flags as for `export bsdf`); --bsdf uses "
+        "an existing one.\n" +
+        (mitsuba ? "--envmap FILE lights the sphere with that map (copied); default: a "
+                   "constant emitter.\n"
+                 : "pbrt-v4 wants equal-area environment maps: the scene uses a uniform "
+                   "infinite light.\n") +
+        "\nExamples:\n  microbrdf export " + (mitsuba ? "mitsuba" : "pbrt") +
+        " --model ellipsoid --alpha-x 0.1 --alpha-y 0.3 --theta-x 5deg --metal Al -o scene/\n"
+        "  microbrdf export " +
+        (mitsuba ? "mitsuba" : "pbrt") + " --bsdf alum.bsdf -o scene/");
+    add_source_flags(c, *s);
+    c->add_option("--bsdf", s->bsdf, "An existing .bsdf file (from `export bsdf`), copied");
     c->add_option("-o,--output", s->output, "Output directory")->required();
     if (mitsuba) c->add_option("--envmap", s->envmap, "Environment map (EXR/HDR lat-long)");
+    add_grid_flags(c, s->grid);
     c->add_flag("--json", s->json, "Print a JSON summary on stdout");
     c->callback([s, mitsuba] {
       run_guarded(mitsuba ? "export mitsuba" : "export pbrt", [&] { run_scene(*s, mitsuba); });

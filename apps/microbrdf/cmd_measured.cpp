@@ -13,6 +13,7 @@
 #include "microbrdf/ndf_io.hpp"
 #include "microbrdf/rgl_bsdf.hpp"
 #include "microbrdf/units.hpp"
+#include "spec_flags.hpp"
 
 namespace microbrdf::cli {
 namespace {
@@ -23,13 +24,8 @@ struct NdfArgs {
   std::string input, output, theta_d = "14.14deg", shadowing = "none", kernel, wavelength = "550nm";
   std::size_t resolution = 1025;
   bool json = false;
+  SpecFlags material;
 };
-
-std::string lower_ext(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return e;
-}
 
 void run_ndf(const NdfArgs& a) {
   EffectiveNdfOptions o;
@@ -41,28 +37,23 @@ void run_ndf(const NdfArgs& a) {
     throw InputError("--shadowing must be none or smith");
   o.smith = a.shadowing == "smith";
   if (!a.kernel.empty()) o.kernel_sigma = parse_angle(a.kernel);  // disk units ~ rad near the pole
-  // Fresnel: F = 1 (the NDF's shape; at fixed theta_d F(wi.h) is one constant for full BRDFs).
-  const PerfectMirrorFresnel f;
-  const std::string ext = lower_ext(a.input);
-  TabulatedNdf t;
-  if (ext == ".csv") {
-    t = effective_ndf(read_gonio_csv(a.input), f, o);
-  } else if (ext == ".binary") {
-    t = effective_ndf(MerlBrdf(read_merl(a.input), a.input), f, o);
-  } else if (ext == ".bsdf") {
-    t = effective_ndf(RglBrdf::load(a.input), f, o);
-  } else {
-    throw InputError(a.input +
-                     ": unknown measured-BRDF type (use .csv goniometer points, "
-                     ".binary MERL or .bsdf RGL)");
-  }
-  t.meta.sources = {a.input};
-  t.meta.notes += "; F = 1 (shape only: the table's scale is F(wi.h) times the true NDF's)";
+  // Fresnel: the material's when given (the table then has the NDF's own scale, G aside), else
+  // F = 1 (the NDF's shape: at fixed theta_d, F(wi.h) is one constant for full BRDFs).
+  const bool has_f = has_material(a.material.keys());
+  const std::shared_ptr<const Fresnel> fresnel =
+      has_f ? make_fresnel(material_spec(a.material, std::nullopt))
+            : std::make_shared<PerfectMirrorFresnel>();
+  TabulatedNdf t = measured_ndf_file(a.input, *fresnel, o);
+  if (has_f)
+    t.meta.notes += "; F = " + material_spec(a.material, std::nullopt).describe();
+  else
+    t.meta.notes += "; F = 1 (shape only: the table's scale is F(wi.h) times the true NDF's)";
   write_ndf(t, a.output);
   std::fprintf(stderr,
-               "microbrdf measured ndf: G %s, F = 1; unmeasured nodes are NaN (%zu of the disk "
+               "microbrdf measured ndf: G %s, F %s; unmeasured nodes are NaN (%zu of the disk "
                "nodes hold data)\n",
                o.smith ? "= Smith G2 of the estimate" : "= 1 (Dong's assumption)",
+               has_f ? "of the material" : "= 1 (no material given: the NDF's shape)",
                measured_nodes(t));
   if (a.json) {
     print_json({{"input", a.input},
@@ -136,9 +127,10 @@ void register_measured(CLI::App& app) {
   n->footer(
       "D(h) = 4 |wi.n| |wo.n| f(wi, wo) / (F(wi.h) G). G = 1 by default (Dong's assumption; "
       "--shadowing smith\n"
-      "divides by the Smith G2 of the estimate). F = 1: the table is the NDF's shape (for full "
-      "BRDFs read\n"
-      "at fixed theta_d, F(wi.h) is one constant). Full BRDFs (.binary MERL, .bsdf RGL) are read "
+      "divides by the Smith G2 of the estimate). F: the material flags' Fresnel term; without "
+      "them F = 1,\n"
+      "the NDF's shape (for full BRDFs read at fixed theta_d, F(wi.h) is one constant). Full BRDFs "
+      "(.binary MERL, .bsdf RGL) are read "
       "at the\n"
       "fixed angle --theta-d between wi and wo; goniometer points (.csv) are splatted with a "
       "Gaussian kernel\n"
@@ -146,7 +138,8 @@ void register_measured(CLI::App& app) {
       "without data\n"
       "are NaN (unmeasured), never 0; `fit` ignores them. Formats: docs/measured.md.\n\n"
       "Examples:\n"
-      "  microbrdf measured ndf goni.csv -o eff.npy && microbrdf fit eff.npy --model ggx --json\n"
+      "  microbrdf measured ndf goni.csv --n 1.6 --k 3.2 -o eff.npy\n"
+      "  microbrdf fit eff.npy --model ggx --json\n"
       "  microbrdf measured ndf alum.binary --theta-d 14.14deg --resolution 513 -o eff.npy");
   n->add_option("file", a->input, "Measured BRDF: .csv (goniometer), .binary (MERL), .bsdf (RGL)")
       ->required();
@@ -158,6 +151,7 @@ void register_measured(CLI::App& app) {
   n->add_option("--kernel", a->kernel, "Point sets: kernel std (angle near the pole)");
   n->add_option("--wavelength", a->wavelength, "Wavelength read (nearest in the file)")
       ->capture_default_str();
+  add_material_flags(n, a->material, "default: none, F = 1: the NDF's shape");
   n->add_flag("--json", a->json, "Print a JSON summary on stdout");
   n->callback([a] { run_guarded("measured ndf", [&] { run_ndf(*a); }); });
 

@@ -22,6 +22,7 @@ struct PredictArgs {
   SpecFlags material;
   std::string output, filter_sigma = "1um", wavelength = "555nm";
   std::string theta_i = "20,45,70", envmap, texel = "53um", patch = "70x53um";
+  std::string measured, instrument_fwhm = "0";
   std::size_t resolution = 1025, texture_size = 128;
   double envmap_scale = 1;
   int render_width = PredictOptions{}.render_width, spp = PredictOptions{}.render_spp;
@@ -35,6 +36,7 @@ void run(const PredictArgs& a) {
   scan_inputs(a.inputs);
   Preflight pre;
   for (const auto& path : a.strips) pre.input("--strips", path);
+  if (!a.measured.empty()) pre.input("--measured", a.measured);
   pre.output_dir("-o", a.output);
   check_spec_files(pre, a.material);
   if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
@@ -68,6 +70,8 @@ void run(const PredictArgs& a) {
   }
   o.texel_m = parse_length(a.texel);
   o.texture_size = a.texture_size;
+  o.measured_path = a.measured;
+  o.instrument_fwhm_rad = parse_angle(a.instrument_fwhm);
   o.seed = a.seed;
   o.threads = bounded_threads("predict", a.threads);
   if (!a.quiet)
@@ -107,7 +111,9 @@ void register_predict(CLI::App& app) {
       "  5. renders: the cylinder pair of Dong Fig. 10 and a sphere (--envmap FILE, else built-in\n"
       "     area lights; --render-width, --spp; --no-render skips);\n"
       "  6. with --strips ALONG ACROSS: per-texel fits (--texel) and a synthesised parameter\n"
-      "     texture (--texture-size texels, --seed), and a render of it.\n"
+      "     texture (--texture-size texels, --seed), and a render of it;\n"
+      "  7. with --measured FILE: the predicted NDFs against the measurement's effective NDF\n"
+      "     (Dong eq. 9; --instrument-fwhm), images, cuts and errors on the measured nodes.\n"
       "Many scans are processed one at a time. Same inputs and --seed give the same summary.json\n"
       "(apart from its \"timing\" object). On an error nothing is left in DIR; an earlier\n"
       "predict output in DIR is replaced only on success.\n\n"
@@ -142,6 +148,13 @@ void register_predict(CLI::App& app) {
       ->expected(2);
   c->add_option("--texel", a->texel, "Texel size of the per-texel fits")->capture_default_str();
   c->add_option("--texture-size", a->texture_size, "Synthesised texture size, texels per side")
+      ->capture_default_str();
+  c->add_option("--measured", a->measured,
+                "Compare with a measurement: goniometer .csv, MERL .binary, RGL .bsdf or an "
+                "effective NDF table (docs/measured.md)");
+  c->add_option("--instrument-fwhm", a->instrument_fwhm,
+                "With --measured: Gaussian instrument signature (FWHM angle) applied to the "
+                "prediction")
       ->capture_default_str();
   c->add_option("--seed", a->seed, "Seed of the renders and the texture synthesis")
       ->capture_default_str();

@@ -16,6 +16,8 @@
 // Isotropic files store phi_i = [0] (m relative to the incident azimuth); anisotropic files
 // store phi_i spanning [-pi, pi].
 
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,9 @@ struct RglExportOptions {
   std::size_t samples = 32;        ///< luminance/spectra grid per side (>= 2)
   std::vector<double> wavelengths_nm = default_wavelengths();
   std::string description = "microbrdf";
+  /// Called from the calling thread with the fraction of incident nodes done (may throw to
+  /// stop the export: nothing is written then).
+  std::function<void(double)> progress;
   /// 360..830 nm in 25 steps (19.6 nm).
   static std::vector<double> default_wavelengths();
 };
@@ -43,6 +48,14 @@ struct RglExportOptions {
 /// or without wavelengths.
 TensorFile rgl_tensor(const Brdf& brdf, const MicrofacetDistribution& ndf,
                       const RglExportOptions& options);
+/// True when the BRDF is unchanged when wi and wo turn together about n: 96 pairs (half drawn
+/// by the BRDF's own sampler, so narrow lobes are probed) at four turns agree within 1e-3 of the
+/// largest value seen. MERL tables are isotropic by construction; RGL files say which they are.
+bool brdf_is_isotropic(const Brdf& brdf, double wavelength_m = 550e-9);
+/// The distribution that parameterises the export of `brdf`: a microfacet BRDF's own NDF
+/// (analytic or tabulated), else lobe_distribution(brdf, 257) (measured_ndf.hpp).
+std::shared_ptr<const MicrofacetDistribution> export_distribution(
+    const std::shared_ptr<const Brdf>& brdf);
 /// rgl_tensor written atomically to `path`.
 void write_rgl_bsdf(const Brdf& brdf, const MicrofacetDistribution& ndf,
                     const RglExportOptions& options, const std::string& path);

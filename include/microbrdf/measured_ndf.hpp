@@ -20,6 +20,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <string>
 
 #include "microbrdf/brdf.hpp"
 #include "microbrdf/fresnel.hpp"
@@ -55,5 +56,16 @@ std::size_t measured_nodes(const TabulatedNdf& t);
 std::shared_ptr<MicrofacetDistribution> lobe_distribution(const Brdf& brdf,
                                                           std::size_t resolution = 513,
                                                           double wavelength_m = 550e-9);
+
+/// A measured file that holds a full BRDF, by its extension: `.binary` (MERL) or `.bsdf` (RGL).
+/// Throws InputError naming the file for a goniometer `.csv` (a point set, not a full BRDF) or
+/// an unknown extension; FileError for a file that does not read.
+std::unique_ptr<Brdf> read_measured_brdf(const std::string& path);
+/// Eq. 9 on any measured file, by its extension: `.csv` (goniometer points), `.binary` (MERL) or
+/// `.bsdf` (RGL). meta.sources = {path}. `fresnel` is the material's Fresnel term (a
+/// PerfectMirrorFresnel gives the NDF's shape, F = 1). Throws as the readers and
+/// effective_ndf do.
+TabulatedNdf measured_ndf_file(const std::string& path, const Fresnel& fresnel,
+                               const EffectiveNdfOptions& options);
 
 }  // namespace microbrdf

@@ -65,6 +65,11 @@ struct PredictOptions {
   std::size_t texture_size = 128;  ///< synthesised texture, texels per side
   std::size_t texel_resolution = 129;
 
+  /// A measurement to compare the prediction with (docs/measured.md): a goniometer .csv, a MERL
+  /// .binary, an RGL .bsdf or an effective NDF table; "" = none. The report gains a section.
+  std::string measured_path;
+  double instrument_fwhm_rad = 0;  ///< Gaussian instrument signature applied to the prediction
+
   std::uint64_t seed = 1;  ///< renders and texture synthesis
   /// 0 = all cores. Renders and NDFs do not depend on it; the fits (parallel sums in Ceres)
   /// agree across thread counts to ~1e-14 relative, bit for bit at the same count.

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/microfacet.hpp"
 
 namespace microbrdf {
 
@@ -24,6 +25,15 @@ struct RoughConductor {
   OpticalConstants constants;
   std::vector<std::string> notes;  ///< approximations made, one sentence each
 };
+
+/// The GGX rough conductor nearest an analytic distribution, with the material's optical
+/// constants: GGX as it is; Beckmann and the ellipsoid (whose skew, the tilted peak, neither
+/// renderer has) through a GGX fit (fit.hpp, sqrt objective) of the distribution tabulated on
+/// 257^2 nodes. Every approximation is a note: "nearest GGX of ...", and for anisotropy axes
+/// turned by phi from the surface's u axis, that the renderers align alpha_u with u. Throws
+/// InputError for a distribution that is not analytic.
+RoughConductor nearest_rough_conductor(const MicrofacetDistribution& d,
+                                       const OpticalConstants& constants);
 
 struct SceneExportOptions {
   std::string envmap;  ///< Mitsuba: environment map copied next to the scene; "" = constant

@@ -10,6 +10,8 @@ radians), with the keyword names of the CLI flags (``--filter-sigma`` -> ``filte
     mb.fit(D, model="ellipsoid")               # dict, the keys of `microbrdf fit --json`
     b = mb.brdf(ndf=D, metal="Al")
     b.eval(wi, wo, wavelength=555e-9)          # (N, 3), (N, 3) -> (N,), 1/sr
+    mb.export_bsdf("g.bsdf", model="ggx", alpha=0.3, n=1.2, k=3.5)   # RGL .bsdf for renderers
+    E = mb.measured_ndf("goni.csv", n=1.6, k=3.2)                   # Dong eq. 9, NaN = unmeasured
 
 Arrays returned are views on the library's own buffers (no copies); long calls release the
 GIL, take an optional ``progress`` callback and stop on Ctrl-C. File problems raise FileError
@@ -27,7 +29,9 @@ from ._microbrdf import (  # noqa: F401
     Surface,
     TabulatedNdf,
     brdf,
+    export_bsdf,
     fit,
+    measured_ndf,
     ndf,
     predict,
     read_ndf,
@@ -50,7 +54,9 @@ __all__ = [
     "Surface",
     "TabulatedNdf",
     "brdf",
+    "export_bsdf",
     "fit",
+    "measured_ndf",
     "ndf",
     "predict",
     "read_ndf",

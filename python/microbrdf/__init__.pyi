@@ -157,6 +157,36 @@ class ShBrdf(Brdf):
     def load(path: PathLike) -> ShBrdf: ...
 
 def brdf(**flags: Any) -> Brdf: ...
+def measured_ndf(
+    path: PathLike,
+    *,
+    theta_d: float = 0.24678907,
+    resolution: int = 1025,
+    wavelength: float = 550e-9,
+    shadowing: str = "none",
+    kernel: float = 0.0,
+    **material: Any,
+) -> TabulatedNdf:
+    """Effective NDF (1/sr, NaN = unmeasured) of a goniometer .csv, MERL .binary or RGL .bsdf
+    (Dong 2015 eq. 9). theta_d in radians (default 14.14 deg), wavelength in metres; material
+    keywords (metal=, n=, k=, ...) give F, else F = 1 (the shape)."""
+def export_bsdf(
+    output: PathLike,
+    measured: Optional[PathLike] = None,
+    *,
+    brdf: Optional[Brdf] = None,
+    isotropic: Optional[bool] = None,
+    theta_i: int = 24,
+    phi_i: int = 17,
+    ndf_grid: int = 64,
+    samples: int = 32,
+    wavelengths: Union[int, Sequence[float]] = 25,
+    progress: Optional[Callable[[float], None]] = None,
+    **flags: Any,
+) -> dict[str, Any]:
+    """Writes a BRDF (measured=, brdf= or the keywords of brdf()) as an RGL .bsdf file for
+    Mitsuba 3 / pbrt-v4. wavelengths: a count over 360-830 nm or metres. Returns a summary
+    dict (output, source, isotropic, theta_i, phi_i, ndf_grid, samples, wavelengths [m], bytes)."""
 def simulate(
     scene: PathLike,
     lmax: int = 15,

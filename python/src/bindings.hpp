@@ -30,6 +30,7 @@ void bind_fit(py::module_& m);
 void bind_brdf(py::module_& m);
 void bind_simulate(py::module_& m);
 void bind_render(py::module_& m);
+void bind_measured(py::module_& m);
 
 /// A float64, C-contiguous array: one that already is one is taken as it is (no copy); anything
 /// else numpy converts once (forcecast).

@@ -77,4 +77,5 @@ PYBIND11_MODULE(_microbrdf, m) {
   bind_brdf(m);
   bind_simulate(m);
   bind_render(m);
+  bind_measured(m);
 }

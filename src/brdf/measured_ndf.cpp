@@ -4,10 +4,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/rgl_bsdf.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 
 namespace microbrdf {
@@ -222,6 +225,40 @@ std::shared_ptr<MicrofacetDistribution> lobe_distribution(const Brdf& brdf, std:
     }
   t.meta.method = "lobe";
   return std::make_shared<TabulatedDistribution>(std::move(t));
+}
+
+namespace {
+std::string lower_extension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+}  // namespace
+
+std::unique_ptr<Brdf> read_measured_brdf(const std::string& path) {
+  const std::string e = lower_extension(path);
+  if (e == ".binary") return std::make_unique<MerlBrdf>(read_merl(path), path);
+  if (e == ".bsdf") return std::make_unique<RglBrdf>(RglBrdf::load(path));
+  if (e == ".csv")
+    throw InputError(path + ": a goniometer point set is not a full BRDF (use `measured ndf`)");
+  throw InputError(path + ": unknown measured-BRDF type (use .binary MERL or .bsdf RGL)");
+}
+
+TabulatedNdf measured_ndf_file(const std::string& path, const Fresnel& fresnel,
+                               const EffectiveNdfOptions& options) {
+  const std::string e = lower_extension(path);
+  TabulatedNdf t;
+  if (e == ".csv") {
+    t = effective_ndf(read_gonio_csv(path), fresnel, options);
+  } else if (e == ".binary" || e == ".bsdf") {
+    t = effective_ndf(*read_measured_brdf(path), fresnel, options);
+  } else {
+    throw InputError(path +
+                     ": unknown measured-BRDF type (use .csv goniometer points, .binary MERL or "
+                     ".bsdf RGL)");
+  }
+  t.meta.sources = {path};
+  return t;
 }
 
 }  // namespace microbrdf

@@ -1,10 +1,15 @@
 // RGL `.bsdf` writer (include/microbrdf/export.hpp; docs/measured.md).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/export.hpp"
+#include "microbrdf/measured.hpp"
+#include "microbrdf/measured_ndf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/rgl_bsdf.hpp"
 #include "microbrdf/rgl_coords.hpp"
 
 namespace microbrdf {
@@ -74,9 +79,14 @@ TensorFile rgl_tensor(const Brdf& brdf, const MicrofacetDistribution& ndf,
 
   // spectra and luminance on the sample grid.
   std::vector<float> spec_v(npi * nti * nwl * ns * ns), lum_v(npi * nti * ns * ns);
-#pragma omp parallel for collapse(2) schedule(dynamic)
-  for (std::size_t a = 0; a < npi; ++a)
-    for (std::size_t b = 0; b < nti; ++b) {
+  // Blocks of incident nodes, each in parallel; progress is reported between blocks from the
+  // calling thread (it may throw to stop the export).
+  const std::size_t total = npi * nti, block = 16;
+  for (std::size_t k0 = 0; k0 < total; k0 += block) {
+    const std::size_t k1 = std::min(total, k0 + block);
+#pragma omp parallel for schedule(dynamic)
+    for (std::size_t k = k0; k < k1; ++k) {
+      const std::size_t a = k / nti, b = k % nti;
       const Vec3 wi = spherical(theta_i[b], phi_i[a]);
       const double params[2] = {phi_i[a], theta_i[b]};
       const double sig = sigma_i.eval({theta2u(theta_i[b]), phi2u(phi_i[a])}, nullptr);
@@ -101,9 +111,11 @@ TensorFile rgl_tensor(const Brdf& brdf, const MicrofacetDistribution& ndf,
           lum[j * ns + i] = static_cast<float>(ysum / double(nwl));
           lmax = std::max(lmax, ysum / double(nwl));
         }
-      for (std::size_t k = 0; k < ns * ns; ++k)
-        lum[k] = lmax > 0 ? std::max(lum[k], static_cast<float>(1e-4 * lmax)) : 1.0f;
+      for (std::size_t q = 0; q < ns * ns; ++q)
+        lum[q] = lmax > 0 ? std::max(lum[q], static_cast<float>(1e-4 * lmax)) : 1.0f;
     }
+    if (o.progress) o.progress(double(k1) / double(total));
+  }
 
   TensorFile f;
   const std::vector<std::uint8_t> desc(o.description.begin(), o.description.end());
@@ -128,6 +140,64 @@ TensorFile rgl_tensor(const Brdf& brdf, const MicrofacetDistribution& ndf,
 void write_rgl_bsdf(const Brdf& brdf, const MicrofacetDistribution& ndf,
                     const RglExportOptions& options, const std::string& path) {
   write_tensor_file(rgl_tensor(brdf, ndf, options), path);
+}
+
+namespace {
+
+// splitmix64: a fixed, portable stream of uniforms for the isotropy probe.
+struct Uniforms {
+  std::uint64_t state = 0x9e3779b97f4a7c15ull;
+  double operator()() {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return double(z >> 11) * 0x1.0p-53;
+  }
+};
+
+Vec3 turned(const Vec3& v, double a) {
+  const double c = std::cos(a), s = std::sin(a);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y(), v.z()};
+}
+
+}  // namespace
+
+bool brdf_is_isotropic(const Brdf& brdf, double wavelength_m) {
+  if (dynamic_cast<const MerlBrdf*>(&brdf)) return true;
+  if (const auto* r = dynamic_cast<const RglBrdf*>(&brdf)) return r->isotropic();
+  Uniforms u;
+  std::vector<std::pair<Vec3, Vec3>> pairs;
+  for (int k = 0; k < 96; ++k) {
+    const double ti = 1.3 * u(), ph = 2 * kPi * u();
+    const Vec3 wi = spherical(ti, ph);
+    Vec3 wo = spherical(1.3 * u(), 2 * kPi * u());
+    if (k % 2 == 0)
+      if (const auto s = brdf.sample(wi, u(), u(), wavelength_m); s && s->wo.z() > 0.05) wo = s->wo;
+    pairs.emplace_back(wi, wo);
+  }
+  std::vector<double> base(pairs.size());
+  double vmax = 0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    base[k] = brdf.eval(pairs[k].first, pairs[k].second, wavelength_m);
+    if (std::isfinite(base[k])) vmax = std::max(vmax, std::abs(base[k]));
+  }
+  if (!(vmax > 0)) return true;
+  for (double a : {0.7, 1.9, 2.6, 4.0})
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const double v =
+          brdf.eval(turned(pairs[k].first, a), turned(pairs[k].second, a), wavelength_m);
+      if (std::isnan(v) && std::isnan(base[k])) continue;
+      if (!(std::abs(v - base[k]) <= 1e-3 * vmax)) return false;
+    }
+  return true;
+}
+
+std::shared_ptr<const MicrofacetDistribution> export_distribution(
+    const std::shared_ptr<const Brdf>& brdf) {
+  if (const auto m = std::dynamic_pointer_cast<const MicrofacetBrdf>(brdf))
+    return std::shared_ptr<const MicrofacetDistribution>(m, &m->distribution());
+  return lobe_distribution(*brdf, 257);
 }
 
 }  // namespace microbrdf

@@ -3,11 +3,13 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "core/markup_escape.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/fit.hpp"
 #include "microbrdf/io.hpp"
 
 namespace microbrdf {
@@ -110,6 +112,59 @@ std::vector<std::string> conductor_spectra(const RoughConductor& m, const std::s
 }
 
 }  // namespace
+
+RoughConductor nearest_rough_conductor(const MicrofacetDistribution& d,
+                                       const OpticalConstants& constants) {
+  RoughConductor m;
+  m.constants = constants;
+  double phi = 0;
+  if (const auto* g = dynamic_cast<const GgxDistribution*>(&d)) {
+    m.alpha_u = g->params().alpha_x;
+    m.alpha_v = g->params().alpha_y;
+    phi = g->params().phi;
+  } else {
+    const auto* b = dynamic_cast<const BeckmannDistribution*>(&d);
+    const auto* e = dynamic_cast<const EllipsoidDistribution*>(&d);
+    if (!b && !e)
+      throw InputError(
+          "a rough conductor needs an analytic NDF (ggx, beckmann or ellipsoid), not " +
+          d.describe());
+    const std::string model = b ? "beckmann" : "ellipsoid";
+    FitOptions fo;
+    fo.model = FitModel::Ggx;
+    const FitResult r = fit_ndf(tabulate(d, model, 257), fo);
+    m.alpha_u = r.params.alpha_x;
+    m.alpha_v = r.params.alpha_y;
+    phi = r.phi;
+    if (e) {
+      const auto& p = e->params();
+      m.notes.push_back(fmt::format(
+          "nearest GGX of the ellipsoid NDF (alpha {:.4g} x {:.4g}, theta_x {:.4g} deg, theta_y "
+          "{:.4g} deg, theta_z {:.4g} deg): GGX fit alpha_u {:.4g}, alpha_v {:.4g} (Hellinger "
+          "distance {:.3g}); the ellipsoid's skew (its tilted peak) has no equivalent in "
+          "Mitsuba 3 or pbrt-v4",
+          p.alpha_x, p.alpha_y, p.theta_x * 180 / M_PI, p.theta_y * 180 / M_PI,
+          p.theta_z * 180 / M_PI, m.alpha_u, m.alpha_v, r.hellinger));
+    } else {
+      m.notes.push_back(fmt::format(
+          "nearest GGX of the Beckmann NDF ({}): GGX fit alpha_u {:.4g}, alpha_v {:.4g} "
+          "(Hellinger distance {:.3g})",
+          d.describe(), m.alpha_u, m.alpha_v, r.hellinger));
+    }
+  }
+  // Fold phi into (-pi/2, pi/2]; a quarter turn swaps the axes.
+  phi = std::remainder(phi, M_PI);
+  if (std::abs(std::abs(phi) - M_PI / 2) < 1e-9) {
+    std::swap(m.alpha_u, m.alpha_v);
+    phi = 0;
+  }
+  if (std::abs(phi) > 1e-9 && std::abs(m.alpha_u - m.alpha_v) > 1e-12 * m.alpha_u)
+    m.notes.push_back(fmt::format(
+        "the alpha_u axis is turned by {:.4g} deg from the surface's u direction; the renderers "
+        "align alpha_u with u, so turn the shape's texture coordinates by that angle",
+        phi * 180 / M_PI));
+  return m;
+}
 
 std::string spectrum_file_text(const Spectrum& s, const std::string& comment) {
   std::string out = "# " + comment + "\n# wavelength_nm value\n";

@@ -21,6 +21,7 @@
 #include "microbrdf/material_spec.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
+#include "report/predict_measured.hpp"
 #include "report/predict_stages.hpp"
 
 namespace fs = std::filesystem;
@@ -209,6 +210,7 @@ void check_predict_options(const PredictOptions& o) {
     if (o.texture_size < 8 || o.texture_size > 8192)
       throw InputError("texture size must lie in 8..8192 texels");
   }
+  report::check_measured_option(o);
   (void)optical_constants(o.material);  // an unknown metal or unreadable CSV fails here
   const auto paths = expand_scan_inputs(o.inputs);
   check_inputs_exist(paths, "scan");
@@ -264,6 +266,8 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   timed("renders", [&] { summary["renders"] = report::stage_render(c, ndfs, fresnel, timing); });
   c.log("[5/6] texture");
   timed("texture", [&] { summary["texture"] = report::stage_texture(c, fresnel, timing); });
+  if (!o.measured_path.empty())
+    timed("measured", [&] { summary["measured"] = report::stage_measured(c, ndfs); });
   c.log("[6/6] report");
 
   nlohmann::json files = nlohmann::json::array();

@@ -7,6 +7,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
 #include "report/html.hpp"
+#include "report/predict_measured.hpp"
 
 namespace microbrdf {
 namespace {
@@ -457,6 +458,7 @@ std::string render_report_html(const json& summary, const std::string& dir) {
   section_brdf(p, s);
   section_renders(p, s);
   section_texture(p, s);
+  p << report::measured_section_html(s, dir);
   section_settings(p, s);
   section_timing(p, s);
   p << "</body></html>\n";

@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# `predict --measured FILE`: the report and summary.json gain the comparison with the
+# measurement. (1) The measurement is the prediction's own filtered NDF (from `ndf` with the
+# same settings): the comparison is exact. (2) A goniometer CSV of a GGX lobe twice as wide as
+# the scan's across one axis: the width ratios say so. (3) A bad file: error, nothing written.
+set -u
+BIN=$1
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+cd "$T" || exit 1
+
+$BIN generate gaussian --sigma 0.1um --tau 2um --nx 256 --ny 256 --spacing 0.2um --seed 3 \
+  -o scan.x3p >/dev/null 2>err || fail "generate: $(cat err)"
+$BIN ndf scan.x3p --method filtered --filter-sigma 1um --resolution 129 -o self.npy >/dev/null \
+  2>err || fail "ndf: $(cat err)"
+$BIN predict scan.x3p --no-render --resolution 129 --measured self.npy -o rep --quiet >/dev/null \
+  2>err || fail "predict --measured: $(cat err)"
+/usr/bin/python3 - rep <<'PY' || fail "predict --measured (self)"
+import json, os, sys
+d = sys.argv[1]
+s = json.load(open(os.path.join(d, "summary.json")))
+m = s["measured"]
+c = m["comparisons"][0]
+print(f"predict --measured (its own table): {c['nodes']} nodes, relative L2 {c['relative_l2']:.3g}, "
+      f"width ratios {c['alpha_x_ratio']:.6f} {c['alpha_y_ratio']:.6f}")
+assert c["prediction"] == "filtered" and c["nodes"] > 1000
+assert c["relative_l2"] < 1e-6 and abs(c["alpha_x_ratio"] - 1) < 1e-6, c
+for k in ("measured", "predicted", "slices"):
+    assert os.path.getsize(os.path.join(d, c["images"][k])) > 1000, k
+assert os.path.exists(os.path.join(d, m["table"]))
+assert m["table"] in s["outputs"] and c["images"]["slices"] in s["outputs"]
+assert "measured_s" in s["timing"]
+html = open(os.path.join(d, "report.html")).read()
+assert "Prediction against the measurement" in html and html.count("data:image/png") >= 3
+PY
+
+# (2) A goniometer CSV: GGX with the (isotropic) scan's width from `fit` along x, twice that along y.
+$BIN fit self.npy --model ggx --json >fit.json || fail "fit"
+/usr/bin/python3 - fit.json goni.csv <<'PY' || fail "python could not write the CSV"
+import json, sys, numpy as np
+p = json.load(open(sys.argv[1]))["params"]
+a0 = np.sqrt(p["alpha_x"] * p["alpha_y"])
+ax, ay = a0, 2 * a0
+half = np.radians(14.14) / 2
+rng = np.random.default_rng(5)
+rows = ["theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,wavelength_nm,brdf_per_sr"]
+for ring in range(1, 41):
+    for k in range(80):
+        r, a = 0.9 * (ring / 40) ** 1.5, 2 * np.pi * (k + rng.random()) / 80
+        h = np.array([r * np.cos(a), r * np.sin(a), np.sqrt(1 - r * r)])
+        t1 = np.cross(h, [0, 0, 1]); t1 /= np.linalg.norm(t1); t2 = np.cross(h, t1)
+        psi = 2 * np.pi * rng.random(); b = np.cos(psi) * t1 + np.sin(psi) * t2
+        wi, wo = np.cos(half) * h + np.sin(half) * b, np.cos(half) * h - np.sin(half) * b
+        if wi[2] < 0.05 or wo[2] < 0.05: continue
+        D = 1 / (np.pi * ax * ay * (h[0]**2 / ax**2 + h[1]**2 / ay**2 + h[2]**2) ** 2)
+        ang = lambda w: (np.degrees(np.arccos(w[2])), np.degrees(np.arctan2(w[1], w[0])))
+        ti, pi = ang(wi); to, po = ang(wo)
+        rows.append(f"{ti:.8f},{pi:.8f},{to:.8f},{po:.8f},555,{D / (4 * wi[2] * wo[2]):.8g}")
+open(sys.argv[2], "w").write("\n".join(rows) + "\n")
+PY
+$BIN predict scan.x3p --no-render --resolution 129 --measured goni.csv --instrument-fwhm 0.5deg \
+  -o rep2 --quiet >/dev/null 2>err || fail "predict --measured goni.csv: $(cat err)"
+/usr/bin/python3 - rep2/summary.json <<'PY' || fail "predict --measured (wider CSV)"
+import json, sys
+s = json.load(open(sys.argv[1]))
+m = s["measured"]; c = m["comparisons"][0]
+print(f"predict --measured goni.csv (alpha_y doubled): width ratios x {c['alpha_x_ratio']:.3f} "
+      f"y {c['alpha_y_ratio']:.3f}, relative L2 {c['relative_l2']:.3f}")
+assert abs(m["instrument_fwhm_rad"] - 0.00872665) < 1e-6
+assert abs(m["theta_d_rad"] - 0.246789) < 1e-5
+assert 0.4 < c["alpha_y_ratio"] < 0.6, c   # predicted / measured: half as wide across
+assert 0.85 < c["alpha_x_ratio"] < 1.2, c
+PY
+
+# (3) A file of no known kind: refused before any work, no output folder.
+printf 'x' >m.txt
+$BIN predict scan.x3p --no-render --measured m.txt -o rep3 --quiet >/dev/null 2>err \
+  && fail "unknown --measured accepted"
+grep -q "m.txt" err || fail "message does not name the file: $(cat err)"
+[ -e rep3 ] && fail "output written despite the error"
+$BIN predict scan.x3p --no-render --measured missing.csv -o rep3 --quiet >/dev/null 2>err \
+  && fail "missing --measured accepted"
+grep -q "missing.csv" err || fail "message does not name the missing file: $(cat err)"
+echo OK
