@@ -277,11 +277,12 @@ void filtered_normals_into(const Surface& s, double sigma, double truncate, doub
   const std::size_t taps_x = 2 * hx + 1, ring_rows = 2 * hy + 1;
   const double nan = std::numeric_limits<double>::quiet_NaN();
 
-  // Column blocks: about 128 columns (the ring of 2 hy + 1 rows x 5 channels then stays in L2),
-  // and at least four per thread so dynamic scheduling balances them; widths multiple of 8.
+  // Column blocks: at most 128 columns, and at least eight per thread, taken dynamically: a
+  // thread the scheduler holds back delays the end by one small block at most; widths multiple
+  // of 8.
   const int threads = omp_get_max_threads();
   std::size_t blocks =
-      std::max<std::size_t>((nx + 127) / 128, 4 * static_cast<std::size_t>(threads));
+      std::max<std::size_t>((nx + 127) / 128, 8 * static_cast<std::size_t>(threads));
   std::size_t width = (nx + blocks - 1) / blocks;
   width = std::max<std::size_t>(8, (width + 7) / 8 * 8);
   blocks = (nx + width - 1) / width;
@@ -370,39 +371,26 @@ void filtered_normals_into(const Surface& s, double sigma, double truncate, doub
 
 void splat_normals(const double* mx, const double* my, std::size_t n, double weight,
                    TabulatedNdf& t) {
+  // Sequential on the calling thread: a few ns per point, and no second fork and join for the
+  // threads (which, on a loaded machine, waits for the slowest of them to be scheduled).
   const std::size_t res = t.resolution();
   double* d = t.values().data();
   const double inv = 1.0 / t.spacing();
   const double last = static_cast<double>(res - 1);
-  // Thread k adds only into table rows r with r % threads == k, visiting the points in order:
-  // every node receives its terms in point order, as in the sequential loop.
-#pragma omp parallel
-  {
-    const auto nt = static_cast<std::size_t>(omp_get_num_threads());
-    const auto me = static_cast<std::size_t>(omp_get_thread_num());
-    for (std::size_t i = 0; i < n; ++i) {
-      const double x = mx[i];
-      if (std::isnan(x)) continue;
-      const double fy = (my[i] + 1.0) * inv;
-      if (!(fy >= 0 && fy <= last)) continue;
-      const auto iy = static_cast<std::size_t>(std::min(std::floor(fy), last - 1));
-      const bool own0 = iy % nt == me, own1 = (iy + 1) % nt == me;
-      if (!own0 && !own1) continue;
-      const double fx = (x + 1.0) * inv;
-      if (!(fx >= 0 && fx <= last)) continue;
-      const auto ix = static_cast<std::size_t>(std::min(std::floor(fx), last - 1));
-      const double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
-      double* r0 = d + iy * res + ix;
-      if (own0) {
-        r0[0] += weight * (1 - tx) * (1 - ty);
-        r0[1] += weight * tx * (1 - ty);
-      }
-      if (own1) {
-        double* r1 = r0 + res;
-        r1[0] += weight * (1 - tx) * ty;
-        r1[1] += weight * tx * ty;
-      }
-    }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = mx[i];
+    if (std::isnan(x)) continue;
+    const double fx = (x + 1.0) * inv, fy = (my[i] + 1.0) * inv;
+    if (!(fx >= 0 && fx <= last && fy >= 0 && fy <= last)) continue;
+    const auto ix = static_cast<std::size_t>(std::min(std::floor(fx), last - 1));
+    const auto iy = static_cast<std::size_t>(std::min(std::floor(fy), last - 1));
+    const double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
+    double* r0 = d + iy * res + ix;
+    double* r1 = r0 + res;
+    r0[0] += weight * (1 - tx) * (1 - ty);
+    r0[1] += weight * tx * (1 - ty);
+    r1[0] += weight * (1 - tx) * ty;
+    r1[1] += weight * tx * ty;
   }
 }
 

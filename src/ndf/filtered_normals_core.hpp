@@ -16,9 +16,8 @@ void filtered_normals_into(const Surface& s, double sigma, double truncate, doub
                            double* mx, double* my, double* mz, std::size_t& used,
                            std::size_t& skipped);
 
-/// t.splat(mx[i], my[i], weight) for every i in 0..n-1 with mx[i] not NaN, in that order: the
-/// same table bit for bit as the sequential loop, whatever the thread count (each thread adds
-/// only into the table rows it owns, visiting the points in order).
+/// t.splat(mx[i], my[i], weight) for every i in 0..n-1 with mx[i] not NaN, in that order (the
+/// same table bit for bit as that loop).
 void splat_normals(const double* mx, const double* my, std::size_t n, double weight,
                    TabulatedNdf& t);
 
