@@ -1161,26 +1161,45 @@ TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& m
                            std::size_t resolution, int subsamples) {
   if (resolution < 3) throw InputError("NDF table resolution must be at least 3");
   const int s = std::max(1, subsamples);
+  const auto ss = static_cast<std::size_t>(s);
   TabulatedNdf t(resolution);
-  const double delta = t.spacing();
-  std::vector<double> w(2 * static_cast<std::size_t>(s)), off(w.size());
-  for (std::size_t a = 0; a < w.size(); ++a) {
-    off[a] = ((static_cast<double>(a) + 0.5) / s - 1.0);
-    w[a] = (1.0 - std::abs(off[a])) / s;
-  }
-  auto dd = [&](double x, double y) {
-    const double r2 = x * x + y * y;
-    return r2 < 1 ? d.D(Vec3(x, y, std::sqrt(1 - r2))) : 0.0;
-  };
-#pragma omp parallel for schedule(dynamic, 4)
-  for (std::size_t iy = 0; iy < resolution; ++iy)
-    for (std::size_t ix = 0; ix < resolution; ++ix) {
-      double acc = 0;
-      for (std::size_t b = 0; b < w.size(); ++b)
-        for (std::size_t a = 0; a < w.size(); ++a)
-          acc += w[a] * w[b] * dd(t.node_x(ix) + off[a] * delta, t.node_y(iy) + off[b] * delta);
-      t.at(ix, iy) = acc;
+  const double delta = t.spacing(), h = delta / s;
+  std::vector<double> w(2 * ss);
+  for (std::size_t a = 0; a < w.size(); ++a)
+    w[a] = (1.0 - std::abs((static_cast<double>(a) + 0.5) / s - 1.0)) / s;
+  // The midpoint samples of neighbouring tent cells coincide: D is evaluated once per point of
+  // the sub-grid (s (N + 1))^2 (each sub-row's y and sub-column's x from its own index), rows in
+  // contiguous bands per thread so that a row reuses the previous row's last s sub-rows.
+  const std::size_t nsub = ss * (resolution + 1);
+  const double x0 = t.node_x(0) - delta + 0.5 * h;
+#pragma omp parallel
+  {
+    std::vector<double> buf(2 * ss * nsub);
+    std::vector<long> held(2 * ss, -1);
+    auto sub_row = [&](std::size_t j) -> const double* {
+      double* out = &buf[(j % (2 * ss)) * nsub];
+      if (held[j % (2 * ss)] == static_cast<long>(j)) return out;
+      held[j % (2 * ss)] = static_cast<long>(j);
+      const double y = x0 + static_cast<double>(j) * h;
+      for (std::size_t i = 0; i < nsub; ++i) {
+        const double x = x0 + static_cast<double>(i) * h, r2 = x * x + y * y;
+        out[i] = r2 < 1 ? d.D(Vec3(x, y, std::sqrt(1 - r2))) : 0.0;
+      }
+      return out;
+    };
+#pragma omp for schedule(static)
+    for (std::size_t iy = 0; iy < resolution; ++iy) {
+      double* row = &t.at(0, iy);
+      for (std::size_t b = 0; b < 2 * ss; ++b) {
+        const double* sr = sub_row(iy * ss + b);
+        for (std::size_t ix = 0; ix < resolution; ++ix) {
+          double acc = 0;
+          for (std::size_t a = 0; a < 2 * ss; ++a) acc += w[a] * sr[ix * ss + a];
+          row[ix] += w[b] * acc;
+        }
+      }
     }
+  }
   t.meta.method = model + "-tent";
   t.meta.notes = d.describe() + "; tent-cell averages, " + std::to_string(s) + " subsamples";
   return t;
