@@ -10,6 +10,7 @@
 // time exponent in the number of points and the load average as counters.
 #include <benchmark/benchmark.h>
 #include <omp.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -219,6 +220,14 @@ void BM_NdfNaive1025(benchmark::State& state) {
                                                      benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// CPU seconds of the whole process (every thread) so far.
+double process_cpu() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 // Best wall time of `reps` calls (the least disturbed by other processes).
 double best_seconds(const std::function<void()>& f, int reps) {
   double best = 1e30;
@@ -236,44 +245,58 @@ void BM_FilteredSummary(benchmark::State& state) {
   const Surface& s = scan(640);
   const auto n = static_cast<double>(s.size());
   std::vector<double> a(s.size()), b(s.size());
-  double t1 = 0, t2 = 0, tb1 = 0, tb2 = 0, tt2 = 0, ts2 = 0, expo = 0;
+  double t1 = 0, t2 = 0, tb1 = 0, tb2 = 0, tt2 = 0, ts2 = 0, expo = 0, c1 = 0, c2 = 0, expo_cpu = 0;
   std::size_t bp = 0, tp = 0;
   std::vector<double> sizes_t;
   for (auto _ : state) {
     {
       Threads th(1);
+      const double c0 = process_cpu();
       t1 = best_seconds([&] { filtered_share(s); }, 15);
+      c1 = (process_cpu() - c0) / 15;
       tb1 = best_seconds([&] { bp = brute_force(s, false); }, 1);
     }
     Threads th(2);
+    const double c0 = process_cpu();
     t2 = best_seconds([&] { filtered_share(s); }, 15);
+    c2 = (process_cpu() - c0) / 15;
     tb2 = best_seconds([&] { bp = brute_force(s, false); }, 1);
     tt2 = best_seconds([&] { tp = brute_force(s, true); }, 2);
     ts2 = best_seconds([&] { stream_pass(s, a, b); }, 15);
     // Exponent: least-squares slope of log t against log points, 320 x 240 .. 2560 x 1920.
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    double sx = 0, sy = 0, sxx = 0, sxy = 0, sc = 0, sxc = 0;
     sizes_t.clear();
     for (std::size_t nx : {320u, 640u, 1280u, 2560u}) {
       const Surface& si = scan(nx);
-      const double t = best_seconds([&] { filtered_share(si); }, nx >= 2560 ? 3 : 8);
+      const int reps = nx >= 2560 ? 3 : 8;
+      filtered_share(si);  // first call: the reused buffers grow to this size
+      const double cpu0 = process_cpu();
+      const double t = best_seconds([&] { filtered_share(si); }, reps);
+      const double cpu = std::log((process_cpu() - cpu0) / reps);
       sizes_t.push_back(t);
       const double x = std::log(static_cast<double>(si.size())), y = std::log(t);
+      sc += cpu;
+      sxc += x * cpu;
       sx += x;
       sy += y;
       sxx += x * x;
       sxy += x * y;
     }
     expo = (4 * sxy - sx * sy) / (4 * sxx - sx * sx);
+    expo_cpu = (4 * sxc - sx * sc) / (4 * sxx - sx * sx);
   }
   state.counters["Mpts_s_2thr"] = n / t2 / 1e6;
   state.counters["Mpts_s_1thr"] = n / t1 / 1e6;
   state.counters["speedup_2v1"] = t1 / t2;
+  state.counters["cpu_ms_1thr"] = 1e3 * c1;  // process CPU per call, all threads
+  state.counters["cpu_ms_2thr"] = 1e3 * c2;
   state.counters["x_bruteforce_1thr"] = (n / t1) / (static_cast<double>(bp) / tb1);
   state.counters["x_bruteforce_2thr"] = (n / t2) / (static_cast<double>(bp) / tb2);
   state.counters["x_brute_tab_2thr"] = (n / t2) / (static_cast<double>(tp) / tt2);
   state.counters["stream_units"] = t2 / ts2;
   state.counters["stream_GBps"] = 25.0 * n / ts2 / 1e9;
-  state.counters["exponent"] = expo;
+  state.counters["exponent"] = expo;          // best wall time
+  state.counters["exponent_cpu"] = expo_cpu;  // process CPU time (load-independent)
   state.counters["ms_320"] = 1e3 * sizes_t[0];
   state.counters["ms_2560"] = 1e3 * sizes_t[3];
   state.counters["load_before"] = load0;
