@@ -1,11 +1,19 @@
-// NDF fits: Ceres Levenberg-Marquardt (autodiff) against a Nelder-Mead reference on the same
-// objective, per model, at N = 257 and N = 1025. Tables are tabulated analytic models
-// (node sampling) with stainless-#4-like widths; the ellipsoid is skewed.
+// NDF fits. The library's Levenberg-Marquardt (closed-form Jacobians, coarse to fine) against two
+// references on the same objective in the same run: Ceres' Levenberg-Marquardt with automatic
+// derivatives (the previous solver) and Nelder-Mead. Synthetic tables: tabulated analytic models
+// (node sampling) with stainless-#4-like widths at N = 257 and 1025, the ellipsoid skewed. Real
+// scan: the three fits of `predict` (ellipsoid, Beckmann, GGX; tent sampling) on the filtered
+// 1025^2 NDF of tests/data/sample-land.x3p (plane levelled, filter sigma 1 um), as predict does.
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
+#include <fstream>
 
 #include "microbrdf/fit.hpp"
+#include "microbrdf/io.hpp"
+#include "microbrdf/level.hpp"
+#include "microbrdf/ndf_estimate.hpp"
 
 using namespace microbrdf;
 
@@ -63,6 +71,78 @@ void BM_FitNelderMead_Beckmann(benchmark::State& s) {
   run(s, FitModel::Beckmann, FitSolver::NelderMead);
 }
 void BM_FitNelderMead_Ggx(benchmark::State& s) { run(s, FitModel::Ggx, FitSolver::NelderMead); }
+void BM_FitCeres_Ellipsoid(benchmark::State& s) {
+  run(s, FitModel::Ellipsoid, FitSolver::CeresAutodiff);
+}
+void BM_FitCeres_Beckmann(benchmark::State& s) {
+  run(s, FitModel::Beckmann, FitSolver::CeresAutodiff);
+}
+void BM_FitCeres_Ggx(benchmark::State& s) { run(s, FitModel::Ggx, FitSolver::CeresAutodiff); }
+
+const TabulatedNdf& land() {
+  static const TabulatedNdf t = [] {
+    Surface s = read_surface(std::string(MICROBRDF_TEST_DATA) + "/sample-land.x3p");
+    level_surface(s, LevelingSpec{});
+    NdfEstimateOptions o;
+    o.filter_sigma_m = 1e-6;
+    return estimate_ndf(s, o);
+  }();
+  return t;
+}
+
+double load_average() {
+  std::ifstream f("/proc/loadavg");
+  double l = -1;
+  f >> l;
+  return l;
+}
+
+// The three fits of predict on a real scan, with the library's solver (0) or Ceres (1); counters:
+// seconds per model, and the parameter changes of the library's solver against Ceres.
+void BM_PredictFitsRealScan(benchmark::State& state) {
+  const TabulatedNdf& t = land();
+  const bool ceres = state.range(0) != 0;
+  const double load0 = load_average();
+  double sec[3] = {0, 0, 0};
+  FitResult res[3];
+  for (auto _ : state) {
+    int i = 0;
+    for (FitModel m : {FitModel::Ellipsoid, FitModel::Beckmann, FitModel::Ggx}) {
+      FitOptions o;
+      o.model = m;
+      o.solver = ceres ? FitSolver::CeresAutodiff : FitSolver::LevenbergMarquardt;
+      const auto t0 = std::chrono::steady_clock::now();
+      res[i] = fit_ndf(t, o);
+      sec[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      benchmark::DoNotOptimize(res[i].iterations);
+      ++i;
+    }
+  }
+  state.counters["ellipsoid_s"] = sec[0];
+  state.counters["beckmann_s"] = sec[1];
+  state.counters["ggx_s"] = sec[2];
+  state.counters["iterations"] = res[0].iterations + res[1].iterations + res[2].iterations;
+  if (!ceres) {
+    // Largest relative change of alpha_x, alpha_y and absolute change of the angles (rad) against
+    // the Ceres reference fits, run here in the same process.
+    double da = 0, dt = 0;
+    for (int i = 0; i < 3; ++i) {
+      FitOptions o;
+      o.model = res[i].model;
+      o.solver = FitSolver::CeresAutodiff;
+      const FitResult c = fit_ndf(t, o);
+      const auto& p = res[i].params;
+      const auto& q = c.params;
+      da = std::max({da, std::abs(p.alpha_x / q.alpha_x - 1), std::abs(p.alpha_y / q.alpha_y - 1)});
+      dt = std::max({dt, std::abs(p.theta_x - q.theta_x), std::abs(p.theta_y - q.theta_y),
+                     std::abs(p.theta_z - q.theta_z)});
+    }
+    state.counters["max_rel_dalpha"] = da;
+    state.counters["max_dtheta_rad"] = dt;
+  }
+  state.counters["load_before"] = load0;
+  state.counters["load_after"] = load_average();
+}
 
 }  // namespace
 
@@ -72,3 +152,12 @@ BENCHMARK(BM_FitLM_Ggx)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FitNelderMead_Ellipsoid)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FitNelderMead_Beckmann)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FitNelderMead_Ggx)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FitCeres_Ellipsoid)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FitCeres_Beckmann)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FitCeres_Ggx)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PredictFitsRealScan)
+    ->Arg(0)
+    ->Arg(1)
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kSecond);

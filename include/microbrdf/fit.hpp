@@ -36,7 +36,10 @@ namespace microbrdf {
 enum class FitModel { Ellipsoid, Beckmann, Ggx };
 enum class FitObjective { Sqrt, Linear, Log };
 enum class FitSampling { Auto, Node, Tent };
-enum class FitSolver { LevenbergMarquardt, NelderMead };
+/// LevenbergMarquardt: the library's solver (closed-form Jacobians, normal equations summed on the
+/// fly); CeresAutodiff: Ceres' Levenberg-Marquardt with automatic derivatives on the same
+/// objective and bounds (reference); NelderMead: derivative-free reference.
+enum class FitSolver { LevenbergMarquardt, NelderMead, CeresAutodiff };
 
 /// "ellipsoid" | "beckmann" | "ggx" (case-insensitive). Throws InputError otherwise.
 FitModel parse_fit_model(const std::string& name);

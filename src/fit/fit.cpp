@@ -133,7 +133,8 @@ struct FitContext {
   FitModel model = FitModel::Ellipsoid;
   FitObjective objective = FitObjective::Sqrt;
   bool tent = false;
-  int s = 1;  // tent subsamples
+  int s = 1;        // tent subsamples
+  int threads = 1;  // for the solver's sums
   std::size_t n = 0;
   double delta = 0, eps = 0, lin_scale = 1;
   std::size_t ix0 = 0, ix1 = 0, iy0 = 0, iy1 = 0;
@@ -226,6 +227,399 @@ struct FitContext {
   }
 };
 
+// D(m) and its derivatives with respect to the shape parameters (log alpha_x, log alpha_y,
+// [theta_x, theta_y,] theta_z) in closed form: the same model as ModelEval, for the solver's
+// Jacobians (no automatic differentiation in the hot loop).
+struct ModelGrad {
+  FitModel kind = FitModel::Ellipsoid;
+  int k = 5;                // shape parameters
+  double m[3][3] = {};      // as ModelEval
+  double dm[3][3][3] = {};  // ellipsoid: d m / d theta_{x,y,z}
+  double norm = 0, iax2 = 0, iay2 = 0;
+  double dln[5] = {};  // ellipsoid: d log(norm) / d shape
+
+  ModelGrad(FitModel kd, const double* s) : kind(kd), k(shape_size(kd)) {
+    const double ax = std::exp(s[0]), ay = std::exp(s[1]);
+    iax2 = 1 / (ax * ax);
+    iay2 = 1 / (ay * ay);
+    if (kd != FitModel::Ellipsoid) {
+      const double c = std::cos(s[2]), sn = std::sin(s[2]);
+      m[0][0] = c;
+      m[0][1] = -sn;
+      m[1][0] = sn;
+      m[1][1] = c;
+      m[2][2] = 1;
+      norm = 1 / (kPi * ax * ay);
+      return;
+    }
+    const double cx = std::cos(s[2]), sx = std::sin(s[2]), cy = std::cos(s[3]), sy = std::sin(s[3]),
+                 cz = std::cos(s[4]), sz = std::sin(s[4]);
+    const double r[3][3] = {{cy * cz, -cy * sz, sy},
+                            {sx * sy * cz + cx * sz, -sx * sy * sz + cx * cz, -sx * cy},
+                            {-cx * sy * cz + sx * sz, cx * sy * sz + sx * cz, cx * cy}};
+    const double dr[3][3][3] = {// d/d theta_x
+                                {{0, 0, 0},
+                                 {cx * sy * cz - sx * sz, -cx * sy * sz - sx * cz, -cx * cy},
+                                 {sx * sy * cz + cx * sz, -sx * sy * sz + cx * cz, -sx * cy}},
+                                // d/d theta_y
+                                {{-sy * cz, sy * sz, cy},
+                                 {sx * cy * cz, -sx * cy * sz, sx * sy},
+                                 {-cx * cy * cz, cx * cy * sz, -cx * sy}},
+                                // d/d theta_z
+                                {{-cy * sz, -cy * cz, 0},
+                                 {-sx * sy * sz + cx * cz, -sx * sy * cz - cx * sz, 0},
+                                 {cx * sy * sz + sx * cz, cx * sy * cz - sx * sz, 0}}};
+    const double sc[3] = {1 / ax, 1 / ay, 1};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        m[i][j] = r[i][j] * sc[i];
+        for (int t = 0; t < 3; ++t) dm[t][i][j] = dr[t][i][j] * sc[i];
+      }
+    const double an2 =
+        ax * ax * r[0][2] * r[0][2] + ay * ay * r[1][2] * r[1][2] + r[2][2] * r[2][2];
+    norm = 1 / (kPi * ax * ay * std::sqrt(an2));
+    dln[0] = -1 - ax * ax * r[0][2] * r[0][2] / an2;
+    dln[1] = -1 - ay * ay * r[1][2] * r[1][2] / an2;
+    for (int t = 0; t < 3; ++t)
+      dln[2 + t] = -(ax * ax * r[0][2] * dr[t][0][2] + ay * ay * r[1][2] * dr[t][1][2] +
+                     r[2][2] * dr[t][2][2]) /
+                   an2;
+  }
+
+  // D at the unit vector (x, y, z), z > 0, and g[0..k-1] = dD / d shape.
+  double eval(double x, double y, double z, double* g) const {
+    switch (kind) {
+      case FitModel::Ellipsoid:
+        return eval_model<FitModel::Ellipsoid>(x, y, z, g);
+      case FitModel::Beckmann:
+        return eval_model<FitModel::Beckmann>(x, y, z, g);
+      case FitModel::Ggx:
+        break;
+    }
+    return eval_model<FitModel::Ggx>(x, y, z, g);
+  }
+  template <FitModel M>
+  double eval_model(double x, double y, double z, double* g) const {
+    if constexpr (M == FitModel::Ellipsoid) {
+      const double a = m[0][0] * x + m[0][1] * y + m[0][2] * z;
+      const double b = m[1][0] * x + m[1][1] * y + m[1][2] * z;
+      const double c = m[2][0] * x + m[2][1] * y + m[2][2] * z;
+      const double q = a * a + b * b + c * c;
+      const double d = norm / (q * q), iq = 1 / q;
+      g[0] = d * (dln[0] + 4 * a * a * iq);
+      g[1] = d * (dln[1] + 4 * b * b * iq);
+      for (int t = 0; t < 3; ++t) {
+        const double da = dm[t][0][0] * x + dm[t][0][1] * y + dm[t][0][2] * z;
+        const double db = dm[t][1][0] * x + dm[t][1][1] * y + dm[t][1][2] * z;
+        const double dc = dm[t][2][0] * x + dm[t][2][1] * y + dm[t][2][2] * z;
+        g[2 + t] = d * (dln[2 + t] - 4 * (a * da + b * db + c * dc) * iq);
+      }
+      return d;
+    }
+    const double u = m[0][0] * x + m[0][1] * y, v = m[1][0] * x + m[1][1] * y;
+    const double uu = u * u * iax2, vv = v * v * iay2, uv = u * v * (iay2 - iax2);
+    if constexpr (M == FitModel::Ggx) {
+      const double q = uu + vv + z * z;
+      const double d = norm / (q * q), iq = 1 / q;
+      g[0] = d * (4 * uu * iq - 1);
+      g[1] = d * (4 * vv * iq - 1);
+      g[2] = -4 * d * uv * iq;
+      return d;
+    }
+    const double z2 = z * z, iz2 = 1 / z2;
+    const double d = norm * std::exp(-(uu + vv) * iz2) / (z2 * z2);
+    g[0] = d * (2 * uu * iz2 - 1);
+    g[1] = d * (2 * vv * iz2 - 1);
+    g[2] = -2 * d * uv * iz2;
+    return d;
+  }
+  double eval_disk(double x, double y, double* g) const {
+    const double r2 = x * x + y * y;
+    if (r2 < 1) return eval(x, y, std::sqrt(1 - r2), g);
+    for (int i = 0; i < k; ++i) g[i] = 0;
+    return 0;
+  }
+};
+
+// Normal equations of the Gauss-Newton model at one point: J^T J, J^T r (columns: the shape
+// parameters, then log amplitude) and the cost 1/2 r^T r.
+struct NormalEq {
+  int n = 0;
+  double jtj[6][6] = {}, jtr[6] = {}, cost = 0;
+  void add(const NormalEq& o) {
+    for (int i = 0; i < n; ++i) {
+      jtr[i] += o.jtr[i];
+      for (int j = 0; j < n; ++j) jtj[i][j] += o.jtj[i][j];
+    }
+    cost += o.cost;
+  }
+};
+
+// Residuals r = (g(amp v) - g(T)) Delta of the fit context, with their Jacobian, summed into
+// normal equations row by row (each row's sums in a fixed order, rows folded in order: the same
+// numbers whatever the thread count). v: the model as compared (node value or tent average).
+template <int K, FitModel M>
+NormalEq normal_equations_k(const FitContext& c, const double* shape, double log_amp) {
+  const ModelGrad mg(M, shape);
+  constexpr int k = K, np = K + 1;
+  const double amp = std::exp(log_amp);
+  const std::size_t nc = c.cols(), nr = c.rows();
+  const std::size_t ss = c.tent ? static_cast<std::size_t>(c.s) : 1;
+  // Tent mode: row iy averages the 2s sub-rows at y + ((b + 1/2)/s - 1) Delta, b < 2s; the
+  // last s of them are the first s of the next row, so each sub-row (global index j, its y
+  // computed from j alone) is evaluated once per band of rows. Node mode: one sub-row per row,
+  // at the nodes.
+  const std::size_t nsub = c.tent ? ss * (nc + 1) : nc;
+  const std::size_t ring = c.tent ? 2 * ss : 1;
+  const double h = c.delta / static_cast<double>(ss);
+  const double x0 = c.tent ? c.node(c.ix0) - c.delta + 0.5 * h : c.node(c.ix0);
+  const double y0 = c.tent ? c.node(c.iy0) - c.delta + 0.5 * h : c.node(c.iy0);
+  std::vector<double> w(2 * ss, 1.0);
+  if (c.tent)
+    for (std::size_t a = 0; a < 2 * ss; ++a) {
+      const double u = (static_cast<double>(a) + 0.5) / c.s - 1.0;
+      w[a] = (1.0 - std::abs(u)) / c.s;
+    }
+  std::vector<NormalEq> rows(nr);
+#pragma omp parallel num_threads(c.threads)
+  {
+    // Ring of sub-rows: value then the K derivatives, nsub each.
+    std::vector<double> buf(ring * nsub * (K + 1));
+    std::vector<long> held(ring, -1);
+    std::vector<double> val(nc), grad(nc * K);
+    auto sub_row = [&](std::size_t j) -> const double* {
+      double* out = &buf[(j % ring) * nsub * (K + 1)];
+      if (held[j % ring] == static_cast<long>(j)) return out;
+      held[j % ring] = static_cast<long>(j);
+      const double y = y0 + static_cast<double>(j) * h;
+      double g[5];
+      for (std::size_t i = 0; i < nsub; ++i) {
+        const double x = x0 + static_cast<double>(i) * h;
+        const double r2 = x * x + y * y;
+        double d = 0;
+        if (r2 < 1) {
+          d = mg.eval_model<M>(x, y, std::sqrt(1 - r2), g);
+        } else {
+          for (int p = 0; p < K; ++p) g[p] = 0;
+        }
+        out[i] = d;
+        for (int p = 0; p < K; ++p) out[(static_cast<std::size_t>(p) + 1) * nsub + i] = g[p];
+      }
+      return out;
+    };
+    // Contiguous bands of rows (schedule static), so neighbouring rows share their sub-rows.
+#pragma omp for schedule(static)
+    for (std::size_t ri = 0; ri < nr; ++ri) {
+      if (!c.tent) {
+        const double* sr = sub_row(ri);
+        for (std::size_t col = 0; col < nc; ++col) {
+          val[col] = sr[col];
+          for (int p = 0; p < K; ++p)
+            grad[col * K + static_cast<std::size_t>(p)] =
+                sr[(static_cast<std::size_t>(p) + 1) * nsub + col];
+        }
+      } else {
+        std::fill(val.begin(), val.end(), 0.0);
+        std::fill(grad.begin(), grad.end(), 0.0);
+        for (std::size_t b = 0; b < 2 * ss; ++b) {
+          const double* sr = sub_row(ri * ss + b);
+          for (std::size_t col = 0; col < nc; ++col) {
+            double acc = 0, ga[K] = {};
+            for (std::size_t a = 0; a < 2 * ss; ++a) {
+              const std::size_t i = col * ss + a;
+              acc += w[a] * sr[i];
+              for (int p = 0; p < K; ++p)
+                ga[p] += w[a] * sr[(static_cast<std::size_t>(p) + 1) * nsub + i];
+            }
+            val[col] += w[b] * acc;
+            for (int p = 0; p < K; ++p) grad[col * K + static_cast<std::size_t>(p)] += w[b] * ga[p];
+          }
+        }
+      }
+      NormalEq e;
+      e.n = np;
+      const double* gt_row = &c.gt[ri * nc];
+      for (std::size_t col = 0; col < nc; ++col) {
+        if (std::isnan(gt_row[col])) continue;  // unmeasured node: no residual
+        const double d = val[col] * amp;
+        double gv = 0, dg = 0;  // g(d) and g'(d)
+        switch (c.objective) {
+          case FitObjective::Sqrt:
+            gv = std::sqrt(d + c.eps);
+            dg = 0.5 / gv;
+            break;
+          case FitObjective::Log:
+            gv = std::log(d + c.eps);
+            dg = 1 / (d + c.eps);
+            break;
+          case FitObjective::Linear:
+            gv = d * c.lin_scale;
+            dg = c.lin_scale;
+            break;
+        }
+        const double r = (gv - gt_row[col]) * c.delta;
+        double j[np];
+        const double f = dg * amp * c.delta;
+        for (int p = 0; p < k; ++p) j[p] = f * grad[col * K + static_cast<std::size_t>(p)];
+        j[k] = dg * d * c.delta;
+        for (int p = 0; p < np; ++p) {
+          e.jtr[p] += j[p] * r;
+          for (int q = 0; q <= p; ++q) e.jtj[p][q] += j[p] * j[q];
+        }
+        e.cost += r * r;
+      }
+      rows[ri] = e;
+    }
+  }
+  NormalEq total;
+  total.n = np;
+  for (const auto& e : rows) total.add(e);
+  for (int p = 0; p < np; ++p)
+    for (int q = 0; q < p; ++q) total.jtj[q][p] = total.jtj[p][q];
+  total.cost *= 0.5;
+  return total;
+}
+NormalEq normal_equations(const FitContext& c, const double* shape, double log_amp) {
+  switch (c.model) {
+    case FitModel::Ellipsoid:
+      return normal_equations_k<5, FitModel::Ellipsoid>(c, shape, log_amp);
+    case FitModel::Beckmann:
+      return normal_equations_k<3, FitModel::Beckmann>(c, shape, log_amp);
+    case FitModel::Ggx:
+      break;
+  }
+  return normal_equations_k<3, FitModel::Ggx>(c, shape, log_amp);
+}
+
+// Levenberg-Marquardt on the normal equations above, with box bounds by projection: the
+// solver's stopping rules are those given to Ceres before (relative cost change 1e-13,
+// gradient 1e-14, relative step 1e-11). x: shape then log amplitude (fixed when !amp_free).
+struct LmResult {
+  int iterations = 0;
+  bool converged = false;
+  std::string message;
+  double cost = 0, initial_cost = 0;
+};
+LmResult levenberg_marquardt(const FitContext& c, double* x, bool amp_free, const double* lo,
+                             const double* hi, int max_iterations) {
+  const int k = shape_size(c.model), np = k + 1, nf = amp_free ? np : k;
+  LmResult out;
+  NormalEq e = normal_equations(c, x, x[k]);
+  out.initial_cost = e.cost;
+  double lambda = 1e-4;
+  // The histogram residuals do not vanish at the optimum, so Gauss-Newton alone converges only
+  // linearly there. S approximates the rest of the Hessian, sum r_i grad^2 r_i, by the
+  // structured secant update of Dennis, Gay and Welsch (NL2SOL): after each accepted step s,
+  // S s = y#, y# = (J+^T r+ - J^T r) - J+^T J+ s. Steps solve (J^T J + tau S + lambda D) d = -g.
+  Eigen::MatrixXd sm = Eigen::MatrixXd::Zero(nf, nf);
+  int rejected_in_row = 0;
+  out.message = "no iterations";
+  for (int it = 0; it < max_iterations; ++it) {
+    ++out.iterations;
+    Eigen::MatrixXd jtj(nf, nf);
+    Eigen::VectorXd g(nf);
+    double gmax = 0;
+    for (int p = 0; p < nf; ++p) {
+      g(p) = e.jtr[p];
+      // Projected gradient: a bound that blocks the descent direction does not count.
+      const bool blocked = (x[p] <= lo[p] && e.jtr[p] > 0) || (x[p] >= hi[p] && e.jtr[p] < 0);
+      if (!blocked) gmax = std::max(gmax, std::abs(e.jtr[p]));
+      for (int q = 0; q < nf; ++q) jtj(p, q) = e.jtj[p][q];
+    }
+    if (gmax <= 1e-14) {
+      out.converged = true;
+      out.message = "Gradient tolerance reached.";
+      break;
+    }
+    // Active set: a parameter on a bound whose descent direction leaves the box is held there
+    // for this step (the reduced system is solved for the others).
+    std::vector<int> fr;
+    for (int p = 0; p < nf; ++p) {
+      const bool blocked = (x[p] <= lo[p] && e.jtr[p] > 0) || (x[p] >= hi[p] && e.jtr[p] < 0);
+      if (!blocked) fr.push_back(p);
+    }
+    const int nr = static_cast<int>(fr.size());
+    Eigen::MatrixXd a(nr, nr), ag(nr, nr);
+    Eigen::VectorXd gr(nr);
+    for (int i = 0; i < nr; ++i) {
+      gr(i) = g(fr[static_cast<std::size_t>(i)]);
+      for (int j = 0; j < nr; ++j) {
+        const int p = fr[static_cast<std::size_t>(i)], q = fr[static_cast<std::size_t>(j)];
+        ag(i, j) = jtj(p, q);
+        a(i, j) = jtj(p, q) + sm(p, q);
+      }
+      const int p = fr[static_cast<std::size_t>(i)];
+      a(i, i) += lambda * std::max(e.jtj[p][p], 1e-30);
+      ag(i, i) += lambda * std::max(e.jtj[p][p], 1e-30);
+    }
+    Eigen::LDLT<Eigen::MatrixXd> ldlt(a);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) {
+      sm.setZero();  // the secant term made the model indefinite: Gauss-Newton again
+      ldlt.compute(ag);
+    }
+    const Eigen::VectorXd sr = ldlt.solve(-gr);
+    Eigen::VectorXd step = Eigen::VectorXd::Zero(nf);
+    for (int i = 0; i < nr; ++i) step(fr[static_cast<std::size_t>(i)]) = sr(i);
+    double xn[6];
+    double step_norm = 0, x_norm = 0;
+    for (int p = 0; p < np; ++p) {
+      xn[p] = x[p];
+      if (p < nf) xn[p] = std::clamp(x[p] + step(p), lo[p], hi[p]);
+      step_norm += (xn[p] - x[p]) * (xn[p] - x[p]);
+      x_norm += x[p] * x[p];
+    }
+    if (std::sqrt(step_norm) <= 1e-11 * (std::sqrt(x_norm) + 1e-11)) {
+      out.converged = true;
+      out.message = "Parameter tolerance reached.";
+      break;
+    }
+    const NormalEq en = normal_equations(c, xn, xn[k]);
+    if (std::isfinite(en.cost) && en.cost < e.cost) {
+      const double change = (e.cost - en.cost) / e.cost;
+      // Secant update of S (symmetric; skipped when the curvature along s is not positive).
+      Eigen::VectorXd sv(nf), y(nf), jn_s(nf);
+      for (int p = 0; p < nf; ++p) {
+        sv(p) = xn[p] - x[p];
+        y(p) = en.jtr[p] - e.jtr[p];
+      }
+      for (int p = 0; p < nf; ++p) {
+        jn_s(p) = 0;
+        for (int q = 0; q < nf; ++q) jn_s(p) += en.jtj[p][q] * sv(q);
+      }
+      const double ys = y.dot(sv);
+      if (ys > 0) {
+        // Size S down when it overstates the curvature along s (NL2SOL's tau).
+        const double sss = sv.dot(sm * sv);
+        const Eigen::VectorXd ysharp = y - jn_s;
+        if (sss > 0) sm *= std::min(1.0, std::abs(sv.dot(ysharp)) / sss);
+        const Eigen::VectorXd rr = ysharp - sm * sv;
+        sm += (rr * y.transpose() + y * rr.transpose()) / ys -
+              (rr.dot(sv) / (ys * ys)) * (y * y.transpose());
+      }
+      std::copy(xn, xn + np, x);
+      e = en;
+      lambda = std::max(lambda / 3, 1e-12);
+      rejected_in_row = 0;
+      if (change <= 1e-13) {
+        out.converged = true;
+        out.message = "Function tolerance reached.";
+        break;
+      }
+    } else {
+      lambda *= 4;
+      if (++rejected_in_row >= 2) sm.setZero();
+      if (lambda > 1e16) {
+        out.converged = true;
+        out.message = "No further decrease of the cost.";
+        break;
+      }
+    }
+    if (it + 1 == max_iterations) out.message = "Maximum number of iterations reached.";
+  }
+  out.cost = e.cost;
+  return out;
+}
+
 template <int K>
 struct RowCost {
   const FitContext* ctx;
@@ -259,6 +653,7 @@ FitContext make_context(const TabulatedNdf& t, const FitOptions& o, const Ellips
   FitContext c;
   c.model = o.model;
   c.objective = o.objective;
+  c.threads = o.threads > 0 ? o.threads : omp_get_max_threads();
   c.n = t.resolution();
   c.delta = t.spacing();
   FitSampling smp = o.sampling;
@@ -486,7 +881,9 @@ double fit_objective(const TabulatedNdf& ndf, const FitOptions& o, const Ellipso
   return c.cost(s.data(), c.tent ? 1.0 : amplitude);
 }
 
-FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
+namespace {
+
+FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   if (ndf.resolution() < 5) throw InputError("NDF table too small to fit");
   // Moments for the starting point come from the measured nodes only (NaN -> 0).
@@ -543,7 +940,9 @@ FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
   r.roi[1] = ctx.ix1;
   r.roi[2] = ctx.iy0;
   r.roi[3] = ctx.iy1;
-  r.initial_cost = ctx.cost(shape.data(), std::exp(log_amp));
+  // (The library's solver reports the cost of its first evaluation instead: the same number.)
+  if (o.solver != FitSolver::LevenbergMarquardt)
+    r.initial_cost = ctx.cost(shape.data(), std::exp(log_amp));
 
   const double la_hi = std::log(kAlphaMax);
   // Tent mode resolves lobes down to ~2 quadrature steps: alpha >= 2 Delta / s. A fit that ends
@@ -554,6 +953,28 @@ FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
     shape[0] = std::max(shape[0], la_lo);
     shape[1] = std::max(shape[1], la_lo);
     if (o.solver == FitSolver::LevenbergMarquardt) {
+      double x[6], lo[6], hi[6];
+      for (int i = 0; i < k; ++i) {
+        x[i] = shape[static_cast<std::size_t>(i)];
+        lo[i] = i < 2 ? la_lo : -kThetaTiltMax;
+        hi[i] = i < 2 ? la_hi : kThetaTiltMax;
+      }
+      if (k == 3 || k == 5) {  // theta_z: free
+        lo[k - 1] = -std::numeric_limits<double>::infinity();
+        hi[k - 1] = std::numeric_limits<double>::infinity();
+      }
+      x[k] = log_amp;
+      lo[k] = -kLogAmpMax;
+      hi[k] = kLogAmpMax;
+      const LmResult lm = levenberg_marquardt(ctx, x, !ctx.tent, lo, hi, o.max_iterations);
+      if (pass == 0) r.initial_cost = lm.initial_cost;
+      for (int i = 0; i < k; ++i) shape[static_cast<std::size_t>(i)] = x[i];
+      log_amp = x[k];
+      r.iterations = lm.iterations;
+      r.converged = lm.converged;
+      r.termination = lm.message;
+      r.final_cost = lm.cost;
+    } else if (o.solver == FitSolver::CeresAutodiff) {
       ceres::Problem::Options po;
       ceres::Problem problem(po);
       for (std::size_t iy = ctx.iy0; iy <= ctx.iy1; ++iy) {
@@ -658,6 +1079,71 @@ FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
   return r;
 }
 
+// The table at (N - 1) / 4 + 1 nodes, as the estimator would have made it there: tent tables
+// (histograms) are restricted with the tent weights (1 - |a|/4)/4, a = -3..3 per axis (the
+// coarse hat functions are these sums of fine ones, so mass and shape are kept exactly); node
+// tables (point samples of a model) keep every fourth node.
+TabulatedNdf coarsened(const TabulatedNdf& t, bool tent) {
+  const std::size_t n = t.resolution(), nc = (n - 1) / 4 + 1;
+  TabulatedNdf c(nc);
+  c.meta = t.meta;
+  const double w[7] = {0.0625, 0.125, 0.1875, 0.25, 0.1875, 0.125, 0.0625};
+#pragma omp parallel for schedule(static)
+  for (std::size_t iy = 0; iy < nc; ++iy)
+    for (std::size_t ix = 0; ix < nc; ++ix) {
+      if (!tent) {
+        c.at(ix, iy) = t.at(4 * ix, 4 * iy);
+        continue;
+      }
+      double acc = 0;
+      for (int b = -3; b <= 3; ++b) {
+        const long y = 4 * static_cast<long>(iy) + b;
+        if (y < 0 || y >= static_cast<long>(n)) continue;
+        for (int a = -3; a <= 3; ++a) {
+          const long x = 4 * static_cast<long>(ix) + a;
+          if (x < 0 || x >= static_cast<long>(n)) continue;
+          acc +=
+              w[b + 3] * w[a + 3] * t.at(static_cast<std::size_t>(x), static_cast<std::size_t>(y));
+        }
+      }
+      c.at(ix, iy) = acc;
+    }
+  return c;
+}
+
+}  // namespace
+
+FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
+  // Coarse to fine: on large tables whose lobe the quarter-resolution table still resolves (the
+  // moment guess at least three coarse spacings wide), the multi-start and the first iterations
+  // run on the coarse table; its optimum starts the fit on the full table, which converges to
+  // the full table's own optimum.
+  const std::size_t n = ndf.resolution();
+  if (o.solver == FitSolver::LevenbergMarquardt && !o.initial && n >= 513 && (n - 1) % 4 == 0 &&
+      !measured_table(ndf)) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const EllipsoidParams g = initial_guess(ndf, o.model);
+    const double coarse_spacing = 4 * ndf.spacing();
+    if (std::min(g.alpha_x, g.alpha_y) >= 3 * coarse_spacing) {
+      FitSampling smp = o.sampling;
+      if (smp == FitSampling::Auto)
+        smp = made_by_tabulate(ndf) ? FitSampling::Node : FitSampling::Tent;
+      const TabulatedNdf coarse = coarsened(ndf, smp == FitSampling::Tent);
+      FitOptions co = o;
+      co.sampling = smp;
+      const FitResult c = fit_ndf_single(coarse, co);
+      FitOptions fo = o;
+      fo.initial = c.params;
+      FitResult r = fit_ndf_single(ndf, fo);
+      r.initial = c.initial;
+      r.iterations += c.iterations;
+      r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return r;
+    }
+  }
+  return fit_ndf_single(ndf, o);
+}
+
 std::shared_ptr<MicrofacetDistribution> fitted_distribution(const FitResult& r) {
   const auto& p = r.params;
   switch (r.model) {
@@ -675,26 +1161,45 @@ TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& m
                            std::size_t resolution, int subsamples) {
   if (resolution < 3) throw InputError("NDF table resolution must be at least 3");
   const int s = std::max(1, subsamples);
+  const auto ss = static_cast<std::size_t>(s);
   TabulatedNdf t(resolution);
-  const double delta = t.spacing();
-  std::vector<double> w(2 * static_cast<std::size_t>(s)), off(w.size());
-  for (std::size_t a = 0; a < w.size(); ++a) {
-    off[a] = ((static_cast<double>(a) + 0.5) / s - 1.0);
-    w[a] = (1.0 - std::abs(off[a])) / s;
-  }
-  auto dd = [&](double x, double y) {
-    const double r2 = x * x + y * y;
-    return r2 < 1 ? d.D(Vec3(x, y, std::sqrt(1 - r2))) : 0.0;
-  };
-#pragma omp parallel for schedule(dynamic, 4)
-  for (std::size_t iy = 0; iy < resolution; ++iy)
-    for (std::size_t ix = 0; ix < resolution; ++ix) {
-      double acc = 0;
-      for (std::size_t b = 0; b < w.size(); ++b)
-        for (std::size_t a = 0; a < w.size(); ++a)
-          acc += w[a] * w[b] * dd(t.node_x(ix) + off[a] * delta, t.node_y(iy) + off[b] * delta);
-      t.at(ix, iy) = acc;
+  const double delta = t.spacing(), h = delta / s;
+  std::vector<double> w(2 * ss);
+  for (std::size_t a = 0; a < w.size(); ++a)
+    w[a] = (1.0 - std::abs((static_cast<double>(a) + 0.5) / s - 1.0)) / s;
+  // The midpoint samples of neighbouring tent cells coincide: D is evaluated once per point of
+  // the sub-grid (s (N + 1))^2 (each sub-row's y and sub-column's x from its own index), rows in
+  // contiguous bands per thread so that a row reuses the previous row's last s sub-rows.
+  const std::size_t nsub = ss * (resolution + 1);
+  const double x0 = t.node_x(0) - delta + 0.5 * h;
+#pragma omp parallel
+  {
+    std::vector<double> buf(2 * ss * nsub);
+    std::vector<long> held(2 * ss, -1);
+    auto sub_row = [&](std::size_t j) -> const double* {
+      double* out = &buf[(j % (2 * ss)) * nsub];
+      if (held[j % (2 * ss)] == static_cast<long>(j)) return out;
+      held[j % (2 * ss)] = static_cast<long>(j);
+      const double y = x0 + static_cast<double>(j) * h;
+      for (std::size_t i = 0; i < nsub; ++i) {
+        const double x = x0 + static_cast<double>(i) * h, r2 = x * x + y * y;
+        out[i] = r2 < 1 ? d.D(Vec3(x, y, std::sqrt(1 - r2))) : 0.0;
+      }
+      return out;
+    };
+#pragma omp for schedule(static)
+    for (std::size_t iy = 0; iy < resolution; ++iy) {
+      double* row = &t.at(0, iy);
+      for (std::size_t b = 0; b < 2 * ss; ++b) {
+        const double* sr = sub_row(iy * ss + b);
+        for (std::size_t ix = 0; ix < resolution; ++ix) {
+          double acc = 0;
+          for (std::size_t a = 0; a < 2 * ss; ++a) acc += w[a] * sr[ix * ss + a];
+          row[ix] += w[b] * acc;
+        }
+      }
     }
+  }
   t.meta.method = model + "-tent";
   t.meta.notes = d.describe() + "; tent-cell averages, " + std::to_string(s) + " subsamples";
   return t;

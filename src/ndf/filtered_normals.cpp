@@ -1,11 +1,44 @@
 // Gaussian-weighted local plane fits at every sample (Dong 2015 section 5.1), computed with
 // separable correlations of masked moment images (docs/theory.md §3.3: first-order normalized
 // convolution). Coordinates inside are in units of the filter sigma for conditioning.
+//
+// The pass streams: the scan is cut into column blocks (a few dozen to a hundred columns, enough
+// blocks for every thread); each block is walked top to bottom with a ring of its last 2h + 1
+// x-filtered rows (5 moment channels), so the y filter reads contiguous rows that stay in the
+// core's cache, and nothing of the size of the scan is allocated but the output. Every output
+// value is summed in the same order as a plain row pass and column pass would sum it (taps in
+// ascending order, zeros outside the scan), so the normals are the same bit for bit whatever the
+// block width and the thread count.
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
+#include <cstdint>
+#include <cstdlib>
+#include <exception>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <thread>
 #include <vector>
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/ndf_estimate.hpp"
+#include "ndf/filtered_normals_core.hpp"
+
+// The inner loops are written for the compiler's vectoriser; on x86-64 GCC also builds an AVX2
+// version chosen at run time. AVX2 without FMA: products and sums are rounded exactly as in the
+// baseline build, so both versions give the same bits.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define MICROBRDF_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define MICROBRDF_SIMD_CLONES
+#endif
 
 namespace microbrdf {
 namespace {
@@ -30,25 +63,242 @@ Kernel make_kernel(double spacing, double sigma, double truncate) {
   return k;
 }
 
-// out[x] = sum_k in[x + k] * w[k + half] along rows (dir 0) or columns (dir 1); zero outside.
-void correlate(const std::vector<double>& in, std::vector<double>& out, std::size_t nx,
-               std::size_t ny, const std::vector<double>& w, long half, int dir) {
-  out.assign(nx * ny, 0.0);
-  const long n_along = static_cast<long>(dir == 0 ? nx : ny);
-  const long lines = static_cast<long>(dir == 0 ? ny : nx);
-  const std::size_t stride = dir == 0 ? 1 : nx;
-#pragma omp parallel for schedule(static)
-  for (long line = 0; line < lines; ++line) {
-    const std::size_t base =
-        dir == 0 ? static_cast<std::size_t>(line) * nx : static_cast<std::size_t>(line);
-    for (long x = 0; x < n_along; ++x) {
-      long k0 = std::max(-half, -x), k1 = std::min(half, n_along - 1 - x);
-      double acc = 0;
-      for (long k = k0; k <= k1; ++k)
-        acc += in[base + static_cast<std::size_t>(x + k) * stride] *
-               w[static_cast<std::size_t>(k + half)];
-      out[base + static_cast<std::size_t>(x) * stride] = acc;
+// A grow-only 64-byte aligned array of doubles (contents not preserved on growth).
+class AlignedBuffer {
+ public:
+  double* get(std::size_t n) {
+    if (n > cap_) {
+      const std::size_t bytes = ((n * sizeof(double) + 63) / 64) * 64;
+      p_.reset(static_cast<double*>(std::aligned_alloc(64, bytes)));
+      if (!p_) throw std::bad_alloc();
+      cap_ = bytes / sizeof(double);
     }
+    return p_.get();
+  }
+
+ private:
+  struct Free {
+    void operator()(double* p) const { std::free(p); }
+  };
+  std::unique_ptr<double, Free> p_;
+  std::size_t cap_ = 0;
+};
+
+// Helper threads that sleep between jobs. run(n, f) calls f(i) for every i < n on the caller and
+// on up to threads - 1 helpers, items taken one at a time from a shared counter. The caller
+// never waits for a helper that has not started: a helper woken after the caller took the last
+// item finds nothing to do and never touches the job, so on a loaded machine a second thread
+// that the scheduler holds back costs nothing (an OpenMP team's join waits for every thread to
+// arrive). Concurrent or nested calls run on their caller alone.
+class HelperPool {
+ public:
+  static HelperPool& instance() {
+    static HelperPool p;
+    return p;
+  }
+  ~HelperPool() {
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (auto& t : threads_) t.join();
+  }
+
+  void run(std::size_t n, int threads, const std::function<void(std::size_t)>& f) {
+    Job job;
+    job.n = n;
+    job.f = &f;
+    std::unique_lock<std::mutex> lk(m_);
+    const std::size_t helpers =
+        threads > 1 ? std::min<std::size_t>(static_cast<std::size_t>(threads - 1), n - 1) : 0;
+    if (job_ || helpers == 0 || n < 2) {
+      lk.unlock();
+      work(job);
+      if (job.error) std::rethrow_exception(job.error);
+      return;
+    }
+    while (threads_.size() < helpers) threads_.emplace_back([this] { helper(); });
+    job_ = &job;
+    wanted_ = helpers;
+    ++generation_;
+    lk.unlock();
+    wake_.notify_all();
+    work(job);
+    lk.lock();
+    done_.wait(lk, [&] { return job.done.load() == n; });
+    job_ = nullptr;  // from here on no helper can pick the job up
+    wanted_ = 0;
+    done_.wait(lk, [&] { return users_ == 0; });
+    lk.unlock();
+    if (job.error) std::rethrow_exception(job.error);
+  }
+
+ private:
+  struct Job {
+    std::size_t n = 0;
+    const std::function<void(std::size_t)>* f = nullptr;
+    std::atomic<std::size_t> next{0}, done{0};
+    std::exception_ptr error;
+    std::mutex error_mutex;
+  };
+
+  void work(Job& j) {
+    for (;;) {
+      const std::size_t i = j.next.fetch_add(1);
+      if (i >= j.n) return;
+      try {
+        (*j.f)(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lk(j.error_mutex);
+        if (!j.error) j.error = std::current_exception();
+      }
+      if (j.done.fetch_add(1) + 1 == j.n) {
+        std::lock_guard<std::mutex> lk(m_);
+        done_.notify_all();
+      }
+    }
+  }
+
+  void helper() {
+    std::uint64_t seen = 0;
+    std::unique_lock<std::mutex> lk(m_);
+    for (;;) {
+      wake_.wait(lk, [&] { return stop_ || (job_ && generation_ != seen && wanted_ > 0); });
+      if (stop_) return;
+      seen = generation_;
+      --wanted_;
+      Job* j = job_;
+      ++users_;
+      lk.unlock();
+      work(*j);
+      lk.lock();
+      if (--users_ == 0) done_.notify_all();
+    }
+  }
+
+  std::mutex m_;
+  std::condition_variable wake_, done_;
+  Job* job_ = nullptr;
+  std::uint64_t generation_ = 0;
+  std::size_t wanted_ = 0;
+  int users_ = 0;
+  bool stop_ = false;
+  std::vector<std::thread> threads_;
+};
+
+// Per-thread working set of one column block, reused across blocks and scans.
+struct Workspace {
+  AlignedBuffer in;    // padded input row: v then v h, 2 x (w + 2 hx)
+  AlignedBuffer xrow;  // one x-filtered row: 5 channels x w
+  AlignedBuffer ring;  // (2 hy + 1) x-filtered rows, by column group (see kSlot)
+  AlignedBuffer mom;   // 9 moment rows x w
+};
+
+Workspace& workspace() {
+  static thread_local Workspace w;
+  return w;
+}
+
+// x filter of one padded row: o_c[j] = sum_k in[j + k] w_c[k], k = 0..taps-1 in ascending order
+// (the padded row starts half a kernel left of the block). Channels: v g, v u, v u^2, vh g, vh u.
+MICROBRDF_SIMD_CLONES
+void x_filter(const double* __restrict v, const double* __restrict vh, std::size_t w,
+              const double* __restrict g, const double* __restrict u, const double* __restrict u2,
+              std::size_t taps, double* __restrict o) {
+  double* __restrict o0 = o;
+  double* __restrict o1 = o + w;
+  double* __restrict o2 = o + 2 * w;
+  double* __restrict o3 = o + 3 * w;
+  double* __restrict o4 = o + 4 * w;
+  for (std::size_t j = 0; j < w; ++j) o0[j] = o1[j] = o2[j] = o3[j] = o4[j] = 0.0;
+  std::size_t k = 0;
+  // Four taps per sweep: ((((acc + a0 w0) + a1 w1) + a2 w2) + a3 w3) is the sequential sum.
+  for (; k + 4 <= taps; k += 4) {
+    const double g0 = g[k], g1 = g[k + 1], g2 = g[k + 2], g3 = g[k + 3];
+    const double u0 = u[k], u1 = u[k + 1], u_2 = u[k + 2], u3 = u[k + 3];
+    const double q0 = u2[k], q1 = u2[k + 1], q2 = u2[k + 2], q3 = u2[k + 3];
+    const double* a = v + k;
+    const double* b = vh + k;
+    for (std::size_t j = 0; j < w; ++j) {
+      const double a0 = a[j], a1 = a[j + 1], a2 = a[j + 2], a3 = a[j + 3];
+      const double b0 = b[j], b1 = b[j + 1], b2 = b[j + 2], b3 = b[j + 3];
+      o0[j] = (((o0[j] + a0 * g0) + a1 * g1) + a2 * g2) + a3 * g3;
+      o1[j] = (((o1[j] + a0 * u0) + a1 * u1) + a2 * u_2) + a3 * u3;
+      o2[j] = (((o2[j] + a0 * q0) + a1 * q1) + a2 * q2) + a3 * q3;
+      o3[j] = (((o3[j] + b0 * g0) + b1 * g1) + b2 * g2) + b3 * g3;
+      o4[j] = (((o4[j] + b0 * u0) + b1 * u1) + b2 * u_2) + b3 * u3;
+    }
+  }
+  for (; k < taps; ++k) {
+    const double g0 = g[k], u0 = u[k], q0 = u2[k];
+    const double* a = v + k;
+    const double* b = vh + k;
+    for (std::size_t j = 0; j < w; ++j) {
+      o0[j] += a[j] * g0;
+      o1[j] += a[j] * u0;
+      o2[j] += a[j] * q0;
+      o3[j] += b[j] * g0;
+      o4[j] += b[j] * u0;
+    }
+  }
+}
+
+// Four doubles in one vector register (GCC/Clang vector extension; two SSE2 registers in the
+// baseline build, one AVX2 register in the AVX2 clone).
+typedef double V4 __attribute__((vector_size(32), may_alias));
+
+// The ring of x-filtered rows is stored column group by column group: for each group of four
+// columns, its 2 hy + 1 ring slots one after the other, each slot the 5 channels x 4 columns
+// (160 bytes). The y filter of one group then reads one contiguous run of memory (two at the
+// ring's wrap), which stays in L1 and streams for the prefetcher.
+constexpr std::size_t kSlot = 20;  // doubles per ring slot of one column group
+
+// y filter of the column groups 0..groups-1: m[r][j] = sum over taps t (ascending) of
+// x-row (first + t)[channel][j] * weight, for the nine moments m00, m01, m02 (v g with g, u,
+// u^2), m10, m11 (v u with g, u), m20 (v u^2 with g), b00, b01 (v h g with g, u), b10 (v h u
+// with g); the nine sums of four columns stay in registers. m has 9 rows of `stride` doubles.
+MICROBRDF_SIMD_CLONES
+void y_filter(const double* __restrict ring, std::size_t ring_rows, std::size_t first,
+              std::size_t ntaps, std::size_t groups, const double* __restrict g,
+              const double* __restrict u, const double* __restrict u2, double* __restrict m,
+              std::size_t stride) {
+  for (std::size_t jv = 0; jv < groups; ++jv) {
+    const double* base = ring + jv * ring_rows * kSlot;
+    const V4 zero = {0, 0, 0, 0};
+    V4 m00 = zero, m01 = zero, m02 = zero, m10 = zero, m11 = zero, m20 = zero, b00 = zero,
+       b01 = zero, b10 = zero;
+    std::size_t slot = first;
+    for (std::size_t t = 0; t < ntaps; ++t) {
+      const double* r = base + slot * kSlot;
+      slot = slot + 1 == ring_rows ? 0 : slot + 1;
+      const V4 c0 = *reinterpret_cast<const V4*>(r);
+      const V4 c1 = *reinterpret_cast<const V4*>(r + 4);
+      const V4 c2 = *reinterpret_cast<const V4*>(r + 8);
+      const V4 c3 = *reinterpret_cast<const V4*>(r + 12);
+      const V4 c4 = *reinterpret_cast<const V4*>(r + 16);
+      const V4 gg = {g[t], g[t], g[t], g[t]}, uu = {u[t], u[t], u[t], u[t]},
+               qq = {u2[t], u2[t], u2[t], u2[t]};
+      m00 += c0 * gg;
+      m01 += c0 * uu;
+      m02 += c0 * qq;
+      m10 += c1 * gg;
+      m11 += c1 * uu;
+      m20 += c2 * gg;
+      b00 += c3 * gg;
+      b01 += c3 * uu;
+      b10 += c4 * gg;
+    }
+    const std::size_t j = 4 * jv;
+    *reinterpret_cast<V4*>(m + j) = m00;
+    *reinterpret_cast<V4*>(m + stride + j) = m01;
+    *reinterpret_cast<V4*>(m + 2 * stride + j) = m02;
+    *reinterpret_cast<V4*>(m + 3 * stride + j) = m10;
+    *reinterpret_cast<V4*>(m + 4 * stride + j) = m11;
+    *reinterpret_cast<V4*>(m + 5 * stride + j) = m20;
+    *reinterpret_cast<V4*>(m + 6 * stride + j) = b00;
+    *reinterpret_cast<V4*>(m + 7 * stride + j) = b01;
+    *reinterpret_cast<V4*>(m + 8 * stride + j) = b10;
   }
 }
 
@@ -75,6 +325,40 @@ void set_normal(double bx_phys, double by_phys, double* m) {
   m[2] = inv;
 }
 
+// The plane fits of one row of moments (the arithmetic of solve_plane and set_normal without
+// branches, so that it vectorises: IEEE division and square root round the same in vector
+// registers; this file is built with -fno-math-errno, so sqrt of 1 + bx^2 + by^2 needs no library
+// call). ok[j] = 1 where the fit is accepted.
+MICROBRDF_SIMD_CLONES
+void solve_row(const double* __restrict m, std::size_t stride, std::size_t n, double min_mass,
+               double sigma, double* __restrict ox, double* __restrict oy, double* __restrict oz,
+               double* __restrict ok) {
+  const double* __restrict pm00 = m;
+  const double* __restrict pm01 = m + stride;
+  const double* __restrict pm02 = m + 2 * stride;
+  const double* __restrict pm10 = m + 3 * stride;
+  const double* __restrict pm11 = m + 4 * stride;
+  const double* __restrict pm20 = m + 5 * stride;
+  const double* __restrict pb00 = m + 6 * stride;
+  const double* __restrict pb01 = m + 7 * stride;
+  const double* __restrict pb10 = m + 8 * stride;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double m00 = pm00[j], m01 = pm01[j], m02 = pm02[j], m10 = pm10[j], m11 = pm11[j],
+                 m20 = pm20[j], b00 = pb00[j], b01 = pb01[j], b10 = pb10[j];
+    const double cu = m10 / m00, cv = m01 / m00;
+    const double suu = m20 - m10 * cu, svv = m02 - m01 * cv, suv = m11 - m10 * cv;
+    const double shu = b10 - b00 * cu, shv = b01 - b00 * cv;
+    const double det = suu * svv - suv * suv;
+    const double bx = (shu * svv - shv * suv) / det / sigma;
+    const double by = (shv * suu - shu * suv) / det / sigma;
+    const double inv = 1.0 / std::sqrt(1.0 + bx * bx + by * by);
+    ox[j] = -bx * inv;
+    oy[j] = -by * inv;
+    oz[j] = inv;
+    ok[j] = (m00 >= min_mass) & (det > 1e-10 * m00 * m00) ? 1.0 : 0.0;
+  }
+}
+
 void check_args(const Surface& s, double sigma, double truncate) {
   if (!(sigma > 0)) throw InputError("filter sigma must be positive");
   if (!(truncate >= 1)) throw InputError("kernel truncation must be >= 1 sigma");
@@ -83,64 +367,154 @@ void check_args(const Surface& s, double sigma, double truncate) {
 
 }  // namespace
 
-NormalField filtered_normals(const Surface& s, double sigma, double truncate, double min_support) {
+namespace detail {
+
+double* thread_scratch(std::size_t n, int slot) {
+  static thread_local AlignedBuffer buf[2];
+  return buf[slot != 0].get(n);
+}
+
+void filtered_normals_into(const Surface& s, double sigma, double truncate, double min_support,
+                           double* out_mx, double* out_my, double* out_mz, std::size_t& used,
+                           std::size_t& skipped) {
   check_args(s, sigma, truncate);
-  const std::size_t nx = s.nx, ny = s.ny, n = nx * ny;
+  const std::size_t nx = s.nx, ny = s.ny;
   const Kernel kx = make_kernel(s.dx, sigma, truncate), ky = make_kernel(s.dy, sigma, truncate);
   const double mean = s.valid_mean();
-  std::vector<double> v(n), vh(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    v[i] = s.valid[i] ? 1.0 : 0.0;
-    vh[i] = s.valid[i] ? s.z[i] - mean : 0.0;
-  }
-  // x passes: V with g, g u, g u^2; V h with g, g u.
-  std::vector<double> xv0, xv1, xv2, xh0, xh1, tmp;
-  correlate(v, xv0, nx, ny, kx.g, kx.half, 0);
-  correlate(v, xv1, nx, ny, kx.u, kx.half, 0);
-  correlate(v, xv2, nx, ny, kx.u2, kx.half, 0);
-  correlate(vh, xh0, nx, ny, kx.g, kx.half, 0);
-  correlate(vh, xh1, nx, ny, kx.u, kx.half, 0);
-  v.clear();
-  vh.clear();
-  // y passes: the nine moment images.
-  std::vector<double> m00, m01, m02, m10, m11, m20, b00, b01, b10;
-  correlate(xv0, m00, nx, ny, ky.g, ky.half, 1);
-  correlate(xv0, m01, nx, ny, ky.u, ky.half, 1);
-  correlate(xv0, m02, nx, ny, ky.u2, ky.half, 1);
-  correlate(xv1, m10, nx, ny, ky.g, ky.half, 1);
-  correlate(xv1, m11, nx, ny, ky.u, ky.half, 1);
-  correlate(xv2, m20, nx, ny, ky.g, ky.half, 1);
-  correlate(xh0, b00, nx, ny, ky.g, ky.half, 1);
-  correlate(xh0, b01, nx, ny, ky.u, ky.half, 1);
-  correlate(xh1, b10, nx, ny, ky.g, ky.half, 1);
-
-  NormalField f;
-  f.nx = nx;
-  f.ny = ny;
-  f.mx.assign(n, 0.0);
-  f.my.assign(n, 0.0);
-  f.mz.assign(n, 0.0);
   const double min_mass = min_support * kx.sum * ky.sum;
-  std::size_t used = 0, skipped = 0;
-#pragma omp parallel for reduction(+ : used, skipped) schedule(static)
-  for (long ii = 0; ii < static_cast<long>(n); ++ii) {
-    auto i = static_cast<std::size_t>(ii);
-    if (!s.valid[i]) continue;  // invalid samples are not elements at all
-    double bx, by;
-    if (!solve_plane(m00[i], m10[i], m01[i], m20[i], m11[i], m02[i], b00[i], b10[i], b01[i],
-                     min_mass, bx, by)) {
-      ++skipped;
-      continue;
+  const auto hx = static_cast<std::size_t>(kx.half), hy = static_cast<std::size_t>(ky.half);
+  const std::size_t taps_x = 2 * hx + 1, ring_rows = 2 * hy + 1;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+
+  // Column blocks: at most 128 columns, and at least sixteen per thread, taken one at a time: a
+  // thread the scheduler holds back delays the end by one small block at most; widths multiple
+  // of 8.
+  const int threads = omp_get_max_threads();
+  std::size_t blocks =
+      std::max<std::size_t>((nx + 127) / 128, 16 * static_cast<std::size_t>(threads));
+  std::size_t width = (nx + blocks - 1) / blocks;
+  width = std::max<std::size_t>(8, (width + 7) / 8 * 8);
+  blocks = (nx + width - 1) / width;
+
+  std::atomic<std::size_t> n_used{0}, n_skipped{0};
+  auto block = [&](std::size_t bi) {
+    const std::size_t x0 = bi * width;
+    const std::size_t w = std::min(width, nx - x0);
+    const std::size_t w4 = (w + 3) / 4 * 4;  // ring rows padded to whole vectors
+    const std::size_t padded = w4 + 2 * hx;
+    Workspace& ws = workspace();
+    double* in = ws.in.get(2 * padded);
+    double* pv = in;
+    double* ph = in + padded;
+    const std::size_t groups = w4 / 4;
+    double* xrow = ws.xrow.get(5 * w4);
+    double* ring = ws.ring.get(ring_rows * 5 * w4);
+    double* mom = ws.mom.get(13 * w4);
+    double* fit = mom + 9 * w4;  // normals and acceptance of one row
+    std::size_t used_b = 0, skipped_b = 0;
+    for (std::size_t yin = 0; yin < ny + hy; ++yin) {
+      if (yin < ny) {
+        // Padded row: columns x0 - hx .. x0 + w4 + hx - 1, zero outside the scan and at holes.
+        const long xa = static_cast<long>(x0) - static_cast<long>(hx);
+        const std::size_t j0 = xa < 0 ? static_cast<std::size_t>(-xa) : 0;
+        const std::size_t j1 =
+            std::min(padded, static_cast<std::size_t>(static_cast<long>(nx) - xa));
+        for (std::size_t j = 0; j < j0; ++j) pv[j] = ph[j] = 0.0;
+        const std::uint8_t* vr =
+            s.valid.data() + yin * nx + static_cast<std::size_t>(xa + static_cast<long>(j0)) - j0;
+        const double* zr =
+            s.z.data() + yin * nx + static_cast<std::size_t>(xa + static_cast<long>(j0)) - j0;
+        for (std::size_t j = j0; j < j1; ++j) {
+          const bool ok = vr[j] != 0;
+          pv[j] = ok ? 1.0 : 0.0;
+          ph[j] = ok ? zr[j] - mean : 0.0;
+        }
+        for (std::size_t j = j1; j < padded; ++j) pv[j] = ph[j] = 0.0;
+        x_filter(pv, ph, w4, kx.g.data(), kx.u.data(), kx.u2.data(), taps_x, xrow);
+        double* slot = ring + (yin % ring_rows) * kSlot;
+        for (std::size_t jv = 0; jv < groups; ++jv, slot += ring_rows * kSlot)
+          for (std::size_t c = 0; c < 5; ++c)
+            for (std::size_t l = 0; l < 4; ++l) slot[4 * c + l] = xrow[c * w4 + 4 * jv + l];
+      }
+      if (yin < hy) continue;
+      const std::size_t yo = yin - hy;
+      // Taps inside the scan only, ascending (what a column pass with zero padding would add).
+      const std::size_t t0 = yo >= hy ? 0 : hy - yo;
+      const std::size_t t1 = std::min(2 * hy, hy + (ny - 1 - yo));
+      y_filter(ring, ring_rows, (yo + t0 - hy) % ring_rows, t1 - t0 + 1, groups, ky.g.data() + t0,
+               ky.u.data() + t0, ky.u2.data() + t0, mom, w4);
+      solve_row(mom, w4, w4, min_mass, sigma, fit, fit + w4, fit + 2 * w4, fit + 3 * w4);
+      const std::size_t row = yo * nx + x0;
+      for (std::size_t j = 0; j < w; ++j) {
+        const std::size_t i = row + j;
+        double m[3] = {0, 0, 0};
+        bool ok = false;
+        if (s.valid[i]) {
+          ok = fit[3 * w4 + j] != 0;
+          if (ok) {
+            m[0] = fit[j];
+            m[1] = fit[w4 + j];
+            m[2] = fit[2 * w4 + j];
+            ++used_b;
+          } else {
+            ++skipped_b;
+          }
+        }
+        if (out_mz) {
+          out_mx[i] = m[0];
+          out_my[i] = m[1];
+          out_mz[i] = m[2];
+        } else {
+          out_mx[i] = ok ? m[0] : nan;
+          out_my[i] = m[1];
+        }
+      }
     }
-    double m[3];
-    set_normal(bx / sigma, by / sigma, m);
-    f.mx[i] = m[0];
-    f.my[i] = m[1];
-    f.mz[i] = m[2];
-    ++used;
+    n_used += used_b;
+    n_skipped += skipped_b;
+  };
+  HelperPool::instance().run(blocks, threads, block);
+  used = n_used;
+  skipped = n_skipped;
+}
+
+void splat_normals(const double* mx, const double* my, std::size_t n, double weight,
+                   TabulatedNdf& t) {
+  // Sequential on the calling thread: a few ns per point, and no second fork and join for the
+  // threads (which, on a loaded machine, waits for the slowest of them to be scheduled).
+  const std::size_t res = t.resolution();
+  double* d = t.values().data();
+  const double inv = 1.0 / t.spacing();
+  const double last = static_cast<double>(res - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = mx[i];
+    if (std::isnan(x)) continue;
+    const double fx = (x + 1.0) * inv, fy = (my[i] + 1.0) * inv;
+    if (!(fx >= 0 && fx <= last && fy >= 0 && fy <= last)) continue;
+    const auto ix = static_cast<std::size_t>(std::min(std::floor(fx), last - 1));
+    const auto iy = static_cast<std::size_t>(std::min(std::floor(fy), last - 1));
+    const double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
+    double* r0 = d + iy * res + ix;
+    double* r1 = r0 + res;
+    r0[0] += weight * (1 - tx) * (1 - ty);
+    r0[1] += weight * tx * (1 - ty);
+    r1[0] += weight * (1 - tx) * ty;
+    r1[1] += weight * tx * ty;
   }
-  f.used = used;
-  f.skipped = skipped;
+}
+
+}  // namespace detail
+
+NormalField filtered_normals(const Surface& s, double sigma, double truncate, double min_support) {
+  check_args(s, sigma, truncate);
+  NormalField f;
+  f.nx = s.nx;
+  f.ny = s.ny;
+  f.mx.resize(s.size());
+  f.my.resize(s.size());
+  f.mz.resize(s.size());
+  detail::filtered_normals_into(s, sigma, truncate, min_support, f.mx.data(), f.my.data(),
+                                f.mz.data(), f.used, f.skipped);
   return f;
 }
 

@@ -4,8 +4,10 @@
 #include "microbrdf/ndf_estimate.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "microbrdf/error.hpp"
+#include "ndf/filtered_normals_core.hpp"
 
 namespace microbrdf {
 
@@ -43,28 +45,56 @@ void add_naive(const Surface& s, TabulatedNdf& acc, NdfMetadata& meta) {
     }
 }
 
+// Normals into two reused per-thread buffers (16 bytes per point, NaN = no normal), then splatted
+// in point order (the same table, bit for bit, as one splat per point in a plain loop).
 void add_filtered(const Surface& s, const NdfEstimateOptions& o, TabulatedNdf& acc,
                   NdfMetadata& meta) {
-  auto f = filtered_normals(s, o.filter_sigma_m, o.truncate_sigmas, o.min_support);
+  double* mx = detail::thread_scratch(s.size(), 0);
+  double* my = detail::thread_scratch(s.size(), 1);
+  std::size_t used = 0, skipped = 0;
+  detail::filtered_normals_into(s, o.filter_sigma_m, o.truncate_sigmas, o.min_support, mx, my,
+                                nullptr, used, skipped);
   const double area = s.dx * s.dy;
-  for (std::size_t i = 0; i < s.size(); ++i)
-    if (f.mz[i] > 0) acc.splat(f.mx[i], f.my[i], area);
-  meta.samples_used += f.used;
-  meta.samples_skipped += f.skipped;
-  meta.projected_area_m2 += area * static_cast<double>(f.used);
+  detail::splat_normals(mx, my, s.size(), area, acc);
+  meta.samples_used += used;
+  meta.samples_skipped += skipped;
+  meta.projected_area_m2 += area * static_cast<double>(used);
+}
+
+NdfScanPartial estimate_partial(const Surface& s, const NdfEstimateOptions& opt) {
+  NdfScanPartial p{TabulatedNdf(opt.resolution), {}};
+  if (opt.method == NdfMethod::Naive)
+    add_naive(s, p.table, p.meta);
+  else
+    add_filtered(s, opt, p.table, p.meta);
+  if (!s.meta.source_path.empty()) p.meta.sources.push_back(s.meta.source_path);
+  p.meta.leveling = s.meta.leveling;
+  return p;
+}
+
+// The normalised table of an accumulator's sum `t` (its meta already merged).
+TabulatedNdf finalise(TabulatedNdf t) {
+  if (!(t.meta.projected_area_m2 > 0)) {
+    const char* why =
+        "no normal could be estimated (every element touches an invalid sample or lacks support)";
+    if (t.meta.sources.empty()) throw InputError(why);
+    // The scans are the problem: name them (the first few).
+    std::string names;
+    for (std::size_t i = 0; i < t.meta.sources.size() && i < 3; ++i)
+      names += (i ? ", " : "") + t.meta.sources[i];
+    if (t.meta.sources.size() > 3) names += ", ...";
+    throw FileError(names, why);
+  }
+  // Rim splats can reach nodes just outside the unit disk, where D is 0 by convention.
+  t.clear_outside_disk();
+  t.normalise();
+  return t;
 }
 
 }  // namespace
 
 NdfScanPartial NdfAccumulator::estimate(const Surface& s) const {
-  NdfScanPartial p{TabulatedNdf(opt_.resolution), {}};
-  if (opt_.method == NdfMethod::Naive)
-    add_naive(s, p.table, p.meta);
-  else
-    add_filtered(s, opt_, p.table, p.meta);
-  if (!s.meta.source_path.empty()) p.meta.sources.push_back(s.meta.source_path);
-  p.meta.leveling = s.meta.leveling;
-  return p;
+  return estimate_partial(s, opt_);
 }
 
 void NdfAccumulator::merge(const NdfScanPartial& p) {
@@ -87,29 +117,21 @@ void NdfAccumulator::merge(const NdfScanPartial& p) {
 
 void NdfAccumulator::add(const Surface& s) { merge(estimate(s)); }
 
-TabulatedNdf NdfAccumulator::result() const {
-  if (!(acc_.meta.projected_area_m2 > 0)) {
-    const char* why =
-        "no normal could be estimated (every element touches an invalid sample or lacks support)";
-    if (acc_.meta.sources.empty()) throw InputError(why);
-    // The scans are the problem: name them (the first few).
-    std::string names;
-    for (std::size_t i = 0; i < acc_.meta.sources.size() && i < 3; ++i)
-      names += (i ? ", " : "") + acc_.meta.sources[i];
-    if (acc_.meta.sources.size() > 3) names += ", ...";
-    throw FileError(names, why);
-  }
-  TabulatedNdf out = acc_;
-  // Rim splats can reach nodes just outside the unit disk, where D is 0 by convention.
-  out.clear_outside_disk();
-  out.normalise();
-  return out;
-}
+TabulatedNdf NdfAccumulator::result() const { return finalise(acc_); }
 
 TabulatedNdf estimate_ndf(const Surface& s, const NdfEstimateOptions& options) {
-  NdfAccumulator a(options);
-  a.add(s);
-  return a.result();
+  // One scan: its share is the sum (0 + x == x), so it is finalised in place, without the
+  // accumulator's own table and copy.
+  NdfScanPartial p = estimate_partial(s, options);
+  TabulatedNdf& t = p.table;
+  t.meta.method = options.method == NdfMethod::Naive ? "naive" : "filtered";
+  t.meta.filter_sigma_m = options.method == NdfMethod::Filtered ? options.filter_sigma_m : 0.0;
+  t.meta.samples_used = p.meta.samples_used;
+  t.meta.samples_skipped = p.meta.samples_skipped;
+  t.meta.projected_area_m2 = p.meta.projected_area_m2;
+  t.meta.sources = p.meta.sources;
+  t.meta.leveling = p.meta.leveling;
+  return finalise(std::move(t));
 }
 
 }  // namespace microbrdf
