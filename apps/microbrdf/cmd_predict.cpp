@@ -8,6 +8,7 @@
 #include "cli_common.hpp"
 #include "cli_threads.hpp"
 #include "commands.hpp"
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
 #include "microbrdf/units.hpp"
@@ -75,13 +76,15 @@ void run(const PredictArgs& a) {
       std::fprintf(stderr, "microbrdf predict: %s\n", line.c_str());
     };
   const PredictResult r = predict(o, a.output);
+  if (!mpi_is_root()) return;  // under mpirun rank 0 writes the report (docs/scale.md)
   if (a.json) {
     print_json({{"dir", r.dir},
                 {"report", r.report_path},
                 {"summary", r.summary_path},
                 {"scans", r.summary["inputs"].size()},
                 {"fits", r.summary["fits"]},
-                {"timing", r.summary["timing"]}});
+                {"timing", r.summary["timing"]},
+                {"mpi", r.summary["mpi"]}});
   } else {
     std::printf("%s\n%s\n", r.report_path.c_str(), r.summary_path.c_str());
   }
@@ -108,8 +111,9 @@ void register_predict(CLI::App& app) {
       "     area lights; --render-width, --spp; --no-render skips);\n"
       "  6. with --strips ALONG ACROSS: per-texel fits (--texel) and a synthesised parameter\n"
       "     texture (--texture-size texels, --seed), and a render of it.\n"
-      "Many scans are processed one at a time. Same inputs and --seed give the same summary.json\n"
-      "(apart from its \"timing\" object). On an error nothing is left in DIR; an earlier\n"
+      "Many scans are processed one at a time (under mpirun, over all ranks: docs/scale.md).\n"
+      "Same inputs and --seed give the same summary.json (apart from its \"timing\" and \"mpi\"\n"
+      "objects). On an error nothing is left in DIR; an earlier\n"
       "predict output in DIR is replaced only on success.\n\n"
       "Examples:\n"
       "  microbrdf predict scan.x3p -o report/\n"

@@ -17,26 +17,31 @@ head -c 2000 "$T/s5.x3p" >"$T/cut.x3p" && mv "$T/cut.x3p" "$T/s5.x3p"  # truncat
 
 check() {  # check WHAT BAD_FILE OUTPUT COUNT -- command...  (COUNT: error lines, "any" = >= 1)
   local what=$1 bad=$2 out=$3 count=$4; shift 5
+  local t0=$SECONDS
   timeout 60 "${MPI[@]}" "$@" >"$T/out.txt" 2>"$T/err.txt"
-  local rc=$?
+  local rc=$? t1=$SECONDS
   [ $rc -ne 0 ] || fail "$what: exit 0"
   [ $rc -ne 124 ] || fail "$what: a rank hung (killed by timeout)"
   local n; n=$(grep -c "error: .*$bad" "$T/err.txt")
   { [ "$count" = any ] && [ "$n" -ge 1 ]; } || [ "$n" = "$count" ] \
     || { cat "$T/err.txt"; fail "$what: $n errors naming $bad (expected $count)"; }
   ls "$T" | grep -q "^$(basename "$out")" && fail "$what: output written"
-  ls -a "$T" | grep -qi "tmp" && fail "$what: temporary file left"
+  ls -a "$T" | grep -qi "tmp\|partial" && fail "$what: temporary file or folder left"
   sleep 1
   pgrep -f "$out" >/dev/null && fail "$what: a rank is still running"
+  echo "$what: exit $rc after $((t1 - t0)) s, one error: $(grep "error: " "$T/err.txt")"
   return 0
 }
 check "filtered NDF" "$T/s5.x3p" "$T/ndf_out.npy" 1 -- \
   $BIN ndf "$T"/s?.x3p --method filtered --resolution 129 -o "$T/ndf_out.npy"
 check "texture" "$T/s5.x3p" "$T/tex_out.exr" 1 -- \
   $BIN texture "$T"/s?.x3p --texel 14um -o "$T/tex_out.exr"
-# A missing file fails the checks every rank makes before the work starts: each rank reports it
-# (the ranks other than 0 then end the run with MPI_Abort), so "any" number of lines here.
-check "missing scan" "$T/nope.x3p" "$T/miss_out.npy" any -- \
+check "info" "$T/s5.x3p" "$T/info_none" 1 -- $BIN info "$T"/s?.x3p --json
+check "predict" "$T/s5.x3p" "$T/pred_out" 1 -- \
+  $BIN predict "$T"/s?.x3p --resolution 129 --no-render -o "$T/pred_out"
+# A missing file fails the checks every rank makes before the work starts: rank 0 reports it,
+# once for all ranks.
+check "missing scan" "$T/nope.x3p" "$T/miss_out.npy" 1 -- \
   $BIN ndf "$T"/s1.x3p "$T"/s2.x3p "$T/nope.x3p" "$T"/s3.x3p --resolution 129 \
   -o "$T/miss_out.npy"
 echo ok
