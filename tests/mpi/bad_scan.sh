@@ -3,7 +3,7 @@
 # no output file (nor temporary), and every rank gone (the run is bounded by `timeout`; exit 124
 # would mean a rank hung). The same for a scan no rank can open. docs/scale.md, "Errors".
 set -u
-BIN=$1
+BIN=$(realpath "$1")
 MPIRUN=$2
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -44,4 +44,21 @@ check "predict" "$T/s5.x3p" "$T/pred_out" 1 -- \
 check "missing scan" "$T/nope.x3p" "$T/miss_out.npy" 1 -- \
   $BIN ndf "$T"/s1.x3p "$T"/s2.x3p "$T/nope.x3p" "$T"/s3.x3p --resolution 129 \
   -o "$T/miss_out.npy"
+# A file only some ranks can see (each rank starts in its own folder: --wdir per app context):
+# the ranks that fail before the work starts hand their error to rank 0, which reports it once.
+mkdir -p "$T/A" "$T/B"
+cp "$T/s1.x3p" "$T/s2.x3p" "$T/A/" && cp "$T/s1.x3p" "$T/B/" && cp "$T/s3.x3p" "$T/A/only.x3p"
+nargs=(ndf s1.x3p only.x3p --resolution 129 -o out.npy)
+for order in "A B" "B A"; do
+  set -- $order
+  t0=$SECONDS
+  timeout 60 "$MPIRUN" --allow-run-as-root --oversubscribe -np 1 --wdir "$T/$1" $BIN "${nargs[@]}" \
+    : -np 2 --wdir "$T/$2" $BIN "${nargs[@]}" >"$T/out.txt" 2>"$T/err.txt"
+  rc=$?
+  [ $rc -ne 0 ] && [ $rc -ne 124 ] || fail "file in rank 0's folder $1 only: exit $rc"
+  [ "$(grep -c "error: .*only.x3p" "$T/err.txt")" = 1 ] \
+    || { cat "$T/err.txt"; fail "file in rank 0's folder $1 only: not one error"; }
+  [ ! -e "$T/A/out.npy" ] && [ ! -e "$T/B/out.npy" ] || fail "file in $1 only: output written"
+  echo "rank 0 in folder $1, ranks 1-2 in $2 (only.x3p in A alone): exit $rc after $((SECONDS - t0)) s, one error: $(grep "error: " "$T/err.txt")"
+done
 echo ok
