@@ -25,7 +25,9 @@ same() {  # same FILE_A FILE_B WHAT
 }
 
 for m in naive filtered kirchhoff; do
-  args=(ndf "${SCANS[@]}" --method "$m" --resolution 129)
+  # D_K uses threads only for problems above 2^17 samples + nodes: 385^2 nodes are.
+  res=129; [ $m = kirchhoff ] && res=385
+  args=(ndf "${SCANS[@]}" --method "$m" --resolution $res)
   one 1 $BIN "${args[@]}" -o "$T/$m.1.npy" 2>/dev/null || fail "$m, 1 thread"
   one 2 $BIN "${args[@]}" -o "$T/$m.2.npy" 2>/dev/null || fail "$m, 2 threads"
   one 1 "${MPI[@]}" $BIN "${args[@]}" -o "$T/$m.mpi.npy" --json >"$T/$m.json" 2>"$T/$m.err" \
