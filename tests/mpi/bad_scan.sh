@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One corrupt scan among seven under 3 ranks: one clear error naming the file, a non-zero exit,
 # no output file (nor temporary), and every rank gone (the run is bounded by `timeout`; exit 124
-# would mean a rank hung). The same for a scan no rank can open. docs/scale.md, "Errors".
+# would mean a rank hung), for ndf, texture, info, predict; a bad scene for simulate; a scan no
+# rank can open; a scan only some ranks can see. docs/scale.md, "Errors".
 set -u
 BIN=$(realpath "$1")
 MPIRUN=$2
@@ -39,6 +40,9 @@ check "texture" "$T/s5.x3p" "$T/tex_out.exr" 1 -- \
 check "info" "$T/s5.x3p" "$T/info_none" 1 -- $BIN info "$T"/s?.x3p --json
 check "predict" "$T/s5.x3p" "$T/pred_out" 1 -- \
   $BIN predict "$T"/s?.x3p --resolution 129 --no-render -o "$T/pred_out"
+echo '{"objects": [' >"$T/bad_scene.json"  # cut short
+check "simulate" "$T/bad_scene.json" "$T/sim_out.shbrdf" 1 -- \
+  $BIN simulate "$T/bad_scene.json" --rays 1000 -o "$T/sim_out.shbrdf"
 # A missing file fails the checks every rank makes before the work starts: rank 0 reports it,
 # once for all ranks.
 check "missing scan" "$T/nope.x3p" "$T/miss_out.npy" 1 -- \
