@@ -2,11 +2,10 @@
 # Scan sets over MPI ranks on this machine (docs/benchmarks.md, "Scale-out"): `ndf --method
 # filtered` of 20 scans of 640 x 480 at 110 nm with 1 rank and with 2 ranks (one OpenMP thread
 # each), back to back in one run, plus 1 process with 2 threads for reference; then the largest
-# resident set of every rank for 20 and for 200 scans (200 = the 20 files listed 10 times over by
-# symbolic links: the same reads, a tenth of the disk). Wall and CPU seconds (user + system, all
-# ranks) of each run and the load average around each round are printed: on a machine shared
-# with other work, wall-time ratios follow the scheduler as much as the code. Scans are
-# generated in a temporary directory and removed afterwards.
+# resident set of every rank for 20 and for 200 distinct scans (470 MB of x3p files). Wall and
+# CPU seconds (user + system, all ranks) of each run and the load average around each round are
+# printed: on a machine shared with other work, wall-time ratios follow the scheduler as much as
+# the code. Scans are generated in a temporary directory and removed afterwards.
 #   bench/mpi_scaling.sh build/bin/microbrdf [repeats]
 set -eu
 BIN=$(realpath "$1")
@@ -14,13 +13,11 @@ REPEATS=${2:-2}
 MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 mkdir -p "$T/s20" "$T/s200"
-for i in $(seq -w 1 20); do
+for i in $(seq -w 1 200); do  # 200 distinct scans (2.35 MB each); the first 20 are the small set
   "$BIN" generate gaussian --nx 640 --ny 480 --spacing 110nm --sigma 0.1um --tau 1um --seed "$((10#$i))" \
-    -o "$T/s20/s$i.x3p" >/dev/null 2>&1
+    -o "$T/s200/s$i.x3p" >/dev/null 2>&1
 done
-for k in $(seq -w 0 9); do
-  for f in "$T"/s20/*.x3p; do ln -s "$f" "$T/s200/r${k}_$(basename "$f")"; done
-done
+for i in $(seq -w 1 20); do ln -s "$T/s200/s$i.x3p" "$T/s20/s$i.x3p"; done
 echo "cores: $(nproc); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
 
 # Wall seconds of a command (its stdout, the --json object, goes to $T/last.json); its CPU
