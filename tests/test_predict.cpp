@@ -81,6 +81,7 @@ std::string slurp(const std::string& path) {
 
 nlohmann::json without_timing(nlohmann::json j) {
   j.erase("timing");
+  j.erase("mpi");  // seconds per rank
   return j;
 }
 

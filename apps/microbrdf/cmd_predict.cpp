@@ -8,6 +8,7 @@
 #include "cli_common.hpp"
 #include "cli_threads.hpp"
 #include "commands.hpp"
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
 #include "microbrdf/units.hpp"
@@ -79,13 +80,15 @@ void run(const PredictArgs& a) {
       std::fprintf(stderr, "microbrdf predict: %s\n", line.c_str());
     };
   const PredictResult r = predict(o, a.output);
+  if (!mpi_is_root()) return;  // under mpirun rank 0 writes the report (docs/scale.md)
   if (a.json) {
     print_json({{"dir", r.dir},
                 {"report", r.report_path},
                 {"summary", r.summary_path},
                 {"scans", r.summary["inputs"].size()},
                 {"fits", r.summary["fits"]},
-                {"timing", r.summary["timing"]}});
+                {"timing", r.summary["timing"]},
+                {"mpi", r.summary["mpi"]}});
   } else {
     std::printf("%s\n%s\n", r.report_path.c_str(), r.summary_path.c_str());
   }
@@ -114,8 +117,9 @@ void register_predict(CLI::App& app) {
       "     texture (--texture-size texels, --seed), and a render of it;\n"
       "  7. with --measured FILE: the predicted NDFs against the measurement's effective NDF\n"
       "     (Dong eq. 9; --instrument-fwhm), images, cuts and errors on the measured nodes.\n"
-      "Many scans are processed one at a time. Same inputs and --seed give the same summary.json\n"
-      "(apart from its \"timing\" object). On an error nothing is left in DIR; an earlier\n"
+      "Many scans are processed one at a time (under mpirun, over all ranks: docs/scale.md).\n"
+      "Same inputs and --seed give the same summary.json (apart from its \"timing\" and \"mpi\"\n"
+      "objects). On an error nothing is left in DIR; an earlier\n"
       "predict output in DIR is replaced only on success.\n\n"
       "Examples:\n"
       "  microbrdf predict scan.x3p -o report/\n"

@@ -96,9 +96,10 @@ void run_guarded(const char* command, const std::function<void()>& body) {
     std::string message;
     const int code = report(command, &message);
     // Errors inside a distributed run reach rank 0 alone; one here on another rank happened
-    // outside it (rank 0 may be waiting for this rank): end every rank rather than hang.
-    if (!mpi_is_root()) mpi_abort(message, code);
-    std::fprintf(stderr, "%s\n", message.c_str());
+    // outside it (a check every rank makes, a file this rank cannot see): rank 0 reports it,
+    // once for all ranks (docs/scale.md, "Errors"). A plain run only prints.
+    mpi_command_failed(std::current_exception(), message, code);
+    if (mpi_is_root()) std::fprintf(stderr, "%s\n", message.c_str());
     g_exit = code;
   }
 }

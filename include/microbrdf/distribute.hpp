@@ -7,6 +7,7 @@
 // and threads. docs/scale.md has the protocol, the cost model and a cluster how-to.
 
 #include <cstddef>
+#include <exception>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -40,6 +41,17 @@ bool mpi_solo();
 /// a plain process exits with `code`. For failures outside a distribute() call that only some
 /// ranks see, where waiting for the others would hang.
 [[noreturn]] void mpi_abort(const std::string& message, int code);
+
+/// A command that spreads its work over the ranks failed on this rank outside distribute() (a
+/// check before the work, a file this rank cannot see). Rank 0 (which prints the error itself):
+/// tells every other rank to stop waiting for work. Other ranks: send the error to rank 0
+/// instead of printing it; a distribute() on rank 0 then ends with it, so the run reports one
+/// error for all ranks. Either way the end of the program waits for the other ranks at most
+/// 30 s, then ends every rank (MPI_Abort, with `message` from ranks other than 0). Does nothing
+/// in a plain run.
+void mpi_command_failed(const std::exception_ptr& error, const std::string& message, int code);
+/// Records that this rank failed (mpi_command_failed does it): the final barrier is bounded.
+void mpi_note_failure(const std::string& message, int code);
 
 /// What one item produced: bulk numbers (sent bit for bit) and a short text (e.g. JSON counters).
 struct WorkResult {

@@ -93,6 +93,9 @@ void check_predict_options(const PredictOptions& options);
 /// Runs the pipeline into `out_dir` (created; an earlier predict output there is replaced).
 /// Throws InputError / FileError naming the file and the problem; nothing is left behind then.
 /// Refuses (FileError) to replace an existing non-empty folder that is not a predict output.
+/// Under mpirun every rank calls it: the per-scan stage (reading, statistics, NDF shares) runs
+/// over all ranks (distribute.hpp), rank 0 does the rest and returns the result; other ranks
+/// return an empty PredictResult.
 PredictResult predict(const PredictOptions& options, const std::string& out_dir);
 
 /// The report page for a summary (as predict() writes it); images and SVG plots are read from

@@ -27,7 +27,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-enum Tag : int { kRequest = 711, kAssign, kStop, kHead, kValues };
+enum Tag : int { kRequest = 711, kAssign, kStop, kHead, kValues, kFail };
 enum Status : std::uint8_t { kOk = 0, kFileError, kInputError, kOtherError };
 
 double since(Clock::time_point t0) {
@@ -222,6 +222,32 @@ Done receive_done(int source) {
   return d;
 }
 
+// A command failed on a rank other than 0 outside distribute(): its error, for rank 0 to report.
+std::vector<char> failure_message(const Done& d) {
+  std::vector<char> b;
+  put<std::uint8_t>(b, d.status);
+  put_string(b, d.path.substr(0, 1000));  // short: sent eagerly, even if never received
+  put_string(b, d.message.substr(0, 2000));
+  return b;
+}
+
+Done receive_failure(int source) {
+  MPI_Status st;
+  MPI_Probe(source, kFail, MPI_COMM_WORLD, &st);
+  int bytes = 0;
+  MPI_Get_count(&st, MPI_BYTE, &bytes);
+  std::vector<char> b(static_cast<std::size_t>(bytes));
+  MPI_Recv(b.data(), bytes, MPI_BYTE, source, kFail, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  Reader r{b};
+  Done d;
+  d.rank = source;
+  d.item = static_cast<std::size_t>(-1);  // after every item: an item's own error comes first
+  d.status = static_cast<Status>(r.get<std::uint8_t>());
+  d.path = r.get_string();
+  d.message = r.get_string();
+  return d;
+}
+
 // Ranks other than 0: ask for work, compute, send results back until told to stop.
 void run_worker(int threads, int inner, const std::function<WorkResult(std::size_t)>& compute) {
   LocalPool pool(threads, inner, compute);
@@ -253,6 +279,8 @@ void run_worker(int threads, int inner, const std::function<WorkResult(std::size
 
 struct RankState {
   int slots = 0;
+  bool checked_in = false;  // asked for work (or reported a failure) in this distribute()
+  bool failed = false;      // failed before it could take part
   std::size_t in_flight = 0, items = 0;
   double seconds = 0;
 };
@@ -282,6 +310,7 @@ WorkStats distribute(std::size_t n, const std::function<WorkResult(std::size_t)>
   const auto t0 = Clock::now();
   std::vector<RankState> ranks(static_cast<std::size_t>(size));
   ranks[0].slots = threads;
+  ranks[0].checked_in = true;
   const std::size_t window =
       o.max_pending > 0 ? o.max_pending : 2 * static_cast<std::size_t>(threads * size) + 2;
   std::size_t next = 0, folded = 0;
@@ -332,7 +361,15 @@ WorkStats distribute(std::size_t n, const std::function<WorkResult(std::size_t)>
             int slots = 0;
             MPI_Recv(&slots, 1, MPI_INT, st.MPI_SOURCE, kRequest, MPI_COMM_WORLD,
                      MPI_STATUS_IGNORE);
-            ranks[static_cast<std::size_t>(st.MPI_SOURCE)].slots = slots;
+            auto& r = ranks[static_cast<std::size_t>(st.MPI_SOURCE)];
+            r.slots = slots;
+            r.checked_in = true;
+          } else if (st.MPI_TAG == kFail) {
+            // The rank failed before it joined (a file it cannot see): its error ends the run.
+            auto& r = ranks[static_cast<std::size_t>(st.MPI_SOURCE)];
+            r.checked_in = r.failed = true;
+            r.slots = 0;
+            fail(receive_failure(st.MPI_SOURCE));
           } else {
             receive(receive_done(st.MPI_SOURCE));
           }
@@ -368,8 +405,12 @@ WorkStats distribute(std::size_t n, const std::function<WorkResult(std::size_t)>
           busy = true;
         }
       std::size_t in_flight = 0;
-      for (const auto& r : ranks) in_flight += r.in_flight;
-      if (in_flight == 0 && (stop || folded == next) && (stop || ended || next >= n)) break;
+      bool all_in = true;  // every rank joined, or failed: a failure is never missed
+      for (const auto& r : ranks) {
+        in_flight += r.in_flight;
+        all_in = all_in && r.checked_in;
+      }
+      if (in_flight == 0 && (stop || (folded == next && (ended || next >= n) && all_in))) break;
       if (stop && Clock::now() > deadline)
         mpi_abort("microbrdf: error: " + describe(*error) + " (ranks still busy after " +
                       std::to_string(o.abort_after_s) + " s were ended)",
@@ -378,7 +419,9 @@ WorkStats distribute(std::size_t n, const std::function<WorkResult(std::size_t)>
     }
   }  // joins the pool
   if (mpi)
-    for (int r = 1; r < size; ++r) MPI_Send(nullptr, 0, MPI_BYTE, r, kStop, MPI_COMM_WORLD);
+    for (int r = 1; r < size; ++r)
+      if (!ranks[static_cast<std::size_t>(r)].failed)
+        MPI_Send(nullptr, 0, MPI_BYTE, r, kStop, MPI_COMM_WORLD);
   if (error) rethrow(*error);
   WorkStats s;
   s.ranks = size;
@@ -390,6 +433,34 @@ WorkStats distribute(std::size_t n, const std::function<WorkResult(std::size_t)>
     s.seconds_per_rank.push_back(r.seconds);
   }
   return s;
+}
+
+void mpi_command_failed(const std::exception_ptr& error, const std::string& message, int code) {
+  if (!mpi_active() || mpi_size() < 2 || mpi_solo()) return;
+  mpi_note_failure(message, code);
+  if (mpi_rank() == 0) {
+    // Ranks waiting for work from a distribute() rank 0 never reached: stop waiting.
+    for (int r = 1; r < mpi_size(); ++r) MPI_Send(nullptr, 0, MPI_BYTE, r, kStop, MPI_COMM_WORLD);
+    return;
+  }
+  Done d;
+  try {
+    std::rethrow_exception(error);
+  } catch (...) {
+    capture_error(d);
+  }
+  // Static: stays valid for a send that has not completed when this returns.
+  static std::vector<char> b;
+  b = failure_message(d);
+  MPI_Request req;
+  MPI_Isend(b.data(), static_cast<int>(b.size()), MPI_BYTE, 0, kFail, MPI_COMM_WORLD, &req);
+  // Short enough to go out eagerly; rank 0 may have failed itself and never read it.
+  for (int k = 0, done = 0; k < 100; ++k) {
+    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+    if (done) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  MPI_Request_free(&req);
 }
 
 }  // namespace microbrdf

@@ -17,22 +17,33 @@ namespace {
 
 bool g_active = false, g_solo = false;
 int g_rank = 0, g_size = 1;
-int g_stderr = 2;  // this rank's original stderr (ranks > 0 point fd 2 at /dev/null)
+int g_stderr = 2;       // this rank's original stderr (ranks > 0 point fd 2 at /dev/null)
+int g_failed_code = 0;  // the command failed on this rank (mpi_note_failure)
+std::string g_failed_message;
+
+// How long a failed rank waits for the others at the end before ending them all. Rank 0 waits
+// for items in flight at most DistributeOptions::abort_after_s (10 s) before it reports.
+constexpr double kFailedBarrierSeconds = 30;
 
 bool launched_by_mpi() {
   return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMIX_RANK") != nullptr;
 }
 
 // Waits for every rank without spinning: Open MPI's blocking collectives poll at full speed,
-// which would take a core from rank 0 while it writes the outputs.
-void sleeping_barrier() {
+// which would take a core from rank 0 while it writes the outputs. False when `timeout_s` (> 0)
+// passed first.
+bool sleeping_barrier(double timeout_s = 0) {
   MPI_Request req;
   MPI_Ibarrier(MPI_COMM_WORLD, &req);
   int done = 0;
   auto pause = std::chrono::microseconds(100);
+  const auto t0 = std::chrono::steady_clock::now();
   for (;;) {
     MPI_Test(&req, &done, MPI_STATUS_IGNORE);
-    if (done) return;
+    if (done) return true;
+    if (timeout_s > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > timeout_s)
+      return false;
     std::this_thread::sleep_for(pause);
     if (pause < std::chrono::milliseconds(20)) pause *= 2;
   }
@@ -65,7 +76,10 @@ MpiSession::~MpiSession() {
   if (!g_active) return;
   std::fflush(stdout);
   std::fflush(stderr);
-  sleeping_barrier();
+  // After a failure some rank may never arrive (waiting for work that will not come): the
+  // error has been reported, so end them all rather than wait for ever.
+  if (!sleeping_barrier(g_failed_code != 0 ? kFailedBarrierSeconds : 0))
+    mpi_abort(g_failed_message, g_failed_code);
   MPI_Finalize();
   g_active = false;
 }
@@ -75,6 +89,13 @@ void mpi_set_solo(bool solo) { g_solo = solo; }
 bool mpi_solo() { return g_solo; }
 int mpi_rank() { return g_rank; }
 int mpi_size() { return g_size; }
+
+void mpi_note_failure(const std::string& message, int code) {
+  g_failed_code = code != 0 ? code : 1;
+  // Rank 0 has printed its message; another rank's is printed only if the run has to be ended
+  // (rank 0 then never reported it).
+  g_failed_message = g_rank == 0 ? std::string() : message;
+}
 
 void mpi_abort(const std::string& message, int code) {
   if (!message.empty()) {

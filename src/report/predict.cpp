@@ -15,6 +15,7 @@
 #include <fstream>
 
 #include "microbrdf/atomic_file.hpp"
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/interrupt.hpp"
@@ -218,9 +219,25 @@ void check_predict_options(const PredictOptions& o) {
 
 namespace {
 
+// Ranks other than 0 under mpirun: the per-scan stage only (rank 0 does everything else).
+PredictResult predict_worker(const PredictOptions& o) {
+  const auto paths = expand_scan_inputs(o.inputs);
+  report::Context c{o, {}};
+  report::NdfSet ndfs;
+  report::stage_inputs(c, paths, ndfs);
+  return {};
+}
+
+// Keeps library calls on this rank (texel fits of the strips) after the distributed stage.
+struct SoloAfterwards {
+  bool before = mpi_solo();
+  ~SoloAfterwards() { mpi_set_solo(before); }
+};
+
 PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir_given) {
   const auto t_start = Clock::now();
   check_predict_options(o);
+  if (!mpi_is_root()) return predict_worker(o);
   // "out/" names the folder "out": the staging folder goes beside it, not into it.
   std::string out_dir = out_dir_given;
   while (out_dir.size() > 1 && out_dir.back() == '/') out_dir.pop_back();
@@ -255,7 +272,12 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   report::NdfSet ndfs;
   std::vector<FitResult> fits;
   c.log("[1/6] inputs and NDFs (" + std::to_string(paths.size()) + " scan(s))");
-  timed("inputs", [&] { summary["inputs"] = report::stage_inputs(c, paths, ndfs); });
+  WorkStats work;
+  timed("inputs", [&] { summary["inputs"] = report::stage_inputs(c, paths, ndfs, &work); });
+  // How the per-scan stage was shared over MPI ranks (like "timing", it varies between runs).
+  summary["mpi"] = work.to_json("scans_per_rank");
+  const SoloAfterwards solo;
+  mpi_set_solo(true);
   timed("ndf_write", [&] { summary["ndf"] = report::stage_ndfs(c, ndfs); });
   c.log("[2/6] fits");
   timed("fits", [&] { summary["fits"] = report::stage_fits(c, ndfs, fits, timing); });

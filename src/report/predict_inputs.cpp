@@ -1,9 +1,13 @@
-// predict stages 1-2: read, level and describe every scan (one in memory at a time), accumulate
-// the naive, filtered and (when asked) Kirchhoff NDFs, write the tables and their previews.
+// predict stages 1-2: read, level and describe every scan (one in memory at a time, per rank and
+// thread), accumulate the naive, filtered and (when asked) Kirchhoff NDFs over all MPI ranks
+// (distribute.hpp), write the tables and their previews.
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
+#include "microbrdf/distribute.hpp"
+#include "microbrdf/error.hpp"
 #include "microbrdf/height_preview.hpp"
 #include "microbrdf/image.hpp"
 #include "microbrdf/kirchhoff.hpp"
@@ -11,6 +15,7 @@
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/ndf_io.hpp"
 #include "microbrdf/ndf_preview.hpp"
+#include "microbrdf/ndf_scanset.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/statistics.hpp"
 #include "microbrdf/units.hpp"
@@ -32,7 +37,8 @@ std::string file_name(const std::string& path) {
 
 }  // namespace
 
-nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs) {
+nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs,
+                            WorkStats* stats) {
   const auto& o = c.opt;
   NdfEstimateOptions no;
   no.method = NdfMethod::Naive;
@@ -42,34 +48,30 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
   fo.filter_sigma_m = o.filter_sigma_m;
   NdfAccumulator naive(no), filtered(fo);
   std::unique_ptr<KirchhoffAccumulator> kirchhoff;
+  KirchhoffOptions ko;
   if (o.kirchhoff) {
-    KirchhoffOptions ko;
     ko.wavelength_q = o.wavelength_m;
     ko.resolution = o.ndf_resolution;
     ko.patch_x = o.kirchhoff_patch_x_m;
     ko.patch_y = o.kirchhoff_patch_y_m;
-    // D_K is the slowest step (tens of seconds on a 2048 x 1024 scan): report it in 10 % steps.
-    ko.progress = [&c, last = -1](double f) mutable {
-      const int step = static_cast<int>(f * 10);
-      if (step == last) return;
-      last = step;
-      c.log("inputs: kirchhoff D_K " + std::to_string(step * 10) + "%");
-    };
     kirchhoff = std::make_unique<KirchhoffAccumulator>(ko);
   }
-  nlohmann::json inputs = nlohmann::json::array();
-  for_each_scan(paths, o.read, [&](std::size_t i, const std::string& path, Surface& s) {
-    c.log("inputs: [" + std::to_string(i + 1) + "/" + std::to_string(paths.size()) + "] " + path +
-          " (" + std::to_string(s.nx) + " x " + std::to_string(s.ny) + ")");
-    if (o.filter_sigma_m < std::max(s.dx, s.dy))
-      c.log("inputs: warning: filter sigma " + format_length(o.filter_sigma_m) +
-            " is below the sample spacing " + format_length(std::max(s.dx, s.dy)) + " of " + path +
-            ": the filtered NDF approaches the naive one");
-    const LevelingResult lev = level_surface(s, o.leveling);
+  // D_K is the slowest step (tens of seconds on a 2048 x 1024 scan): report it in 10 % steps,
+  // when one rank does every scan in order.
+  const bool local = mpi_size() == 1 || mpi_solo();
+  auto dk_progress = [&c, last = -1](double f) mutable {
+    const int step = static_cast<int>(f * 10);
+    if (step == last) return;
+    last = step;
+    c.log("inputs: kirchhoff D_K " + std::to_string(step * 10) + "%");
+  };
+  // Per scan, on whichever rank takes it: read, level, statistics, height preview and the
+  // scan's share of every NDF; rank 0 folds the shares in scan order (docs/scale.md).
+  auto compute = [&](std::size_t i, const std::string& path, Surface& s) {
+    const LevelingResult lev = about_file(path, [&] { return level_surface(s, o.leveling); });
     const SurfaceStats st = compute_stats(s);
-    char preview[64];
-    std::snprintf(preview, sizeof preview, "img/height_%02zu.png", i + 1);
-    write_png(c.path(preview), render_height_preview(s, 480));
+    const RgbImage preview = render_height_preview(s, 480);
+    const nlohmann::json scan = {{"nx", s.nx}, {"ny", s.ny}, {"dx_m", s.dx}, {"dy_m", s.dy}};
     nlohmann::json rec = {{"path", path},
                           {"name", file_name(path)},
                           {"format", s.meta.format},
@@ -81,14 +83,88 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
                           {"leveling_description", lev.description},
                           {"rms_before_leveling_m", lev.rms_before},
                           {"rms_after_leveling_m", lev.rms_after},
-                          {"stats", stats_record(s, st)},
-                          {"preview", preview}};
-    c.log("inputs: NDFs of " + file_name(path) + (kirchhoff ? " (naive, filtered, D_K)" : ""));
-    naive.add(s);
-    filtered.add(s);
-    if (kirchhoff) kirchhoff->add(s);
+                          {"stats", stats_record(s, st)}};
+    std::vector<WorkResult> shares;
+    about_file(path, [&] {
+      shares.push_back(pack_partial(naive.estimate(s), scan));
+      shares.push_back(pack_partial(filtered.estimate(s), scan));
+      if (kirchhoff) {
+        KirchhoffOptions k = ko;
+        if (local)
+          k.progress = [&, i](double f) {
+            dk_progress((static_cast<double>(i) + f) / static_cast<double>(paths.size()));
+          };
+        shares.push_back(pack_partial(KirchhoffAccumulator(k).estimate(s), scan));
+      }
+    });
+    // One message: the shares' numbers one after another (each preceded by its length), a JSON
+    // line (record, the shares' texts), then the preview's bytes.
+    WorkResult r;
+    nlohmann::json texts = nlohmann::json::array();
+    for (auto& sh : shares) {
+      r.values.push_back(static_cast<double>(sh.values.size()));
+      r.values.insert(r.values.end(), sh.values.begin(), sh.values.end());
+      texts.push_back(std::move(sh.text));
+    }
+    r.text = nlohmann::json{{"record", rec},
+                            {"scan", scan},
+                            {"shares", texts},
+                            {"preview", {preview.width, preview.height}}}
+                 .dump();  // one line: dump() escapes control characters
+    r.text += '\n';
+    r.text.append(preview.pixels.begin(), preview.pixels.end());
+    return r;
+  };
+  nlohmann::json inputs = nlohmann::json::array();
+  auto consume = [&](std::size_t i, WorkResult&& r) {
+    const auto eol = r.text.find('\n');
+    if (eol == std::string::npos) throw std::runtime_error("predict: short scan message");
+    const auto head = nlohmann::json::parse(r.text.substr(0, eol));
+    const std::string& path = paths[i];
+    const auto& scan = head.at("scan");
+    const double dx = scan.at("dx_m").get<double>(), dy = scan.at("dy_m").get<double>();
+    c.log("inputs: [" + std::to_string(i + 1) + "/" + std::to_string(paths.size()) + "] " + path +
+          " (" + std::to_string(scan.at("nx").get<std::size_t>()) + " x " +
+          std::to_string(scan.at("ny").get<std::size_t>()) + ")" +
+          (kirchhoff ? ": naive, filtered, D_K" : ": naive, filtered"));
+    if (o.filter_sigma_m < std::max(dx, dy))
+      c.log("inputs: warning: filter sigma " + format_length(o.filter_sigma_m) +
+            " is below the sample spacing " + format_length(std::max(dx, dy)) + " of " + path +
+            ": the filtered NDF approaches the naive one");
+    RgbImage preview(head.at("preview").at(0).get<std::size_t>(),
+                     head.at("preview").at(1).get<std::size_t>());
+    if (r.text.size() - eol - 1 != preview.pixels.size())
+      throw std::runtime_error("predict: preview size does not match");
+    std::copy(r.text.begin() + static_cast<std::ptrdiff_t>(eol + 1), r.text.end(),
+              preview.pixels.begin());
+    char name[64];
+    std::snprintf(name, sizeof name, "img/height_%02zu.png", i + 1);
+    write_png(c.path(name), preview);
+    // The shares, in the order they were packed.
+    std::size_t at = 0, k = 0;
+    auto next_share = [&] {
+      if (at >= r.values.size() || k >= head.at("shares").size())
+        throw std::runtime_error("predict: short scan message");
+      const auto len = static_cast<std::size_t>(r.values[at]);
+      if (at + 1 + len > r.values.size()) throw std::runtime_error("predict: short scan message");
+      WorkResult sh;
+      sh.values.assign(r.values.begin() + static_cast<std::ptrdiff_t>(at + 1),
+                       r.values.begin() + static_cast<std::ptrdiff_t>(at + 1 + len));
+      sh.text = head.at("shares").at(k).get<std::string>();
+      at += 1 + len;
+      ++k;
+      return sh;
+    };
+    naive.merge(unpack_ndf_partial(next_share(), o.ndf_resolution));
+    filtered.merge(unpack_ndf_partial(next_share(), o.ndf_resolution));
+    if (kirchhoff) kirchhoff->merge(unpack_kirchhoff_partial(next_share(), o.ndf_resolution));
+    nlohmann::json rec = head.at("record");
+    rec["preview"] = name;
     inputs.push_back(std::move(rec));
-  });
+  };
+  const WorkStats st = distribute_scans(paths, o.read, compute, consume);
+  if (!mpi_is_root()) return inputs;  // rank 0 has the NDFs
+  if (stats) *stats = st;
   ndfs.naive = std::make_unique<TabulatedNdf>(naive.result());
   ndfs.filtered = std::make_unique<TabulatedNdf>(filtered.result());
   if (kirchhoff) {

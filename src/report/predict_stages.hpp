@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/distribute.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/predict.hpp"
@@ -33,8 +34,11 @@ struct NdfSet {
   std::size_t kirchhoff_patches = 0;
 };
 
-/// Reads, levels and describes every scan; accumulates the NDFs. Returns {"inputs": [...]}.
-nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs);
+/// Reads, levels and describes every scan; accumulates the NDFs. Spread over the MPI ranks (every
+/// rank calls it; on ranks other than 0 it returns nothing and leaves `ndfs` empty). Returns
+/// the "inputs" array; `stats` (rank 0): scans and seconds per rank.
+nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs,
+                            WorkStats* stats = nullptr);
 /// Writes the tables and previews; returns the "ndf" object.
 nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs);
 /// Fits ellipsoid, Beckmann, GGX to the filtered NDF; returns the "fits" array (seconds of each

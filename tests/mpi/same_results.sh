@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Under mpirun the scan-set commands and simulate give the same files as one process, bit for
 # bit, and one process gives the same with 1 and 2 threads: ndf (naive, filtered, kirchhoff),
-# texture (texel fits), info and simulate (matrix of coefficients). The JSON says how the work
+# texture (texel fits), predict (NDF tables, previews, summary.json), info and simulate (matrix
+# of coefficients). The JSON says how the work
 # was shared ("mpi": ranks, scans or blocks per rank). docs/scale.md, "Determinism".
 set -u
 BIN=$1
@@ -24,7 +25,9 @@ same() {  # same FILE_A FILE_B WHAT
 }
 
 for m in naive filtered kirchhoff; do
-  args=(ndf "${SCANS[@]}" --method "$m" --resolution 129)
+  # D_K uses threads only for problems above 2^17 samples + nodes: 385^2 nodes are.
+  res=129; [ $m = kirchhoff ] && res=385
+  args=(ndf "${SCANS[@]}" --method "$m" --resolution $res)
   one 1 $BIN "${args[@]}" -o "$T/$m.1.npy" 2>/dev/null || fail "$m, 1 thread"
   one 2 $BIN "${args[@]}" -o "$T/$m.2.npy" 2>/dev/null || fail "$m, 2 threads"
   one 1 "${MPI[@]}" $BIN "${args[@]}" -o "$T/$m.mpi.npy" --json >"$T/$m.json" 2>"$T/$m.err" \
@@ -42,6 +45,22 @@ one 1 "${MPI[@]}" $BIN "${targs[@]}" -o "$T/tm.exr" --json >"$T/texture.json" 2>
   || fail "texture under mpirun"
 same "$T/t1.exr" "$T/t2.exr" "texture, 1 vs 2 threads"
 same "$T/t1.exr" "$T/tm.exr" "texture, 1 process vs 3 ranks"
+
+# predict: the per-scan stage (reading, statistics, previews, NDF shares) over the ranks; the
+# summary's numbers (apart from "timing" and "mpi") and the NDF tables are the same. The
+# per-scan stage runs on OpenMP's threads: 1 or 2 of them give the same summary. --threads
+# (the fits' solver threads) gives the same inputs and NDFs; the fits agree for equal --threads.
+pargs=(predict "${SCANS[@]:0:4}" --resolution 129 --kirchhoff --patch 20x20um --no-render --quiet)
+one 1 $BIN "${pargs[@]}" --threads 1 -o "$T/p1" >/dev/null 2>&1 || fail "predict, 1 thread"
+one 2 $BIN "${pargs[@]}" --threads 1 -o "$T/p2" >/dev/null 2>&1 || fail "predict, 2 threads"
+one 2 $BIN "${pargs[@]}" --threads 2 -o "$T/p3" >/dev/null 2>&1 || fail "predict, --threads 2"
+one 1 "${MPI[@]}" $BIN "${pargs[@]}" --threads 1 -o "$T/pm" --json >"$T/predict.json" \
+  2>"$T/predict.err" || { cat "$T/predict.err"; fail "predict under mpirun"; }
+for f in ndf_naive.npy ndf_filtered.npy ndf_kirchhoff.npy img/height_01.png img/height_04.png; do
+  same "$T/p1/$f" "$T/p2/$f" "predict $f, 1 vs 2 threads"
+  same "$T/p1/$f" "$T/p3/$f" "predict $f, --threads 1 vs 2"
+  same "$T/p1/$f" "$T/pm/$f" "predict $f, 1 process vs 3 ranks"
+done
 
 $BIN info "${SCANS[@]}" --json >"$T/info1.json" 2>/dev/null || fail "info"
 "${MPI[@]}" $BIN info "${SCANS[@]}" --json >"$T/infom.json" 2>/dev/null || fail "info, mpirun"
@@ -90,10 +109,28 @@ for m in ("naive", "filtered", "kirchhoff"):
     assert sum(1 for k in j["scans_per_rank"] if k > 0) >= 2, (m, j)
 t = json.load(open(f"{T}/texture.json"))["mpi"]
 assert t["ranks"] == 3 and sum(t["scans_per_rank"]) == 3, t
+def summary(d):
+    j = json.load(open(f"{T}/{d}/summary.json"))
+    for k in ("timing", "mpi"):
+        j.pop(k)
+    return j
+p1 = summary("p1")
+assert p1 == summary("p2"), "predict summary: 1 vs 2 threads differ"
+p3 = summary("p3")
+assert p1["inputs"] == p3["inputs"] and p1["ndf"] == p3["ndf"], "predict: --threads 1 vs 2 differ"
+assert p1 == summary("pm"), "predict summary: 1 process vs 3 ranks differ"
+assert len(p1["inputs"]) == 4 and "kirchhoff" in p1["ndf"], p1.keys()
+p = json.load(open(f"{T}/predict.json"))["mpi"]
+assert p["ranks"] == 3 and sum(p["scans_per_rank"]) == 4 and len(p["seconds_per_rank"]) == 3, p
+assert json.load(open(f"{T}/pm/summary.json"))["mpi"] == p
+assert json.load(open(f"{T}/p1/summary.json"))["mpi"]["scans_per_rank"] == [4]
 a = json.load(open(f"{T}/info1.json"))
 b = json.load(open(f"{T}/infom.json"))
 assert a["surfaces"] == b["surfaces"], "info: records differ"
 assert [r["path"] for r in b["surfaces"]] == sorted(r["path"] for r in b["surfaces"])
 assert a["mpi"]["ranks"] == 1 and b["mpi"]["ranks"] == 3
+for j in (a["mpi"], b["mpi"], t):
+    assert len(j["scans_per_rank"]) == j["ranks"] == len(j["seconds_per_rank"]), j
+assert len(s["seconds_per_rank"]) == 3, s
 PY
 echo ok
