@@ -7,6 +7,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
 #include "report/html.hpp"
+#include "report/material_view.hpp"
 
 namespace microbrdf {
 namespace {
@@ -43,7 +44,13 @@ table{border-collapse:collapse;margin:6px 0 4px} th,td{border:1px solid #ccc;pad
 figure{margin:0} figcaption{font-size:12.5px;color:#444;max-width:600px}
 .note{background:#fff7e0;border:1px solid #e8c96a;padding:6px 10px;display:inline-block}
 .swatch{display:inline-block;width:28px;height:16px;border:1px solid #888;vertical-align:middle}
-figure svg{width:600px;height:auto;display:block} figure img{max-width:100%;height:auto}
+figure svg{width:600px;max-width:100%;height:auto;display:block} figure img{max-width:100%;height:auto}
+table{max-width:100%} td,th{overflow-wrap:anywhere} code{overflow-wrap:anywhere}
+.mbv{display:flex;flex-wrap:wrap;gap:18px;align-items:flex-start}
+.mbv canvas{width:384px;height:384px;border:1px solid #ccc;background:#222}
+.mbv-controls div{margin:4px 0} .mbv-controls label{margin-right:10px}
+nav.toc{background:#f6f6f8;border:1px solid #ddd;padding:6px 12px;display:inline-block}
+nav.toc ol{margin:4px 0;padding-left:22px} details summary{cursor:pointer;color:#444}
 )";
 
 class Page {
@@ -308,6 +315,7 @@ void section_renders(Page& p, json& s) {
   json& r = s["renders"];
   if (r.is_object() && r.contains("skipped")) {
     p << "<p class=\"note\">" << escape(str(r["skipped"])) << "</p>\n";
+    p << report::material_view_html(s);
     return;
   }
   p << "<div class=\"grid\">";
@@ -326,6 +334,7 @@ void section_renders(Page& p, json& s) {
        "Embree 3), linear sRGB tone-mapped to 8-bit sRGB; the BRDF is the measured one "
        "(filtered NDF as a tabulated distribution with Smith shadowing, exact conductor "
        "Fresnel).</p>\n";
+  p << report::material_view_html(s);
 }
 
 void texture_block(Page& p, json& t, const char* title) {
