@@ -136,7 +136,7 @@ try {
             if (wo[2] < 0.05) continue;  // grazing: float32 1/cos
             const v = await page.evaluate((k, a, b, n, kk) => window.microbrdfView.probe(k, a, b, n, kk),
                                           key, wi, wo, n555, k555);
-            if (v === null) { fail("no float render target: the shader cannot be read back"); break; }
+            if (v === false) { fail("no float render target: the shader cannot be read back"); break; }
             const err = Math.abs(v - r[1]) / (Math.abs(r[1]) + 1e-4 * peak);
             compared++;
             worst = Math.max(worst, err);
