@@ -197,7 +197,7 @@ namespace {
 const char* kShader = R"GLSL(#version 300 es
 precision highp float;
 precision highp int;
-uniform int uMode;           // 0: the sphere; 1: one BRDF value (uProbeWi, uProbeWo)
+uniform int uMode;           // 0: the sphere; 1: one BRDF value (uProbeWi, uProbeWo); 2: lobe
 uniform int uFamily;         // 0: ellipsoid form (ellipsoid, GGX); 1: Beckmann
 uniform mat3 uR;             // rotation of the ellipsoid convention (Beckmann/GGX: Rz(-phi))
 uniform vec2 uAlpha;
@@ -285,6 +285,13 @@ vec3 tonemap(vec3 c) {
 void main() {
   if (uMode == 1) {
     outColor = vec4(brdf(uProbeWi, uProbeWo, uEta, uKappa), 1.0);
+    return;
+  }
+  if (uMode == 2) {  // the BRDF over the outgoing hemisphere (orthographic disk, n up)
+    vec2 d = (gl_FragCoord.xy / uSize) * 2.0 - 1.0;
+    float dd = dot(d, d);
+    outColor = dd >= 1.0 ? vec4(-1.0)
+                         : vec4(brdf(uProbeWi, vec3(d, sqrt(1.0 - dd)), uEta, uKappa), 1.0);
     return;
   }
   vec2 p = (gl_FragCoord.xy / uSize) * 2.0 - 1.0;
@@ -387,7 +394,8 @@ const char* kScript = R"JS(
   gl.uniform1i(U.uCount, 64);
   var byKey = {};
   data.models.forEach(function (m) { byKey[m.key] = m; });
-  var state = {model: data.models[0].key, envRot: 0, exposure: 1, sampleRot: 0};
+  var state = {model: data.models[0].key, envRot: 0, exposure: 1, sampleRot: 0, lobeTheta: 30,
+               lobePhi: 180};
   function setModel(m, eta, kappa) {
     gl.uniform1i(U.uFamily, m.family);
     gl.uniformMatrix3fv(U.uR, true, new Float32Array(m.R));
@@ -414,19 +422,23 @@ const char* kScript = R"JS(
   // frame (n = +z, both pointing away), one constant n, k in every channel; false without
   // float render targets. (NONE: the default framebuffer; the page avoids the word for "no
   // object", which the report's checks read as a missing number.)
-  var NONE = void 0, probeFb = NONE;
+  var NONE = void 0, probeFb = NONE, lobeFb = NONE, LOBE = 160;
+  var floatOk = !!gl.getExtension("EXT_color_buffer_float");
+  function floatTarget(size) {
+    var t = gl.createTexture();
+    gl.activeTexture(gl.TEXTURE1);
+    gl.bindTexture(gl.TEXTURE_2D, t);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, size, size, 0, gl.RGBA, gl.FLOAT,
+                  new Float32Array(size * size * 4));
+    gl.activeTexture(gl.TEXTURE0);
+    var fb = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, t, 0);
+    return fb;
+  }
   function probe(key, wi, wo, n, k) {
-    if (!probeFb) {
-      if (!gl.getExtension("EXT_color_buffer_float")) return false;
-      var t = gl.createTexture();
-      gl.activeTexture(gl.TEXTURE1);
-      gl.bindTexture(gl.TEXTURE_2D, t);
-      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, 1, 1, 0, gl.RGBA, gl.FLOAT, new Float32Array(4));
-      gl.activeTexture(gl.TEXTURE0);
-      probeFb = gl.createFramebuffer();
-      gl.bindFramebuffer(gl.FRAMEBUFFER, probeFb);
-      gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, t, 0);
-    }
+    if (!floatOk) return false;
+    if (!probeFb) probeFb = floatTarget(1);
     gl.bindFramebuffer(gl.FRAMEBUFFER, probeFb);
     gl.viewport(0, 0, 1, 1);
     setModel(byKey[key], [n, n, n], [k, k, k]);
@@ -439,8 +451,83 @@ const char* kScript = R"JS(
     gl.bindFramebuffer(gl.FRAMEBUFFER, NONE);
     return out[1];
   }
+  // The lobe: f(wi, wo) at 550 nm over the outgoing hemisphere, read back as floats, drawn with
+  // a log colour scale (4 decades below the largest value); the values show on hover.
+  var lobe = {vals: NONE, max: 0, lo: 0, hi: 0};
+  var lobeCanvas = document.getElementById("mbv-lobe");
+  var ramp = [[0.05, 0.03, 0.2], [0.12, 0.33, 0.55], [0.25, 0.65, 0.48], [0.99, 0.9, 0.15]];
+  function colour(t) {
+    var x = Math.min(0.999, Math.max(0, t)) * 3, i = Math.floor(x), f = x - i;
+    return ramp[i].map(function (c, j) { return Math.round(255 * (c + f * (ramp[i + 1][j] - c))); });
+  }
+  function lightDir() {
+    var t = state.lobeTheta * Math.PI / 180, p = state.lobePhi * Math.PI / 180;
+    return [Math.sin(t) * Math.cos(p), Math.sin(t) * Math.sin(p), Math.cos(t)];
+  }
+  function drawLobe() {
+    if (!floatOk) {
+      document.getElementById("mbv-lobe-status").textContent =
+          "This browser cannot read float pixels back: no lobe view.";
+      return;
+    }
+    if (!lobeFb) lobeFb = floatTarget(LOBE);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, lobeFb);
+    gl.viewport(0, 0, LOBE, LOBE);
+    setModel(byKey[state.model], data.eta, data.kappa);
+    gl.uniform1i(U.uMode, 2);
+    gl.uniform2f(U.uSize, LOBE, LOBE);
+    var wi = lightDir();
+    gl.uniform3fv(U.uProbeWi, wi);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    var v = new Float32Array(LOBE * LOBE * 4);
+    gl.readPixels(0, 0, LOBE, LOBE, gl.RGBA, gl.FLOAT, v);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, NONE);
+    var mx = 0;
+    for (var i = 1; i < v.length; i += 4) mx = Math.max(mx, v[i]);
+    lobe.vals = v; lobe.max = mx;
+    lobe.hi = mx > 0 ? Math.log10(mx) : 0; lobe.lo = lobe.hi - 4;
+    var g = lobeCanvas.getContext("2d"), img = g.createImageData(LOBE, LOBE);
+    for (var r = 0; r < LOBE; ++r)
+      for (var c = 0; c < LOBE; ++c) {
+        var val = v[((LOBE - 1 - r) * LOBE + c) * 4 + 1], o = (r * LOBE + c) * 4;
+        var rgb = val < 0 ? [255, 255, 255]
+                          : colour((Math.log10(Math.max(val, 1e-30)) - lobe.lo) / (lobe.hi - lobe.lo));
+        img.data[o] = rgb[0]; img.data[o + 1] = rgb[1]; img.data[o + 2] = rgb[2]; img.data[o + 3] = 255;
+      }
+    g.putImageData(img, 0, 0);
+    // The mirror direction (-wi.x, -wi.y): a white ring.
+    g.strokeStyle = "#fff";
+    g.beginPath();
+    g.arc((1 - wi[0]) * LOBE / 2, (1 + wi[1]) * LOBE / 2, 4, 0, 2 * Math.PI);
+    g.stroke();
+    document.getElementById("mbv-bar-lo").textContent = Math.pow(10, lobe.lo).toPrecision(3) + " 1/sr";
+    document.getElementById("mbv-bar-hi").textContent = Math.pow(10, lobe.hi).toPrecision(3) + " 1/sr";
+    document.getElementById("mbv-lobe-status").textContent =
+        "light at theta_i " + state.lobeTheta + " deg, azimuth " + state.lobePhi +
+        " deg; largest value " + mx.toPrecision(4) + " 1/sr. Point at the disk to read a value.";
+  }
+  lobeCanvas.addEventListener("mousemove", function (e) {
+    if (!lobe.vals) return;
+    var b = lobeCanvas.getBoundingClientRect();
+    var c = Math.floor((e.clientX - b.left) / b.width * LOBE);
+    var row = LOBE - 1 - Math.floor((e.clientY - b.top) / b.height * LOBE);
+    if (c < 0 || c >= LOBE || row < 0 || row >= LOBE) return;
+    var val = lobe.vals[(row * LOBE + c) * 4 + 1];
+    var x = (c + 0.5) / LOBE * 2 - 1, y = (row + 0.5) / LOBE * 2 - 1;
+    if (val < 0) return;
+    document.getElementById("mbv-lobe-status").textContent =
+        "f = " + val.toPrecision(4) + " 1/sr at theta_o " +
+        (Math.asin(Math.min(1, Math.hypot(x, y))) * 180 / Math.PI).toFixed(1) + " deg, azimuth " +
+        (Math.atan2(y, x) * 180 / Math.PI).toFixed(1) + " deg (light at theta_i " +
+        state.lobeTheta + " deg, azimuth " + state.lobePhi + " deg).";
+  });
+  function update() { draw(); drawLobe(); }
   document.querySelectorAll("input[name=mbv-model]").forEach(function (r) {
-    r.addEventListener("change", function () { state.model = r.value; draw(); });
+    r.addEventListener("change", function () { state.model = r.value; update(); });
+  });
+  [["mbv-theta", "lobeTheta"], ["mbv-phi", "lobePhi"]].forEach(function (p) {
+    var el = document.getElementById(p[0]);
+    el.addEventListener("input", function () { state[p[1]] = Number(el.value); drawLobe(); });
   });
   [["mbv-env", "envRot"], ["mbv-sample", "sampleRot"]].forEach(function (p) {
     var el = document.getElementById(p[0]);
@@ -454,12 +541,13 @@ const char* kScript = R"JS(
       state.model = k;
       var r = document.querySelector("input[name=mbv-model][value=" + k + "]");
       if (r) r.checked = true;
-      draw();
+      update();
     },
+    lobeMax: function () { return lobe.max; },
     draw: draw,
     probe: probe
   };
-  draw();
+  update();
 })();
 )JS";
 
@@ -489,6 +577,20 @@ std::string material_view_html(const json& summary) {
        "value=\"0\"> (stops)</label></div>\n<p id=\"mbv-status\" class=\"cap\">"
        "<noscript>The interactive view needs JavaScript; the static renders above show the "
        "material.</noscript></p></div></div>\n";
+  h += "<h3 id=\"lobe\">Interactive view: the BRDF lobe of the chosen model</h3>\n<div "
+       "class=\"mbv\">"
+       "<canvas id=\"mbv-lobe\" width=\"160\" height=\"160\" aria-label=\"BRDF over the "
+       "outgoing hemisphere\"></canvas>\n<div class=\"mbv-bar\"><span id=\"mbv-bar-hi\"></span>"
+       "<div class=\"mbv-ramp\"></div><span id=\"mbv-bar-lo\"></span></div>\n"
+       "<div class=\"mbv-controls\"><div><label>light theta_i <input id=\"mbv-theta\" "
+       "type=\"range\" min=\"0\" max=\"85\" step=\"1\" value=\"30\"> (deg)</label></div>\n"
+       "<div><label>light azimuth <input id=\"mbv-phi\" type=\"range\" min=\"0\" max=\"360\" "
+       "step=\"5\" value=\"180\"> (deg from x)</label></div>\n<p id=\"mbv-lobe-status\" "
+       "class=\"cap\"></p><p class=\"cap\">The microfacet BRDF of the model chosen above at "
+       "550 nm over the outgoing hemisphere, seen from above (orthographic disk: the surface's x "
+       "axis to the right, y up, the rim at 90 deg), log colour over the 4 decades below the "
+       "largest value; the white ring marks the mirror direction. Values are the shader's own, "
+       "read back as 32-bit floats.</p></div></div>\n";
   h += "<p class=\"cap\">Drawn in this browser by WebGL 2 (no library, nothing fetched): the "
        "microbrdf BRDF f = F D G2 / (4 |wi.n| |wo.n|) of each fitted NDF (the same formulas as "
        "the C++ models, checked against <code>microbrdf brdf slice</code> by the test suite), "

@@ -79,6 +79,10 @@ table{max-width:100%} td,th{overflow-wrap:break-word} code{overflow-wrap:anywher
 .mbv{display:flex;flex-wrap:wrap;gap:18px;align-items:flex-start}
 .mbv canvas{width:384px;height:384px;border:1px solid #ccc;background:#222}
 .mbv-controls div{margin:4px 0} .mbv-controls label{margin-right:10px}
+#mbv-lobe{width:320px;height:320px;border:1px solid #ccc;cursor:crosshair}
+.mbv-bar{display:flex;flex-direction:column;align-items:flex-start;font-size:12px;gap:2px}
+.mbv-ramp{width:18px;height:280px;border:1px solid #888;
+  background:linear-gradient(to top,#0d0833,#1f548c,#40a67a,#fce626)}
 nav.toc{background:#f6f6f8;border:1px solid #ddd;padding:6px 12px;display:inline-block}
 nav.toc ol{margin:4px 0;padding-left:22px} details summary{cursor:pointer;color:#444}
 )";

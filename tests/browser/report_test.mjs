@@ -4,7 +4,7 @@
 //   1. no console error and no uncaught exception occurs, and nothing is fetched;
 //   2. the page does not scroll sideways in a 1280-pixel window;
 //   3. the WebGL view draws a sphere (non-blank, varied pixels) and switching the model changes
-//      the pixels;
+//      the pixels; the lobe view holds values and shows the one under the pointer;
 //   4. the shader's BRDF equals `microbrdf brdf slice` (the C++ models) at in- and out-of-plane
 //      directions for every fitted model (values read back from a float framebuffer).
 //
@@ -91,11 +91,20 @@ try {
       console.log(`model ${m}: mean ${mean.toFixed(2)}/255, std ${sd.toFixed(2)}, ` +
                   `${(100 * lit / n).toFixed(1)} % of pixels above 8/255`);
       if (!(sd > 2 && lit > 0.05 * n)) fail(`model ${m}: the canvas is blank or flat`);
+      const lobeMax = await page.evaluate(() => window.microbrdfView.lobeMax());
+      if (!(lobeMax > 0)) fail(`model ${m}: the lobe view holds no value (largest ${lobeMax})`);
       if (shots) {
         const el = await page.$("#mbv-canvas");
         await el.screenshot({ path: path.join(shots, `view_${m}.png`) });
       }
     }
+    // Hover over the lobe: the value under the pointer is shown.
+    const lobe = await page.$("#mbv-lobe");
+    if (shots) await lobe.screenshot({ path: path.join(shots, "lobe.png") });
+    await lobe.hover();
+    const hoverText = await page.evaluate(() => document.getElementById("mbv-lobe-status").textContent);
+    console.log("hover on the lobe: " + hoverText);
+    if (!/^f = [0-9.e+-]+ 1\/sr at theta_o/.test(hoverText)) fail("no value on hover over the lobe");
     for (let a = 0; a < models.length; ++a)
       for (let b = a + 1; b < models.length; ++b) {
         const p = pixels[models[a]], q = pixels[models[b]];

@@ -11,6 +11,7 @@
 # downloads anything itself. BROWSER_TEST_SHOTS=DIR keeps PNG screenshots of the view there.
 set -u
 BIN=$1
+case "$BIN" in /*) ;; *) BIN=$(pwd)/$BIN ;; esac
 HERE=$(cd "$(dirname "$0")" && pwd)
 DATA=${2:-$HERE/../../data}
 CHROMIUM=${CHROMIUM:-/usr/bin/chromium}
