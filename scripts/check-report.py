@@ -7,7 +7,8 @@
 - every file listed in summary["outputs"] exists;
 - every <img> in report.html carries a non-empty data:image/png URI (no broken image, nothing
   fetched from elsewhere), and the renders are there unless they were turned off;
-- no "nan", "inf", "null", "undefined" and no empty table cell in the report's text.
+- no "nan", "inf", "null", "undefined" and no empty table cell in the report's text (scripts
+  excluded), and no script loaded from or referring to the network.
 Exit status 0 when all hold; otherwise the problems are printed and the status is 1.
 """
 import json
@@ -44,7 +45,11 @@ def check(folder):
             problems.append("render not in the report: " + r["scene"])
     if 'src="http' in html or 'href="http' in html:
         problems.append("report fetches something from the network")
+    if re.search(r"<script[^>]*\bsrc=", html) or re.search(r"https?://", "".join(
+            re.findall(r"<script.*?</script>", html, flags=re.S))):
+        problems.append("a script of the report refers to the network")
     text = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)  # glyph outlines are not numbers
+    text = re.sub(r"<script.*?</script>", "", text, flags=re.S)  # code, not what a reader sees
     text = re.sub(r'src="data:[^"]*"', "", text)
     for bad in [r"\bnan\b", r"\bNaN\b", r"\binf\b", r"\bInfinity\b", r"\bnull\b", r"\bundefined\b"]:
         for m in re.finditer(bad, text):

@@ -4,8 +4,11 @@
 # runs only when something is missing. Needs root (or sudo) only in that case.
 #
 #   scripts/install-deps.sh            build and test dependencies (what `make test` and CI need)
-#   scripts/install-deps.sh --report   the same plus headless Chromium, which `make demo` uses to
-#                                      screenshot the HTML report (scripts/screenshot-report.sh)
+#   scripts/install-deps.sh --report   the same plus headless Chromium and Node.js: `make demo`
+#                                      screenshots the HTML report (scripts/screenshot-report.sh),
+#                                      and the browser test (label "browser" of `make test`,
+#                                      skipped without them) drives Chromium with puppeteer-core,
+#                                      installed from npm by scripts/install-browser-test.sh
 set -euo pipefail
 
 REPORT=0
@@ -52,6 +55,7 @@ PACKAGES=(
 REPORT_PACKAGES=(
   chromium             # headless browser for scripts/screenshot-report.sh
   fonts-dejavu-core    # a font for the report's text in that browser
+  nodejs               # runs the browser test (tests/browser/report_test.mjs)
 )
 if [ "$REPORT" -eq 1 ]; then
   PACKAGES+=("${REPORT_PACKAGES[@]}")
@@ -63,7 +67,15 @@ for p in "${PACKAGES[@]}"; do
     missing+=("$p")
   fi
 done
+# npm comes with some Node.js builds and is a package of its own in Debian's.
+if [ "$REPORT" -eq 1 ] && ! command -v npm >/dev/null; then
+  missing+=(npm)
+fi
+browser_test() {
+  if [ "$REPORT" -eq 1 ]; then "$(dirname "$0")/install-browser-test.sh"; fi
+}
 if [ ${#missing[@]} -eq 0 ]; then
+  browser_test
   exit 0
 fi
 
@@ -78,4 +90,5 @@ echo "install-deps: installing ${missing[*]}" >&2
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+browser_test
 echo "install-deps: done" >&2

@@ -7,6 +7,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
 #include "report/html.hpp"
+#include "report/material_view.hpp"
 #include "report/predict_measured.hpp"
 
 namespace microbrdf {
@@ -26,6 +27,36 @@ std::string deg(const json& v) {
   return std::isfinite(d(v)) ? report::num(d(v) * kDeg) + " deg" : report::num(d(v));
 }
 std::string str(const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
+
+// One SI length unit for a row of values (the prefix of the largest magnitude), so the unit
+// column says what the numbers are in.
+struct LengthUnit {
+  double scale;
+  const char* name;
+};
+std::vector<double> row_values(json& inputs, const char* key) {
+  std::vector<double> v;
+  for (auto& in : inputs)
+    v.push_back(in["stats"][key].is_number() ? in["stats"][key].get<double>() : std::nan(""));
+  return v;
+}
+LengthUnit length_unit(const std::vector<double>& values) {
+  double a = 0;
+  for (double v : values)
+    if (std::isfinite(v)) a = std::max(a, std::fabs(v));
+  static constexpr LengthUnit kUnits[] = {
+      {1, "m"}, {1e-3, "mm"}, {1e-6, "um"}, {1e-9, "nm"}, {1e-12, "pm"}};
+  for (const auto& u : kUnits)
+    if (a >= u.scale * 0.9995) return u;
+  return a > 0 ? kUnits[4] : kUnits[2];
+}
+// A file's date; a zero time stamp (1970-01-01, the Unix epoch) is no date.
+std::string date_text(const json& v) {
+  const std::string d = v.is_string() ? v.get<std::string>() : "";
+  if (d.empty()) return "unknown (not stated in the file)";
+  if (d.rfind("1970-01-01", 0) == 0) return "unknown (the file holds a zero time stamp)";
+  return escape(d);
+}
 std::string or_dash(const json& v, const std::string& missing) {
   const std::string s = v.is_string() ? v.get<std::string>() : "";
   return s.empty() ? missing : s;
@@ -44,7 +75,17 @@ table{border-collapse:collapse;margin:6px 0 4px} th,td{border:1px solid #ccc;pad
 figure{margin:0} figcaption{font-size:12.5px;color:#444;max-width:600px}
 .note{background:#fff7e0;border:1px solid #e8c96a;padding:6px 10px;display:inline-block}
 .swatch{display:inline-block;width:28px;height:16px;border:1px solid #888;vertical-align:middle}
-figure svg{width:600px;height:auto;display:block} figure img{max-width:100%;height:auto}
+figure svg{width:600px;max-width:100%;height:auto;display:block} figure img{max-width:100%;height:auto}
+table{max-width:100%} td,th{overflow-wrap:break-word} code{overflow-wrap:anywhere}
+.mbv{display:flex;flex-wrap:wrap;gap:18px;align-items:flex-start}
+.mbv canvas{width:384px;height:384px;border:1px solid #ccc;background:#222}
+.mbv-controls div{margin:4px 0} .mbv-controls label{margin-right:10px}
+#mbv-lobe{width:320px;height:320px;border:1px solid #ccc;cursor:crosshair}
+.mbv-bar{display:flex;flex-direction:column;align-items:flex-start;font-size:12px;gap:2px}
+.mbv-ramp{width:18px;height:280px;border:1px solid #888;
+  background:linear-gradient(to top,#0d0833,#1f548c,#40a67a,#fce626)}
+nav.toc{background:#f6f6f8;border:1px solid #ddd;padding:6px 12px;display:inline-block}
+nav.toc ol{margin:4px 0;padding-left:22px} details summary{cursor:pointer;color:#444}
 )";
 
 class Page {
@@ -101,14 +142,17 @@ void section_inputs(Page& p, json& s) {
   for (auto& in : s["inputs"]) {
     auto& st = in["stats"];
     p << row(
-        {std::to_string(++i), escape(str(in["path"])), escape(or_dash(in["format"], "—")),
-         escape(or_dash(in["instrument"], "not stated in the file")),
-         escape(or_dash(in["date"], "not stated")),
+        {std::to_string(++i), "<code>" + escape(str(in["path"])) + "</code>",
+         escape(or_dash(in["format"], "—")),
+         escape(or_dash(in["instrument"], "not stated in the file")), date_text(in["date"]),
          std::to_string(st["nx"].get<long>()) + " &times; " + std::to_string(st["ny"].get<long>()),
          len(st["dx_m"]) + " &times; " + len(st["dy_m"]),
          len(st["width_m"]) + " &times; " + len(st["height_m"]),
          report::num(d(st["valid_fraction"]) * 100, 5) + " %",
-         escape(str(in["leveling_description"]))});
+         str(in["leveling_description"]).size() > 60
+             ? "<details><summary>" + escape(str(in["leveling_description"]).substr(0, 40)) +
+                   "&hellip;</summary>" + escape(str(in["leveling_description"])) + "</details>"
+             : escape(str(in["leveling_description"]))});
   }
   p << "</table>\n<p class=\"cap\">Provenance: read by microbrdf's own readers (format, instrument "
        "and date as the file states them); levelled by least squares on the valid samples "
@@ -144,18 +188,25 @@ void section_stats(Page& p, json& s) {
       {"max_m", "highest valid height", "m", 0, "relative to the levelled plane"},
       {"skewness", "Ssk (skewness)", "1", 1, "third moment / Sq^3 (0 for Gaussian)"},
       {"kurtosis", "Sku (kurtosis)", "1", 1, "fourth moment / Sq^4 (3 for Gaussian)"},
-      {"slope_rms_x", "rms slope dz/dx", "1", 1, "central differences"},
-      {"slope_rms_y", "rms slope dz/dy", "1", 1, "central differences"},
+      {"slope_rms_x", "rms slope dz/dx", "1", 1,
+       "central differences of the heights at the scan spacing (no smoothing)"},
+      {"slope_rms_y", "rms slope dz/dy", "1", 1, "the same along y"},
       {"corr_length_x_m", "correlation length along x", "m", 3,
        "lag where the normalised ACF falls to 1/e (tau of exp(-r^2/tau^2))"},
       {"corr_length_y_m", "correlation length along y", "m", 3, "the same along y"},
       {"corr_length_m", "correlation length, radial", "m", 3, "the same, annular average"},
   };
   for (auto& q : qs) {
-    p << "<tr><td>" << q.label << "</td><td>" << q.unit << "</td>";
+    // Lengths: one unit per row, the numbers printed in it.
+    const bool length = q.kind == 0 || q.kind == 3;
+    const LengthUnit u = length_unit(row_values(s["inputs"], q.key));
+    p << "<tr><td>" << q.label << "</td><td>" << (length ? u.name : q.unit) << "</td>";
     for (auto& in : s["inputs"]) {
       json& v = in["stats"][q.key];
-      std::string cell = q.kind == 0 ? len(v) : q.kind == 3 ? corr(v) : n4(v);
+      std::string cell = !length                                ? n4(v)
+                         : v.is_number() && std::isfinite(d(v)) ? report::num(d(v) / u.scale)
+                         : q.kind == 3                          ? corr(v)
+                                                                : n4(v);
       p << "<td class=\"n\">" << cell << "</td>";
     }
     p << "<td>" << q.def << "</td></tr>\n";
@@ -197,7 +248,7 @@ void section_ndf(Page& p, json& s) {
            std::to_string(j["resolution"].get<long>());
   });
   line("integral of D(m)(m.n) dω", "1", [](json& j) { return report::num(d(j["integral"]), 8); });
-  line("rms slope along x", "1", [](json& j) { return n4(j["slope_rms_x"]); });
+  line("rms slope along x (see below)", "1", [](json& j) { return n4(j["slope_rms_x"]); });
   line("rms slope along y", "1", [](json& j) { return n4(j["slope_rms_y"]); });
   line("Beckmann alpha_x = √2 rms slope", "1", [](json& j) { return n4(j["beckmann_alpha_x"]); });
   line("Beckmann alpha_y = √2 rms slope", "1", [](json& j) { return n4(j["beckmann_alpha_y"]); });
@@ -210,13 +261,28 @@ void section_ndf(Page& p, json& s) {
        [](json& j) { return std::to_string(j["samples_used"].get<long>()); });
   line("elements skipped", "count",
        [](json& j) { return std::to_string(j["samples_skipped"].get<long>()); });
-  line("filter sigma", "m", [](json& j) {
-    return d(j["filter_sigma_m"]) > 0 ? len(j["filter_sigma_m"]) : std::string("— (not filtered)");
+  auto unit_of = [&](const char* key) {
+    std::vector<double> v;
+    for (auto& [k, cap] : kinds)
+      if (ndf.contains(k)) v.push_back(d(ndf[k][key]));
+    return length_unit(v);
+  };
+  const LengthUnit us = unit_of("filter_sigma_m"), uw = unit_of("wavelength_m");
+  line("filter sigma", us.name, [&](json& j) {
+    return d(j["filter_sigma_m"]) > 0 ? report::num(d(j["filter_sigma_m"]) / us.scale)
+                                      : std::string("— (not filtered)");
   });
-  line("wavelength lambda_q", "m", [](json& j) {
-    return d(j["wavelength_m"]) > 0 ? len(j["wavelength_m"]) : std::string("— (geometric)");
+  line("wavelength lambda_q", uw.name, [&](json& j) {
+    return d(j["wavelength_m"]) > 0 ? report::num(d(j["wavelength_m"]) / uw.scale)
+                                    : std::string("— (geometric)");
   });
-  p << "</table>\n<p class=\"cap\">Provenance: <code>NdfAccumulator</code> (naive, filtered) and "
+  p << "</table>\n<p class=\"cap\">Why the rms slopes differ: section 2 differentiates the "
+       "heights at the scan spacing; the naive NDF takes the normals of the scan's triangles "
+       "(the same scale, weighted by projected area); the filtered NDF takes normals of planes "
+       "fitted over a Gaussian window of the filter sigma, which removes slopes on shorter "
+       "scales, so its rms slope is smaller; D_K is the wave-optics distribution at lambda_q, "
+       "which blurs what is finer than the wavelength. The BRDF and the fits use the filtered "
+       "one.</p>\n<p class=\"cap\">Provenance: <code>NdfAccumulator</code> (naive, filtered) and "
        "<code>KirchhoffAccumulator</code> over all scans, one scan in memory at a time, weighted "
        "by projected area; tables on the orthographic disk, normalised to ∫D(m)(m.n)dω = 1; "
        "slopes from the table's slope covariance. Files: ";
@@ -309,24 +375,46 @@ void section_renders(Page& p, json& s) {
   json& r = s["renders"];
   if (r.is_object() && r.contains("skipped")) {
     p << "<p class=\"note\">" << escape(str(r["skipped"])) << "</p>\n";
+    p << report::material_view_html(s);
     return;
   }
+  // The material's long description names its optical constants' source (cited in section 5):
+  // shown once, not in every caption.
+  const std::string source = " (" + str(s["material"]["source"]) + ")";
+  const double smooth_deg = d(s["ndf"]["filtered"]["smooth_axis_angle_rad"]) * kDeg;
   p << "<div class=\"grid\">";
   for (auto& im : r) {
+    std::string material = str(im["material"]);
+    if (const auto at = material.find(source); source.size() > 3 && at != std::string::npos)
+      material.replace(at, source.size(), " (optical constants of section 5)");
+    std::string which;
+    if (str(im["scene"]) == "cylinders" && std::isfinite(smooth_deg)) {
+      // Linear brushing: the scan's x axis along the camera's right on the left cylinder,
+      // turned 90 degrees on the right one; scratches run along the smooth axis.
+      const bool horizontal = std::fabs(std::remainder(smooth_deg, 180.0)) < 45;
+      which = std::string(
+                  "Left cylinder: the scan's x axis horizontal, its scratches (smooth "
+                  "axis at ") +
+              report::num(smooth_deg, 3) + " deg from x) run " +
+              (horizontal ? "around the cylinder" : "along the cylinder's axis") +
+              "; right cylinder: turned 90 deg, scratches " +
+              (horizontal ? "along the axis" : "around the cylinder") + ". ";
+    }
     p << "<figure>"
       << p.image(str(im["file"]), str(im["scene"]), std::max(384, im["width"].get<int>()))
-      << "<figcaption>" << escape(str(im["caption"])) << ". "
+      << "<figcaption>" << escape(str(im["caption"])) << ". " << which
       << std::to_string(im["width"].get<long>()) << " &times; "
       << std::to_string(im["height"].get<long>()) << " px, "
       << std::to_string(im["spp"].get<long>()) << " samples/pixel, path depth &le; "
       << std::to_string(im["max_depth"].get<long>()) << ", seed "
       << std::to_string(im["seed"].get<long>()) << "; lights: " << escape(str(im["lights"]))
-      << ". Material: " << escape(str(im["material"])) << ".</figcaption></figure>";
+      << ". Material: " << escape(material) << ".</figcaption></figure>";
   }
   p << "</div>\n<p class=\"cap\">Provenance: the spectral path tracer (<code>render</code>, "
        "Embree 3), linear sRGB tone-mapped to 8-bit sRGB; the BRDF is the measured one "
        "(filtered NDF as a tabulated distribution with Smith shadowing, exact conductor "
        "Fresnel).</p>\n";
+  p << report::material_view_html(s);
 }
 
 void texture_block(Page& p, json& t, const char* title) {
@@ -398,6 +486,8 @@ void section_settings(Page& p, json& s) {
     } else if (v.is_array()) {
       for (auto& x : v) text += (text.empty() ? "" : ", ") + escape(str(x));
       if (text.empty()) text = "none";
+    } else if (k == "optical_constants" && v.is_object()) {
+      text = escape(str(v["name"])) + " (source cited in section 5)";  // each citation once
     } else if (v.is_object()) {
       for (auto& [kk, x] : v.items())
         text += (text.empty() ? "" : "; ") + escape(kk) + ": " + escape(str(x));
@@ -406,7 +496,17 @@ void section_settings(Page& p, json& s) {
     } else {
       text = escape(str(v));
     }
-    p << row({escape(k), text});
+    // The key without its unit suffix: the value carries the unit it is shown in.
+    std::string name = k;
+    for (const char* suffix : {"_rad", "_m"}) {
+      const std::string sfx = suffix;
+      if (name.size() > sfx.size() &&
+          name.compare(name.size() - sfx.size(), sfx.size(), sfx) == 0) {
+        name.resize(name.size() - sfx.size());
+        break;
+      }
+    }
+    p << row({escape(name), text});
   }
   p << "</table>\n<table>\n" << row({"component", "version"}, true);
   for (auto& [k, v] : s["versions"].items()) p << row({escape(k), escape(str(v))});
@@ -414,16 +514,27 @@ void section_settings(Page& p, json& s) {
 }
 
 void section_timing(Page& p, json& s) {
-  p << "<h2 id=\"s9\">9. Timings</h2>\n<table>\n" << row({"step", "wall time"}, true);
+  p << "<h2 id=\"s9\">9. Timings</h2>\n<table>\n" << row({"step", "wall time or rate"}, true);
+  auto ends = [](const std::string& k, const std::string& sfx) {
+    return k.size() > sfx.size() && k.compare(k.size() - sfx.size(), sfx.size(), sfx) == 0;
+  };
   for (auto& [k, v] : s["timing"].items()) {
-    if (k.size() > 2 && k.substr(k.size() - 2) == "_s")
+    if (ends(k, "_samples_per_s"))
+      p << row(
+          {escape(k.substr(0, k.size() - 14)) + " (rate)", report::num(d(v), 4) + " samples/s"});
+    else if (ends(k, "_per_s"))
+      p << row({escape(k.substr(0, k.size() - 6)) + " (rate)", report::num(d(v), 4) + " /s"});
+    else if (ends(k, "_s"))
       p << row({escape(k.substr(0, k.size() - 2)), report::num(d(v), 3) + " s"});
     else
       p << row({escape(k), report::num(d(v), 3)});
   }
-  p << "</table>\n<p class=\"cap\">Wall-clock seconds on this machine (the only numbers that "
-       "change between identical runs).</p>\n<h2 id=\"s10\">10. Files in this folder</h2>\n<p>";
-  for (auto& f : s["outputs"]) p << "<code>" << escape(str(f)) << "</code> ";
+  p << "</table>\n<p class=\"cap\">Wall-clock seconds (and path samples per second for the "
+       "renders) on this machine: the only numbers that change between identical runs.</p>\n<h2 "
+       "id=\"s10\">10. Files in this folder</h2>\n<p>";
+  // Relative links: they open the files beside report.html (nothing leaves the folder).
+  for (auto& f : s["outputs"])
+    p << "<a href=\"" << escape(str(f)) << "\"><code>" << escape(str(f)) << "</code></a> ";
   p << "</p>\n";
 }
 
@@ -451,6 +562,13 @@ std::string render_report_html(const json& summary, const std::string& dir) {
     << ", smooth axis at " << report::num(d(f["smooth_axis_angle_rad"]) * kDeg) << " deg from +x); "
     << fit_line
     << ". Every number below is in <code>summary.json</code> (SI units; docs/report.md).</p>\n";
+  p << "<nav class=\"toc\"><b>Contents</b><ol><li><a href=\"#s1\">Inputs</a></li>"
+       "<li><a href=\"#s2\">Surface statistics</a></li><li><a href=\"#s3\">Normal "
+       "distribution functions</a></li><li><a href=\"#s4\">Parametric fits</a></li><li><a "
+       "href=\"#s5\">BRDF slices</a></li><li><a href=\"#s6\">Renders</a> and the <a "
+       "href=\"#view\">interactive view</a></li><li><a href=\"#s7\">Texture synthesis</a></li>"
+       "<li><a href=\"#s8\">Settings and versions</a></li><li><a href=\"#s9\">Timings</a></li>"
+       "<li><a href=\"#s10\">Files</a></li></ol></nav>\n";
   section_inputs(p, s);
   section_stats(p, s);
   section_ndf(p, s);

@@ -1,0 +1,175 @@
+// The predict report as a reader's browser shows it: Debian's headless Chromium (driven by
+// puppeteer-core, no browser download) opens report.html with every network request refused and
+// checks that
+//   1. no console error and no uncaught exception occurs, and nothing is fetched;
+//   2. the page does not scroll sideways in a 1280-pixel window;
+//   3. the WebGL view draws a sphere (non-blank, varied pixels) and switching the model changes
+//      the pixels; the lobe view holds values and shows the one under the pointer;
+//   4. the shader's BRDF equals `microbrdf brdf slice` (the C++ models) at in- and out-of-plane
+//      directions for every fitted model (values read back from a float framebuffer).
+//
+//   node report_test.mjs BIN REPORT_DIR CHROMIUM [SCREENSHOT_DIR]
+//
+// Exit status 0 when all hold, 1 otherwise (each failure printed).
+import { execFileSync } from "node:child_process";
+import fs from "node:fs";
+import path from "node:path";
+import puppeteer from "puppeteer-core";
+
+const [bin, dir, chromium, shots] = process.argv.slice(2);
+const failures = [];
+const fail = (msg) => {
+  failures.push(msg);
+  console.log("FAIL: " + msg);
+};
+const summary = JSON.parse(fs.readFileSync(path.join(dir, "summary.json"), "utf8"));
+
+const browser = await puppeteer.launch({
+  executablePath: chromium,
+  headless: true,
+  args: ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+         "--ignore-gpu-blocklist", "--disable-background-networking", "--no-first-run"],
+});
+try {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1280, height: 900 });
+  // Network off: only the file itself (and data: URIs inside it) may load.
+  await page.setRequestInterception(true);
+  const reportUrl = "file://" + path.resolve(dir, "report.html");
+  page.on("request", (req) => {
+    const url = req.url();
+    if (url === reportUrl || url.startsWith("data:")) return req.continue();
+    fail("the page requested " + url.slice(0, 120));
+    return req.abort();
+  });
+  page.on("console", (m) => {
+    if (m.type() === "error") fail("console error: " + m.text());
+  });
+  page.on("pageerror", (e) => fail("uncaught exception: " + e.message));
+  await page.goto(reportUrl, { waitUntil: "load" });
+  await page.waitForFunction(() => window.microbrdfView !== undefined, { timeout: 60000 })
+    .catch(() => fail("the WebGL view did not start (window.microbrdfView missing): " +
+                      "no WebGL 2 in this Chromium?"));
+
+  // 2. No horizontal scrolling at 1280 px.
+  const widths = await page.evaluate(() => ({
+    scroll: document.documentElement.scrollWidth, client: document.documentElement.clientWidth,
+    wide: [...document.querySelectorAll("body *")]
+      .filter((e) => e.getBoundingClientRect().right > document.documentElement.clientWidth + 1)
+      .slice(0, 5).map((e) => e.tagName + (e.id ? "#" + e.id : "") + " right=" +
+                       Math.round(e.getBoundingClientRect().right)),
+  }));
+  console.log(`page width: scrollWidth ${widths.scroll} px, window ${widths.client} px`);
+  if (widths.scroll > widths.client)
+    fail(`the page scrolls sideways at 1280 px: ${widths.scroll} > ${widths.client} (` +
+         widths.wide.join(", ") + ")");
+
+  const ok = await page.evaluate(() => window.microbrdfView !== undefined);
+  if (ok) {
+    // 3. Pixels of each model.
+    const models = await page.evaluate(() => window.microbrdfView.models);
+    const pixels = {};
+    for (const m of models) {
+      pixels[m] = await page.evaluate((k) => {
+        window.microbrdfView.setModel(k);
+        const c = document.getElementById("mbv-canvas");
+        const t = document.createElement("canvas");
+        t.width = c.width; t.height = c.height;
+        const g = t.getContext("2d");
+        g.drawImage(c, 0, 0);
+        return Array.from(g.getImageData(0, 0, c.width, c.height).data);
+      }, m);
+      const px = pixels[m];
+      let sum = 0, sum2 = 0, lit = 0;
+      const n = px.length / 4;
+      for (let i = 0; i < px.length; i += 4) {
+        const l = (px[i] + px[i + 1] + px[i + 2]) / 3;
+        sum += l; sum2 += l * l;
+        if (l > 8) lit++;
+      }
+      const mean = sum / n, sd = Math.sqrt(Math.max(0, sum2 / n - mean * mean));
+      console.log(`model ${m}: mean ${mean.toFixed(2)}/255, std ${sd.toFixed(2)}, ` +
+                  `${(100 * lit / n).toFixed(1)} % of pixels above 8/255`);
+      if (!(sd > 2 && lit > 0.05 * n)) fail(`model ${m}: the canvas is blank or flat`);
+      const lobeMax = await page.evaluate(() => window.microbrdfView.lobeMax());
+      if (!(lobeMax > 0)) fail(`model ${m}: the lobe view holds no value (largest ${lobeMax})`);
+      if (shots) {
+        const el = await page.$("#mbv-canvas");
+        await el.screenshot({ path: path.join(shots, `view_${m}.png`) });
+      }
+    }
+    // Hover over the lobe: the value under the pointer is shown.
+    const lobe = await page.$("#mbv-lobe");
+    if (shots) await lobe.screenshot({ path: path.join(shots, "lobe.png") });
+    await lobe.hover();
+    const hoverText = await page.evaluate(() => document.getElementById("mbv-lobe-status").textContent);
+    console.log("hover on the lobe: " + hoverText);
+    if (!/^f = [0-9.e+-]+ 1\/sr at theta_o/.test(hoverText)) fail("no value on hover over the lobe");
+    for (let a = 0; a < models.length; ++a)
+      for (let b = a + 1; b < models.length; ++b) {
+        const p = pixels[models[a]], q = pixels[models[b]];
+        let diff = 0;
+        for (let i = 0; i < p.length; i += 4)
+          if (Math.abs(p[i] - q[i]) + Math.abs(p[i + 1] - q[i + 1]) + Math.abs(p[i + 2] - q[i + 2]) > 3)
+            diff++;
+        const frac = diff / (p.length / 4);
+        console.log(`${models[a]} vs ${models[b]}: ${(100 * frac).toFixed(2)} % of pixels differ`);
+        if (!(frac > 0.001)) fail(`switching ${models[a]} -> ${models[b]} does not change the view`);
+      }
+
+    // 4. Shader against the C++ BRDF.
+    const n555 = summary.material.n_555nm, k555 = summary.material.k_555nm;
+    const tmp = fs.mkdtempSync(path.join(dir, ".slice-"));
+    let worst = 0, compared = 0;
+    for (const fit of summary.fits) {
+      const q = fit.params, key = fit.model;
+      if (!models.includes(key)) { fail(`model ${key} is not in the view`); continue; }
+      const args = ["brdf", "slice", "--model", key, "--alpha-x", String(q.alpha_x),
+                    "--alpha-y", String(q.alpha_y), "--n", String(n555), "--k", String(k555),
+                    "--wavelength", "555nm", "--samples", "37"];
+      if (key === "ellipsoid")
+        args.push("--theta-x", q.theta_x + "rad", "--theta-y", q.theta_y + "rad",
+                  "--theta-z", q.theta_z + "rad");
+      else args.push("--phi", fit.phi + "rad");
+      for (const ti of [30, 60])
+        for (const plane of ["in", "out"]) {
+          const csv = path.join(tmp, `${key}_${ti}_${plane}.csv`);
+          execFileSync(bin, [...args, "--theta-i", ti + "deg", "--plane", plane, "-o", csv],
+                       { stdio: ["ignore", "ignore", "inherit"] });
+          const rows = fs.readFileSync(csv, "utf8").split("\n")
+            .filter((l) => l && !l.startsWith("#") && !l.startsWith("angle")).map((l) => l.split(",").map(Number));
+          const wi = [-Math.sin(ti * Math.PI / 180), 0, Math.cos(ti * Math.PI / 180)];
+          const peak = Math.max(...rows.map((r) => r[1]));
+          for (const r of rows) {
+            const wo = [r[2], r[3], r[4]];
+            if (wo[2] < 0.05) continue;  // grazing: float32 1/cos
+            const v = await page.evaluate((k, a, b, n, kk) => window.microbrdfView.probe(k, a, b, n, kk),
+                                          key, wi, wo, n555, k555);
+            if (v === false) { fail("no float render target: the shader cannot be read back"); break; }
+            const err = Math.abs(v - r[1]) / (Math.abs(r[1]) + 1e-4 * peak);
+            compared++;
+            worst = Math.max(worst, err);
+            if (err > 2e-3)
+              fail(`${key} theta_i ${ti} ${plane}-plane at ${r[0]} deg: shader ${v}, C++ ${r[1]} 1/sr`);
+          }
+        }
+    }
+    fs.rmSync(tmp, { recursive: true, force: true });
+    console.log(`shader vs C++ BRDF: ${compared} directions, worst relative difference ` +
+                `${worst.toExponential(2)} (relative to value + 1e-4 peak)`);
+    if (compared === 0) fail("no BRDF value compared");
+  }
+  if (shots) {
+    await page.setViewport({ width: 1280, height: 900 });
+    const view = await page.$("#view");
+    if (view) await view.scrollIntoView();
+    await page.screenshot({ path: path.join(shots, "report_view_1280.png") });
+  }
+} finally {
+  await browser.close();
+}
+if (failures.length) {
+  console.log(`${failures.length} failure(s)`);
+  process.exit(1);
+}
+console.log("browser test: all checks hold");
