@@ -40,6 +40,8 @@ void run_ndf(const NdfArgs& a) {
   // Fresnel: the material's when given (the table then has the NDF's own scale, G aside), else
   // F = 1 (the NDF's shape: at fixed theta_d, F(wi.h) is one constant for full BRDFs).
   const bool has_f = has_material(a.material.keys());
+  if (!has_f && a.material.keys().contains("fresnel"))
+    throw InputError("--fresnel needs a material (--metal, --n/--k, --nk-csv, --r0, --color)");
   const std::shared_ptr<const Fresnel> fresnel =
       has_f ? make_fresnel(material_spec(a.material, std::nullopt))
             : std::make_shared<PerfectMirrorFresnel>();

@@ -55,6 +55,8 @@ py::object measured_ndf(const py::object& path, double theta_d, std::size_t reso
   o.smith = shadowing == "smith";
   o.kernel_sigma = kernel;
   const nlohmann::json keys = material_keys_json(kwargs);
+  if (!has_material(keys) && keys.contains("fresnel"))
+    throw InputError("measured_ndf: fresnel= needs a material (metal=, n= and k=, ...)");
   const std::shared_ptr<const Fresnel> f =
       has_material(keys) ? make_fresnel(parse_material(keys, std::nullopt, KeyStyle::Python))
                          : std::make_shared<PerfectMirrorFresnel>();

@@ -182,6 +182,8 @@ def test_errors_name_the_file_or_the_keyword(tmp_path):
     with pytest.raises(ValueError):
         mb.measured_ndf(tmp_path / "x.binary", theta_d=-0.1)
     with pytest.raises(ValueError):
+        mb.measured_ndf(tmp_path / "x.binary", fresnel="schlick")  # no material to go with it
+    with pytest.raises(ValueError):
         mb.export_bsdf(tmp_path / "y.bsdf")  # no BRDF
     with pytest.raises(ValueError):
         mb.export_bsdf(tmp_path / "y.bsdf", tmp_path / "x.binary", model="ggx", alpha=0.1, metal="Al")

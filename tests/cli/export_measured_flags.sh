@@ -144,6 +144,8 @@ $BIN export bsdf g.bsdf --model ggx --alpha 0.3 --metal Al -o both.bsdf 2>err \
 $BIN export bsdf --mirror --metal Al -o m.bsdf 2>err && fail "--mirror accepted"
 $BIN measured ndf goni.csv --metal Unobtainium -o x.npy 2>err && fail "unknown metal accepted"
 [ -e x.npy ] && fail "output written with an unknown metal"
+$BIN measured ndf goni.csv --fresnel schlick -o x.npy 2>err && fail "--fresnel without a material accepted"
+grep -q -- "--fresnel needs a material" err || fail "--fresnel alone not explained: $(cat err)"
 
 # --- Mitsuba / pbrt: analytic models as rough conductors; the ellipsoid as the nearest GGX. --
 for r in mitsuba pbrt; do
