@@ -17,13 +17,14 @@ for i in $(seq -w 1 200); do  # 200 distinct scans (2.35 MB each); the first 20 
   "$BIN" generate gaussian --nx 640 --ny 480 --spacing 110nm --sigma 0.1um --tau 1um --seed "$((10#$i))" \
     -o "$T/s200/s$i.x3p" >/dev/null 2>&1
 done
-for i in $(seq -w 1 20); do ln -s "$T/s200/s$i.x3p" "$T/s20/s$i.x3p"; done
+for i in $(seq -w 1 200 | head -n 20); do ln -s "$T/s200/s$i.x3p" "$T/s20/s$i.x3p"; done
 echo "cores: $(nproc); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
 
 # Wall seconds of a command (its stdout, the --json object, goes to $T/last.json); its CPU
 # seconds (user + system, all ranks: they are mpirun's children) go to $T/last.cpu.
 wall() {
-  /usr/bin/time -f "%e %U %S" -o "$T/time.txt" "$@" >"$T/last.json" 2>/dev/null
+  /usr/bin/time -f "%e %U %S" -o "$T/time.txt" "$@" >"$T/last.json" 2>"$T/err.txt" \
+    || { echo "failed: $*" >&2; cat "$T/err.txt" >&2; return 1; }
   read -r e u s <"$T/time.txt"
   echo "$u + $s" | bc >"$T/last.cpu"
   echo "$e"
