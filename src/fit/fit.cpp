@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "microbrdf/error.hpp"
+#include "ndf/helper_pool.hpp"
 
 namespace microbrdf {
 namespace {
@@ -381,8 +382,10 @@ NormalEq normal_equations_k(const FitContext& c, const double* shape, double log
       w[a] = (1.0 - std::abs(u)) / c.s;
     }
   std::vector<NormalEq> rows(nr);
-#pragma omp parallel num_threads(c.threads)
-  {
+  // Bands of contiguous rows (neighbouring rows share their sub-rows) on the helper pool.
+  const std::size_t bands = std::max<std::size_t>(
+      1, std::min<std::size_t>(nr, 4 * static_cast<std::size_t>(std::max(1, c.threads))));
+  auto band = [&](std::size_t bi) {
     // Ring of sub-rows: value then the K derivatives, nsub each.
     std::vector<double> buf(ring * nsub * (K + 1));
     std::vector<long> held(ring, -1);
@@ -407,9 +410,8 @@ NormalEq normal_equations_k(const FitContext& c, const double* shape, double log
       }
       return out;
     };
-    // Contiguous bands of rows (schedule static), so neighbouring rows share their sub-rows.
-#pragma omp for schedule(static)
-    for (std::size_t ri = 0; ri < nr; ++ri) {
+    const std::size_t r0 = nr * bi / bands, r1 = nr * (bi + 1) / bands;
+    for (std::size_t ri = r0; ri < r1; ++ri) {
       if (!c.tent) {
         const double* sr = sub_row(ri);
         for (std::size_t col = 0; col < nc; ++col) {
@@ -470,7 +472,8 @@ NormalEq normal_equations_k(const FitContext& c, const double* shape, double log
       }
       rows[ri] = e;
     }
-  }
+  };
+  detail::HelperPool::instance().run(bands, c.threads, band);
   NormalEq total;
   total.n = np;
   for (const auto& e : rows) total.add(e);
