@@ -206,15 +206,22 @@ struct FitContext {
       r[c] = std::isnan(gt_row[c]) ? T(0) : (g(v[c] * amp) - T(gt_row[c])) * T(delta);
   }
 
-  // 1/2 sum r^2 in double.
+  // 1/2 sum r^2 in double; rows summed in order (the same number for any thread count).
   double cost(const double* shape, double amp) const {
-    double total = 0;
-#pragma omp parallel for reduction(+ : total) schedule(dynamic, 8) if (rows() * cols() > 50000)
-    for (std::size_t iy = iy0; iy <= iy1; ++iy) {
+    std::vector<double> per_row(rows(), 0.0);
+    auto band = [&](std::size_t b) {
       std::vector<double> r(cols());
-      residuals<double>(shape, amp, iy, r.data());
-      for (double x : r) total += x * x;
-    }
+      for (std::size_t iy = iy0 + b * 8; iy <= iy1 && iy < iy0 + (b + 1) * 8; ++iy) {
+        residuals<double>(shape, amp, iy, r.data());
+        double t = 0;
+        for (double x : r) t += x * x;
+        per_row[iy - iy0] = t;
+      }
+    };
+    const std::size_t bands = (rows() + 7) / 8;
+    detail::HelperPool::instance().run(bands, rows() * cols() > 50000 ? threads : 1, band);
+    double total = 0;
+    for (double t : per_row) total += t;
     return 0.5 * total;
   }
   // Node mode: the amplitude that renormalises the point samples on the ROI.
