@@ -97,11 +97,13 @@ double load_average() {
   return l;
 }
 
-// The three fits of predict on a real scan, with the library's solver (0) or Ceres (1); counters:
-// seconds per model, and the parameter changes of the library's solver against Ceres.
+// The three fits of predict on a real scan, with the library's solver (0) or Ceres (1), on the
+// given number of threads; counters: seconds per model, and the parameter changes of the
+// library's solver against Ceres.
 void BM_PredictFitsRealScan(benchmark::State& state) {
   const TabulatedNdf& t = land();
   const bool ceres = state.range(0) != 0;
+  const int threads = static_cast<int>(state.range(1));
   const double load0 = load_average();
   double sec[3] = {0, 0, 0};
   FitResult res[3];
@@ -111,6 +113,7 @@ void BM_PredictFitsRealScan(benchmark::State& state) {
       FitOptions o;
       o.model = m;
       o.solver = ceres ? FitSolver::CeresAutodiff : FitSolver::LevenbergMarquardt;
+      o.threads = threads;
       const auto t0 = std::chrono::steady_clock::now();
       res[i] = fit_ndf(t, o);
       sec[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -156,8 +159,9 @@ BENCHMARK(BM_FitCeres_Ellipsoid)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisec
 BENCHMARK(BM_FitCeres_Beckmann)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FitCeres_Ggx)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PredictFitsRealScan)
-    ->Arg(0)
-    ->Arg(1)
+    ->Args({0, 1})
+    ->Args({0, 2})
+    ->Args({1, 2})
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kSecond);

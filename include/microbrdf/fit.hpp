@@ -1,7 +1,8 @@
 #pragma once
 // Parametric fits of tabulated NDFs (Dong 2015 section 8, Fig. 12): the ellipsoid NDF
 // (alpha_x, alpha_y, theta_x, theta_y, theta_z), anisotropic Beckmann and anisotropic GGX
-// (alpha_x, alpha_y, theta_z), fitted to any TabulatedNdf with Ceres (Levenberg-Marquardt).
+// (alpha_x, alpha_y, theta_z), fitted to any TabulatedNdf by Levenberg-Marquardt (closed-form
+// Jacobians; Ceres with automatic derivatives and Nelder-Mead as references).
 // Conventions, objective and error measures are in docs/fitting.md.
 //
 //  - Parameters use the ellipsoid convention of microfacet.hpp for every model: theta_z turns the

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "microbrdf/error.hpp"
+#include "ndf/helper_pool.hpp"
 
 namespace microbrdf {
 namespace {
@@ -205,15 +206,22 @@ struct FitContext {
       r[c] = std::isnan(gt_row[c]) ? T(0) : (g(v[c] * amp) - T(gt_row[c])) * T(delta);
   }
 
-  // 1/2 sum r^2 in double.
+  // 1/2 sum r^2 in double; rows summed in order (the same number for any thread count).
   double cost(const double* shape, double amp) const {
-    double total = 0;
-#pragma omp parallel for reduction(+ : total) schedule(dynamic, 8) if (rows() * cols() > 50000)
-    for (std::size_t iy = iy0; iy <= iy1; ++iy) {
+    std::vector<double> per_row(rows(), 0.0);
+    auto band = [&](std::size_t b) {
       std::vector<double> r(cols());
-      residuals<double>(shape, amp, iy, r.data());
-      for (double x : r) total += x * x;
-    }
+      for (std::size_t iy = iy0 + b * 8; iy <= iy1 && iy < iy0 + (b + 1) * 8; ++iy) {
+        residuals<double>(shape, amp, iy, r.data());
+        double t = 0;
+        for (double x : r) t += x * x;
+        per_row[iy - iy0] = t;
+      }
+    };
+    const std::size_t bands = (rows() + 7) / 8;
+    detail::HelperPool::instance().run(bands, rows() * cols() > 50000 ? threads : 1, band);
+    double total = 0;
+    for (double t : per_row) total += t;
     return 0.5 * total;
   }
   // Node mode: the amplitude that renormalises the point samples on the ROI.
@@ -381,8 +389,10 @@ NormalEq normal_equations_k(const FitContext& c, const double* shape, double log
       w[a] = (1.0 - std::abs(u)) / c.s;
     }
   std::vector<NormalEq> rows(nr);
-#pragma omp parallel num_threads(c.threads)
-  {
+  // Bands of contiguous rows (neighbouring rows share their sub-rows) on the helper pool.
+  const std::size_t bands = std::max<std::size_t>(
+      1, std::min<std::size_t>(nr, 4 * static_cast<std::size_t>(std::max(1, c.threads))));
+  auto band = [&](std::size_t bi) {
     // Ring of sub-rows: value then the K derivatives, nsub each.
     std::vector<double> buf(ring * nsub * (K + 1));
     std::vector<long> held(ring, -1);
@@ -407,9 +417,8 @@ NormalEq normal_equations_k(const FitContext& c, const double* shape, double log
       }
       return out;
     };
-    // Contiguous bands of rows (schedule static), so neighbouring rows share their sub-rows.
-#pragma omp for schedule(static)
-    for (std::size_t ri = 0; ri < nr; ++ri) {
+    const std::size_t r0 = nr * bi / bands, r1 = nr * (bi + 1) / bands;
+    for (std::size_t ri = r0; ri < r1; ++ri) {
       if (!c.tent) {
         const double* sr = sub_row(ri);
         for (std::size_t col = 0; col < nc; ++col) {
@@ -470,7 +479,8 @@ NormalEq normal_equations_k(const FitContext& c, const double* shape, double log
       }
       rows[ri] = e;
     }
-  }
+  };
+  detail::HelperPool::instance().run(bands, c.threads, band);
   NormalEq total;
   total.n = np;
   for (const auto& e : rows) total.add(e);
