@@ -577,6 +577,16 @@ std::string material_view_html(const json& summary) {
        "value=\"0\"> (stops)</label></div>\n<p id=\"mbv-status\" class=\"cap\">"
        "<noscript>The interactive view needs JavaScript; the static renders above show the "
        "material.</noscript></p></div></div>\n";
+  h += "<p class=\"cap\">Drawn in this browser by WebGL 2 (no library, nothing fetched): the "
+       "microbrdf BRDF f = F D G2 / (4 |wi.n| |wo.n|) of each fitted NDF (the same formulas as "
+       "the C++ models, checked against <code>microbrdf brdf slice</code> by the test suite), "
+       "with " +
+       escape(data["fresnel"].get<std::string>()) + ", under " +
+       escape(data["env_note"].get<std::string>()) +
+       "; orthographic view along -z, the brushing tangent horizontal at 0 deg. Each pixel "
+       "integrates the map with 64 fixed directions drawn from the lobe (a smooth quadrature, "
+       "not the path tracer: no interreflection, RGB instead of spectral), tone mapping "
+       "clamp and sRGB.</p>\n";
   h += "<h3 id=\"lobe\">Interactive view: the BRDF lobe of the chosen model</h3>\n<div "
        "class=\"mbv\">"
        "<canvas id=\"mbv-lobe\" width=\"160\" height=\"160\" aria-label=\"BRDF over the "
@@ -591,16 +601,6 @@ std::string material_view_html(const json& summary) {
        "axis to the right, y up, the rim at 90 deg), log colour over the 4 decades below the "
        "largest value; the white ring marks the mirror direction. Values are the shader's own, "
        "read back as 32-bit floats.</p></div></div>\n";
-  h += "<p class=\"cap\">Drawn in this browser by WebGL 2 (no library, nothing fetched): the "
-       "microbrdf BRDF f = F D G2 / (4 |wi.n| |wo.n|) of each fitted NDF (the same formulas as "
-       "the C++ models, checked against <code>microbrdf brdf slice</code> by the test suite), "
-       "with " +
-       escape(data["fresnel"].get<std::string>()) + ", under " +
-       escape(data["env_note"].get<std::string>()) +
-       "; orthographic view along -z, the brushing tangent horizontal at 0 deg. Each pixel "
-       "integrates the map with 64 fixed directions drawn from the lobe (a smooth quadrature, "
-       "not the path tracer: no interreflection, RGB instead of spectral), tone mapping "
-       "clamp and sRGB.</p>\n";
   std::string js = data.dump();  // "</" would end the script element early
   for (std::size_t i = js.find("</"); i != std::string::npos; i = js.find("</", i + 3))
     js.replace(i, 2, "<\\/");

@@ -160,10 +160,20 @@ try {
     if (compared === 0) fail("no BRDF value compared");
   }
   if (shots) {
-    await page.setViewport({ width: 1280, height: 900 });
-    const view = await page.$("#view");
-    if (view) await view.scrollIntoView();
-    await page.screenshot({ path: path.join(shots, "report_view_1280.png") });
+    // The top of the page and the two interactive views, as a 1280-pixel window lays them out,
+    // stored at 3/4 scale (960 pixels wide) to keep the files small.
+    await page.setViewport({ width: 1280, height: 900, deviceScaleFactor: 0.75 });
+    await page.evaluate(() => window.microbrdfView.draw());
+    await page.evaluate(() => window.scrollTo(0, 0));
+    await page.screenshot({ path: path.join(shots, "report_top_1280.png") });
+    const box = await page.evaluate(() => {
+      const a = document.getElementById("view").getBoundingClientRect();
+      const b = document.getElementById("mbv-lobe-status").parentElement.getBoundingClientRect();
+      return { y: a.top + window.scrollY - 8, h: b.bottom - a.top + 16 };
+    });
+    await page.screenshot({ path: path.join(shots, "report_view_1280.png"),
+                            clip: { x: 0, y: box.y, width: 1280, height: box.h },
+                            captureBeyondViewport: true });
   }
 } finally {
   await browser.close();
