@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The report in a real browser (tests/browser/report_test.mjs): makes a small predict report (a
-# synthetic anisotropic scan, 16-pixel renders, the bundled studio map) and opens it in Debian's
+# synthetic anisotropic scan, 16-pixel renders, the bundled courtyard map; the view adds the
+# studio map beside it) and opens it in Debian's
 # headless Chromium with the network off.
 #
 #   tests/browser/run.sh BIN [DATA_DIR]      (ctest label "browser", part of `make test`)
@@ -37,7 +38,7 @@ fi
 "$BIN" generate gaussian --nx 256 --ny 192 --spacing 0.25um --sigma 0.1um --tau 8um --tau-y 1.5um \
   --seed 3 -o "$T/b.x3p" >/dev/null 2>&1 || { echo "FAIL: generate"; exit 1; }
 if ! "$BIN" predict "$T/b.x3p" --level none --resolution 129 --theta-i 30 --render-width 16 \
-  --spp 1 --metal Cu --envmap "$DATA/envmaps/blender_studio.exr" -o "$T/out" >/dev/null 2>"$T/err"; then
+  --spp 1 --metal Cu --envmap "$DATA/envmaps/blender_courtyard.exr" -o "$T/out" >/dev/null 2>"$T/err"; then
   cat "$T/err"
   echo "FAIL: predict"
   exit 1
