@@ -12,10 +12,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/microfacet.hpp"
 #include "report/html.hpp"
 
@@ -108,6 +110,19 @@ std::vector<float> builtin_sky(double scale) {
 }
 
 }  // namespace
+
+std::string colour_gradient(const std::string& direction) {
+  std::string g = "linear-gradient(" + direction;
+  for (int i = 0; i < kRampAnchors; ++i) {
+    std::uint8_t c[3];
+    false_colour(double(i) / (kRampAnchors - 1), c);
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c[0], c[1], c[2]);
+    g += ",";
+    g += hex;
+  }
+  return g + ")";
+}
 
 json material_view_data(const json& s_in) {
   json s = s_in;  // operator[] on a mutable copy: a missing key reads null
@@ -207,6 +222,13 @@ json material_view_data(const json& s_in) {
     }
   }
   data["envs"] = envs;
+  json ramp = json::array();
+  for (int i = 0; i < kRampAnchors; ++i) {
+    std::uint8_t c[3];
+    false_colour(double(i) / (kRampAnchors - 1), c);
+    ramp.push_back({c[0], c[1], c[2]});
+  }
+  data["ramp"] = ramp;
   data["env_note"] = env_note;
   return data;
 }
@@ -479,10 +501,11 @@ const char* kScript = R"JS(
   // a log colour scale (4 decades below the largest value); the values show on hover.
   var lobe = {vals: NONE, max: 0, lo: 0, hi: 0};
   var lobeCanvas = document.getElementById("mbv-lobe");
-  var ramp = [[0.05, 0.03, 0.2], [0.12, 0.33, 0.55], [0.25, 0.65, 0.48], [0.99, 0.9, 0.15]];
+  // The report's false-colour scale (the same anchors as its images), piecewise linear.
+  var ramp = data.ramp, nr = ramp.length - 1;
   function colour(t) {
-    var x = Math.min(0.999, Math.max(0, t)) * 3, i = Math.floor(x), f = x - i;
-    return ramp[i].map(function (c, j) { return Math.round(255 * (c + f * (ramp[i + 1][j] - c))); });
+    var x = Math.min(0.999999, Math.max(0, t)) * nr, i = Math.floor(x), f = x - i;
+    return ramp[i].map(function (c, j) { return Math.round(c + f * (ramp[i + 1][j] - c)); });
   }
   function lightDir() {
     var t = state.lobeTheta * Math.PI / 180, p = state.lobePhi * Math.PI / 180;
@@ -634,7 +657,9 @@ std::string material_view_html(const json& summary) {
        "class=\"mbv\">"
        "<canvas id=\"mbv-lobe\" width=\"160\" height=\"160\" aria-label=\"BRDF over the "
        "outgoing hemisphere\"></canvas>\n<div class=\"mbv-bar\"><span id=\"mbv-bar-hi\"></span>"
-       "<div class=\"mbv-ramp\"></div><span id=\"mbv-bar-lo\"></span></div>\n"
+       "<div class=\"mbv-ramp\" style=\"background:" +
+       colour_gradient("to top") +
+       "\"></div><span id=\"mbv-bar-lo\"></span></div>\n"
        "<div class=\"mbv-controls\"><div><label>light theta_i <input id=\"mbv-theta\" "
        "type=\"range\" min=\"0\" max=\"85\" step=\"1\" value=\"30\"> (deg)</label></div>\n"
        "<div><label>light azimuth <input id=\"mbv-phi\" type=\"range\" min=\"0\" max=\"360\" "
