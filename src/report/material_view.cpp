@@ -12,10 +12,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/image.hpp"
 #include "microbrdf/microfacet.hpp"
 #include "report/html.hpp"
 
@@ -109,6 +111,19 @@ std::vector<float> builtin_sky(double scale) {
 
 }  // namespace
 
+std::string colour_gradient(const std::string& direction) {
+  std::string g = "linear-gradient(" + direction;
+  for (int i = 0; i < kRampAnchors; ++i) {
+    std::uint8_t c[3];
+    false_colour(double(i) / (kRampAnchors - 1), c);
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c[0], c[1], c[2]);
+    g += ",";
+    g += hex;
+  }
+  return g + ")";
+}
+
 json material_view_data(const json& s_in) {
   json s = s_in;  // operator[] on a mutable copy: a missing key reads null
   json data;
@@ -185,9 +200,35 @@ json material_view_data(const json& s_in) {
                          " is not an OpenEXR file the view could read)"
                    : "the renders' built-in lights: a dim sky and two round softboxes";
   }
-  std::vector<std::uint8_t> bytes(env.size() * 4);
-  std::memcpy(bytes.data(), env.data(), bytes.size());  // little-endian float32, as JS reads it
-  data["env"] = {{"width", kEnvW}, {"height", kEnvH}, {"rgb_f32_base64", base64(bytes)}};
+  auto env_json = [](const std::vector<float>& e, const std::string& name) {
+    std::vector<std::uint8_t> bytes(e.size() * 4);
+    std::memcpy(bytes.data(), e.data(), bytes.size());  // little-endian float32, as JS reads it
+    return json{
+        {"name", name}, {"width", kEnvW}, {"height", kEnvH}, {"rgb_f32_base64", base64(bytes)}};
+  };
+  json envs = json::array({env_json(env, "the renders' lighting")});
+  // A neutral studio map beside the report's one (the bundled maps sit in one folder): under a
+  // warm courtyard a grey metal looks bronze; the studio shows the material's own colour.
+  if (path.is_string() && std::filesystem::is_regular_file(path.get<std::string>())) {
+    const auto studio =
+        std::filesystem::path(path.get<std::string>()).parent_path() / "blender_studio.exr";
+    if (std::filesystem::path(path.get<std::string>()).filename() != "blender_studio.exr" &&
+        std::filesystem::is_regular_file(studio)) {
+      try {
+        envs.push_back(env_json(read_exr_box_filtered(studio.string(), 1.0), "neutral studio"));
+        env_note += "; or the neutral studio map blender_studio.exr beside it";
+      } catch (const std::exception&) {
+      }
+    }
+  }
+  data["envs"] = envs;
+  json ramp = json::array();
+  for (int i = 0; i < kRampAnchors; ++i) {
+    std::uint8_t c[3];
+    false_colour(double(i) / (kRampAnchors - 1), c);
+    ramp.push_back({c[0], c[1], c[2]});
+  }
+  data["ramp"] = ramp;
   data["env_note"] = env_note;
   return data;
 }
@@ -366,22 +407,25 @@ const char* kScript = R"JS(
    "uExposure", "uSampleRot", "uSize", "uSeq", "uCount"].forEach(function (k) {
     U[k] = gl.getUniformLocation(prog, k);
   });
-  // Environment texture: float32 RGB from the page, stored as RGBA16F (filterable in WebGL 2).
-  var bin = atob(data.env.rgb_f32_base64), bytes = new Uint8Array(bin.length);
-  for (var i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
-  var rgb = new Float32Array(bytes.buffer), w = data.env.width, h = data.env.height;
-  var rgba = new Float32Array(w * h * 4);
-  for (var j = 0; j < w * h; ++j) {
-    rgba[4 * j] = rgb[3 * j]; rgba[4 * j + 1] = rgb[3 * j + 1]; rgba[4 * j + 2] = rgb[3 * j + 2];
-    rgba[4 * j + 3] = 1;
-  }
-  var tex = gl.createTexture();
-  gl.bindTexture(gl.TEXTURE_2D, tex);
-  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA16F, w, h, 0, gl.RGBA, gl.FLOAT, rgba);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.REPEAT);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+  // Environment textures: float32 RGB from the page, stored as RGBA16F (filterable in WebGL 2).
+  var envTex = data.envs.map(function (env) {
+    var bin = atob(env.rgb_f32_base64), bytes = new Uint8Array(bin.length);
+    for (var i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
+    var rgb = new Float32Array(bytes.buffer), w = env.width, h = env.height;
+    var rgba = new Float32Array(w * h * 4);
+    for (var j = 0; j < w * h; ++j) {
+      rgba[4 * j] = rgb[3 * j]; rgba[4 * j + 1] = rgb[3 * j + 1]; rgba[4 * j + 2] = rgb[3 * j + 2];
+      rgba[4 * j + 3] = 1;
+    }
+    var tex = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, tex);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA16F, w, h, 0, gl.RGBA, gl.FLOAT, rgba);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.REPEAT);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+    return tex;
+  });
   gl.uniform1i(U.uEnv, 0);
   // 64 Hammersley points, the same for every pixel (no noise; a fixed quadrature).
   var seq = new Float32Array(128);
@@ -394,7 +438,7 @@ const char* kScript = R"JS(
   gl.uniform1i(U.uCount, 64);
   var byKey = {};
   data.models.forEach(function (m) { byKey[m.key] = m; });
-  var state = {model: data.models[0].key, envRot: 0, exposure: 1, sampleRot: 0, lobeTheta: 30,
+  var state = {model: data.models[0].key, env: 0, envRot: 0, exposure: 1, sampleRot: 0, lobeTheta: 30,
                lobePhi: 180};
   function setModel(m, eta, kappa) {
     gl.uniform1i(U.uFamily, m.family);
@@ -406,6 +450,8 @@ const char* kScript = R"JS(
   function draw() {
     gl.bindFramebuffer(gl.FRAMEBUFFER, NONE);
     gl.viewport(0, 0, canvas.width, canvas.height);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, envTex[state.env]);
     setModel(byKey[state.model], data.eta, data.kappa);
     gl.uniform1i(U.uMode, 0);
     gl.uniform1f(U.uEnvRot, state.envRot * Math.PI / 180);
@@ -415,7 +461,7 @@ const char* kScript = R"JS(
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     var m = byKey[state.model];
     say(m.key + ": alpha_x " + m.alpha[0].toPrecision(4) + ", alpha_y " + m.alpha[1].toPrecision(4) +
-        "; environment turned " + state.envRot + " deg, brushing turned " + state.sampleRot +
+        "; " + data.envs[state.env].name + " turned " + state.envRot + " deg, brushing turned " + state.sampleRot +
         " deg, exposure x" + state.exposure.toPrecision(3) + ".");
   }
   // One BRDF value (1/sr) as the shader computes it, for the tests: directions in the surface
@@ -455,10 +501,11 @@ const char* kScript = R"JS(
   // a log colour scale (4 decades below the largest value); the values show on hover.
   var lobe = {vals: NONE, max: 0, lo: 0, hi: 0};
   var lobeCanvas = document.getElementById("mbv-lobe");
-  var ramp = [[0.05, 0.03, 0.2], [0.12, 0.33, 0.55], [0.25, 0.65, 0.48], [0.99, 0.9, 0.15]];
+  // The report's false-colour scale (the same anchors as its images), piecewise linear.
+  var ramp = data.ramp, nr = ramp.length - 1;
   function colour(t) {
-    var x = Math.min(0.999, Math.max(0, t)) * 3, i = Math.floor(x), f = x - i;
-    return ramp[i].map(function (c, j) { return Math.round(255 * (c + f * (ramp[i + 1][j] - c))); });
+    var x = Math.min(0.999999, Math.max(0, t)) * nr, i = Math.floor(x), f = x - i;
+    return ramp[i].map(function (c, j) { return Math.round(c + f * (ramp[i + 1][j] - c)); });
   }
   function lightDir() {
     var t = state.lobeTheta * Math.PI / 180, p = state.lobePhi * Math.PI / 180;
@@ -525,6 +572,9 @@ const char* kScript = R"JS(
   document.querySelectorAll("input[name=mbv-model]").forEach(function (r) {
     r.addEventListener("change", function () { state.model = r.value; update(); });
   });
+  document.querySelectorAll("input[name=mbv-envmap]").forEach(function (r) {
+    r.addEventListener("change", function () { state.env = Number(r.value); draw(); });
+  });
   [["mbv-theta", "lobeTheta"], ["mbv-phi", "lobePhi"]].forEach(function (p) {
     var el = document.getElementById(p[0]);
     el.addEventListener("input", function () { state[p[1]] = Number(el.value); drawLobe(); });
@@ -544,6 +594,13 @@ const char* kScript = R"JS(
       update();
     },
     lobeMax: function () { return lobe.max; },
+    environments: data.envs.length,
+    setEnvironment: function (i) {
+      state.env = i;
+      var r = document.querySelector("input[name=mbv-envmap][value='" + i + "']");
+      if (r) r.checked = true;
+      draw();
+    },
     draw: draw,
     probe: probe
   };
@@ -563,13 +620,22 @@ std::string material_view_html(const json& summary) {
               (first ? " checked" : "") + "> " + escape(k) + "</label> ";
     first = false;
   }
+  std::string env_radios;
+  if (data["envs"].size() > 1) {
+    env_radios = "<div><b>environment</b> ";
+    for (std::size_t i = 0; i < data["envs"].size(); ++i)
+      env_radios += "<label><input type=\"radio\" name=\"mbv-envmap\" value=\"" +
+                    std::to_string(i) + "\"" + (i == 0 ? " checked" : "") + "> " +
+                    escape(data["envs"][i]["name"].get<std::string>()) + "</label> ";
+    env_radios += "</div>\n";
+  }
   std::string h;
   h += "<h3 id=\"view\">Interactive view: the fitted models on a sphere</h3>\n";
   h += "<div class=\"mbv\"><canvas id=\"mbv-canvas\" width=\"384\" height=\"384\" "
        "aria-label=\"sphere with the fitted material\"></canvas>\n<div class=\"mbv-controls\">"
        "<div><b>model</b> " +
-       radios +
-       "</div>\n<div><label>environment rotation <input id=\"mbv-env\" type=\"range\" "
+       radios + "</div>\n" + env_radios +
+       "<div><label>environment rotation <input id=\"mbv-env\" type=\"range\" "
        "min=\"-180\" max=\"180\" step=\"5\" value=\"0\"> (deg)</label></div>\n<div><label>"
        "brushing direction <input id=\"mbv-sample\" type=\"range\" min=\"0\" max=\"180\" "
        "step=\"5\" value=\"0\"> (deg from horizontal)</label></div>\n<div><label>exposure "
@@ -577,20 +643,6 @@ std::string material_view_html(const json& summary) {
        "value=\"0\"> (stops)</label></div>\n<p id=\"mbv-status\" class=\"cap\">"
        "<noscript>The interactive view needs JavaScript; the static renders above show the "
        "material.</noscript></p></div></div>\n";
-  h += "<h3 id=\"lobe\">Interactive view: the BRDF lobe of the chosen model</h3>\n<div "
-       "class=\"mbv\">"
-       "<canvas id=\"mbv-lobe\" width=\"160\" height=\"160\" aria-label=\"BRDF over the "
-       "outgoing hemisphere\"></canvas>\n<div class=\"mbv-bar\"><span id=\"mbv-bar-hi\"></span>"
-       "<div class=\"mbv-ramp\"></div><span id=\"mbv-bar-lo\"></span></div>\n"
-       "<div class=\"mbv-controls\"><div><label>light theta_i <input id=\"mbv-theta\" "
-       "type=\"range\" min=\"0\" max=\"85\" step=\"1\" value=\"30\"> (deg)</label></div>\n"
-       "<div><label>light azimuth <input id=\"mbv-phi\" type=\"range\" min=\"0\" max=\"360\" "
-       "step=\"5\" value=\"180\"> (deg from x)</label></div>\n<p id=\"mbv-lobe-status\" "
-       "class=\"cap\"></p><p class=\"cap\">The microfacet BRDF of the model chosen above at "
-       "550 nm over the outgoing hemisphere, seen from above (orthographic disk: the surface's x "
-       "axis to the right, y up, the rim at 90 deg), log colour over the 4 decades below the "
-       "largest value; the white ring marks the mirror direction. Values are the shader's own, "
-       "read back as 32-bit floats.</p></div></div>\n";
   h += "<p class=\"cap\">Drawn in this browser by WebGL 2 (no library, nothing fetched): the "
        "microbrdf BRDF f = F D G2 / (4 |wi.n| |wo.n|) of each fitted NDF (the same formulas as "
        "the C++ models, checked against <code>microbrdf brdf slice</code> by the test suite), "
@@ -601,6 +653,22 @@ std::string material_view_html(const json& summary) {
        "integrates the map with 64 fixed directions drawn from the lobe (a smooth quadrature, "
        "not the path tracer: no interreflection, RGB instead of spectral), tone mapping "
        "clamp and sRGB.</p>\n";
+  h += "<h3 id=\"lobe\">Interactive view: the BRDF lobe of the chosen model</h3>\n<div "
+       "class=\"mbv\">"
+       "<canvas id=\"mbv-lobe\" width=\"160\" height=\"160\" aria-label=\"BRDF over the "
+       "outgoing hemisphere\"></canvas>\n<div class=\"mbv-bar\"><span id=\"mbv-bar-hi\"></span>"
+       "<div class=\"mbv-ramp\" style=\"background:" +
+       colour_gradient("to top") +
+       "\"></div><span id=\"mbv-bar-lo\"></span></div>\n"
+       "<div class=\"mbv-controls\"><div><label>light theta_i <input id=\"mbv-theta\" "
+       "type=\"range\" min=\"0\" max=\"85\" step=\"1\" value=\"30\"> (deg)</label></div>\n"
+       "<div><label>light azimuth <input id=\"mbv-phi\" type=\"range\" min=\"0\" max=\"360\" "
+       "step=\"5\" value=\"180\"> (deg from x)</label></div>\n<p id=\"mbv-lobe-status\" "
+       "class=\"cap\"></p><p class=\"cap\">The microfacet BRDF of the model chosen above at "
+       "550 nm over the outgoing hemisphere, seen from above (orthographic disk: the surface's x "
+       "axis to the right, y up, the rim at 90 deg), log colour over the 4 decades below the "
+       "largest value; the white ring marks the mirror direction. Values are the shader's own, "
+       "read back as 32-bit floats.</p></div></div>\n";
   std::string js = data.dump();  // "</" would end the script element early
   for (std::size_t i = js.find("</"); i != std::string::npos; i = js.find("</", i + 3))
     js.replace(i, 2, "<\\/");

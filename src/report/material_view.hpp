@@ -14,6 +14,12 @@ namespace microbrdf::report {
 /// says what it used instead.
 nlohmann::json material_view_data(const nlohmann::json& summary);
 
+/// Anchors of false_colour (image.hpp): 6, piecewise linear between them.
+constexpr int kRampAnchors = 6;
+/// A CSS linear-gradient of the report's false-colour scale ("to right", "to top"): the exact
+/// map of its images, for colour bars drawn by the page.
+std::string colour_gradient(const std::string& direction);
+
 /// The HTML of the view: a canvas, its controls, the data as JSON and the script (plain WebGL 2,
 /// no library, nothing fetched). Without JavaScript or WebGL 2 the page shows a sentence instead.
 std::string material_view_html(const nlohmann::json& summary);

@@ -82,8 +82,9 @@ table{max-width:100%} td,th{overflow-wrap:break-word} code{overflow-wrap:anywher
 .mbv-controls div{margin:4px 0} .mbv-controls label{margin-right:10px}
 #mbv-lobe{width:320px;height:320px;border:1px solid #ccc;cursor:crosshair}
 .mbv-bar{display:flex;flex-direction:column;align-items:flex-start;font-size:12px;gap:2px}
-.mbv-ramp{width:18px;height:280px;border:1px solid #888;
-  background:linear-gradient(to top,#0d0833,#1f548c,#40a67a,#fce626)}
+.mbv-ramp{width:18px;height:280px;border:1px solid #888}
+.cbar{height:12px;border:1px solid #888;margin-top:4px} figure.tex{display:table} figure.tex figcaption{display:table-caption;caption-side:bottom} .cbar-l{display:flex;
+  justify-content:space-between;font-size:12px;color:#444}
 nav.toc{background:#f6f6f8;border:1px solid #ddd;padding:6px 12px;display:inline-block}
 nav.toc ol{margin:4px 0;padding-left:22px} details summary{cursor:pointer;color:#444}
 )";
@@ -436,9 +437,18 @@ void texture_block(Page& p, json& t, const char* title) {
   p << "</table>\n";
   if (t.contains("images")) {
     p << "<div class=\"grid\">";
-    for (auto& [ch, file] : t["images"].items())
-      p << "<figure>" << p.image(str(file), ch) << "<figcaption>" << ch
-        << " (false colour, min to max of the table above)</figcaption></figure>";
+    for (auto& [ch, file] : t["images"].items()) {
+      // A colour bar from the channel's min to max (the range the image maps), in its unit.
+      json& st = t["channels"][ch];
+      const bool angle = ch.rfind("theta", 0) == 0;
+      const double k = angle ? kDeg : 1.0;
+      const std::string unit = angle ? " deg" : "";
+      p << "<figure class=\"tex\">" << p.image(str(file), ch)
+        << "<div class=\"cbar\" style=\"background:" << report::colour_gradient("to right")
+        << "\"></div><div class=\"cbar-l\"><span>" << report::num(d(st["min"]) * k) << unit
+        << "</span><span>" << report::num(d(st["max"]) * k) << unit << "</span></div><figcaption>"
+        << ch << " (false colour, min to max of the table above)</figcaption></figure>";
+    }
     p << "</div>\n";
   }
 }

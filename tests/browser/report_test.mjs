@@ -98,6 +98,29 @@ try {
         await el.screenshot({ path: path.join(shots, `view_${m}.png`) });
       }
     }
+    // A second environment (the neutral studio beside the report's map) changes the view.
+    const envs = await page.evaluate(() => window.microbrdfView.environments);
+    if (envs > 1) {
+      const grab = () => page.evaluate(() => {
+        const c = document.getElementById("mbv-canvas");
+        const t = document.createElement("canvas");
+        t.width = c.width; t.height = c.height;
+        t.getContext("2d").drawImage(c, 0, 0);
+        return Array.from(t.getContext("2d").getImageData(0, 0, c.width, c.height).data);
+      });
+      const before = await grab();
+      await page.evaluate(() => window.microbrdfView.setEnvironment(1));
+      const after = await grab();
+      if (shots) await (await page.$("#mbv-canvas")).screenshot({ path: path.join(shots, "view_studio.png") });
+      await page.evaluate(() => window.microbrdfView.setEnvironment(0));
+      let diff = 0;
+      for (let i = 0; i < before.length; i += 4)
+        if (Math.abs(before[i] - after[i]) + Math.abs(before[i + 1] - after[i + 1]) > 3) diff++;
+      console.log(`environment switch: ${(100 * diff / (before.length / 4)).toFixed(1)} % of pixels differ`);
+      if (!(diff > 0.01 * before.length / 4)) fail("switching the environment does not change the view");
+    } else {
+      console.log("one environment in this report (no studio map beside it)");
+    }
     // Hover over the lobe: the value under the pointer is shown.
     const lobe = await page.$("#mbv-lobe");
     if (shots) await lobe.screenshot({ path: path.join(shots, "lobe.png") });
@@ -160,10 +183,20 @@ try {
     if (compared === 0) fail("no BRDF value compared");
   }
   if (shots) {
-    await page.setViewport({ width: 1280, height: 900 });
-    const view = await page.$("#view");
-    if (view) await view.scrollIntoView();
-    await page.screenshot({ path: path.join(shots, "report_view_1280.png") });
+    // The top of the page and the two interactive views, as a 1280-pixel window lays them out,
+    // stored at 3/4 scale (960 pixels wide) to keep the files small.
+    await page.setViewport({ width: 1280, height: 900, deviceScaleFactor: 0.75 });
+    await page.evaluate(() => window.microbrdfView.draw());
+    await page.evaluate(() => window.scrollTo(0, 0));
+    await page.screenshot({ path: path.join(shots, "report_top_1280.png") });
+    const box = await page.evaluate(() => {
+      const a = document.getElementById("view").getBoundingClientRect();
+      const b = document.getElementById("mbv-lobe-status").parentElement.getBoundingClientRect();
+      return { y: a.top + window.scrollY - 8, h: b.bottom - a.top + 16 };
+    });
+    await page.screenshot({ path: path.join(shots, "report_view_1280.png"),
+                            clip: { x: 0, y: box.y, width: 1280, height: box.h },
+                            captureBeyondViewport: true });
   }
 } finally {
   await browser.close();
