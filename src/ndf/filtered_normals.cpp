@@ -247,7 +247,7 @@ void solve_row(const double* __restrict m, std::size_t stride, std::size_t n, do
     ox[j] = -bx * inv;
     oy[j] = -by * inv;
     oz[j] = inv;
-    ok[j] = (m00 >= min_mass) & (det > 1e-10 * m00 * m00) ? 1.0 : 0.0;
+    ok[j] = ((m00 >= min_mass) & (det > 1e-10 * m00 * m00)) ? 1.0 : 0.0;
   }
 }
 
