@@ -22,9 +22,9 @@
 #include <map>
 #include <vector>
 
+#include "core/helper_pool.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/ndf_estimate.hpp"
-#include "ndf/helper_pool.hpp"
 
 using namespace microbrdf;
 

@@ -20,10 +20,10 @@
 #include <new>
 #include <vector>
 
+#include "core/helper_pool.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "ndf/filtered_normals_core.hpp"
-#include "ndf/helper_pool.hpp"
 
 // The inner loops are written for the compiler's vectoriser; on x86-64 GCC also builds an AVX2
 // version chosen at run time. AVX2 without FMA: products and sums are rounded exactly as in the
