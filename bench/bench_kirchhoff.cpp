@@ -111,7 +111,6 @@ struct MeasuredFft {
     const auto& p = patch();
     const double qz = 4 * M_PI / kLq;
     const long rows = static_cast<long>(my);
-#pragma omp parallel for schedule(static)
     for (long yy = 0; yy < rows; ++yy) {
       const auto y = static_cast<std::size_t>(yy);
       fftw_complex* row = d + y * mx;

@@ -13,8 +13,8 @@
 #include <limits>
 #include <vector>
 
+#include "core/helper_pool.hpp"
 #include "microbrdf/error.hpp"
-#include "ndf/helper_pool.hpp"
 
 namespace microbrdf {
 namespace {

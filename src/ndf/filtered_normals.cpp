@@ -20,10 +20,10 @@
 #include <new>
 #include <vector>
 
+#include "core/helper_pool.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "ndf/filtered_normals_core.hpp"
-#include "ndf/helper_pool.hpp"
 
 // The inner loops are written for the compiler's vectoriser; on x86-64 GCC also builds an AVX2
 // version chosen at run time. AVX2 without FMA: products and sums are rounded exactly as in the
@@ -247,7 +247,7 @@ void solve_row(const double* __restrict m, std::size_t stride, std::size_t n, do
     ox[j] = -bx * inv;
     oy[j] = -by * inv;
     oz[j] = inv;
-    ok[j] = (m00 >= min_mass) & (det > 1e-10 * m00 * m00) ? 1.0 : 0.0;
+    ok[j] = ((m00 >= min_mass) & (det > 1e-10 * m00 * m00)) ? 1.0 : 0.0;
   }
 }
 
