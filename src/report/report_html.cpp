@@ -8,6 +8,7 @@
 #include "microbrdf/predict.hpp"
 #include "report/html.hpp"
 #include "report/material_view.hpp"
+#include "report/ndf_hover.hpp"
 
 namespace microbrdf {
 namespace {
@@ -108,6 +109,9 @@ class Page {
     return report::inline_svg((std::filesystem::path(dir_) / rel).string(), prefix);
   }
   std::string str() const { return out_.str(); }
+  std::string path(const std::string& rel) const {
+    return (std::filesystem::path(dir_) / rel).string();
+  }
 
  private:
   std::string dir_;
@@ -226,14 +230,22 @@ void section_ndf(Page& p, json& s) {
        "Filtered NDF: normals of Gaussian-weighted local plane fits (Dong 2015 sec. "
        "5.1); the table the BRDF and the fits use."},
       {"kirchhoff", "Kirchhoff D_K (Dong 2015 eq. 6, App. A), wave optics at lambda_q."}};
+  bool hover = false;
   for (auto& [k, cap] : kinds) {
     if (!ndf.contains(k)) continue;
-    p << "<figure>" << p.image(str(ndf[k]["preview"]), std::string("NDF ") + k, 600)
-      << "<figcaption>" << cap
+    // The preview with an id, and D(m) under the pointer (ndf_hover.hpp).
+    const std::string id = std::string("ndf-img-") + k;
+    std::string img = p.image(str(ndf[k]["preview"]), std::string("NDF ") + k, 600);
+    img.insert(4, " id=\"" + id + "\"");
+    const std::string values = report::ndf_hover_html(p.path(str(ndf[k]["file"])), id);
+    hover = hover || !values.empty();
+    p << "<figure>" << img << values << "<figcaption>" << cap
       << " Log colour scale (decades of 1/sr), m_x right, m_y up; right panel zoomed on "
          "the peak.</figcaption></figure>";
   }
-  p << "</div>\n<table>\n<tr><th>quantity</th><th>unit</th>";
+  p << "</div>\n";
+  if (hover) p << report::ndf_hover_script();
+  p << "<table>\n<tr><th>quantity</th><th>unit</th>";
   for (auto& [k, cap] : kinds)
     if (ndf.contains(k)) p << "<th>" << k << "</th>";
   p << "</tr>\n";
