@@ -50,6 +50,15 @@ LengthUnit length_unit(const std::vector<double>& values) {
     if (a >= u.scale * 0.9995) return u;
   return a > 0 ? kUnits[4] : kUnits[2];
 }
+// `text` with every " (source)" replaced: the material's citation is printed once (section 5).
+std::string uncite(std::string text, const json& source, const std::string& replacement) {
+  if (!source.is_string() || source.get<std::string>().empty()) return text;
+  const std::string cite = " (" + source.get<std::string>() + ")";
+  for (auto at = text.find(cite); at != std::string::npos; at = text.find(cite, at))
+    text.replace(at, cite.size(), replacement), at += replacement.size();
+  return text;
+}
+
 // A file's date; a zero time stamp (1970-01-01, the Unix epoch) is no date.
 std::string date_text(const json& v) {
   const std::string d = v.is_string() ? v.get<std::string>() : "";
@@ -346,15 +355,16 @@ void section_brdf(Page& p, json& s) {
     << " at 555 nm, normal-incidence reflectance " << n4(m["r0_555nm"])
     << " at 555 nm; colour under D65 <span class=\"swatch\" style=\"background:"
     << escape(str(m["srgb_hex"])) << "\"></span> " << escape(str(m["srgb_hex"]))
-    << ". Slices at λ = " << len(b["wavelength_m"]) << "; " << escape(str(b["fresnel"])) << "; "
-    << escape(str(b["shadowing"])) << ".</p>\n";
+    << ". Slices at λ = " << len(b["wavelength_m"]) << "; "
+    << escape(uncite(str(b["fresnel"]), m["source"], "")) << "; " << escape(str(b["shadowing"]))
+    << ".</p>\n";
   p << "<table>\n<tr><th>model</th><th>description</th>";
   for (auto& a : b["albedo"])
     p << "<th>directional albedo, θi = " << report::num(d(a["theta_i_deg"])) << " deg</th>";
   p << "</tr>\n";
   for (auto& mod : b["models"]) {
-    p << "<tr><td>" << escape(str(mod["label"])) << "</td><td>" << escape(str(mod["description"]))
-      << "</td>";
+    p << "<tr><td>" << escape(str(mod["label"])) << "</td><td>"
+      << escape(uncite(str(mod["description"]), m["source"], "")) << "</td>";
     for (auto& a : b["albedo"])
       p << "<td class=\"n\">" << n4(a["albedo"][str(mod["key"])]) << "</td>";
     p << "</tr>\n";
@@ -390,15 +400,11 @@ void section_renders(Page& p, json& s) {
     p << report::material_view_html(s);
     return;
   }
-  // The material's long description names its optical constants' source (cited in section 5):
-  // shown once, not in every caption.
-  const std::string source = " (" + str(s["material"]["source"]) + ")";
   const double smooth_deg = d(s["ndf"]["filtered"]["smooth_axis_angle_rad"]) * kDeg;
   p << "<div class=\"grid\">";
   for (auto& im : r) {
-    std::string material = str(im["material"]);
-    if (const auto at = material.find(source); source.size() > 3 && at != std::string::npos)
-      material.replace(at, source.size(), " (optical constants of section 5)");
+    const std::string material =
+        uncite(str(im["material"]), s["material"]["source"], " (optical constants of section 5)");
     std::string which;
     if (str(im["scene"]) == "cylinders" && std::isfinite(smooth_deg)) {
       // Linear brushing: the scan's x axis along the camera's right on the left cylinder,
