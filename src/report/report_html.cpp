@@ -8,6 +8,7 @@
 #include "microbrdf/predict.hpp"
 #include "report/html.hpp"
 #include "report/material_view.hpp"
+#include "report/ndf_hover.hpp"
 #include "report/predict_measured.hpp"
 
 namespace microbrdf {
@@ -50,6 +51,15 @@ LengthUnit length_unit(const std::vector<double>& values) {
     if (a >= u.scale * 0.9995) return u;
   return a > 0 ? kUnits[4] : kUnits[2];
 }
+// `text` with every " (source)" replaced: the material's citation is printed once (section 5).
+std::string uncite(std::string text, const json& source, const std::string& replacement) {
+  if (!source.is_string() || source.get<std::string>().empty()) return text;
+  const std::string cite = " (" + source.get<std::string>() + ")";
+  for (auto at = text.find(cite); at != std::string::npos; at = text.find(cite, at))
+    text.replace(at, cite.size(), replacement), at += replacement.size();
+  return text;
+}
+
 // A file's date; a zero time stamp (1970-01-01, the Unix epoch) is no date.
 std::string date_text(const json& v) {
   const std::string d = v.is_string() ? v.get<std::string>() : "";
@@ -109,6 +119,9 @@ class Page {
     return report::inline_svg((std::filesystem::path(dir_) / rel).string(), prefix);
   }
   std::string str() const { return out_.str(); }
+  std::string path(const std::string& rel) const {
+    return (std::filesystem::path(dir_) / rel).string();
+  }
 
  private:
   std::string dir_;
@@ -227,14 +240,22 @@ void section_ndf(Page& p, json& s) {
        "Filtered NDF: normals of Gaussian-weighted local plane fits (Dong 2015 sec. "
        "5.1); the table the BRDF and the fits use."},
       {"kirchhoff", "Kirchhoff D_K (Dong 2015 eq. 6, App. A), wave optics at lambda_q."}};
+  bool hover = false;
   for (auto& [k, cap] : kinds) {
     if (!ndf.contains(k)) continue;
-    p << "<figure>" << p.image(str(ndf[k]["preview"]), std::string("NDF ") + k, 600)
-      << "<figcaption>" << cap
+    // The preview with an id, and D(m) under the pointer (ndf_hover.hpp).
+    const std::string id = std::string("ndf-img-") + k;
+    std::string img = p.image(str(ndf[k]["preview"]), std::string("NDF ") + k, 600);
+    img.insert(4, " id=\"" + id + "\"");
+    const std::string values = report::ndf_hover_html(p.path(str(ndf[k]["file"])), id);
+    hover = hover || !values.empty();
+    p << "<figure>" << img << values << "<figcaption>" << cap
       << " Log colour scale (decades of 1/sr), m_x right, m_y up; right panel zoomed on "
          "the peak.</figcaption></figure>";
   }
-  p << "</div>\n<table>\n<tr><th>quantity</th><th>unit</th>";
+  p << "</div>\n";
+  if (hover) p << report::ndf_hover_script();
+  p << "<table>\n<tr><th>quantity</th><th>unit</th>";
   for (auto& [k, cap] : kinds)
     if (ndf.contains(k)) p << "<th>" << k << "</th>";
   p << "</tr>\n";
@@ -314,8 +335,9 @@ void section_fits(Page& p, json& s) {
               std::to_string(f["iterations"].get<long>()),
               f["converged"].get<bool>() ? "yes" : "NO"});
   }
-  p << "</table>\n<p class=\"cap\">Provenance: <code>fit_ndf</code> (Ceres Levenberg-Marquardt; "
-       "least squares on sqrt(D), a Hellinger distance; model averaged over each node's tent "
+  p << "</table>\n<p class=\"cap\">Provenance: <code>fit_ndf</code> (Levenberg-Marquardt with "
+       "closed-form derivatives, coarse-to-fine; least squares on sqrt(D), a Hellinger distance; "
+       "model averaged over each node's tent "
        "cell) of the filtered NDF. alpha dimensionless; angles in the ellipsoid convention "
        "(Dong 2015 eqs. 10-12): theta_x, theta_y tilt the peak, the anisotropy axes are turned "
        "by -theta_z (Beckmann/GGX phi = -theta_z). Errors over all disk nodes: rms = "
@@ -335,15 +357,16 @@ void section_brdf(Page& p, json& s) {
     << " at 555 nm, normal-incidence reflectance " << n4(m["r0_555nm"])
     << " at 555 nm; colour under D65 <span class=\"swatch\" style=\"background:"
     << escape(str(m["srgb_hex"])) << "\"></span> " << escape(str(m["srgb_hex"]))
-    << ". Slices at λ = " << len(b["wavelength_m"]) << "; " << escape(str(b["fresnel"])) << "; "
-    << escape(str(b["shadowing"])) << ".</p>\n";
+    << ". Slices at λ = " << len(b["wavelength_m"]) << "; "
+    << escape(uncite(str(b["fresnel"]), m["source"], "")) << "; " << escape(str(b["shadowing"]))
+    << ".</p>\n";
   p << "<table>\n<tr><th>model</th><th>description</th>";
   for (auto& a : b["albedo"])
     p << "<th>directional albedo, θi = " << report::num(d(a["theta_i_deg"])) << " deg</th>";
   p << "</tr>\n";
   for (auto& mod : b["models"]) {
-    p << "<tr><td>" << escape(str(mod["label"])) << "</td><td>" << escape(str(mod["description"]))
-      << "</td>";
+    p << "<tr><td>" << escape(str(mod["label"])) << "</td><td>"
+      << escape(uncite(str(mod["description"]), m["source"], "")) << "</td>";
     for (auto& a : b["albedo"])
       p << "<td class=\"n\">" << n4(a["albedo"][str(mod["key"])]) << "</td>";
     p << "</tr>\n";
@@ -379,15 +402,11 @@ void section_renders(Page& p, json& s) {
     p << report::material_view_html(s);
     return;
   }
-  // The material's long description names its optical constants' source (cited in section 5):
-  // shown once, not in every caption.
-  const std::string source = " (" + str(s["material"]["source"]) + ")";
   const double smooth_deg = d(s["ndf"]["filtered"]["smooth_axis_angle_rad"]) * kDeg;
   p << "<div class=\"grid\">";
   for (auto& im : r) {
-    std::string material = str(im["material"]);
-    if (const auto at = material.find(source); source.size() > 3 && at != std::string::npos)
-      material.replace(at, source.size(), " (optical constants of section 5)");
+    const std::string material =
+        uncite(str(im["material"]), s["material"]["source"], " (optical constants of section 5)");
     std::string which;
     if (str(im["scene"]) == "cylinders" && std::isfinite(smooth_deg)) {
       // Linear brushing: the scan's x axis along the camera's right on the left cylinder,
@@ -576,8 +595,10 @@ std::string render_report_html(const json& summary, const std::string& dir) {
        "<li><a href=\"#s2\">Surface statistics</a></li><li><a href=\"#s3\">Normal "
        "distribution functions</a></li><li><a href=\"#s4\">Parametric fits</a></li><li><a "
        "href=\"#s5\">BRDF slices</a></li><li><a href=\"#s6\">Renders</a> and the <a "
-       "href=\"#view\">interactive view</a></li><li><a href=\"#s7\">Texture synthesis</a></li>"
-       "<li><a href=\"#s8\">Settings and versions</a></li><li><a href=\"#s9\">Timings</a></li>"
+       "href=\"#view\">interactive view</a></li><li><a href=\"#s7\">Texture synthesis</a></li>";
+  if (s.contains("measured") && s["measured"].is_object())
+    p << "<li><a href=\"#s-measured\">Prediction against the measurement</a></li>";
+  p << "<li><a href=\"#s8\">Settings and versions</a></li><li><a href=\"#s9\">Timings</a></li>"
        "<li><a href=\"#s10\">Files</a></li></ol></nav>\n";
   section_inputs(p, s);
   section_stats(p, s);

@@ -4,7 +4,8 @@
 //   1. no console error and no uncaught exception occurs, and nothing is fetched;
 //   2. the page does not scroll sideways in a 1280-pixel window;
 //   3. the WebGL view draws a sphere (non-blank, varied pixels) and switching the model changes
-//      the pixels; the lobe view holds values and shows the one under the pointer;
+//      the pixels; the lobe view holds values and shows the one under the pointer, and so does
+//      the filtered NDF's image;
 //   4. the shader's BRDF equals `microbrdf brdf slice` (the C++ models) at in- and out-of-plane
 //      directions for every fitted model (values read back from a float framebuffer).
 //
@@ -128,6 +129,22 @@ try {
     const hoverText = await page.evaluate(() => document.getElementById("mbv-lobe-status").textContent);
     console.log("hover on the lobe: " + hoverText);
     if (!/^f = [0-9.e+-]+ 1\/sr at theta_o/.test(hoverText)) fail("no value on hover over the lobe");
+    // Hover over the filtered NDF's full disk (its centre, m = 0): D(m) is shown.
+    const ndfImg = await page.$("#ndf-img-filtered");
+    if (!ndfImg) fail("no filtered NDF image with an id");
+    else {
+      await ndfImg.scrollIntoView();
+      const at = await page.evaluate(() => {
+        const im = document.getElementById("ndf-img-filtered"), b = im.getBoundingClientRect();
+        const s = b.width / im.naturalWidth;
+        return { x: b.left + (10 + 151) * s, y: b.top + (10 + 151) * s };
+      });
+      await page.mouse.move(at.x, at.y);
+      const t = await page.evaluate(() => document.getElementById("ndf-img-filtered-val").textContent);
+      console.log("hover on the filtered NDF: " + t);
+      if (!/^D = [0-9.e+-]+ 1\/sr at m_x 0\.00\d, m_y -0\.00\d/.test(t))
+        fail("no D(m) on hover over the NDF image (got: " + t + ")");
+    }
     for (let a = 0; a < models.length; ++a)
       for (let b = a + 1; b < models.length; ++b) {
         const p = pixels[models[a]], q = pixels[models[b]];
