@@ -177,6 +177,15 @@ TEST(sh_brdf, FileRoundTripAndCorruptFiles) {
   std::uint64_t nan = 0x7ff8000000000000ull;
   std::memcpy(bad.data() + bad.size() - 8, &nan, 8);
   EXPECT_THROW(ShBrdf::load_bytes(bad, "x"), FileError);
+  // A finite but absurd coefficient (-1e308: sums with it overflow to inf - inf = NaN in the
+  // albedo) is refused too; 1e100 is the bound.
+  bad = bytes;
+  const double huge = -1e308, big = 1e99;
+  std::memcpy(bad.data() + bad.size() - 8, &huge, 8);
+  EXPECT_THROW(ShBrdf::load_bytes(bad, "x"), FileError);
+  bad = bytes;
+  std::memcpy(bad.data() + bad.size() - 8, &big, 8);
+  EXPECT_TRUE(std::isfinite(ShBrdf::load_bytes(bad, "x").albedo(Vec3(0.3, 0.1, 0.9).normalized())));
   EXPECT_THROW(ShBrdf::load(p + ".missing"), FileError);
   std::remove(p.c_str());
 }

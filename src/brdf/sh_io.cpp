@@ -3,6 +3,7 @@
 // docs/westin.md). The reader trusts nothing: every length is checked against the bytes present.
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -101,6 +102,14 @@ ShBrdf ShBrdf::load_bytes(std::span<const std::uint8_t> bytes, const std::string
       const double v = r.le<double>(off + 8 * (i * n + j), "coefficient");
       if (!std::isfinite(v))
         r.fail("non-finite coefficient at (" + std::to_string(i) + ", " + std::to_string(j) + ")");
+      // No BRDF has coefficients near 1e100 (a delta-like lobe of solid angle 1e-12 sr is
+      // ~1e12); bounding them keeps every sum the evaluation makes finite.
+      if (std::abs(v) > 1e100) {
+        char num[32];
+        std::snprintf(num, sizeof num, "%.3g", v);
+        r.fail("coefficient at (" + std::to_string(i) + ", " + std::to_string(j) + ") is " + num +
+               ", beyond any BRDF (|c| <= 1e100)");
+      }
       m(i, j) = v;
     }
   auto mt = h.find("meta");
