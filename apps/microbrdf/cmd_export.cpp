@@ -1,6 +1,5 @@
-// `microbrdf export bsdf|mitsuba|pbrt`: renderer-ready materials (RGL .bsdf files, Mitsuba 3 and
-// pbrt-v4 scenes; docs/measured.md). The BRDF comes from a measured file or from the BRDF and
-// material flags of every other command (spec_flags.hpp).
+// `microbrdf export bsdf|mitsuba|pbrt`: renderer-ready materials (docs/measured.md), from a
+// measured file or the BRDF and material flags of every other command (spec_flags.hpp).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -24,7 +23,6 @@ namespace microbrdf::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
 struct GridArgs {
   bool isotropic = false, anisotropic = false;
   std::size_t theta_i = 24, phi_i = 17, ndf_grid = 64, samples = 32, wavelengths = 25;

@@ -4,8 +4,18 @@
 #include <algorithm>
 #include <cmath>
 
+#include "microbrdf/envmap_image.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
+
+namespace microbrdf {
+
+EnvmapImage read_envmap(const std::string& path) {
+  pt::RgbFloatImage img = pt::read_envmap_image(path);
+  return {img.width, img.height, std::move(img.rgb)};
+}
+
+}  // namespace microbrdf
 
 namespace microbrdf::pt {
 

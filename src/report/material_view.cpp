@@ -5,17 +5,13 @@
 // `microbrdf brdf slice` at the same directions.
 #include "report/material_view.hpp"
 
-#include <OpenEXR/ImfChannelList.h>
-#include <OpenEXR/ImfFrameBuffer.h>
-#include <OpenEXR/ImfHeader.h>
-#include <OpenEXR/ImfInputFile.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 
+#include "microbrdf/envmap_image.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/image.hpp"
 #include "microbrdf/microfacet.hpp"
@@ -40,40 +36,21 @@ json matrix(const Eigen::Matrix3d& r) {
   return a;
 }
 
-// An equirectangular OpenEXR map (R, G, B or Y) box-filtered to kEnvW x kEnvH while it is read
-// row by row (every source pixel lands in exactly one target pixel), times `scale`. Orientation
-// as the renderer reads it: row 0 the zenith, the middle column straight ahead (-z). The
-// renderer's reader is private to the render layer; this one only feeds the preview and throws
-// on anything unexpected (the caller then falls back to the built-in lights).
-std::vector<float> read_exr_box_filtered(const std::string& path, double scale) {
-  Imf::InputFile file(path.c_str(), 0);
-  const Imath::Box2i dw = file.header().dataWindow();
-  const long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
-  if (w < 1 || h < 1 || w > 32768 || h > 32768) throw std::runtime_error("exr size");
-  const Imf::ChannelList& ch = file.header().channels();
-  const bool rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
-  if (!rgb && !ch.findChannel("Y")) throw std::runtime_error("exr channels");
-  std::vector<float> row(std::size_t(w) * 3);
+// The report's environment map, read as the renderer reads it (OpenEXR or Radiance .hdr, the same
+// checks), box-filtered to kEnvW x kEnvH (every source pixel lands in exactly one target pixel),
+// times `scale`. Orientation as the renderer's: row 0 the zenith, the middle column straight
+// ahead (-z).
+std::vector<float> read_envmap_box_filtered(const std::string& path, double scale) {
+  const EnvmapImage img = read_envmap(path);
+  const long w = img.width, h = img.height;
   std::vector<double> sum(std::size_t(kEnvW) * kEnvH * 3, 0.0), count(std::size_t(kEnvW) * kEnvH);
   for (long y = 0; y < h; ++y) {
-    Imf::FrameBuffer fb;
-    // Slices address the data window: the base pointer is shifted so that (min.x, min.y + y)
-    // lands on row[0]; only line min.y + y is read.
-    char* base = reinterpret_cast<char*>(row.data()) -
-                 (std::ptrdiff_t(dw.min.y + y) * w + dw.min.x) * 3 * std::ptrdiff_t(sizeof(float));
-    const char* names[3] = {"R", "G", "B"};
-    for (int k = 0; k < (rgb ? 3 : 1); ++k)
-      fb.insert(rgb ? names[k] : "Y",
-                Imf::Slice(Imf::FLOAT, base + k * sizeof(float), 3 * sizeof(float),
-                           std::size_t(w) * 3 * sizeof(float)));
-    file.setFrameBuffer(fb);
-    file.readPixels(int(dw.min.y + y));
     const long tr = std::min<long>(kEnvH - 1, y * kEnvH / h);
     for (long x = 0; x < w; ++x) {
       const long tc = std::min<long>(kEnvW - 1, x * kEnvW / w);
       const std::size_t t = std::size_t(tr) * kEnvW + tc;
       for (int k = 0; k < 3; ++k) {
-        const float v = row[std::size_t(x) * 3 + (rgb ? k : 0)];
+        const float v = img.rgb[(std::size_t(y) * w + x) * 3 + k];
         sum[t * 3 + k] += std::isfinite(v) ? std::max(0.0f, v) : 0.0f;
       }
       count[t] += 1;
@@ -185,7 +162,7 @@ json material_view_data(const json& s_in) {
   const json& path = s["settings"]["envmap"];
   if (path.is_string() && std::filesystem::is_regular_file(path.get<std::string>())) {
     try {
-      env = read_exr_box_filtered(path.get<std::string>(), scale);
+      env = read_envmap_box_filtered(path.get<std::string>(), scale);
       env_note = "the environment map " +
                  std::filesystem::path(path.get<std::string>()).filename().string() +
                  ", box-filtered to 128 x 64";
@@ -195,10 +172,10 @@ json material_view_data(const json& s_in) {
   }
   if (env.empty()) {
     env = builtin_sky(scale);
-    env_note = path.is_string() && path.get<std::string>().rfind("none", 0) != 0
-                   ? "a dim sky and two lights (the map " + path.get<std::string>() +
-                         " is not an OpenEXR file the view could read)"
-                   : "the renders' built-in lights: a dim sky and two round softboxes";
+    env_note =
+        path.is_string() && path.get<std::string>().rfind("none", 0) != 0
+            ? "a dim sky and two lights (the map " + path.get<std::string>() + " could not be read)"
+            : "the renders' built-in lights: a dim sky and two round softboxes";
   }
   auto env_json = [](const std::vector<float>& e, const std::string& name) {
     std::vector<std::uint8_t> bytes(e.size() * 4);
@@ -215,7 +192,7 @@ json material_view_data(const json& s_in) {
     if (std::filesystem::path(path.get<std::string>()).filename() != "blender_studio.exr" &&
         std::filesystem::is_regular_file(studio)) {
       try {
-        envs.push_back(env_json(read_exr_box_filtered(studio.string(), 1.0), "neutral studio"));
+        envs.push_back(env_json(read_envmap_box_filtered(studio.string(), 1.0), "neutral studio"));
         env_note += "; or the neutral studio map blender_studio.exr beside it";
       } catch (const std::exception&) {
       }
