@@ -28,7 +28,8 @@ namespace {
 /// read_param_texture takes a path (OpenEXR opens the file itself): each input is written to one
 /// scratch file per process, in /dev/shm when it exists.
 const std::string& scratch_path() {
-  static const std::string path = [] {
+  // Leaked on purpose: the atexit handler runs after function-local statics are destroyed.
+  static const std::string& path = *new std::string([] {
     std::string tmpl =
         (access("/dev/shm", W_OK) == 0 ? std::string("/dev/shm") : std::string(P_tmpdir)) +
         "/microbrdf-fuzz-paramtex-XXXXXX";
@@ -37,7 +38,7 @@ const std::string& scratch_path() {
     close(fd);
     std::atexit([] { std::remove(scratch_path().c_str()); });
     return tmpl;
-  }();
+  }());
   return path;
 }
 }  // namespace
@@ -48,7 +49,9 @@ namespace {
 /// A scratch folder (in /dev/shm when it exists) holding a valid height map h.npy and NDF
 /// table n.npy; each input becomes both of their JSON sidecars.
 const std::string& scratch_dir() {
-  static const std::string dir = [] {
+  // Leaked on purpose: the atexit handler below runs after function-local statics are
+  // destroyed, so the path must outlive them.
+  static const std::string& dir = *new std::string([] {
     std::string tmpl =
         (access("/dev/shm", W_OK) == 0 ? std::string("/dev/shm") : std::string(P_tmpdir)) +
         "/microbrdf-fuzz-sidecar-XXXXXX";
@@ -67,7 +70,7 @@ const std::string& scratch_dir() {
         std::remove((scratch_dir() + f).c_str());
     });
     return tmpl;
-  }();
+  }());
   return dir;
 }
 void write_scratch(const std::string& path, const std::uint8_t* data, std::size_t size) {

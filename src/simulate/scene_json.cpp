@@ -265,6 +265,10 @@ MicroSceneDesc parse_scene_objects(const json& j, const std::string& base_dir,
   } else {
     c.fail("no \"tile\" and no height field to take it from");
   }
+  // A tile of zero (or absurd) size has no surface to trace: refused before any object is made.
+  if (!(d.width > 0 && d.height > 0 && d.width < 1 && d.height < 1))
+    c.fail("tile: both sides must be > 0 and < 1 m (a micro-scene; got " + std::to_string(d.width) +
+           " x " + std::to_string(d.height) + " m)");
   try {
     for (const json& o : objects) {
       const std::string type = text(c, o, "type", "");

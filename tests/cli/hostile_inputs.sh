@@ -82,6 +82,8 @@ scene 2x2um '{"type": "weave", "pitch": "1um", "radius": "0.2um", "crimp": "0.3u
 expect 1 "weave.json: 'segments' is 2000000000" -- $BIN simulate "$T/weave.json" -o "$T/c.shbrdf" --rays 100
 scene 1x1mm '{"type": "heightfield", "generate": {"kind": "gaussian", "nx": -1, "spacing": "1um", "sigma": "0.1um", "tau": "5um"}, "material": "m"}' nx.json
 expect 1 "nx.json: 'nx' is -1; it must lie in 2..32768" -- $BIN simulate "$T/nx.json" -o "$T/c.shbrdf" --rays 100
+scene 000x500um '{"type": "plane", "material": "m"}' tile0.json
+expect 1 "tile0.json: .*tile: both sides must be > 0" -- $BIN simulate "$T/tile0.json" -o "$T/c.shbrdf" --rays 100
 [ -e "$T/c.shbrdf" ] && fail "simulate wrote output from a refused scene"
 
 # 4. Absurd finite heights: an error naming the file and the sample, before any arithmetic.
