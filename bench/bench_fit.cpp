@@ -10,6 +10,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "bench_load.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
@@ -90,12 +91,7 @@ const TabulatedNdf& land() {
   return t;
 }
 
-double load_average() {
-  std::ifstream f("/proc/loadavg");
-  double l = -1;
-  f >> l;
-  return l;
-}
+using microbrdf::bench::load_average;
 
 // The three fits of predict on a real scan, with the library's solver (0) or Ceres (1), on the
 // given number of threads; counters: seconds per model, and the parameter changes of the

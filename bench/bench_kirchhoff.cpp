@@ -20,6 +20,7 @@
 #include <functional>
 #include <random>
 
+#include "bench_load.hpp"
 #include "core/fft.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/kirchhoff.hpp"
@@ -127,12 +128,7 @@ struct MeasuredFft {
   }
 };
 
-double load_average() {
-  std::ifstream f("/proc/loadavg");
-  double l = -1;
-  f >> l;
-  return l;
-}
+using microbrdf::bench::load_average;
 
 void BM_KirchhoffFast(benchmark::State& state) {
   const auto& p = patch();

@@ -22,6 +22,7 @@
 #include <map>
 #include <vector>
 
+#include "bench_load.hpp"
 #include "core/helper_pool.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/ndf_estimate.hpp"
@@ -47,12 +48,7 @@ const Surface& scan(std::size_t nx) {
   return cache.emplace(nx, std::move(g)).first->second;
 }
 
-double load_average() {
-  std::ifstream f("/proc/loadavg");
-  double l = -1;
-  f >> l;
-  return l;
-}
+using microbrdf::bench::load_average;
 
 struct Threads {
   int before;

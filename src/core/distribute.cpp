@@ -200,13 +200,19 @@ void send_done(const Done& d) {
              kValues, MPI_COMM_WORLD);
 }
 
-Done receive_done(int source) {
+// One message of unknown length from `source` with `tag`: probed for its size, then received.
+std::vector<char> receive_bytes(int source, int tag) {
   MPI_Status st;
-  MPI_Probe(source, kHead, MPI_COMM_WORLD, &st);
+  MPI_Probe(source, tag, MPI_COMM_WORLD, &st);
   int bytes = 0;
   MPI_Get_count(&st, MPI_BYTE, &bytes);
-  std::vector<char> head(static_cast<std::size_t>(bytes));
-  MPI_Recv(head.data(), bytes, MPI_BYTE, source, kHead, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  std::vector<char> b(static_cast<std::size_t>(bytes));
+  MPI_Recv(b.data(), bytes, MPI_BYTE, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return b;
+}
+
+Done receive_done(int source) {
+  const std::vector<char> head = receive_bytes(source, kHead);
   Reader r{head};
   Done d;
   d.rank = source;
@@ -232,12 +238,7 @@ std::vector<char> failure_message(const Done& d) {
 }
 
 Done receive_failure(int source) {
-  MPI_Status st;
-  MPI_Probe(source, kFail, MPI_COMM_WORLD, &st);
-  int bytes = 0;
-  MPI_Get_count(&st, MPI_BYTE, &bytes);
-  std::vector<char> b(static_cast<std::size_t>(bytes));
-  MPI_Recv(b.data(), bytes, MPI_BYTE, source, kFail, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  const std::vector<char> b = receive_bytes(source, kFail);
   Reader r{b};
   Done d;
   d.rank = source;
