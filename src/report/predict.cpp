@@ -285,7 +285,14 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   c.log("[3/6] BRDF slices");
   timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, fresnel); });
   c.log("[4/6] renders");
-  timed("renders", [&] { summary["renders"] = report::stage_render(c, ndfs, fresnel, timing); });
+  RenderImage cylinders;
+  timed("renders",
+        [&] { summary["renders"] = report::stage_render(c, ndfs, fresnel, timing, &cylinders); });
+  if (o.render)
+    timed("render_comparison", [&] {
+      summary["render_comparison"] =
+          report::stage_compare_renders(c, ndfs, fits, fresnel, cylinders, timing);
+    });
   c.log("[5/6] texture");
   timed("texture", [&] { summary["texture"] = report::stage_texture(c, fresnel, timing); });
   if (!o.measured_path.empty())

@@ -45,7 +45,8 @@ RenderOptions predict_render_options(const PredictOptions& o, int width, int hei
 }
 
 nlohmann::json stage_render(const Context& c, const NdfSet& ndfs,
-                            const std::shared_ptr<const Fresnel>& fresnel, nlohmann::json& timing) {
+                            const std::shared_ptr<const Fresnel>& fresnel, nlohmann::json& timing,
+                            RenderImage* cylinders) {
   const auto& o = c.opt;
   if (!o.render) return {{"skipped", "rendering turned off (--no-render)"}};
   auto brdf = std::make_shared<MicrofacetBrdf>(
@@ -86,6 +87,7 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs,
     const std::string file = std::string("img/render_") + j.name + ".png";
     write_render_png(img, c.path(file), 0);
     timing["render_" + name + "_s"] = img.seconds;
+    if (cylinders && j.scene == PreviewScene::Cylinders) *cylinders = img;
     timing["render_" + name + "_samples_per_s"] = img.samples_per_second;
     out.push_back({{"scene", j.name},
                    {"caption", j.caption},

@@ -51,9 +51,19 @@ nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
 /// BRDF slices and albedos of every model; returns the "brdf" object.
 nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vector<FitResult>& fits,
                           const std::shared_ptr<const Fresnel>& fresnel);
-/// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`.
+/// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`. The
+/// cylinder render (the reference of the comparison strip) goes into `cylinders` when given.
 nlohmann::json stage_render(const Context& c, const NdfSet& ndfs,
-                            const std::shared_ptr<const Fresnel>& fresnel, nlohmann::json& timing);
+                            const std::shared_ptr<const Fresnel>& fresnel, nlohmann::json& timing,
+                            RenderImage* cylinders = nullptr);
+/// The comparison strip: the cylinder pair rendered with each fit (and D_K) at the settings of
+/// `reference` (the measured-NDF cylinder render of stage_render), their SSIM and RMS relative
+/// error against it, difference images, and the render noise from a second seed; returns the
+/// "render_comparison" object.
+nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
+                                     const std::vector<FitResult>& fits,
+                                     const std::shared_ptr<const Fresnel>& fresnel,
+                                     const RenderImage& reference, nlohmann::json& timing);
 /// The lights of every predict render: the environment map if given, else a dim uniform sky
 /// and two disk softboxes.
 RenderLights predict_lights(const PredictOptions& o);

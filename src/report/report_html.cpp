@@ -394,6 +394,55 @@ void section_brdf(Page& p, json& s) {
   p << "</div>\n";
 }
 
+// The comparison strip under the renders: the cylinder pair with each fit (and D_K) beside the
+// measured-NDF render, difference images on one colour scale, SSIM and RMS relative error.
+void comparison_strip(Page& p, json& s) {
+  if (!s.contains("render_comparison")) return;
+  json& rc = s["render_comparison"];
+  json& noise = rc["noise"];
+  const int w = std::max(192, rc["width"].get<int>());
+  p << "<h3>Each model rendered: the cylinder pair</h3>\n<p>The scene above rendered with each "
+       "fitted NDF"
+    << (rc["models"].size() > 3 ? " and the Kirchhoff D_K" : "")
+    << " in place of the measured one: same lights, exposure, size ("
+    << std::to_string(rc["width"].get<long>()) << " &times; "
+    << std::to_string(rc["height"].get<long>()) << " px), " << std::to_string(rc["spp"].get<long>())
+    << " samples/pixel and seed. Under each, |Y<sub>model"
+       "</sub> &minus; Y<sub>measured</sub>| of the linear luminance, all on one colour scale, "
+       "and two numbers against the measured-NDF render: SSIM (Wang et al. 2004; 11 &times; 11 "
+       "Gaussian windows, &sigma; = 1.5 px, on the displayed luminance; 1 = identical) and the "
+       "RMS relative error of the linear luminance (RMS of the difference / RMS of the "
+       "measured render).</p>\n<p><b>Render noise</b>: the measured NDF rendered again with seed "
+    << std::to_string(noise["second_seed"].get<long>())
+    << " differs from the first by Monte Carlo noise alone; the noise of one image is "
+    << report::num(100 * d(noise["rms_relative"]), 3)
+    << " % RMS relative (their RMS relative difference / &radic;2), and their SSIM is "
+    << report::num(d(noise["ssim_two_seeds"]), 4)
+    << ". The fits are rendered with the reference's seed, so part of the noise cancels in their "
+       "differences: a model whose numbers are no worse than the second-seed row below differs "
+       "from the measurement by no more than noise can explain.</p>\n<table>\n"
+    << row({"model", "SSIM vs measured", "RMS relative error vs measured"}, true)
+    << row({"measured, second seed (noise only)", n4(noise["ssim_two_seeds"]),
+            report::num(100 * d(noise["rms_relative"]) * std::sqrt(2.0), 3) + " %"});
+  for (auto& m : rc["models"])
+    p << row({str(m["label"]), n4(m["ssim"]), report::num(100 * d(m["rms_relative"]), 3) + " %"});
+  p << "</table>\n<div class=\"grid\"><figure>" << p.image(str(rc["reference"]), "measured NDF", w)
+    << "<figcaption>measured (filtered NDF): the reference</figcaption></figure>";
+  json& sc = rc["difference_scale"];
+  for (auto& m : rc["models"]) {
+    p << "<figure>" << p.image(str(m["image"]), str(m["label"]), w)
+      << p.image(str(m["difference_image"]), str(m["label"]) + " difference", w)
+      << "<div class=\"cbar\" style=\"background:" << report::colour_gradient("to right")
+      << "\"></div><div class=\"cbar-l\"><span>0</span><span>" << report::num(d(sc["max"]), 3)
+      << " &times; Y<sub>99%</sub></span></div><figcaption>" << escape(str(m["label"])) << ": SSIM "
+      << n4(m["ssim"]) << ", RMS relative error " << report::num(100 * d(m["rms_relative"]), 3)
+      << " %. Below: |&Delta;Y| against the measured render, in units of its 99th-percentile "
+         "luminance Y<sub>99%</sub> = "
+      << report::num(d(sc["reference_luminance"]), 3) << " (linear sRGB).</figcaption></figure>";
+  }
+  p << "</div>\n";
+}
+
 void section_renders(Page& p, json& s) {
   p << "<h2 id=\"s6\">6. Renders</h2>\n";
   json& r = s["renders"];
@@ -434,6 +483,7 @@ void section_renders(Page& p, json& s) {
        "Embree 3), linear sRGB tone-mapped to 8-bit sRGB; the BRDF is the measured one "
        "(filtered NDF as a tabulated distribution with Smith shadowing, exact conductor "
        "Fresnel).</p>\n";
+  comparison_strip(p, s);
   p << report::material_view_html(s);
 }
 

@@ -1,0 +1,140 @@
+// predict stage 5b: the comparison strip. The cylinder pair of stage 5 rendered again with each
+// fitted NDF (ellipsoid, Beckmann, GGX) and D_K (with --kirchhoff), same lights, exposure, size,
+// samples and seed; each against the measured-NDF render: SSIM on the displayed luminance
+// (core/image_metrics.hpp, Wang et al. 2004), RMS relative error of the linear luminance, and
+// a false-colour difference image. The measured NDF is rendered once more with the next seed:
+// the two measured renders differ by Monte Carlo noise only, which gives the noise of one image.
+#include <algorithm>
+#include <cmath>
+
+#include "core/image_metrics.hpp"
+#include "microbrdf/image.hpp"
+#include "microbrdf/kirchhoff_brdf.hpp"
+#include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/tabulated_distribution.hpp"
+#include "report/predict_stages.hpp"
+
+namespace microbrdf::report {
+namespace {
+
+struct Model {
+  std::string key, label;
+  std::shared_ptr<const Brdf> brdf;
+};
+
+// The luminance an 8-bit PNG of the render shows (exposure 0, sRGB transfer, clipped).
+std::vector<double> displayed(const std::vector<double>& y) {
+  std::vector<double> v(y.size());
+  for (std::size_t i = 0; i < y.size(); ++i) v[i] = detail::srgb_encode(y[i]);
+  return v;
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+}  // namespace
+
+nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
+                                     const std::vector<FitResult>& fits,
+                                     const std::shared_ptr<const Fresnel>& fresnel,
+                                     const RenderImage& reference, nlohmann::json& timing) {
+  const auto& o = c.opt;
+  std::vector<Model> models;
+  std::shared_ptr<MicrofacetDistribution> ellipsoid;
+  for (const auto& r : fits) {
+    auto d = fitted_distribution(r);
+    if (r.model == FitModel::Ellipsoid) ellipsoid = d;
+    models.push_back({fit_model_name(r.model), fit_model_name(r.model) + " fit",
+                      std::make_shared<MicrofacetBrdf>(d, fresnel)});
+  }
+  if (ndfs.kirchhoff)
+    models.push_back({"kirchhoff", "Kirchhoff D_K",
+                      std::make_shared<KirchhoffBrdf>(std::vector<TabulatedNdf>{*ndfs.kirchhoff},
+                                                      fresnel, ellipsoid)});
+  const RenderLights lights = predict_lights(o);
+  RenderScene scene;
+  scene.kind = PreviewScene::Cylinders;
+  const int w = reference.width, h = reference.height;
+  auto render_with = [&](const std::shared_ptr<const Brdf>& brdf, std::uint64_t seed,
+                         const std::string& key) {
+    c.log("renders: comparison, cylinders with the " + key + " BRDF");
+    RenderOptions ro = predict_render_options(o, w, h);
+    ro.seed = seed;
+    RenderImage img = render(scene, {std::make_shared<UniformSvbrdf>(brdf)}, lights, ro);
+    timing["render_compare_" + key + "_s"] = img.seconds;
+    return img;
+  };
+
+  const std::vector<double> ref_y = detail::luminance(reference.rgb);
+  const std::vector<double> ref_d = displayed(ref_y);
+  const auto wz = static_cast<std::size_t>(w), hz = static_cast<std::size_t>(h);
+
+  // Noise: the measured NDF again with the next seed. Var(A - B) = 2 Var(noise) for independent
+  // renders, so one image's noise is their RMS relative difference / sqrt(2).
+  auto measured = std::make_shared<MicrofacetBrdf>(
+      std::make_shared<TabulatedDistribution>(*ndfs.filtered), fresnel);
+  const RenderImage again = render_with(measured, o.seed + 1, "measured_seed2");
+  const std::vector<double> again_y = detail::luminance(again.rgb);
+  nlohmann::json out = {{"scene", "cylinders"},
+                        {"reference", "img/render_cylinders.png"},
+                        {"reference_model", "measured"},
+                        {"width", w},
+                        {"height", h},
+                        {"spp", o.render_spp},
+                        {"seed", o.seed},
+                        {"noise",
+                         {{"second_seed", o.seed + 1},
+                          {"rms_relative", detail::rms_relative(again_y, ref_y) / std::sqrt(2.0)},
+                          {"ssim_two_seeds", detail::ssim(displayed(again_y), ref_d, wz, hz)}}}};
+
+  // Every model's render, then one difference scale for all (so the images compare): the
+  // 99.5th percentile of |Y_model - Y_measured| over every model, in units of the measured
+  // render's 99th-percentile luminance.
+  std::vector<std::vector<double> > diffs;
+  std::vector<RenderImage> imgs;
+  for (const auto& m : models) {
+    imgs.push_back(render_with(m.brdf, o.seed, m.key));
+    const auto y = detail::luminance(imgs.back().rgb);
+    std::vector<double> dlt(y.size());
+    for (std::size_t i = 0; i < y.size(); ++i) dlt[i] = std::fabs(y[i] - ref_y[i]);
+    diffs.push_back(std::move(dlt));
+  }
+  const double bright = std::max(quantile(ref_y, 0.99), 1e-12);
+  double top = 0;
+  for (const auto& dlt : diffs) top = std::max(top, quantile(dlt, 0.995) / bright);
+  if (!(top > 0)) top = 1;  // every difference zero: any scale shows black
+  out["difference_scale"] = {{"max", top},
+                             {"unit", "measured render's 99th-percentile luminance"},
+                             {"reference_luminance", bright}};
+
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    const auto& m = models[k];
+    const std::string image = "img/compare_" + m.key + ".png";
+    const std::string diff = "img/compare_" + m.key + "_difference.png";
+    write_render_png(imgs[k], c.path(image), 0);
+    RgbImage di(wz, hz);
+    for (std::size_t i = 0; i < diffs[k].size(); ++i) {
+      std::uint8_t rgb[3];
+      false_colour(std::clamp(diffs[k][i] / bright / top, 0.0, 1.0), rgb);
+      di.set(i % wz, i / wz, rgb[0], rgb[1], rgb[2]);
+    }
+    write_png(c.path(diff), di);
+    const auto y = detail::luminance(imgs[k].rgb);
+    list.push_back({{"model", m.key},
+                    {"label", m.label},
+                    {"material", m.brdf->describe()},
+                    {"image", image},
+                    {"difference_image", diff},
+                    {"ssim", detail::ssim(displayed(y), ref_d, wz, hz)},
+                    {"rms_relative", detail::rms_relative(y, ref_y)}});
+  }
+  out["models"] = std::move(list);
+  return out;
+}
+
+}  // namespace microbrdf::report
