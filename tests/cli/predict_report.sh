@@ -28,6 +28,19 @@ assert [round(a["theta_i_deg"]) for a in s["brdf"]["albedo"]] == [30, 60]
 html = open(os.path.join(d, "report.html")).read()
 assert len(re.findall(r"<img ", html)) >= 6  # height map, 2 NDFs, fit comparison, 2 renders
 assert html.count("<svg") == 2 + 2 * 2       # NDF cuts x, y; in/out slices at 2 angles
+# The comparison strip: every fit rendered like the measured-NDF cylinders, its difference image,
+# SSIM in (0, 1] and RMS relative error against the measured render, and the render noise.
+rc = s["render_comparison"]
+assert rc["reference"] == "img/render_cylinders.png" and rc["width"] == 32 and rc["spp"] == 2
+assert [m["model"] for m in rc["models"]] == ["ellipsoid", "beckmann", "ggx"], rc
+for m in rc["models"]:
+    assert 0 < m["ssim"] <= 1 and 0 <= m["rms_relative"] < 10, m
+    for k in ("image", "difference_image"):
+        assert os.path.getsize(os.path.join(d, m[k])) > 0 and m[k] in s["outputs"], m[k]
+assert 0 < rc["noise"]["rms_relative"] < 10 and 0 < rc["noise"]["ssim_two_seeds"] <= 1
+assert rc["difference_scale"]["max"] > 0
+assert "Each model rendered" in html and "Render noise" in html and "Wang et al. 2004" in html
+assert len(re.findall(r"<img ", html)) >= 6 + 1 + 2 * 3  # + the strip: reference, image + diff
 PY
 
 # Same inputs and seed: the same summary apart from timing (and "mpi", seconds per rank).
@@ -38,6 +51,20 @@ import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:3])
 for k in ("timing", "mpi"): a.pop(k); b.pop(k)
 assert a == b
+PY
+
+# With D_K the strip gains a Kirchhoff render; --no-render has no strip.
+$BIN predict "$T/b.x3p" --level none --resolution 129 --kirchhoff --render-width 16 --spp 1 \
+  -o "$T/dk" --quiet >/dev/null || fail "--kirchhoff run"
+$BIN predict "$T/b.x3p" --level none --resolution 129 --no-render -o "$T/norender" --quiet \
+  >/dev/null || fail "--no-render run"
+python3 - "$T/dk/summary.json" "$T/norender/summary.json" <<'PY' || fail "strip with D_K / no render"
+import json, sys
+dk, nr = (json.load(open(p)) for p in sys.argv[1:3])
+models = [m["model"] for m in dk["render_comparison"]["models"]]
+assert models == ["ellipsoid", "beckmann", "ggx", "kirchhoff"], models
+assert all(0 < m["ssim"] <= 1 for m in dk["render_comparison"]["models"])
+assert "render_comparison" not in nr and "skipped" in nr["renders"]
 PY
 
 # Errors: exit code, message naming the file, no output folder, no staging folder.
