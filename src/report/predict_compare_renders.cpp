@@ -111,19 +111,28 @@ nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
                              {"unit", "measured render's 99th-percentile luminance"},
                              {"reference_luminance", bright}};
 
+  auto write_difference = [&](const std::vector<double>& dlt, const std::string& file) {
+    RgbImage di(wz, hz);
+    for (std::size_t i = 0; i < dlt.size(); ++i) {
+      std::uint8_t rgb[3];
+      false_colour(std::clamp(dlt[i] / bright / top, 0.0, 1.0), rgb);
+      di.set(i % wz, i / wz, rgb[0], rgb[1], rgb[2]);
+    }
+    write_png(c.path(file), di);
+  };
+  // The noise alone on the same scale: |second seed - first seed| (sqrt(2) x one image's noise).
+  std::vector<double> noise_diff(ref_y.size());
+  for (std::size_t i = 0; i < ref_y.size(); ++i) noise_diff[i] = std::fabs(again_y[i] - ref_y[i]);
+  write_difference(noise_diff, "img/compare_measured_seed2_difference.png");
+  out["noise"]["difference_image"] = "img/compare_measured_seed2_difference.png";
+
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t k = 0; k < models.size(); ++k) {
     const auto& m = models[k];
     const std::string image = "img/compare_" + m.key + ".png";
     const std::string diff = "img/compare_" + m.key + "_difference.png";
     write_render_png(imgs[k], c.path(image), 0);
-    RgbImage di(wz, hz);
-    for (std::size_t i = 0; i < diffs[k].size(); ++i) {
-      std::uint8_t rgb[3];
-      false_colour(std::clamp(diffs[k][i] / bright / top, 0.0, 1.0), rgb);
-      di.set(i % wz, i / wz, rgb[0], rgb[1], rgb[2]);
-    }
-    write_png(c.path(diff), di);
+    write_difference(diffs[k], diff);
     const auto y = detail::luminance(imgs[k].rgb);
     list.push_back({{"model", m.key},
                     {"label", m.label},

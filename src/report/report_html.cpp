@@ -400,7 +400,9 @@ void comparison_strip(Page& p, json& s) {
   if (!s.contains("render_comparison")) return;
   json& rc = s["render_comparison"];
   json& noise = rc["noise"];
-  const int w = std::max(192, rc["width"].get<int>());
+  // Five columns or so per row at the page width; the images keep their pixels (click to zoom).
+  const int w = std::clamp(rc["width"].get<int>(), 192, 256);
+  const std::string fig = "<figure style=\"width:" + std::to_string(w) + "px;max-width:100%\">";
   p << "<h3>Each model rendered: the cylinder pair</h3>\n<p>The scene above rendered with each "
        "fitted NDF"
     << (rc["models"].size() > 3 ? " and the Kirchhoff D_K" : "")
@@ -426,11 +428,18 @@ void comparison_strip(Page& p, json& s) {
             report::num(100 * d(noise["rms_relative"]) * std::sqrt(2.0), 3) + " %"});
   for (auto& m : rc["models"])
     p << row({str(m["label"]), n4(m["ssim"]), report::num(100 * d(m["rms_relative"]), 3) + " %"});
-  p << "</table>\n<div class=\"grid\"><figure>" << p.image(str(rc["reference"]), "measured NDF", w)
-    << "<figcaption>measured (filtered NDF): the reference</figcaption></figure>";
+  p << "</table>\n<div class=\"grid\">" << fig << p.image(str(rc["reference"]), "measured NDF", w)
+    << p.image(str(noise["difference_image"]), "noise difference", w)
+    << "<div class=\"cbar\" style=\"background:" << report::colour_gradient("to right")
+    << "\"></div><div class=\"cbar-l\"><span>0</span><span>"
+    << report::num(d(rc["difference_scale"]["max"]), 3) << " &times; Y<sub>99%</sub></span></div>"
+    << "<figcaption>Measured (filtered NDF): the reference. Below: noise alone, |&Delta;Y| between "
+       "it and the same render with seed "
+    << std::to_string(noise["second_seed"].get<long>())
+    << ", on the scale of the models' difference images.</figcaption></figure>";
   json& sc = rc["difference_scale"];
   for (auto& m : rc["models"]) {
-    p << "<figure>" << p.image(str(m["image"]), str(m["label"]), w)
+    p << fig << p.image(str(m["image"]), str(m["label"]), w)
       << p.image(str(m["difference_image"]), str(m["label"]) + " difference", w)
       << "<div class=\"cbar\" style=\"background:" << report::colour_gradient("to right")
       << "\"></div><div class=\"cbar-l\"><span>0</span><span>" << report::num(d(sc["max"]), 3)
