@@ -27,7 +27,7 @@ struct NdfArgs {
   std::string filter_sigma = "1um";
   std::size_t resolution = 1025;
   double min_support = 0.5;
-  std::string output, preview, instrument_fwhm;
+  std::string output, preview, instrument_fwhm = "0", instrument;
   bool zoom = false;
   bool json = false;
   // Kirchhoff
@@ -39,7 +39,7 @@ struct NdfArgs {
   bool keep_aliases = false;
 };
 
-nlohmann::json ndf_json(const TabulatedNdf& ndf, const std::string& output) {
+nlohmann::json ndf_json(const TabulatedNdf& ndf, const NdfArgs& a) {
   auto mn = ndf.mean_normal();
   auto pk = ndf.peak();
   const auto& m = ndf.meta;
@@ -61,11 +61,16 @@ nlohmann::json ndf_json(const TabulatedNdf& ndf, const std::string& output) {
           {"leveling", m.leveling},
           {"notes", m.notes},
           {"inputs", m.sources},
-          {"output", output}};
+          {"instrument_fwhm_rad", parse_angle(a.instrument_fwhm)},
+          {"instrument", a.instrument},
+          {"output", a.output}};
 }
 
-// The table (-o) and, when asked, its preview: the same for every method.
-void write_outputs(const TabulatedNdf& ndf, const NdfArgs& a) {
+// The instrument signature (every method), the table (-o) and, when asked, its preview.
+void write_outputs(TabulatedNdf& ndf, const NdfArgs& a) {
+  std::unique_ptr<TabulatedNdf> sig;
+  if (!a.instrument.empty()) sig = std::make_unique<TabulatedNdf>(read_ndf(a.instrument));
+  ndf = apply_instrument(ndf, parse_angle(a.instrument_fwhm), sig.get());
   write_ndf(ndf, a.output);
   if (a.preview.empty()) return;
   NdfPreviewOptions po;
@@ -130,7 +135,7 @@ void run_kirchhoff(const NdfArgs& a) {
   TabulatedNdf ndf = acc->result();
   write_outputs(ndf, a);
   if (a.json) {
-    auto j = ndf_json(ndf, a.output);
+    auto j = ndf_json(ndf, a);
     j["mpi"] = stats.to_json("scans_per_rank");
     const auto& in = acc->last_info();
     j["kirchhoff"] = {{"wavelength_q_m", o.wavelength_q},
@@ -190,17 +195,9 @@ void run(const NdfArgs& a) {
   auto acc = accumulate_ndf_scans(paths, o, set, &stats);
   if (!acc) return;  // rank 0 writes the outputs
   TabulatedNdf ndf = acc->result();
-  if (!a.instrument_fwhm.empty()) {
-    const double fwhm = parse_angle(a.instrument_fwhm);
-    ndf = convolve_angular_gaussian(ndf, fwhm);
-    char note[96];
-    std::snprintf(note, sizeof note, "convolved with an angular Gaussian of FWHM %.4g deg",
-                  fwhm * 180 / M_PI);
-    ndf.meta.notes = note;
-  }
   write_outputs(ndf, a);
   if (a.json) {
-    auto j = ndf_json(ndf, a.output);
+    auto j = ndf_json(ndf, a);
     j["samples_invalid"] = tally.invalid;  // height samples the scans mark invalid
     j["mpi"] = stats.to_json("scans_per_rank");
     print_json(j);
@@ -270,10 +267,13 @@ void register_ndf(CLI::App& app) {
   cmd->add_option("--min-support", a->min_support,
                   "Filtered: minimum weighted support, fraction of the full kernel")
       ->capture_default_str();
-  cmd->add_option(
-      "--instrument-fwhm", a->instrument_fwhm,
-      "Convolve with an angular Gaussian of this FWHM (a gonioreflectometer's signature, e.g. "
-      "1.5deg as in Dong sec. 7); conserves the integral");
+  cmd->add_option("--instrument-fwhm", a->instrument_fwhm,
+                  "Any method: convolve with an angular Gaussian of this FWHM (a "
+                  "gonioreflectometer's signature, e.g. 1.5deg as in Dong sec. 7); conserves "
+                  "the integral");
+  cmd->add_option("--instrument", a->instrument,
+                  "Any method: convolve with a measured signature (an NDF table, e.g. a "
+                  "mirror's effective NDF) instead");
   cmd->add_option("--wavelength", a->wavelength, "Kirchhoff: lambda_q (Dong eq. 5)")
       ->capture_default_str();
   cmd->add_option(

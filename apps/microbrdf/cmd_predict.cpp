@@ -157,8 +157,8 @@ void register_predict(CLI::App& app) {
                 "Compare with a measurement: goniometer .csv, MERL .binary, RGL .bsdf or an "
                 "effective NDF table (docs/measured.md)");
   c->add_option("--instrument-fwhm", a->instrument_fwhm,
-                "With --measured: Gaussian instrument signature (FWHM angle) applied to the "
-                "prediction")
+                "With --measured: Gaussian instrument signature (FWHM angle) applied to every "
+                "predicted NDF (filtered, D_K) before the comparison")
       ->capture_default_str();
   c->add_option("--seed", a->seed, "Seed of the renders and the texture synthesis")
       ->capture_default_str();

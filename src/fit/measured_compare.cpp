@@ -14,52 +14,13 @@
 #include "microbrdf/plot.hpp"
 
 namespace microbrdf {
-namespace {
-
-// Convolution with a measured signature S (a small lobe about the pole): each predicted node's
-// mass is moved along S's slope offsets, i.e. P * S on the disk in slope-offset approximation
-// (the signatures are ~1 deg wide, where disk offsets and angles agree to < 1e-4 relative).
-TabulatedNdf convolve_with_signature(const TabulatedNdf& p, const TabulatedNdf& s) {
-  const TabulatedNdf sig = s.resampled(p.resolution());
-  const std::size_t n = p.resolution();
-  const long c = static_cast<long>(n / 2);
-  std::vector<std::pair<long, long>> off;
-  std::vector<double> w;
-  double wsum = 0;
-  for (std::size_t iy = 0; iy < n; ++iy)
-    for (std::size_t ix = 0; ix < n; ++ix) {
-      const double v = sig.at(ix, iy);
-      if (v > 1e-6 * sig.at(std::size_t(c), std::size_t(c)) && std::isfinite(v)) {
-        off.push_back({long(ix) - c, long(iy) - c});
-        w.push_back(v);
-        wsum += v;
-      }
-    }
-  if (!(wsum > 0)) throw InputError("the instrument signature has no mass");
-  TabulatedNdf out(n);
-  for (std::size_t iy = 0; iy < n; ++iy)
-    for (std::size_t ix = 0; ix < n; ++ix) {
-      const double v = p.at(ix, iy);
-      if (!(v > 0)) continue;
-      for (std::size_t k = 0; k < off.size(); ++k) {
-        const long x = long(ix) + off[k].first, y = long(iy) + off[k].second;
-        if (x < 0 || y < 0 || x >= long(n) || y >= long(n)) continue;
-        out.at(std::size_t(x), std::size_t(y)) += v * w[k] / wsum;
-      }
-    }
-  out.clear_outside_disk();
-  out.meta = p.meta;
-  return out;
-}
-
-}  // namespace
 
 TabulatedNdf instrument_view(const TabulatedNdf& predicted, std::size_t resolution, double fwhm,
                              const TabulatedNdf* instrument) {
   TabulatedNdf filled = predicted;  // a prediction with unmeasured (NaN) nodes: treat as 0
   for (double& v : filled.values())
     if (std::isnan(v)) v = 0;
-  TabulatedNdf p = instrument ? convolve_with_signature(filled, *instrument)
+  TabulatedNdf p = instrument ? convolve_signature(filled, *instrument)
                               : convolve_angular_gaussian(filled, fwhm);
   TabulatedNdf out(resolution);
   for (std::size_t iy = 0; iy < resolution; ++iy)

@@ -126,6 +126,7 @@ nlohmann::json settings_json(const PredictOptions& o, const OpticalConstants& m)
           {"wavelength_m", o.wavelength_m},
           {"kirchhoff_patch_m", {o.kirchhoff_patch_x_m, o.kirchhoff_patch_y_m}},
           {"slice_theta_i_rad", ti},
+          {"instrument_fwhm_rad", o.instrument_fwhm_rad},
           {"slice_samples", o.slice_samples},
           {"render", o.render},
           {"envmap", o.envmap_path.empty() ? "none (built-in area lights)" : o.envmap_path},

@@ -30,6 +30,39 @@ python3 -c "
 import json; a=json.load(open('$T/f.summary')); b=json.load(open('$T/c.summary'))
 assert abs(b['integral']-1)<1e-9 and b['slope_rms_x']>a['slope_rms_x'], (a['slope_rms_x'], b['slope_rms_x'])" || fail "convolution"
 
+# The instrument signature applies to every method (Kirchhoff D_K too): the table changes, the
+# integral stays 1, and the FWHM is recorded in the JSON summary and in the sidecar's notes.
+for m in naive kirchhoff; do
+  $BIN ndf "$T/g.x3p" --method $m --level none --resolution 257 -o "$T/$m-0.npy" --json \
+    >"$T/$m-0.summary" 2>/dev/null || fail "ndf $m"
+  $BIN ndf "$T/g.x3p" --method $m --level none --resolution 257 --instrument-fwhm 3deg \
+    -o "$T/$m-3.npy" --json >"$T/$m-3.summary" 2>/dev/null || fail "ndf $m --instrument-fwhm"
+  /usr/bin/python3 - "$T/$m-0" "$T/$m-3" <<'PY' || fail "instrument with --method $m"
+import json, sys, math
+import numpy as np
+a, b = json.load(open(sys.argv[1] + ".summary")), json.load(open(sys.argv[2] + ".summary"))
+ta, tb = np.load(sys.argv[1] + ".npy"), np.load(sys.argv[2] + ".npy")
+assert np.abs(ta - tb).max() > 0.01 * ta.max(), "table unchanged"
+assert abs(b["integral"] - 1) < 1e-9 and b["slope_rms_x"] > a["slope_rms_x"]
+assert a["instrument_fwhm_rad"] == 0 and abs(b["instrument_fwhm_rad"] - math.radians(3)) < 1e-12
+side = json.load(open(sys.argv[2] + ".json"))
+assert "angular Gaussian, FWHM 3 deg" in json.dumps(side), side
+s2 = (math.radians(3) / (2 * math.sqrt(2 * math.log(2)))) ** 2
+added = [(b[k] ** 2 - a[k] ** 2) / s2 for k in ("slope_rms_x", "slope_rms_y")]
+print(f"ndf --method {a['method']} --instrument-fwhm 3deg: added variance / sigma^2 "
+      f"x {added[0]:.4f} y {added[1]:.4f}")
+assert all(abs(x - 1) < 0.05 for x in added), added
+PY
+done
+# A measured signature (an NDF table: a narrow lobe about the pole) instead of the Gaussian.
+$BIN tabulate --model beckmann --alpha 0.03 --resolution 257 -o "$T/sig.npy" >/dev/null || fail tabulate
+$BIN ndf "$T/g.x3p" --method kirchhoff --level none --resolution 257 --instrument "$T/sig.npy" \
+  -o "$T/ks.npy" --json >"$T/ks.summary" 2>/dev/null || fail "ndf --instrument"
+grep -q "measured instrument signature" "$T/ks.json" || fail "signature not recorded"
+$BIN ndf "$T/g.x3p" --instrument "$T/sig.npy" --instrument-fwhm 1deg -o "$T/bad.npy" \
+  2>"$T/err" && fail "both signatures accepted"
+grep -q -- "--instrument-fwhm or --instrument" "$T/err" || fail "both signatures message"
+
 $BIN ndf "$T/g.x3p" --method naive --level none --resolution 257 -o "$T/n.exr" 2>/dev/null || fail "ndf naive exr"
 $BIN slice "$T/n.exr" "$T/f.npy" --azimuth 0,90 --log -o "$T/s.png" --csv "$T/s.csv" 2>/dev/null || fail slice
 [ -s "$T/s.png" ] && grep -q "^f,90," "$T/s.csv" || fail "slice outputs"

@@ -67,6 +67,7 @@ m = s["measured"]; c = m["comparisons"][0]
 print(f"predict --measured goni.csv (alpha_y doubled): width ratios x {c['alpha_x_ratio']:.3f} "
       f"y {c['alpha_y_ratio']:.3f}, relative L2 {c['relative_l2']:.3f}")
 assert abs(m["instrument_fwhm_rad"] - 0.00872665) < 1e-6
+assert abs(s["settings"]["instrument_fwhm_rad"] - 0.00872665) < 1e-6
 assert abs(m["theta_d_rad"] - 0.246789) < 1e-5
 assert 0.4 < c["alpha_y_ratio"] < 0.6, c   # predicted / measured: half as wide across
 assert 0.85 < c["alpha_x_ratio"] < 1.2, c
