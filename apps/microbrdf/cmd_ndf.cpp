@@ -30,8 +30,7 @@ struct NdfArgs {
   std::string output, preview, instrument_fwhm = "0", instrument;
   bool zoom = false;
   bool json = false;
-  // Kirchhoff
-  std::string wavelength = "555nm";
+  std::string wavelength = "555nm";  // Kirchhoff options from here on
   std::string patch = "70x53um";
   std::string window = "none";
   double accuracy = KirchhoffOptions{}.accuracy;
@@ -84,6 +83,7 @@ ScanSetOptions scan_set_options(const NdfArgs& a, std::size_t scans) {
   set.read = read_options(a.read);
   set.leveling = LevelingSpec::parse(a.read.level);
   if (scans == 0) throw InputError("no scan given");
+  (void)apply_instrument(TabulatedNdf(3), parse_angle(a.instrument_fwhm), nullptr);  // bad FWHM
   return set;
 }
 
