@@ -32,7 +32,7 @@ assert abs(b['integral']-1)<1e-9 and b['slope_rms_x']>a['slope_rms_x'], (a['slop
 
 # The instrument signature applies to every method (Kirchhoff D_K too): the table changes, the
 # integral stays 1, and the FWHM is recorded in the JSON summary and in the sidecar's notes.
-for m in naive kirchhoff; do
+for m in naive filtered kirchhoff; do
   $BIN ndf "$T/g.x3p" --method $m --level none --resolution 257 -o "$T/$m-0.npy" --json \
     >"$T/$m-0.summary" 2>/dev/null || fail "ndf $m"
   $BIN ndf "$T/g.x3p" --method $m --level none --resolution 257 --instrument-fwhm 3deg \
