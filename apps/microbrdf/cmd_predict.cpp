@@ -23,7 +23,7 @@ struct PredictArgs {
   SpecFlags material;
   std::string output, filter_sigma = "1um", wavelength = "555nm";
   std::string theta_i = "20,45,70", envmap, texel = "53um", patch = "70x53um";
-  std::string measured, instrument_fwhm = "0";
+  std::string measured, instrument_fwhm = "0", instrument;
   std::size_t resolution = 1025, texture_size = 128;
   double envmap_scale = 1;
   int render_width = PredictOptions{}.render_width, spp = PredictOptions{}.render_spp;
@@ -73,6 +73,7 @@ void run(const PredictArgs& a) {
   o.texture_size = a.texture_size;
   o.measured_path = a.measured;
   o.instrument_fwhm_rad = parse_angle(a.instrument_fwhm);
+  o.instrument_path = a.instrument;
   o.seed = a.seed;
   o.threads = bounded_threads("predict", a.threads);
   if (!a.quiet)
@@ -160,6 +161,8 @@ void register_predict(CLI::App& app) {
                 "With --measured: Gaussian instrument signature (FWHM angle) applied to every "
                 "predicted NDF (filtered, D_K) before the comparison")
       ->capture_default_str();
+  c->add_option("--instrument", a->instrument,
+                "With --measured: a measured instrument signature (an NDF table) instead");
   c->add_option("--seed", a->seed, "Seed of the renders and the texture synthesis")
       ->capture_default_str();
   c->add_option("--threads", a->threads,

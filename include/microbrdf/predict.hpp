@@ -71,6 +71,7 @@ struct PredictOptions {
   /// .binary, an RGL .bsdf or an effective NDF table; "" = none. The report gains a section.
   std::string measured_path;
   double instrument_fwhm_rad = 0;  ///< Gaussian instrument signature applied to the prediction
+  std::string instrument_path;     ///< or a measured signature (an NDF table); "" = none
 
   std::uint64_t seed = 1;  ///< renders and texture synthesis
   /// 0 = all cores. Renders and NDFs do not depend on it; the fits (parallel sums in Ceres)

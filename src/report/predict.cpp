@@ -127,6 +127,7 @@ nlohmann::json settings_json(const PredictOptions& o, const OpticalConstants& m)
           {"kirchhoff_patch_m", {o.kirchhoff_patch_x_m, o.kirchhoff_patch_y_m}},
           {"slice_theta_i_rad", ti},
           {"instrument_fwhm_rad", o.instrument_fwhm_rad},
+          {"instrument", o.instrument_path.empty() ? "none" : o.instrument_path},
           {"slice_samples", o.slice_samples},
           {"render", o.render},
           {"envmap", o.envmap_path.empty() ? "none (built-in area lights)" : o.envmap_path},

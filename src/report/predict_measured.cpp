@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
@@ -40,6 +41,13 @@ void check_measured_option(const PredictOptions& o) {
   if (!fs::exists(o.measured_path)) throw FileError(o.measured_path, "no such file (--measured)");
   if (!(o.instrument_fwhm_rad >= 0 && o.instrument_fwhm_rad < 0.35))
     throw InputError("instrument FWHM must lie in [0, 20) deg");
+  if (!o.instrument_path.empty()) {
+    if (o.instrument_fwhm_rad > 0)
+      throw InputError("give --instrument-fwhm or --instrument, not both");
+    if (!fs::exists(o.instrument_path))
+      throw FileError(o.instrument_path, "no such file (--instrument)");
+    (void)read_ndf(o.instrument_path);
+  }
   // Read it now (cheap next to the pipeline): a broken file fails before the scans are read.
   const std::string e = lower_extension(o.measured_path);
   if (is_table(o.measured_path))
@@ -69,17 +77,20 @@ nlohmann::json stage_measured(const Context& c, const NdfSet& ndfs) {
                         {"resolution", measured.resolution()},
                         {"measured_nodes", measured_nodes(measured)},
                         {"notes", measured.meta.notes},
-                        {"instrument_fwhm_rad", o.instrument_fwhm_rad}};
+                        {"instrument_fwhm_rad", o.instrument_fwhm_rad},
+                        {"instrument", o.instrument_path.empty() ? "none" : o.instrument_path}};
   if (!is_table(o.measured_path)) out["theta_d_rad"] = eo.theta_d;
+  std::unique_ptr<TabulatedNdf> sig;
+  if (!o.instrument_path.empty()) sig = std::make_unique<TabulatedNdf>(read_ndf(o.instrument_path));
   nlohmann::json all = nlohmann::json::array();
   const std::pair<const char*, const TabulatedNdf*> predictions[] = {
       {"filtered", ndfs.filtered.get()}, {"kirchhoff", ndfs.kirchhoff.get()}};
   for (const auto& [name, table] : predictions) {
     if (!table) continue;
-    const NdfComparison cmp = compare_ndfs(measured, *table, o.instrument_fwhm_rad, nullptr);
+    const NdfComparison cmp = compare_ndfs(measured, *table, o.instrument_fwhm_rad, sig.get());
     const std::string rel = std::string("measured/") + name;
     write_compare_report(
-        measured, instrument_view(*table, measured.resolution(), o.instrument_fwhm_rad, nullptr),
+        measured, instrument_view(*table, measured.resolution(), o.instrument_fwhm_rad, sig.get()),
         cmp, c.path(rel));
     nlohmann::json j = comparison_json(cmp);
     j["prediction"] = name;
@@ -113,9 +124,12 @@ std::string measured_section_html(const nlohmann::json& summary, const std::stri
   if (m.contains("theta_d_rad"))
     h += "; read at &theta;<sub>d</sub> = " + num(m["theta_d_rad"].get<double>() * kDegPerRad) +
          " deg";
+  const std::string sig = m.value("instrument", "");
   h += ". Instrument: " +
-       (fwhm > 0 ? "Gaussian of FWHM " + num(fwhm * kDegPerRad) + " deg applied to the prediction"
-                 : std::string("none applied (<code>--instrument-fwhm</code> sets one)")) +
+       (!sig.empty() && sig != "none"
+            ? "measured signature <code>" + escape(sig) + "</code> applied to the prediction"
+        : fwhm > 0 ? "Gaussian of FWHM " + num(fwhm * kDegPerRad) + " deg applied to the prediction"
+                   : std::string("none applied (<code>--instrument-fwhm</code> sets one)")) +
        ".</p>\n<table>\n<tr><th>prediction</th><th>measured nodes</th><th>scale</th>"
        "<th>relative L2</th><th>Hellinger</th><th>&alpha;<sub>x</sub> predicted / measured</th>"
        "<th>&alpha;<sub>y</sub> predicted / measured</th></tr>\n";

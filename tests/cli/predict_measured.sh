@@ -73,6 +73,25 @@ assert 0.4 < c["alpha_y_ratio"] < 0.6, c   # predicted / measured: half as wide 
 assert 0.85 < c["alpha_x_ratio"] < 1.2, c
 PY
 
+# A measured instrument signature (an NDF table) instead of the Gaussian: recorded, named in the
+# report, and it widens the prediction (the ratio across grows towards 1 from about 0.5).
+$BIN tabulate --model beckmann --alpha 0.02 --resolution 129 -o sig.npy >/dev/null || fail tabulate
+$BIN predict scan.x3p --no-render --resolution 129 --measured goni.csv --instrument sig.npy \
+  -o rep4 --quiet >/dev/null 2>err || fail "predict --instrument: $(cat err)"
+/usr/bin/python3 - rep2/summary.json rep4/summary.json <<'PY' || fail "predict --instrument"
+import json, sys
+g, s = (json.load(open(p)) for p in sys.argv[1:])
+assert s["settings"]["instrument"] == "sig.npy" and s["measured"]["instrument"] == "sig.npy"
+cg, cs = g["measured"]["comparisons"][0], s["measured"]["comparisons"][0]
+print(f"predict --instrument sig.npy: alpha_y ratio {cs['alpha_y_ratio']:.3f} "
+      f"(Gaussian 0.5 deg: {cg['alpha_y_ratio']:.3f})")
+assert cs["alpha_y_ratio"] > cg["alpha_y_ratio"], (cs, cg)
+PY
+grep -q "measured signature <code>sig.npy</code>" rep4/report.html || fail "signature not in report"
+$BIN predict scan.x3p --no-render --measured goni.csv --instrument sig.npy --instrument-fwhm 1deg \
+  -o rep5 --quiet >/dev/null 2>err && fail "both signatures accepted"
+grep -q -- "--instrument-fwhm or --instrument" err || fail "both signatures: $(cat err)"
+
 # (3) A file of no known kind: refused before any work, no output folder.
 printf 'x' >m.txt
 $BIN predict scan.x3p --no-render --measured m.txt -o rep3 --quiet >/dev/null 2>err \
