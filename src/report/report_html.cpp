@@ -672,7 +672,8 @@ std::string render_report_html(const json& summary, const std::string& dir) {
   for (auto& fit : s["fits"])
     if (str(fit["model"]) == "ellipsoid")
       fit_line = "ellipsoid fit alpha_x " + n4(fit["params"]["alpha_x"]) + ", alpha_y " +
-                 n4(fit["params"]["alpha_y"]);
+                 n4(fit["params"]["alpha_y"]) +
+                 (fit["at_bound"].is_string() ? " (at a bound: not converged)" : "");
   p << "<p>" << std::to_string(s["inputs"].size()) << " scan(s); metal "
     << escape(str(s["material"]["name"])) << "; filtered NDF (filter sigma "
     << len(s["settings"]["filter_sigma_m"]) << ") rms slopes " << n4(f["slope_rms_x"])
