@@ -230,10 +230,11 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
       c.warn("filter_sigma_below_spacing",
              "filter sigma " + format_length(o.filter_sigma_m) + " is below the sample spacing " +
                  format_length(std::max(dx, dy)) + " of " + path +
-                 ": the filtered NDF approaches the naive one",
+                 ": the grid does not resolve the filter, so the filtered NDF depends on the "
+                 "sampling more than on the chosen sigma",
              "give --filter-sigma of a few sample spacings (at least " +
                  format_length(2 * std::max(dx, dy)) +
-                 "), or read the naive NDF: at this sigma the filter removes nothing");
+                 "), or compare with the naive NDF (its rms slopes are in the NDF table)");
     warn_scan(c, path, head.at("record"));
     RgbImage preview(head.at("preview").at(0).get<std::size_t>(),
                      head.at("preview").at(1).get<std::size_t>());
