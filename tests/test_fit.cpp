@@ -111,6 +111,31 @@ TEST(fit, RecoversNarrowLobesAtN1025) {
   }
 }
 
+// A lobe narrower than the table resolves (alpha 1e-4 at node spacing 0.0078, like a smooth
+// optical flat's histogram): the fit ends on the lower alpha bound, says so, and is not
+// converged (its optimum lies beyond the box).
+TEST(fit, FitAtTheAlphaBoundIsNotConverged) {
+  for (const char* model : {"beckmann", "ellipsoid"}) {
+    SCOPED_TRACE(model);
+    TabulatedNdf t = table_of(Case{model, {0.0001, 0.0001, 0, 0, 0}, 257});
+    t.meta.method = "naive";  // a histogram: tent sampling
+    const FitResult r = fit(t, model);
+    EXPECT_EQ(r.sampling, FitSampling::Tent);
+    EXPECT_LE(std::min(r.params.alpha_x, r.params.alpha_y), 2 * t.spacing());
+    EXPECT_FALSE(r.converged);
+    EXPECT_NE(r.at_bound.find("the lower alpha bound"), std::string::npos) << r.at_bound;
+    const auto j = fit_result_json(r);
+    EXPECT_FALSE(j.at("converged").get<bool>());
+    EXPECT_EQ(j.at("at_bound").get<std::string>(), r.at_bound);
+  }
+  // Inside the box: no bound, converged.
+  const Case c{"beckmann", {0.05, 0.02, 0, 0, 0.3}, 257};
+  const FitResult r = fit(table_of(c), "beckmann");
+  EXPECT_TRUE(r.converged && r.solver_converged) << r.termination;
+  EXPECT_TRUE(r.at_bound.empty()) << r.at_bound;
+  EXPECT_TRUE(fit_result_json(r).at("at_bound").is_null());
+}
+
 TEST(fit, TentSamplingForHistogramTables) {
   // A table holding tent-cell averages (what bilinear splatting of many samples converges to):
   // the tent forward operator recovers alpha; point sampling would be biased for narrow lobes.

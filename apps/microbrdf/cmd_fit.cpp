@@ -54,8 +54,12 @@ void run(const FitArgs& a) {
                 p.theta_z * deg);
   std::printf("  rms error %.4g 1/sr, relative L2 error %.4g, Hellinger %.4g\n", r.rms_error,
               r.relative_l2_error, r.hellinger);
-  std::printf("  %d iterations, %s (%s), %.3g s\n", r.iterations,
-              r.converged ? "converged" : "NOT converged", r.termination.c_str(), r.seconds);
+  std::printf(
+      "  %d iterations, %s (%s), %.3g s\n", r.iterations,
+      r.converged
+          ? "converged"
+          : (r.at_bound.empty() ? "NOT converged" : "NOT converged: at " + r.at_bound).c_str(),
+      r.termination.c_str(), r.seconds);
   if (!a.report.empty()) std::printf("  report in %s\n", a.report.c_str());
 }
 

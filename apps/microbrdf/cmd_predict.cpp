@@ -88,6 +88,7 @@ void run(const PredictArgs& a) {
                 {"summary", r.summary_path},
                 {"scans", r.summary["inputs"].size()},
                 {"fits", r.summary["fits"]},
+                {"warnings", r.summary["warnings"]},
                 {"timing", r.summary["timing"]},
                 {"mpi", r.summary["mpi"]}});
   } else {

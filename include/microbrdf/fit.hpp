@@ -90,7 +90,14 @@ struct FitResult {
   double rms_error = 0, relative_l2_error = 0, hellinger = 0;
   double initial_cost = 0, final_cost = 0;  ///< objective (1/2 sum r^2) at start and end
   int iterations = 0;
+  /// The solver stopped on its convergence test and no parameter ended on a bound of the box
+  /// (a fit held at a bound may have its optimum beyond it: not converged).
   bool converged = false;
+  bool solver_converged = false;  ///< the solver's own convergence test, bounds aside
+  /// Where the fit ended on a bound, e.g. "the lower alpha bound 0.000488 (alpha_x, alpha_y)";
+  /// "" when inside the box. The lower alpha bound is max(1e-5, Delta / 20) (Delta the node
+  /// spacing; in tent mode at least 2 Delta / subsamples), the upper 4; tilts +-1.2 rad.
+  std::string at_bound;
   std::string termination;            ///< solver's message
   std::size_t residuals = 0;          ///< nodes in the region of interest
   std::size_t roi[4] = {0, 0, 0, 0};  ///< ix0, ix1, iy0, iy1 (inclusive)

@@ -42,7 +42,8 @@ model: 'ellipsoid' (alpha_x, alpha_y, theta_x, theta_y, theta_z; Dong 2015 eqs. 
     'beckmann' or 'ggx' (alpha_x, alpha_y, theta_z; phi = -theta_z).
 objective: 'sqrt' (Hellinger; default) | 'linear' | 'log'. sampling: 'auto' | 'node' | 'tent'.
 Returns a dict: model, params {alpha_x, alpha_y, theta_x, theta_y, theta_z (radians)},
-rms_error (1/sr), relative_l2_error, hellinger, iterations, converged, ... Runs without the GIL.)");
+rms_error (1/sr), relative_l2_error, hellinger, iterations, converged (False when a parameter
+ended on a bound), at_bound (which bound, or None), ... Runs without the GIL.)");
 }
 
 }  // namespace microbrdf::python

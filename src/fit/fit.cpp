@@ -9,8 +9,10 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "core/helper_pool.hpp"
@@ -51,6 +53,43 @@ EllipsoidParams from_shape(FitModel m, const double* s) {
     p.theta_z = s[2];
   }
   return p;
+}
+
+// Where a fit ended on a bound of its box ("" inside it): alphas (log) against [la_lo, la_hi],
+// the ellipsoid's tilts against +-kThetaTiltMax, the node amplitude against +-kLogAmpMax.
+std::string bound_note(FitModel m, const std::array<double, 5>& s, double la_lo, double la_hi,
+                       bool amplitude_free, double log_amp) {
+  constexpr double kTol = 1e-6;
+  auto value = [](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g", v);
+    return std::string(b);
+  };
+  auto which = [](bool x, bool y, const char* a, const char* b) {
+    return std::string(" (") + (x && y ? std::string(a) + ", " + b : (x ? a : b)) + ")";
+  };
+  std::vector<std::string> notes;
+  const bool lx = s[0] <= la_lo + kTol, ly = s[1] <= la_lo + kTol;
+  if (lx || ly)
+    notes.push_back("the lower alpha bound " + value(std::exp(la_lo)) +
+                    which(lx, ly, "alpha_x", "alpha_y"));
+  const bool hx = s[0] >= la_hi - kTol, hy = s[1] >= la_hi - kTol;
+  if (hx || hy)
+    notes.push_back("the upper alpha bound " + value(std::exp(la_hi)) +
+                    which(hx, hy, "alpha_x", "alpha_y"));
+  if (m == FitModel::Ellipsoid) {
+    const bool tx = std::abs(s[2]) >= kThetaTiltMax - kTol,
+               ty = std::abs(s[3]) >= kThetaTiltMax - kTol;
+    if (tx || ty)
+      notes.push_back("the tilt bound " + value(kThetaTiltMax) + " rad" +
+                      which(tx, ty, "theta_x", "theta_y"));
+  }
+  if (amplitude_free && std::abs(log_amp) >= kLogAmpMax - kTol)
+    notes.push_back("the amplitude bound exp(" + std::string(log_amp < 0 ? "-" : "") +
+                    value(kLogAmpMax) + ")");
+  std::string out;
+  for (const auto& n : notes) out += (out.empty() ? "" : "; ") + n;
+  return out;
 }
 
 // The three models as templates (T = double or a Ceres Jet), identical to microfacet.cpp's
@@ -955,11 +994,13 @@ FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
     r.initial_cost = ctx.cost(shape.data(), std::exp(log_amp));
 
   const double la_hi = std::log(kAlphaMax);
+  double la_final = std::log(alpha_min);  // the lower alpha bound of the last pass
   // Tent mode resolves lobes down to ~2 quadrature steps: alpha >= 2 Delta / s. A fit that ends
   // on that bound is repeated with twice the subsamples (up to 8).
   for (int pass = 0;; ++pass) {
     const double la_lo =
         std::log(ctx.tent ? std::max(alpha_min, 2 * ctx.delta / ctx.s) : alpha_min);
+    la_final = la_lo;
     shape[0] = std::max(shape[0], la_lo);
     shape[1] = std::max(shape[1], la_lo);
     if (o.solver == FitSolver::LevenbergMarquardt) {
@@ -1062,6 +1103,9 @@ FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
     ctx.s = std::min(8, 2 * ctx.s);
     r.tent_subsamples = ctx.s;
   }
+  r.solver_converged = r.converged;
+  r.at_bound = bound_note(o.model, shape, la_final, la_hi, !ctx.tent, log_amp);
+  if (!r.at_bound.empty()) r.converged = false;
   r.params = from_shape(o.model, shape.data());
   r.amplitude = std::exp(log_amp);
   canonicalise(o.model, r.params);
@@ -1262,6 +1306,8 @@ nlohmann::json fit_result_json(const FitResult& r) {
           {"final_cost", r.final_cost},
           {"iterations", r.iterations},
           {"converged", r.converged},
+          {"solver_converged", r.solver_converged},
+          {"at_bound", r.at_bound.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.at_bound)},
           {"termination", r.termination},
           {"residuals", r.residuals},
           {"roi", {r.roi[0], r.roi[1], r.roi[2], r.roi[3]}},

@@ -300,6 +300,7 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   if (!o.measured_path.empty())
     timed("measured", [&] { summary["measured"] = report::stage_measured(c, ndfs); });
   c.log("[6/6] report");
+  summary["warnings"] = *c.warnings;  // every warning the run printed, in order
 
   nlohmann::json files = nlohmann::json::array();
   for (const auto& e : fs::recursive_directory_iterator(staging.dir()))

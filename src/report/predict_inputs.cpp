@@ -35,6 +35,94 @@ std::string file_name(const std::string& path) {
   return std::filesystem::path(path).filename().string();
 }
 
+/// rms slope magnitude sqrt(<z_x^2 + z_y^2>) by central differences where both neighbours along
+/// an axis are valid (each axis averaged over its own samples).
+double rms_slope(const Surface& s) {
+  double sx = 0, sy = 0;
+  std::size_t nx = 0, ny = 0;
+  for (std::size_t iy = 0; iy < s.ny; ++iy)
+    for (std::size_t ix = 0; ix < s.nx; ++ix) {
+      if (ix > 0 && ix + 1 < s.nx && s.is_valid(s.index(ix - 1, iy)) &&
+          s.is_valid(s.index(ix + 1, iy))) {
+        const double g = (s.at(ix + 1, iy) - s.at(ix - 1, iy)) / (2 * s.dx);
+        sx += g * g;
+        ++nx;
+      }
+      if (iy > 0 && iy + 1 < s.ny && s.is_valid(s.index(ix, iy - 1)) &&
+          s.is_valid(s.index(ix, iy + 1))) {
+        const double g = (s.at(ix, iy + 1) - s.at(ix, iy - 1)) / (2 * s.dy);
+        sy += g * g;
+        ++ny;
+      }
+    }
+  return std::sqrt((nx ? sx / static_cast<double>(nx) : 0) +
+                   (ny ? sy / static_cast<double>(ny) : 0));
+}
+
+// A low-order form left by the chosen levelling (a cylinder under plane levelling): the scan
+// levelled again with poly3 loses more than a third of its slope variance or half its height
+// variance. Warned by the caller.
+constexpr double kFormSlopeShare = 1.0 / 3, kFormHeightShare = 0.5;
+constexpr double kInvalidWarn = 0.1;       // warn above this fraction of invalid samples
+constexpr double kLobeNodes = 10;          // a lobe should span at least this many nodes
+constexpr double kRawIntegralWarn = 0.02;  // D_K raw integral further from 1 warns
+
+void warn_scan(const Context& c, const std::string& path, const nlohmann::json& rec) {
+  const double valid = rec.at("stats").value("valid_fraction", 1.0);
+  if (valid < 1 - kInvalidWarn) {
+    char pct[32];
+    std::snprintf(pct, sizeof pct, "%.1f%%", 100 * (1 - valid));
+    c.warn("invalid_samples",
+           std::string(pct) + " of the samples of " + path +
+               " are invalid (unmeasured); statistics and NDFs describe the valid part only",
+           "check the scan (dropouts on steep or dark areas, a mask, a crop beyond the part); "
+           "remeasure or crop to the valid area if the invalid part is not random");
+  }
+  const auto& f = rec.at("form_check");
+  if (!f.is_object()) return;
+  const double s = f.at("slope_rms").get<double>(), s3 = f.at("slope_rms_poly3").get<double>();
+  const double q = f.at("sq_m").get<double>(), q3 = f.at("sq_poly3_m").get<double>();
+  if (!(s3 * s3 < (1 - kFormSlopeShare) * s * s || q3 * q3 < (1 - kFormHeightShare) * q * q))
+    return;
+  const bool slopes = s3 * s3 < (1 - kFormSlopeShare) * s * s;
+  char nums[200];
+  std::snprintf(nums, sizeof nums, "Sq %s vs %s, rms slope %.4g vs %.4g after poly3 levelling",
+                format_length(q).c_str(), format_length(q3).c_str(), s, s3);
+  c.warn("form_dominates",
+         "a low-order form dominates the " + std::string(slopes ? "slopes" : "heights") + " of " +
+             path + " after " + rec.value("leveling", "") + " levelling (" + nums + "): " +
+             (slopes ? "the NDF and the fits describe the form, not the roughness"
+                     : "the height statistics (Sq, Sa, correlation lengths) describe the form; "
+                       "the slopes, hence the NDF, change little"),
+         "level with --level poly3 (or a higher order) unless the form belongs to the surface "
+         "you want to predict");
+}
+
+// A lobe this narrow is not resolved by the table: rms slope s_min over the node spacing.
+void warn_table(const Context& c, const std::string& name, const TabulatedNdf& t, double s_min) {
+  const double span = 4 * s_min / t.spacing();  // nodes across +-2 rms slopes
+  if (!(span < kLobeNodes)) return;
+  char b[200];
+  std::snprintf(b, sizeof b,
+                "the %s NDF's lobe (smallest rms slope %.3g) spans %.1f nodes of the %zu x %zu "
+                "table (node spacing %.3g)",
+                name.c_str(), s_min, span, t.resolution(), t.resolution(), t.spacing());
+  const double need = std::ceil(kLobeNodes / 2 / std::max(s_min, 1e-12)) + 1;
+  std::string todo;
+  if (need <= 4097) {
+    todo = "raise --resolution to at least " + std::to_string(static_cast<long>(need)) +
+           " (the lobe then spans " + std::to_string(static_cast<int>(kLobeNodes)) +
+           " nodes); until then read the rms slopes of summary.json's ndf." + name +
+           " rather than the fitted widths";
+  } else {
+    todo =
+        "the lobe is narrower than the largest table (4097) resolves: take the roughness from "
+        "the rms slopes of summary.json's ndf." +
+        name + " (slope_rms_x/y), not from the fits or the table's shape";
+  }
+  c.warn("table_too_coarse", b, todo);
+}
+
 }  // namespace
 
 nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs,
@@ -70,6 +158,16 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
   auto compute = [&](std::size_t i, const std::string& path, Surface& s) {
     const LevelingResult lev = about_file(path, [&] { return level_surface(s, o.leveling); });
     const SurfaceStats st = compute_stats(s);
+    // What poly3 levelling would leave (only when the levelling is of lower order).
+    nlohmann::json form = nullptr;
+    if (o.leveling.mode != Leveling::Polynomial || o.leveling.degree < 3) {
+      Surface p3 = s;
+      const LevelingResult l3 = level_surface(p3, LevelingSpec{Leveling::Polynomial, 3});
+      form = {{"sq_m", lev.rms_after},
+              {"sq_poly3_m", l3.rms_after},
+              {"slope_rms", rms_slope(s)},
+              {"slope_rms_poly3", rms_slope(p3)}};
+    }
     const RgbImage preview = render_height_preview(s, 480);
     const nlohmann::json scan = {{"nx", s.nx}, {"ny", s.ny}, {"dx_m", s.dx}, {"dy_m", s.dy}};
     nlohmann::json rec = {{"path", path},
@@ -83,7 +181,8 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
                           {"leveling_description", lev.description},
                           {"rms_before_leveling_m", lev.rms_before},
                           {"rms_after_leveling_m", lev.rms_after},
-                          {"stats", stats_record(s, st)}};
+                          {"stats", stats_record(s, st)},
+                          {"form_check", form}};
     std::vector<WorkResult> shares;
     about_file(path, [&] {
       shares.push_back(pack_partial(naive.estimate(s), scan));
@@ -128,9 +227,15 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
           std::to_string(scan.at("ny").get<std::size_t>()) + ")" +
           (kirchhoff ? ": naive, filtered, D_K" : ": naive, filtered"));
     if (o.filter_sigma_m < std::max(dx, dy))
-      c.log("inputs: warning: filter sigma " + format_length(o.filter_sigma_m) +
-            " is below the sample spacing " + format_length(std::max(dx, dy)) + " of " + path +
-            ": the filtered NDF approaches the naive one");
+      c.warn("filter_sigma_below_spacing",
+             "filter sigma " + format_length(o.filter_sigma_m) + " is below the sample spacing " +
+                 format_length(std::max(dx, dy)) + " of " + path +
+                 ": the grid does not resolve the filter, so the filtered NDF depends on the "
+                 "sampling more than on the chosen sigma",
+             "give --filter-sigma of a few sample spacings (at least " +
+                 format_length(2 * std::max(dx, dy)) +
+                 "), or compare with the naive NDF (its rms slopes are in the NDF table)");
+    warn_scan(c, path, head.at("record"));
     RgbImage preview(head.at("preview").at(0).get<std::size_t>(),
                      head.at("preview").at(1).get<std::size_t>());
     if (r.text.size() - eol - 1 != preview.pixels.size())
@@ -203,6 +308,7 @@ nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs) {
     const double s_min = std::sqrt(std::max(es.eigenvalues()(0), 0.0));
     const double s_max = std::sqrt(std::max(es.eigenvalues()(1), 0.0));
     const double sx = ndf->rms_slope(0), sy = ndf->rms_slope(M_PI / 2);
+    warn_table(c, name, *ndf, s_min);
     nlohmann::json j = {{"method", ndf->meta.method},
                         {"file", table},
                         {"preview", preview},
@@ -230,6 +336,17 @@ nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs) {
       j["aliased_fraction"] = ndfs.kirchhoff_aliased_fraction;
       j["patches"] = ndfs.kirchhoff_patches;
       j["patch_m"] = {c.opt.kirchhoff_patch_x_m, c.opt.kirchhoff_patch_y_m};
+      const double raw = ndfs.kirchhoff_raw_integral;
+      if (std::abs(raw - 1) > kRawIntegralWarn) {
+        char b[96];
+        std::snprintf(b, sizeof b, "%.4g (%+.1f%%)", raw, 100 * (raw - 1));
+        c.warn("kirchhoff_integral",
+               std::string("the Kirchhoff D_K integrated to ") + b +
+                   " before it was normalised to 1: the discretisation misses part of the "
+                   "scattered power",
+               "treat D_K's shape as approximate; a larger --patch or a finer --resolution "
+               "brings the raw integral nearer 1");
+      }
     }
     out[name] = std::move(j);
   }

@@ -44,6 +44,34 @@ struct NamedBrdf {
   std::shared_ptr<const Brdf> brdf;
 };
 
+constexpr double kPoorFit = 0.45;  // relative L2 error from which a fit is called poor
+
+void warn_fit(const Context& c, const FitResult& r) {
+  const std::string m = fit_model_name(r.model);
+  if (!r.at_bound.empty()) {
+    const bool floor = r.at_bound.find("lower alpha") != std::string::npos;
+    c.warn("fit_at_bound",
+           "the " + m + " fit ended at " + r.at_bound +
+               ": not converged, the parameter is the bound, not the surface's value",
+           floor ? "the lobe is narrower than the table resolves: raise --resolution (see the "
+                   "table warning) and meanwhile take the widths from the rms slopes of the "
+                   "filtered NDF (alpha = sqrt(2) x rms slope, summary.json ndf.filtered)"
+                 : "the model does not suit this NDF: look at the NDF preview and the cuts, and "
+                   "prefer a model whose fit converged or the measured table itself");
+  }
+  if (r.relative_l2_error >= kPoorFit) {
+    char b[160];
+    std::snprintf(b, sizeof b,
+                  "the %s fit departs from the filtered NDF by a relative L2 error of %.3g "
+                  "(Hellinger distance %.3g)",
+                  m.c_str(), r.relative_l2_error, r.hellinger);
+    c.warn("fit_poor", b,
+           "do not use this model's parameters for this surface: compare the other fits (the "
+           "lowest Hellinger distance) or render with the measured NDF table "
+           "(ndf_filtered.npy)");
+  }
+}
+
 }  // namespace
 
 nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitResult>& fits,
@@ -63,6 +91,7 @@ nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitR
       write_fit_report(*ndfs.filtered, r, c.path("fit_ellipsoid"));
       j["compare_image"] = "fit_ellipsoid/compare.png";
     }
+    warn_fit(c, r);
     out.push_back(std::move(j));
     fits.push_back(r);
   }

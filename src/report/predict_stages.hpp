@@ -25,6 +25,16 @@ struct Context {
     if (opt.log) opt.log(line);
   }
   std::string path(const std::string& rel) const { return (dir / rel).string(); }
+  /// The run's warnings, in the order they were raised: summary.json "warnings", the box at the
+  /// top of the report (docs/report.md lists the codes).
+  std::shared_ptr<nlohmann::json> warnings =
+      std::make_shared<nlohmann::json>(nlohmann::json::array());
+  /// Records a warning ({code, message, what_to_do}) and prints it as a progress line.
+  void warn(const std::string& code, const std::string& message,
+            const std::string& what_to_do) const {
+    log("warning: " + message + " -- " + what_to_do);
+    warnings->push_back({{"code", code}, {"message", message}, {"what_to_do", what_to_do}});
+  }
 };
 
 /// What the input stage hands on: the NDFs of all scans together.

@@ -95,6 +95,9 @@ table{max-width:100%} td,th{overflow-wrap:break-word} code{overflow-wrap:anywher
 .mbv-ramp{width:18px;height:280px;border:1px solid #888}
 .cbar{height:12px;border:1px solid #888;margin-top:4px} figure.tex{display:table} figure.tex figcaption{display:table-caption;caption-side:bottom} .cbar-l{display:flex;
   justify-content:space-between;font-size:12px;color:#444}
+.warnbox{background:#fff1ee;border:2px solid #d9534f;padding:6px 12px;margin:10px 0;max-width:1100px}
+.warnbox.ok{background:#f0f8f0;border:1px solid #8bc58b} .warnbox li{margin:4px 0}
+.warnbox .todo{color:#333}
 nav.toc{background:#f6f6f8;border:1px solid #ddd;padding:6px 12px;display:inline-block}
 nav.toc ol{margin:4px 0;padding-left:22px} details summary{cursor:pointer;color:#444}
 )";
@@ -145,6 +148,33 @@ std::string row(std::initializer_list<std::string> cells, bool header = false) {
 std::string corr(const json& v) {
   return v.is_number() && std::isfinite(d(v)) ? len(v)
                                               : "not reached (ACF stays above 1/e over the scan)";
+}
+
+// Every warning the run printed (summary.json "warnings"), each with what to do about it, at
+// the top of the page: a reader sees them before any number they qualify.
+void warnings_box(Page& p, json& s) {
+  json& w = s["warnings"];
+  if (!w.is_array() || w.empty()) {
+    p << "<div class=\"warnbox ok\" id=\"warnings\"><b>Warnings: none.</b> No check of the run "
+         "(filter sigma against the sample spacing, lobe width against the table, fits at a bound "
+         "or poor, low-order form, invalid samples) raised one.</div>\n";
+    return;
+  }
+  p << "<div class=\"warnbox\" id=\"warnings\"><b>Warnings (" << std::to_string(w.size())
+    << ")</b>: read these before the numbers below (also in <code>summary.json</code> "
+       "\"warnings\").<ol>";
+  for (auto& e : w)
+    p << "<li><code>" << escape(str(e["code"])) << "</code> " << escape(str(e["message"]))
+      << ".<br><span class=\"todo\"><b>What to do:</b> " << escape(str(e["what_to_do"]))
+      << ".</span></li>";
+  p << "</ol></div>\n";
+}
+
+// "yes", or "no (at the lower alpha bound 0.000488 (alpha_x, alpha_y))" / "no (solver: ...)".
+std::string converged_text(json& f) {
+  if (f["converged"].is_boolean() && f["converged"].get<bool>()) return "yes";
+  if (f["at_bound"].is_string()) return "no (at " + escape(str(f["at_bound"])) + ")";
+  return "no (" + escape(str(f["termination"])) + ")";
 }
 
 void section_inputs(Page& p, json& s) {
@@ -332,8 +362,7 @@ void section_fits(Page& p, json& s) {
               ell ? deg(q["theta_x"]) : "— (none in this model)",
               ell ? deg(q["theta_y"]) : "— (none in this model)", deg(q["theta_z"]),
               n4(f["rms_error"]), n4(f["relative_l2_error"]), n4(f["hellinger"]),
-              std::to_string(f["iterations"].get<long>()),
-              f["converged"].get<bool>() ? "yes" : "NO"});
+              std::to_string(f["iterations"].get<long>()), converged_text(f)});
   }
   p << "</table>\n<p class=\"cap\">Provenance: <code>fit_ndf</code> (Levenberg-Marquardt with "
        "closed-form derivatives, coarse-to-fine; least squares on sqrt(D), a Hellinger distance; "
@@ -637,12 +666,14 @@ std::string render_report_html(const json& summary, const std::string& dir) {
   p << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
        "<title>microbrdf predict report</title>\n<style>"
     << kStyle << "</style></head>\n<body>\n<h1>microbrdf predict report</h1>\n";
+  warnings_box(p, s);
   json& f = s["ndf"]["filtered"];
   std::string fit_line;
   for (auto& fit : s["fits"])
     if (str(fit["model"]) == "ellipsoid")
       fit_line = "ellipsoid fit alpha_x " + n4(fit["params"]["alpha_x"]) + ", alpha_y " +
-                 n4(fit["params"]["alpha_y"]);
+                 n4(fit["params"]["alpha_y"]) +
+                 (fit["at_bound"].is_string() ? " (at a bound: not converged)" : "");
   p << "<p>" << std::to_string(s["inputs"].size()) << " scan(s); metal "
     << escape(str(s["material"]["name"])) << "; filtered NDF (filter sigma "
     << len(s["settings"]["filter_sigma_m"]) << ") rms slopes " << n4(f["slope_rms_x"])
@@ -650,7 +681,9 @@ std::string render_report_html(const json& summary, const std::string& dir) {
     << ", smooth axis at " << report::num(d(f["smooth_axis_angle_rad"]) * kDeg) << " deg from +x); "
     << fit_line
     << ". Every number below is in <code>summary.json</code> (SI units; docs/report.md).</p>\n";
-  p << "<nav class=\"toc\"><b>Contents</b><ol><li><a href=\"#s1\">Inputs</a></li>"
+  p << "<nav class=\"toc\"><b>Contents</b><ol><li><a href=\"#warnings\">Warnings</a> ("
+    << std::to_string(s["warnings"].is_array() ? s["warnings"].size() : 0) << ")</li>"
+    << "<li><a href=\"#s1\">Inputs</a></li>"
        "<li><a href=\"#s2\">Surface statistics</a></li><li><a href=\"#s3\">Normal "
        "distribution functions</a></li><li><a href=\"#s4\">Parametric fits</a></li><li><a "
        "href=\"#s5\">BRDF slices</a></li><li><a href=\"#s6\">Renders</a> and the <a "

@@ -131,7 +131,7 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
       const FitResult fr = fit_ndf(t, fo);
       r.p[i] = fr.params;
       bool lifted = false;
-      if (!fr.converged) {
+      if (!fr.solver_converged) {  // a texel at the alpha floor is lifted below, not dropped
         r.why[i] = "fit did not converge: " + fr.termination;
       } else if (auto bad = out_of_range(r.p[i], lifted); !bad.empty()) {
         r.why[i] = bad;
