@@ -52,8 +52,7 @@ class EnvironmentMap {
   /// channel times its solid angle) from a 2D point (u1 -> azimuth, u2 -> polar angle, each
   /// monotone); returns the pdf through `pdf`. `rgb`, when given, receives the radiance in that
   /// direction (saves a lookup).
-  Eigen::Vector3d sample(double u1, double u2, double& pdf,
-                         Eigen::Vector3d* rgb = nullptr) const;
+  Eigen::Vector3d sample(double u1, double u2, double& pdf, Eigen::Vector3d* rgb = nullptr) const;
   double pdf(const Eigen::Vector3d& d) const;
   /// rgb(d) and pdf(d) with one pixel look-up.
   Eigen::Vector3d rgb_and_pdf(const Eigen::Vector3d& d, double& pdf) const;
