@@ -59,6 +59,11 @@ TEST(spectrum, SrgbMatrixAndTransfer) {
   EXPECT_NEAR(m(2, 2), 1.0570, 5e-4);
   for (double v : {0.0, 0.001, 0.2, 0.5, 1.0}) EXPECT_NEAR(srgb_decode(srgb_encode(v)), v, 1e-12);
   EXPECT_NEAR(srgb_encode(0.5), 0.7353569830524495, 1e-12);
+  // Clipped to [0, 1] (what an 8-bit PNG shows; the report's SSIM compares these values), and
+  // the linear toe 12.92 x below 0.0031308.
+  EXPECT_EQ(srgb_encode(-1), 0.0);
+  EXPECT_EQ(srgb_encode(2), 1.0);
+  EXPECT_NEAR(srgb_encode(0.002), 0.02584, 1e-12);
 }
 
 TEST(spectrum, SmoothSpectrumRoundTrip) {

@@ -14,12 +14,6 @@ std::vector<double> luminance(const std::vector<float>& rgb) {
   return y;
 }
 
-double srgb_encode(double v) {
-  if (!(v > 0)) return 0;
-  if (v >= 1) return 1;
-  return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
-}
-
 namespace {
 
 // SSIM of one window from its weighted moments (Wang et al. 2004, eq. 13).

@@ -9,9 +9,6 @@ namespace microbrdf::detail {
 /// Relative luminance Y (Rec. 709 / sRGB primaries) of linear sRGB pixels, 3 floats each.
 std::vector<double> luminance(const std::vector<float>& rgb);
 
-/// The sRGB transfer function of a linear value, clipped to [0, 1] (what an 8-bit PNG shows).
-double srgb_encode(double linear);
-
 /// Mean structural similarity of a and b (width x height, same size; values in [0, L] with L =
 /// `dynamic_range`), after Z. Wang, A. C. Bovik, H. R. Sheikh, E. P. Simoncelli, "Image quality
 /// assessment: from error visibility to structural similarity", IEEE Trans. Image Processing

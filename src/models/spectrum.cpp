@@ -133,7 +133,8 @@ Eigen::Vector3d linear_srgb_to_xyz(const Eigen::Vector3d& rgb) {
 }
 
 double srgb_encode(double linear) {
-  double c = std::clamp(linear, 0.0, 1.0);
+  if (!(linear < 1)) return linear >= 1 ? 1.0 : 0.0;  // clipped exactly (NaN shows as black)
+  double c = std::max(linear, 0.0);
   return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
 }
 

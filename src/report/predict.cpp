@@ -285,15 +285,16 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   timed("fits", [&] { summary["fits"] = report::stage_fits(c, ndfs, fits, timing); });
   timed("ndf_cuts", [&] { summary["ndf_cuts"] = report::stage_ndf_slices(c, ndfs, fits); });
   c.log("[3/6] BRDF slices");
-  timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, fresnel); });
+  const auto measured = report::measured_brdf(ndfs, fresnel);
+  timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, fresnel, measured); });
   c.log("[4/6] renders");
   RenderImage cylinders;
   timed("renders",
-        [&] { summary["renders"] = report::stage_render(c, ndfs, fresnel, timing, &cylinders); });
+        [&] { summary["renders"] = report::stage_render(c, measured, timing, &cylinders); });
   if (o.render)
     timed("render_comparison", [&] {
       summary["render_comparison"] =
-          report::stage_compare_renders(c, ndfs, fits, fresnel, cylinders, timing);
+          report::stage_compare_renders(c, ndfs, fits, fresnel, measured, cylinders, timing);
     });
   c.log("[5/6] texture");
   timed("texture", [&] { summary["texture"] = report::stage_texture(c, fresnel, timing); });

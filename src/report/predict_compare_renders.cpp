@@ -9,23 +9,16 @@
 
 #include "core/image_metrics.hpp"
 #include "microbrdf/image.hpp"
-#include "microbrdf/kirchhoff_brdf.hpp"
-#include "microbrdf/microfacet_brdf.hpp"
-#include "microbrdf/tabulated_distribution.hpp"
+#include "microbrdf/spectrum.hpp"
 #include "report/predict_stages.hpp"
 
 namespace microbrdf::report {
 namespace {
 
-struct Model {
-  std::string key, label;
-  std::shared_ptr<const Brdf> brdf;
-};
-
 // The luminance an 8-bit PNG of the render shows (exposure 0, sRGB transfer, clipped).
 std::vector<double> displayed(const std::vector<double>& y) {
   std::vector<double> v(y.size());
-  for (std::size_t i = 0; i < y.size(); ++i) v[i] = detail::srgb_encode(y[i]);
+  for (std::size_t i = 0; i < y.size(); ++i) v[i] = srgb_encode(y[i]);
   return v;
 }
 
@@ -41,20 +34,10 @@ double quantile(std::vector<double> v, double q) {
 nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
                                      const std::vector<FitResult>& fits,
                                      const std::shared_ptr<const Fresnel>& fresnel,
+                                     const std::shared_ptr<const Brdf>& measured,
                                      const RenderImage& reference, nlohmann::json& timing) {
   const auto& o = c.opt;
-  std::vector<Model> models;
-  std::shared_ptr<MicrofacetDistribution> ellipsoid;
-  for (const auto& r : fits) {
-    auto d = fitted_distribution(r);
-    if (r.model == FitModel::Ellipsoid) ellipsoid = d;
-    models.push_back({fit_model_name(r.model), fit_model_name(r.model) + " fit",
-                      std::make_shared<MicrofacetBrdf>(d, fresnel)});
-  }
-  if (ndfs.kirchhoff)
-    models.push_back({"kirchhoff", "Kirchhoff D_K",
-                      std::make_shared<KirchhoffBrdf>(std::vector<TabulatedNdf>{*ndfs.kirchhoff},
-                                                      fresnel, ellipsoid)});
+  const std::vector<NamedBrdf> models = model_brdfs(ndfs, fits, fresnel);
   const RenderLights lights = predict_lights(o);
   RenderScene scene;
   scene.kind = PreviewScene::Cylinders;
@@ -75,8 +58,6 @@ nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
 
   // Noise: the measured NDF again with the next seed. Var(A - B) = 2 Var(noise) for independent
   // renders, so one image's noise is their RMS relative difference / sqrt(2).
-  auto measured = std::make_shared<MicrofacetBrdf>(
-      std::make_shared<TabulatedDistribution>(*ndfs.filtered), fresnel);
   const RenderImage again = render_with(measured, o.seed + 1, "measured_seed2");
   const std::vector<double> again_y = detail::luminance(again.rgb);
   nlohmann::json out = {{"scene", "cylinders"},
@@ -94,11 +75,11 @@ nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
   // Every model's render, then one difference scale for all (so the images compare): the
   // 99.5th percentile of |Y_model - Y_measured| over every model, in units of the measured
   // render's 99th-percentile luminance.
-  std::vector<std::vector<double> > diffs;
+  std::vector<std::vector<double> > diffs, ys;
   std::vector<RenderImage> imgs;
   for (const auto& m : models) {
     imgs.push_back(render_with(m.brdf, o.seed, m.key));
-    const auto y = detail::luminance(imgs.back().rgb);
+    const auto& y = ys.emplace_back(detail::luminance(imgs.back().rgb));
     std::vector<double> dlt(y.size());
     for (std::size_t i = 0; i < y.size(); ++i) dlt[i] = std::fabs(y[i] - ref_y[i]);
     diffs.push_back(std::move(dlt));
@@ -133,7 +114,7 @@ nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
     const std::string diff = "img/compare_" + m.key + "_difference.png";
     write_render_png(imgs[k], c.path(image), 0);
     write_difference(diffs[k], diff);
-    const auto y = detail::luminance(imgs[k].rgb);
+    const auto& y = ys[k];
     list.push_back({{"model", m.key},
                     {"label", m.label},
                     {"material", m.brdf->describe()},

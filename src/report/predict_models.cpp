@@ -39,11 +39,6 @@ std::vector<double> slice_values(const Brdf& b, double ti, double lambda, SliceP
   return v;
 }
 
-struct NamedBrdf {
-  std::string key, label;
-  std::shared_ptr<const Brdf> brdf;
-};
-
 constexpr double kPoorFit = 0.45;  // relative L2 error from which a fit is called poor
 
 void warn_fit(const Context& c, const FitResult& r) {
@@ -163,14 +158,15 @@ nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
   return out;
 }
 
-nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vector<FitResult>& fits,
-                          const std::shared_ptr<const Fresnel>& fresnel) {
-  const auto& o = c.opt;
+std::shared_ptr<const Brdf> measured_brdf(const NdfSet& ndfs,
+                                          const std::shared_ptr<const Fresnel>& fresnel) {
+  return std::make_shared<MicrofacetBrdf>(std::make_shared<TabulatedDistribution>(*ndfs.filtered),
+                                          fresnel);
+}
+
+std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResult>& fits,
+                                   const std::shared_ptr<const Fresnel>& fresnel) {
   std::vector<NamedBrdf> models;
-  c.log("BRDF: tabulated distribution of the filtered NDF (Smith shadowing)");
-  models.push_back({"measured", "measured (filtered NDF)",
-                    std::make_shared<MicrofacetBrdf>(
-                        std::make_shared<TabulatedDistribution>(*ndfs.filtered), fresnel)});
   std::shared_ptr<MicrofacetDistribution> ellipsoid;
   for (const auto& r : fits) {
     auto d = fitted_distribution(r);
@@ -182,6 +178,17 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
     models.push_back({"kirchhoff", "Kirchhoff D_K (Dong eq. 8)",
                       std::make_shared<KirchhoffBrdf>(std::vector<TabulatedNdf>{*ndfs.kirchhoff},
                                                       fresnel, ellipsoid)});
+  return models;
+}
+
+nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vector<FitResult>& fits,
+                          const std::shared_ptr<const Fresnel>& fresnel,
+                          const std::shared_ptr<const Brdf>& measured) {
+  const auto& o = c.opt;
+  std::vector<NamedBrdf> models;
+  c.log("BRDF: tabulated distribution of the filtered NDF (Smith shadowing)");
+  models.push_back({"measured", "measured (filtered NDF)", measured});
+  for (auto& m : model_brdfs(ndfs, fits, fresnel)) models.push_back(std::move(m));
   nlohmann::json jm = nlohmann::json::array();
   for (const auto& m : models)
     jm.push_back({{"key", m.key}, {"label", m.label}, {"description", m.brdf->describe()}});

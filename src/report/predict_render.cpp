@@ -4,9 +4,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/render.hpp"
-#include "microbrdf/tabulated_distribution.hpp"
 #include "report/predict_stages.hpp"
 
 namespace microbrdf::report {
@@ -44,14 +42,11 @@ RenderOptions predict_render_options(const PredictOptions& o, int width, int hei
   return ro;
 }
 
-nlohmann::json stage_render(const Context& c, const NdfSet& ndfs,
-                            const std::shared_ptr<const Fresnel>& fresnel, nlohmann::json& timing,
-                            RenderImage* cylinders) {
+nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>& measured,
+                            nlohmann::json& timing, RenderImage* cylinders) {
   const auto& o = c.opt;
   if (!o.render) return {{"skipped", "rendering turned off (--no-render)"}};
-  auto brdf = std::make_shared<MicrofacetBrdf>(
-      std::make_shared<TabulatedDistribution>(*ndfs.filtered), fresnel);
-  std::vector<std::shared_ptr<const Svbrdf> > mats{std::make_shared<UniformSvbrdf>(brdf)};
+  std::vector<std::shared_ptr<const Svbrdf> > mats{std::make_shared<UniformSvbrdf>(measured)};
   const RenderLights lights = predict_lights(o);
   struct Job {
     PreviewScene scene;
@@ -99,7 +94,7 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs,
                    {"wavelengths_per_path", ro.wavelengths},
                    {"seed", ro.seed},
                    {"rays", img.rays},
-                   {"material", brdf->describe()},
+                   {"material", measured->describe()},
                    {"lights", predict_lights_description(o)}});
   }
   return out;

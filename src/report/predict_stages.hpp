@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "microbrdf/brdf.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
@@ -58,14 +59,28 @@ nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitR
 /// NDF cuts (measured vs fits) along the principal axes; returns the "ndf_slices" object.
 nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
                                 const std::vector<FitResult>& fits);
+/// A BRDF of the report with its summary key and its label.
+struct NamedBrdf {
+  std::string key, label;
+  std::shared_ptr<const Brdf> brdf;
+};
+/// The BRDF of the measured (filtered) NDF: a tabulated distribution with Smith shadowing and
+/// `fresnel`. Built once per run and shared by the slices, the renders and the comparison strip.
+std::shared_ptr<const Brdf> measured_brdf(const NdfSet& ndfs,
+                                          const std::shared_ptr<const Fresnel>& fresnel);
+/// The BRDFs of the fitted NDFs (in the order of `fits`) and of D_K when it was computed (whose
+/// sampling proposal is the ellipsoid fit), with `fresnel`: what the slices, albedos and the
+/// comparison strip compare with the measured NDF.
+std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResult>& fits,
+                                   const std::shared_ptr<const Fresnel>& fresnel);
 /// BRDF slices and albedos of every model; returns the "brdf" object.
 nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vector<FitResult>& fits,
-                          const std::shared_ptr<const Fresnel>& fresnel);
+                          const std::shared_ptr<const Fresnel>& fresnel,
+                          const std::shared_ptr<const Brdf>& measured);
 /// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`. The
 /// cylinder render (the reference of the comparison strip) goes into `cylinders` when given.
-nlohmann::json stage_render(const Context& c, const NdfSet& ndfs,
-                            const std::shared_ptr<const Fresnel>& fresnel, nlohmann::json& timing,
-                            RenderImage* cylinders = nullptr);
+nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>& measured,
+                            nlohmann::json& timing, RenderImage* cylinders = nullptr);
 /// The comparison strip: the cylinder pair rendered with each fit (and D_K) at the settings of
 /// `reference` (the measured-NDF cylinder render of stage_render), their SSIM and RMS relative
 /// error against it, difference images, and the render noise from a second seed; returns the
@@ -73,6 +88,7 @@ nlohmann::json stage_render(const Context& c, const NdfSet& ndfs,
 nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
                                      const std::vector<FitResult>& fits,
                                      const std::shared_ptr<const Fresnel>& fresnel,
+                                     const std::shared_ptr<const Brdf>& measured,
                                      const RenderImage& reference, nlohmann::json& timing);
 /// The lights of every predict render: the environment map if given, else a dim uniform sky
 /// and two disk softboxes.
