@@ -27,35 +27,8 @@ $BIN export bsdf --ndf ndf.npy --metal Fe -o t.bsdf >out 2>err3 \
   || fail "export bsdf --ndf: $(cat err3)"
 
 # Goniometer CSV of an anisotropic GGX conductor (n 1.6, k 3.2): f = F D G2 / (4 cos cos).
-/usr/bin/python3 - goni.csv <<'PY' || fail "python could not write the CSV"
-import sys, numpy as np
-ax, ay, half, eta = 0.12, 0.3, np.radians(14.14) / 2, 1.6 + 3.2j
-def fresnel(c):
-    s2 = 1 - c * c
-    ct = np.sqrt(1 - s2 / eta**2)
-    rs = (c - eta * ct) / (c + eta * ct); rp = (eta * c - ct) / (eta * c + ct)
-    return 0.5 * (abs(rs) ** 2 + abs(rp) ** 2)
-def lam(w):
-    t2 = (w[0]**2 * ax**2 + w[1]**2 * ay**2) / w[2]**2
-    return (np.sqrt(1 + t2) - 1) / 2
-rng = np.random.default_rng(4)
-rows = ["theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,wavelength_nm,brdf_per_sr"]
-for ring in range(1, 51):
-    for k in range(80):
-        r, a = 0.85 * (ring / 50) ** 1.5, 2 * np.pi * (k + rng.random()) / 80
-        h = np.array([r * np.cos(a), r * np.sin(a), np.sqrt(1 - r * r)])
-        t1 = np.cross(h, [0, 0, 1]); t1 /= np.linalg.norm(t1); t2 = np.cross(h, t1)
-        psi = 2 * np.pi * rng.random(); b = np.cos(psi) * t1 + np.sin(psi) * t2
-        wi, wo = np.cos(half) * h + np.sin(half) * b, np.cos(half) * h - np.sin(half) * b
-        if wi[2] <= 0.02 or wo[2] <= 0.02: continue
-        D = 1 / (np.pi * ax * ay * (h[0]**2 / ax**2 + h[1]**2 / ay**2 + h[2]**2) ** 2)
-        G = 1 / (1 + lam(wi) + lam(wo))
-        f = fresnel(np.cos(half)) * D * G / (4 * wi[2] * wo[2])
-        ang = lambda w: (np.degrees(np.arccos(w[2])), np.degrees(np.arctan2(w[1], w[0])))
-        ti, pi = ang(wi); to, po = ang(wo)
-        rows.append(f"{ti:.10f},{pi:.10f},{to:.10f},{po:.10f},550,{f:.10g}")
-open(sys.argv[1], "w").write("\n".join(rows) + "\n")
-PY
+/usr/bin/python3 "$HERE/cli/make_goniometer.py" goni.csv --alpha 0.12 0.3 --n 1.6 --k 3.2 --smith \
+  --min-cos 0.02 || fail "python could not write the CSV"
 $BIN measured ndf goni.csv --n 1.6 --k 3.2 -o eff.npy >out 2>err4 || fail "measured ndf: $(cat err4)"
 grep -q "F of the material" err4 || fail "measured ndf does not say F is the material's: $(cat err4)"
 $BIN fit eff.npy --model ggx --json >fit.json 2>err5 || fail "fit: $(cat err5)"

@@ -7,25 +7,8 @@ BIN=$1
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
-/usr/bin/python3 - "$T/goni.csv" <<'PY' || fail "python could not write the CSV"
-import sys, numpy as np
-ax, ay, half = 0.12, 0.3, np.radians(14.14) / 2
-rng = np.random.default_rng(4)
-rows = ["theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,wavelength_nm,brdf_per_sr,instrument_note"]
-for ring in range(1, 51):
-    for k in range(80):
-        r, a = 0.85 * (ring / 50) ** 1.5, 2 * np.pi * (k + rng.random()) / 80
-        h = np.array([r * np.cos(a), r * np.sin(a), np.sqrt(1 - r * r)])
-        t1 = np.cross(h, [0, 0, 1]); t1 /= np.linalg.norm(t1); t2 = np.cross(h, t1)
-        psi = 2 * np.pi * rng.random(); b = np.cos(psi) * t1 + np.sin(psi) * t2
-        wi, wo = np.cos(half) * h + np.sin(half) * b, np.cos(half) * h - np.sin(half) * b
-        D = 1 / (np.pi * ax * ay * (h[0]**2 / ax**2 + h[1]**2 / ay**2 + h[2]**2) ** 2)
-        f = D / (4 * wi[2] * wo[2])  # F = 1, G = 1
-        ang = lambda w: (np.degrees(np.arccos(w[2])), np.degrees(np.arctan2(w[1], w[0])))
-        ti, pi = ang(wi); to, po = ang(wo)
-        rows.append(f"{ti:.10f},{pi:.10f},{to:.10f},{po:.10f},550,{f:.10g},x")
-open(sys.argv[1], "w").write("\n".join(rows) + "\n")
-PY
+/usr/bin/python3 "$(cd "$(dirname "$0")" && pwd)/make_goniometer.py" "$T/goni.csv" --alpha 0.12 0.3 --extra-column \
+  || fail "python could not write the CSV"
 
 $BIN measured ndf "$T/goni.csv" --resolution 513 -o "$T/eff.npy" --json >"$T/ndf.json" 2>"$T/err" \
   || fail "measured ndf: $(cat "$T/err")"

@@ -7,6 +7,7 @@ set -u
 BIN=$1
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
+GONI=$(cd "$(dirname "$0")" && pwd)/make_goniometer.py
 cd "$T" || exit 1
 
 $BIN generate gaussian --sigma 0.1um --tau 2um --nx 256 --ny 256 --spacing 0.2um --seed 3 \
@@ -36,28 +37,11 @@ PY
 
 # (2) A goniometer CSV: GGX with the (isotropic) scan's width from `fit` along x, twice that along y.
 $BIN fit self.npy --model ggx --json >fit.json || fail "fit"
-/usr/bin/python3 - fit.json goni.csv <<'PY' || fail "python could not write the CSV"
-import json, sys, numpy as np
-p = json.load(open(sys.argv[1]))["params"]
-a0 = np.sqrt(p["alpha_x"] * p["alpha_y"])
-ax, ay = a0, 2 * a0
-half = np.radians(14.14) / 2
-rng = np.random.default_rng(5)
-rows = ["theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,wavelength_nm,brdf_per_sr"]
-for ring in range(1, 41):
-    for k in range(80):
-        r, a = 0.9 * (ring / 40) ** 1.5, 2 * np.pi * (k + rng.random()) / 80
-        h = np.array([r * np.cos(a), r * np.sin(a), np.sqrt(1 - r * r)])
-        t1 = np.cross(h, [0, 0, 1]); t1 /= np.linalg.norm(t1); t2 = np.cross(h, t1)
-        psi = 2 * np.pi * rng.random(); b = np.cos(psi) * t1 + np.sin(psi) * t2
-        wi, wo = np.cos(half) * h + np.sin(half) * b, np.cos(half) * h - np.sin(half) * b
-        if wi[2] < 0.05 or wo[2] < 0.05: continue
-        D = 1 / (np.pi * ax * ay * (h[0]**2 / ax**2 + h[1]**2 / ay**2 + h[2]**2) ** 2)
-        ang = lambda w: (np.degrees(np.arccos(w[2])), np.degrees(np.arctan2(w[1], w[0])))
-        ti, pi = ang(wi); to, po = ang(wo)
-        rows.append(f"{ti:.8f},{pi:.8f},{to:.8f},{po:.8f},555,{D / (4 * wi[2] * wo[2]):.8g}")
-open(sys.argv[2], "w").write("\n".join(rows) + "\n")
-PY
+read -r AX AY < <(/usr/bin/python3 -c "
+import json, sys, math; p = json.load(open(sys.argv[1]))['params']
+a0 = math.sqrt(p['alpha_x'] * p['alpha_y']); print(a0, 2 * a0)" fit.json) || fail "fit.json"
+/usr/bin/python3 "$GONI" goni.csv --alpha "$AX" "$AY" --rings 40 --max-r 0.9 --seed 5 --min-cos 0.05 \
+  --wavelength 555 --digits 8 || fail "python could not write the CSV"
 $BIN predict scan.x3p --no-render --resolution 129 --measured goni.csv --instrument-fwhm 0.5deg \
   -o rep2 --quiet >/dev/null 2>err || fail "predict --measured goni.csv: $(cat err)"
 /usr/bin/python3 - rep2/summary.json <<'PY' || fail "predict --measured (wider CSV)"
