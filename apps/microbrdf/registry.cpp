@@ -1,6 +1,5 @@
 #include <cstdio>
 #include <exception>
-#include <filesystem>
 #include <new>
 #include <stdexcept>
 
@@ -32,13 +31,8 @@ int report(const char* command, std::string* message) {
     *message = buf + *message;
     // An input file that is not there is a usage error (2), like a wrong flag: the user named
     // it. A file that exists but cannot be read or parsed, or an output that cannot be written
-    // (disk full, no permission; its path need not exist yet), is a failure while working (1).
-    std::error_code ec;
-    const bool reading =
-        e.problem().rfind("no such file", 0) == 0 || e.problem().rfind("cannot open", 0) == 0;
-    const bool missing_input =
-        reading && !e.path().empty() && !std::filesystem::exists(e.path(), ec);
-    return missing_input ? 2 : 1;
+    // (disk full, no permission), is a failure while working (1).
+    return e.is_missing() ? 2 : 1;
   } catch (const InputError& e) {
     std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
     *message = buf + std::string(e.what());

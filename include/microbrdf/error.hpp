@@ -18,12 +18,21 @@ class FileError : public std::runtime_error {
  public:
   FileError(const std::string& path, const std::string& problem)
       : std::runtime_error(path + ": " + problem), path_(path), problem_(problem) {}
+  /// An input file that is not there ("no such file", plus `detail`): the CLI's usage error
+  /// (exit 2), unlike a file that cannot be read or written (exit 1).
+  static FileError missing(const std::string& path, const std::string& detail = "") {
+    FileError e(path, "no such file" + (detail.empty() ? "" : " (" + detail + ")"));
+    e.missing_ = true;
+    return e;
+  }
   const std::string& path() const { return path_; }
   const std::string& problem() const { return problem_; }
+  bool is_missing() const { return missing_; }
 
  private:
   std::string path_;
   std::string problem_;
+  bool missing_ = false;
 };
 
 /// Runs `f` on the data of the file at `path`: an InputError it raises (a property of that

@@ -98,13 +98,9 @@ ScanInputs scan_inputs(const py::object& obj) {
   for (const auto& p : in.paths)
     if (!p.empty() && !std::filesystem::exists(p, ec)) missing.push_back(p);
   if (!missing.empty()) {
-    std::string problem = "no such file";
-    if (missing.size() > 1) {
-      problem += " (nor";
-      for (std::size_t i = 1; i < missing.size(); ++i) problem += (i > 1 ? ", " : " ") + missing[i];
-      problem += ")";
-    }
-    throw FileError(missing[0], problem);
+    std::string others;
+    for (std::size_t i = 1; i < missing.size(); ++i) others += (i > 1 ? ", " : "nor ") + missing[i];
+    throw FileError::missing(missing[0], others);
   }
   return in;
 }

@@ -14,7 +14,7 @@ namespace fs = std::filesystem;
 void require_regular_file(const std::string& path) {
   std::error_code ec;
   const auto st = fs::status(path, ec);
-  if (st.type() == fs::file_type::not_found) throw FileError(path, "no such file");
+  if (st.type() == fs::file_type::not_found) throw FileError::missing(path);
   if (ec) throw FileError(path, "cannot access: " + ec.message());
   if (st.type() == fs::file_type::directory) throw FileError(path, "is a directory, not a file");
   if (st.type() != fs::file_type::regular)

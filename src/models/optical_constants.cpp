@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -100,7 +101,11 @@ OpticalConstants constant_index(double n, double k) {
 OpticalConstants read_optical_constants_csv(const std::string& path) {
   require_regular_file(path);  // a FIFO or device would block or never end
   std::ifstream in(path);
-  if (!in) throw FileError(path, "cannot open");
+  if (!in) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw FileError::missing(path);
+    throw FileError(path, "cannot open");
+  }
   std::string line;
   double scale = 0;
   std::vector<double> wl, n, k;

@@ -201,7 +201,7 @@ void PreviewGeometry::build_vase() {
 
 void PreviewGeometry::build_obj(const std::string& path) {
   if (path.empty()) throw InputError("the obj scene needs a mesh file (--obj FILE.obj)");
-  if (!std::filesystem::exists(path)) throw FileError(path, "no such file");
+  if (!std::filesystem::exists(path)) throw FileError::missing(path);
   tinyobj::ObjReaderConfig cfg;
   cfg.triangulate = true;
   cfg.vertex_color = false;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -43,7 +44,11 @@ std::string base64(const std::vector<std::uint8_t>& b) {
 
 std::vector<std::uint8_t> read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path, "cannot open");
+  if (!in) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw FileError::missing(path);
+    throw FileError(path, "cannot open");
+  }
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 

@@ -104,7 +104,7 @@ class Staging {
 
 void check_inputs_exist(const std::vector<std::string>& paths, const char* what) {
   for (const auto& p : paths) {
-    if (!fs::exists(p)) throw FileError(p, std::string("no such file (") + what + ")");
+    if (!fs::exists(p)) throw FileError::missing(p, what);
     if (fs::is_directory(p)) throw FileError(p, std::string("is a folder (") + what + ")");
   }
 }

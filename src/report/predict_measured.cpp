@@ -38,14 +38,13 @@ std::string cell(const nlohmann::json& v) { return num_or(v, "&mdash;"); }
 
 void check_measured_option(const PredictOptions& o) {
   if (o.measured_path.empty()) return;
-  if (!fs::exists(o.measured_path)) throw FileError(o.measured_path, "no such file (--measured)");
+  if (!fs::exists(o.measured_path)) throw FileError::missing(o.measured_path, "--measured");
   if (!(o.instrument_fwhm_rad >= 0 && o.instrument_fwhm_rad < 0.35))
     throw InputError("instrument FWHM must lie in [0, 20) deg");
   if (!o.instrument_path.empty()) {
     if (o.instrument_fwhm_rad > 0)
       throw InputError("give --instrument-fwhm or --instrument, not both");
-    if (!fs::exists(o.instrument_path))
-      throw FileError(o.instrument_path, "no such file (--instrument)");
+    if (!fs::exists(o.instrument_path)) throw FileError::missing(o.instrument_path, "--instrument");
     (void)read_ndf(o.instrument_path);
   }
   // Read it now (cheap next to the pipeline): a broken file fails before the scans are read.

@@ -99,7 +99,7 @@ bool is_param_texture_file(const std::string& path) {
 }
 
 ParamTexture read_param_texture(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw FileError(path, "no such file");
+  if (!std::filesystem::exists(path)) throw FileError::missing(path);
   ParamTexture t;
   // The file is read into memory and its header checked as the height-map EXR reader does
   // (src/surface/exr_guard.hpp) before OpenEXR parses it: OpenEXR allocates whatever an
