@@ -3,11 +3,14 @@
 // 5.1), or the Kirchhoff distribution D_K (Dong section 6 and App. A; docs/kirchhoff.md).
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/filter_sigma_auto.hpp"
 #include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/ndf_convolve.hpp"
 #include "microbrdf/ndf_estimate.hpp"
@@ -36,7 +39,44 @@ struct NdfArgs {
   double accuracy = KirchhoffOptions{}.accuracy;
   bool direct = false;
   bool keep_aliases = false;
+  std::size_t sweep_resolution = FilterSigmaAutoOptions{}.resolution;  // --filter-sigma auto
 };
+
+// --filter-sigma auto: the sweep against D_K (filter_sigma_auto.hpp) with the Kirchhoff flags.
+FilterSigmaAuto auto_filter_sigma(const NdfArgs& a, const std::vector<std::string>& paths,
+                                  const ScanSetOptions& set) {
+  if (a.sweep_resolution < 17 || a.sweep_resolution > 8193)
+    throw InputError("--sweep-resolution must be in 17..8193");
+  FilterSigmaAutoOptions fo;
+  fo.resolution = a.sweep_resolution;
+  fo.min_support = a.min_support;
+  KirchhoffOptions& k = fo.kirchhoff;
+  k.wavelength_q = parse_length(a.wavelength);
+  if (!(k.wavelength_q > 0)) throw InputError("--wavelength must be > 0");
+  if (a.patch == "none" || a.patch == "whole" || a.patch == "0") {
+    k.patch_x = k.patch_y = 0;
+  } else {
+    const LengthPair lp = parse_length_pair(a.patch);
+    k.patch_x = lp.x;
+    k.patch_y = lp.y;
+  }
+  k.window = parse_kirchhoff_window(a.window);
+  k.accuracy = a.accuracy;
+  if (!(k.accuracy > 0 && k.accuracy < 1)) throw InputError("--accuracy must be in (0, 1)");
+  k.nyquist_mask = !a.keep_aliases;
+  if (!a.json)
+    fo.log = [](const std::string& line) {
+      std::fprintf(stderr, "microbrdf ndf: %s\n", line.c_str());
+    };
+  // Every rank runs the (deterministic) sweep on its own, so that all agree on the sigma.
+  return choose_filter_sigma(paths, set.read, set.leveling, fo);
+}
+
+// Where the curve goes: beside the table, "<stem>_filter_sigma.csv".
+std::string curve_path(const std::string& output) {
+  std::filesystem::path p(output);
+  return (p.parent_path() / (p.stem().string() + "_filter_sigma.csv")).string();
+}
 
 nlohmann::json ndf_json(const TabulatedNdf& ndf, const NdfArgs& a) {
   auto mn = ndf.mean_normal();
@@ -170,7 +210,10 @@ void run(const NdfArgs& a) {
     o.method = NdfMethod::Filtered;
   else
     throw InputError("unknown --method '" + a.method + "' (naive | filtered | kirchhoff)");
-  o.filter_sigma_m = parse_length(a.filter_sigma);
+  const bool auto_sigma = a.filter_sigma == "auto";
+  if (auto_sigma && o.method != NdfMethod::Filtered)
+    throw InputError("--filter-sigma auto applies to --method filtered");
+  o.filter_sigma_m = auto_sigma ? 1e-6 : parse_length(a.filter_sigma);
   o.resolution = a.resolution;
   o.min_support = a.min_support;
   if (a.resolution < 17 || a.resolution > 8193)
@@ -179,6 +222,11 @@ void run(const NdfArgs& a) {
   bool warned = false;
   SampleTally tally;
   ScanSetOptions set = scan_set_options(a, paths.size());
+  std::optional<FilterSigmaAuto> sweep;
+  if (auto_sigma) {
+    sweep = auto_filter_sigma(a, paths, set);
+    o.filter_sigma_m = sweep->sigma_m;
+  }
   set.on_scan = [&](std::size_t i, const std::string& path, const nlohmann::json& scan) {
     progress("ndf", i, paths.size(), path);
     tally.add(path, scan);
@@ -195,14 +243,39 @@ void run(const NdfArgs& a) {
   auto acc = accumulate_ndf_scans(paths, o, set, &stats);
   if (!acc) return;  // rank 0 writes the outputs
   TabulatedNdf ndf = acc->result();
+  if (sweep) {
+    char b[160];
+    std::snprintf(b, sizeof b,
+                  "%sfilter sigma chosen by --filter-sigma auto (Hellinger distance %.4g to D_K "
+                  "at lambda_q %s, sweep at %zu^2)",
+                  ndf.meta.notes.empty() ? "" : "; ", sweep->hellinger,
+                  format_length(sweep->wavelength_q_m).c_str(), sweep->resolution);
+    ndf.meta.notes += b;
+  }
   write_outputs(ndf, a);
+  if (sweep) write_filter_sigma_curve_csv(*sweep, curve_path(a.output));
   if (a.json) {
     auto j = ndf_json(ndf, a);
+    if (sweep) {
+      j["filter_sigma_auto"] = sweep->to_json();
+      j["filter_sigma_auto"]["curve_file"] = curve_path(a.output);
+    }
     j["samples_invalid"] = tally.invalid;  // height samples the scans mark invalid
     j["mpi"] = stats.to_json("scans_per_rank");
     print_json(j);
   } else {
     tally.print("ndf");
+    if (sweep)
+      std::fprintf(stderr,
+                   "microbrdf ndf: --filter-sigma auto: %s (Hellinger distance to D_K %.4g; naive "
+                   "NDF %.4g%s); curve of %zu sigmas from %s to %s -> %s\n",
+                   format_length(sweep->sigma_m).c_str(), sweep->hellinger,
+                   sweep->hellinger_naive_kirchhoff,
+                   sweep->at_lower_end   ? "; minimum at the smallest sigma swept"
+                   : sweep->at_upper_end ? "; minimum at the largest sigma swept"
+                                         : "",
+                   sweep->curve.size(), format_length(sweep->sigma_min_m).c_str(),
+                   format_length(sweep->sigma_max_m).c_str(), curve_path(a.output).c_str());
     std::fprintf(stderr,
                  "microbrdf ndf: %s NDF of %zu scan(s) -> %s (%zu x %zu); %zu elements used, %zu "
                  "skipped; rms slope x "
@@ -233,6 +306,14 @@ void register_ndf(CLI::App& app) {
       "            holes are handled exactly (weights x mask). Samples whose weighted support is "
       "below\n"
       "            --min-support of the full-grid value (borders, holes) are skipped and counted.\n"
+      "            --filter-sigma auto sweeps sigma (log-spaced from the sample spacing to 1/8 of "
+      "the\n"
+      "            field, at most 128 spacings, then refined around the minimum) and takes the one "
+      "whose\n"
+      "            table is nearest to D_K at --wavelength (Kirchhoff flags apply) by Hellinger "
+      "distance,\n"
+      "            on --sweep-resolution tables; the curve goes to <output "
+      "stem>_filter_sigma.csv.\n"
       "  kirchhoff the Kirchhoff distribution D_K (Dong eq. 6) at lambda_q = --wavelength: the "
       "surface\n"
       "            integral of (q.m) exp(-i q.s), q = 4 pi h / lambda_q, midpoint rule per sample "
@@ -254,13 +335,19 @@ void register_ndf(CLI::App& app) {
       "  microbrdf ndf scan.x3p -o ndf.npy --preview ndf.png --zoom\n"
       "  microbrdf ndf 'scans/*.dat' --method filtered --filter-sigma 1um -o ndf.exr --json\n"
       "  microbrdf ndf scan.x3p --method naive --resolution 513 -o naive.npy\n"
+      "  microbrdf ndf scan.x3p --filter-sigma auto --wavelength 555nm -o ndf.npy --json\n"
       "  microbrdf ndf 'scans/*.x3p' --method kirchhoff --wavelength 555nm --window hann -o "
       "dk.npy");
   cmd->add_option("files", a->inputs, "Height maps (files, directories, globs, @manifest)")
       ->required();
   add_read_flags(cmd, a->read, "plane");
   cmd->add_option("--method", a->method, "naive | filtered | kirchhoff")->capture_default_str();
-  cmd->add_option("--filter-sigma", a->filter_sigma, "Gaussian std of the local plane fit")
+  cmd->add_option("--filter-sigma", a->filter_sigma,
+                  "Gaussian std of the local plane fit, or 'auto': the sigma whose filtered NDF "
+                  "is nearest (Hellinger distance) to D_K at --wavelength")
+      ->capture_default_str();
+  cmd->add_option("--sweep-resolution", a->sweep_resolution,
+                  "--filter-sigma auto: table size of the sweep (D_K is slow)")
       ->capture_default_str();
   cmd->add_option("--resolution", a->resolution, "Table size N (odd keeps a node at the centre)")
       ->capture_default_str();

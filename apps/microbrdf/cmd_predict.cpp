@@ -23,7 +23,8 @@ struct PredictArgs {
   SpecFlags material;
   std::string output, filter_sigma = "1um", wavelength = "555nm";
   std::string theta_i = "20,45,70", envmap, texel = "53um", patch = "70x53um";
-  std::string measured, instrument_fwhm = "0", instrument;
+  std::string measured, instrument_fwhm = "0", instrument, render_ndf = "filtered";
+  std::size_t sweep_resolution = PredictOptions{}.filter_sigma_sweep_resolution;
   std::size_t resolution = 1025, texture_size = 128;
   double envmap_scale = 1;
   int render_width = PredictOptions{}.render_width, spp = PredictOptions{}.render_spp;
@@ -48,7 +49,10 @@ void run(const PredictArgs& a) {
   o.read = read_options(a.read);
   o.leveling = LevelingSpec::parse(a.read.level);
   o.material = material;
-  o.filter_sigma_m = parse_length(a.filter_sigma);
+  o.filter_sigma_auto = a.filter_sigma == "auto";
+  if (!o.filter_sigma_auto) o.filter_sigma_m = parse_length(a.filter_sigma);
+  o.filter_sigma_sweep_resolution = a.sweep_resolution;
+  o.render_ndf = a.render_ndf;
   o.wavelength_m = parse_length(a.wavelength);
   o.ndf_resolution = a.resolution;
   o.kirchhoff = a.kirchhoff;
@@ -109,6 +113,9 @@ void register_predict(CLI::App& app) {
       "     kurtosis, rms slopes, correlation lengths), height previews;\n"
       "  2. NDFs: naive and filtered (--filter-sigma, default 1um; Dong 2015 sec. 5.1), and the\n"
       "     Kirchhoff D_K with --kirchhoff (at --wavelength, tiles of --patch; slower);\n"
+      "     --filter-sigma auto first sweeps sigma for the filtered NDF nearest D_K (Hellinger\n"
+      "     distance, --sweep-resolution tables); the report compares naive, filtered and D_K\n"
+      "     and says which one the renders use (--render-ndf, default filtered);\n"
       "  3. fits: ellipsoid, Beckmann and GGX fits of the filtered NDF;\n"
       "  4. BRDF slices in and out of the plane of incidence at --theta-i for the measured NDF,\n"
       "     the fits (and D_K), with the material's Fresnel term (--metal, default Fe; --n/--k;\n"
@@ -135,7 +142,15 @@ void register_predict(CLI::App& app) {
       ->required();
   add_material_flags(c, a->material, "default: Fe");
   c->add_option("--filter-sigma", a->filter_sigma,
-                "Filtered NDF: Gaussian std of the local plane fit")
+                "Filtered NDF: Gaussian std of the local plane fit, or 'auto': the sigma whose "
+                "filtered NDF is nearest D_K at --wavelength (Hellinger distance over a sweep)")
+      ->capture_default_str();
+  c->add_option("--sweep-resolution", a->sweep_resolution,
+                "--filter-sigma auto: table size of the sweep (D_K is slow)")
+      ->capture_default_str();
+  c->add_option("--render-ndf", a->render_ndf,
+                "NDF of the measured BRDF (slices, renders): naive | filtered | kirchhoff (needs "
+                "--kirchhoff)")
       ->capture_default_str();
   c->add_option("--resolution", a->resolution, "NDF table size N")->capture_default_str();
   c->add_flag("--kirchhoff", a->kirchhoff, "Also compute the Kirchhoff D_K (wave optics)");

@@ -44,6 +44,14 @@ struct PredictOptions {
   /// exact or Schlick Fresnel).
   MaterialSpec material = MaterialSpec::named_metal("Fe");
   double filter_sigma_m = 1e-6;  ///< filtered NDF: Gaussian std of the local plane fit, m
+  /// Choose filter_sigma_m instead: the sigma whose filtered NDF is nearest D_K at wavelength_m
+  /// by Hellinger distance (filter_sigma_auto.hpp), on tables of filter_sigma_sweep_resolution.
+  bool filter_sigma_auto = false;
+  std::size_t filter_sigma_sweep_resolution = 257;
+  /// The NDF of the "measured" BRDF (slices, renders, the comparison strip's reference):
+  /// "naive", "filtered" or "kirchhoff" (needs kirchhoff = true). The fits are of the filtered
+  /// NDF whatever this says.
+  std::string render_ndf = "filtered";
   std::size_t ndf_resolution = 1025;
   bool kirchhoff = false;        ///< also compute D_K (slow: ~20 s per 2 M samples)
   double wavelength_m = 555e-9;  ///< lambda_q of D_K and the wavelength of the BRDF slices, m

@@ -23,6 +23,7 @@
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 #include "report/predict_measured.hpp"
+#include "report/predict_ndf_compare.hpp"
 #include "report/predict_stages.hpp"
 
 namespace fs = std::filesystem;
@@ -121,6 +122,9 @@ nlohmann::json settings_json(const PredictOptions& o, const OpticalConstants& m)
            o.material.form == MaterialSpec::Form::Metal ? o.material.metal : o.material.describe()},
           {"optical_constants", {{"name", m.name}, {"source", m.source}}},
           {"filter_sigma_m", o.filter_sigma_m},
+          {"filter_sigma_auto", o.filter_sigma_auto},
+          {"filter_sigma_sweep_resolution", o.filter_sigma_sweep_resolution},
+          {"render_ndf", o.render_ndf},
           {"ndf_resolution", o.ndf_resolution},
           {"kirchhoff", o.kirchhoff},
           {"wavelength_m", o.wavelength_m},
@@ -190,6 +194,12 @@ nlohmann::json versions() {
 void check_predict_options(const PredictOptions& o) {
   if (o.inputs.empty()) throw InputError("no scans given");
   if (!(o.filter_sigma_m > 0)) throw InputError("filter sigma must be > 0");
+  if (o.filter_sigma_sweep_resolution < 17 || o.filter_sigma_sweep_resolution > 8193)
+    throw InputError("filter sigma sweep resolution must lie in 17..8193");
+  if (o.render_ndf != "naive" && o.render_ndf != "filtered" && o.render_ndf != "kirchhoff")
+    throw InputError("render NDF '" + o.render_ndf + "': naive | filtered | kirchhoff");
+  if (o.render_ndf == "kirchhoff" && !o.kirchhoff)
+    throw InputError("rendering with D_K (--render-ndf kirchhoff) needs --kirchhoff");
   if (o.ndf_resolution < 65 || o.ndf_resolution > 4097)
     throw InputError("NDF resolution must lie in 65..4097");
   if (!(o.wavelength_m > 100e-9 && o.wavelength_m < 20e-6))
@@ -221,9 +231,18 @@ void check_predict_options(const PredictOptions& o) {
 
 namespace {
 
+// --filter-sigma auto: every rank runs the sweep (the same numbers everywhere) and goes on with
+// the chosen sigma.
+PredictOptions with_sigma(const PredictOptions& o, const std::optional<FilterSigmaAuto>& sweep) {
+  PredictOptions r = o;
+  if (sweep) r.filter_sigma_m = sweep->sigma_m;
+  return r;
+}
+
 // Ranks other than 0 under mpirun: the per-scan stage only (rank 0 does everything else).
-PredictResult predict_worker(const PredictOptions& o) {
-  const auto paths = expand_scan_inputs(o.inputs);
+PredictResult predict_worker(const PredictOptions& given) {
+  const auto paths = expand_scan_inputs(given.inputs);
+  const PredictOptions o = with_sigma(given, report::filter_sigma_sweep(given, paths, nullptr));
   report::Context c{o, {}};
   report::NdfSet ndfs;
   report::stage_inputs(c, paths, ndfs);
@@ -236,10 +255,10 @@ struct SoloAfterwards {
   ~SoloAfterwards() { mpi_set_solo(before); }
 };
 
-PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir_given) {
+PredictResult predict_staged(const PredictOptions& given, const std::string& out_dir_given) {
   const auto t_start = Clock::now();
-  check_predict_options(o);
-  if (!mpi_is_root()) return predict_worker(o);
+  check_predict_options(given);
+  if (!mpi_is_root()) return predict_worker(given);
   // "out/" names the folder "out": the staging folder goes beside it, not into it.
   std::string out_dir = out_dir_given;
   while (out_dir.size() > 1 && out_dir.back() == '/') out_dir.pop_back();
@@ -252,6 +271,12 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
     throw FileError(out_dir,
                     "exists and is not a predict output (no summary.json/report.html); "
                     "choose another folder or remove it");
+  const auto t_sweep = Clock::now();
+  if (given.filter_sigma_auto && given.log)
+    given.log("[0/6] --filter-sigma auto: filtered NDFs against D_K over a sweep of sigma");
+  const auto sweep = report::filter_sigma_sweep(given, expand_scan_inputs(given.inputs), given.log);
+  const double sweep_s = seconds_since(t_sweep);
+  const PredictOptions o = with_sigma(given, sweep);
   const OpticalConstants material = optical_constants(o.material);
   const auto fresnel = make_fresnel(o.material);
   const auto paths = expand_scan_inputs(o.inputs);
@@ -260,6 +285,7 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   const OutputGroup::Bypass whole_folder;  // the staging folder is the commit unit
   report::Context c{o, staging.dir()};
   nlohmann::json timing = nlohmann::json::object();
+  if (sweep) timing["filter_sigma_auto_s"] = sweep_s;
   nlohmann::json summary;
   summary["microbrdf"] = {{"command", "predict"}, {"report_format", 1}};
   summary["versions"] = report::versions();
@@ -281,6 +307,10 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   const SoloAfterwards solo;
   mpi_set_solo(true);
   timed("ndf_write", [&] { summary["ndf"] = report::stage_ndfs(c, ndfs); });
+  ndfs.render = o.render_ndf;
+  timed("ndf_comparison", [&] {
+    summary["ndf_comparison"] = report::stage_ndf_comparison(c, ndfs, sweep ? &*sweep : nullptr);
+  });
   c.log("[2/6] fits");
   timed("fits", [&] { summary["fits"] = report::stage_fits(c, ndfs, fits, timing); });
   timed("ndf_cuts", [&] { summary["ndf_cuts"] = report::stage_ndf_slices(c, ndfs, fits); });

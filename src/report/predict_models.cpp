@@ -160,8 +160,8 @@ nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
 
 std::shared_ptr<const Brdf> measured_brdf(const NdfSet& ndfs,
                                           const std::shared_ptr<const Fresnel>& fresnel) {
-  return std::make_shared<MicrofacetBrdf>(std::make_shared<TabulatedDistribution>(*ndfs.filtered),
-                                          fresnel);
+  return std::make_shared<MicrofacetBrdf>(
+      std::make_shared<TabulatedDistribution>(ndfs.for_render()), fresnel);
 }
 
 std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResult>& fits,
@@ -186,8 +186,8 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
                           const std::shared_ptr<const Brdf>& measured) {
   const auto& o = c.opt;
   std::vector<NamedBrdf> models;
-  c.log("BRDF: tabulated distribution of the filtered NDF (Smith shadowing)");
-  models.push_back({"measured", "measured (filtered NDF)", measured});
+  c.log("BRDF: tabulated distribution of the " + ndfs.render + " NDF (Smith shadowing)");
+  models.push_back({"measured", "measured (" + ndfs.render + " NDF)", measured});
   for (auto& m : model_brdfs(ndfs, fits, fresnel)) models.push_back(std::move(m));
   nlohmann::json jm = nlohmann::json::array();
   for (const auto& m : models)

@@ -43,6 +43,13 @@ struct NdfSet {
   std::unique_ptr<TabulatedNdf> naive, filtered, kirchhoff;
   double kirchhoff_raw_integral = 0, kirchhoff_aliased_fraction = 0;
   std::size_t kirchhoff_patches = 0;
+  /// The table of the "measured" BRDF (PredictOptions::render_ndf): naive, filtered or kirchhoff.
+  std::string render = "filtered";
+  const TabulatedNdf& for_render() const {
+    if (render == "naive" && naive) return *naive;
+    if (render == "kirchhoff" && kirchhoff) return *kirchhoff;
+    return *filtered;
+  }
 };
 
 /// Reads, levels and describes every scan; accumulates the NDFs. Spread over the MPI ranks (every

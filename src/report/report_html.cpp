@@ -10,6 +10,7 @@
 #include "report/material_view.hpp"
 #include "report/ndf_hover.hpp"
 #include "report/predict_measured.hpp"
+#include "report/predict_ndf_compare.hpp"
 
 namespace microbrdf {
 namespace {
@@ -695,6 +696,7 @@ std::string render_report_html(const json& summary, const std::string& dir) {
   section_inputs(p, s);
   section_stats(p, s);
   section_ndf(p, s);
+  p << report::ndf_comparison_html(s, dir);
   section_fits(p, s);
   section_brdf(p, s);
   section_renders(p, s);
