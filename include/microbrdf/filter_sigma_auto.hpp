@@ -1,7 +1,7 @@
 #pragma once
 // `--filter-sigma auto`: the filter sigma at which the filtered NDF (Dong 2015 section 5.1)
 // best matches the Kirchhoff distribution D_K at lambda_q (section 6), by the Hellinger distance
-// between the two tables over a sweep of sigma (docs/theory.md, "Choosing the filter sigma").
+// between the two tables over a sweep of sigma (docs/guide.md §7, docs/validation.md §6).
 //
 // The sweep: `coarse_points` sigmas log-spaced from the sample spacing (the larger of dx, dy) to
 // the smaller of `field_fraction` x the shorter side of the scan and `max_spacings` x the

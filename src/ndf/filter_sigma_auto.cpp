@@ -1,5 +1,5 @@
 // `--filter-sigma auto`: a sweep of the filter sigma against D_K by Hellinger distance
-// (filter_sigma_auto.hpp; docs/theory.md, "Choosing the filter sigma").
+// (filter_sigma_auto.hpp; docs/guide.md §7, docs/validation.md §6).
 #include "microbrdf/filter_sigma_auto.hpp"
 
 #include <algorithm>
