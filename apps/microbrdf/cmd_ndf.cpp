@@ -226,6 +226,13 @@ void run(const NdfArgs& a) {
   if (auto_sigma) {
     sweep = auto_filter_sigma(a, paths, set);
     o.filter_sigma_m = sweep->sigma_m;
+    if (sweep->kirchhoff_aliased_fraction > 0.5)
+      std::fprintf(stderr,
+                   "microbrdf ndf: warning: --filter-sigma auto: %.1f%% of D_K's mass lies beyond "
+                   "the scan's Nyquist band (sample spacing above lambda_q/4 = %s) and was "
+                   "removed; the chosen sigma rests on a small band about the pole\n",
+                   100 * sweep->kirchhoff_aliased_fraction,
+                   format_length(sweep->wavelength_q_m / 4).c_str());
   }
   set.on_scan = [&](std::size_t i, const std::string& path, const nlohmann::json& scan) {
     progress("ndf", i, paths.size(), path);

@@ -64,6 +64,10 @@ struct FilterSigmaAuto {
   /// filtered surface, i.e. to the naive NDF; compare hellinger_naive_kirchhoff).
   bool at_lower_end = false, at_upper_end = false;
   double kirchhoff_raw_integral = 0;
+  /// Fraction of D_K's mass beyond the scans' Nyquist band (a spacing above lambda_q / 4),
+  /// removed by the mask: near 1, D_K holds only a small band about the pole and the sweep
+  /// compares little (KirchhoffAccumulator::aliased_fraction).
+  double kirchhoff_aliased_fraction = 0;
   /// The three tables at the sweep resolution (the filtered one at the chosen sigma) and their
   /// pairwise distances.
   TabulatedNdf naive{3}, filtered{3}, kirchhoff{3};

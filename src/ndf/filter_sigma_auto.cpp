@@ -104,6 +104,7 @@ FilterSigmaAuto choose_filter_sigma(const ScanVisitor& for_each_scan,
   if (scans == 0) throw InputError("--filter-sigma auto: no scan");
   r.kirchhoff = dk.result();
   r.kirchhoff_raw_integral = dk.raw_integral();
+  r.kirchhoff_aliased_fraction = dk.aliased_fraction();
   r.naive = naive.result();
   // A sigma whose filter skips every sample (a field narrower than the kernel) gives no table:
   // it is left off the curve.
@@ -212,6 +213,7 @@ nlohmann::json FilterSigmaAuto::to_json() const {
             {"resolution", resolution},
             {"wavelength_q_m", wavelength_q_m},
             {"kirchhoff_raw_integral", kirchhoff_raw_integral},
+            {"kirchhoff_aliased_fraction", kirchhoff_aliased_fraction},
             {"at_lower_end", at_lower_end},
             {"at_upper_end", at_upper_end}}},
           {"distances",

@@ -14,6 +14,8 @@
 namespace microbrdf::report {
 namespace {
 
+constexpr double kAliasedWarn = 0.5;  // warn when D_K lost more than this to the Nyquist mask
+
 std::string fmt(const char* f, double v) {
   char b[64];
   std::snprintf(b, sizeof b, f, v);
@@ -122,6 +124,19 @@ nlohmann::json stage_ndf_comparison(const Context& c, const NdfSet& ndfs,
                : "a larger scan would let the sweep go higher; or give --filter-sigma");
   }
 
+  if (sweep && sweep->kirchhoff_aliased_fraction > kAliasedWarn) {
+    char b[320];
+    std::snprintf(b, sizeof b,
+                  "%.1f%% of the mass of the D_K that --filter-sigma auto compares with lies "
+                  "beyond the scan's Nyquist band (a sample spacing above lambda_q / 4 = %s) and "
+                  "was removed: the chosen sigma rests on a small band of directions about the "
+                  "pole",
+                  100 * sweep->kirchhoff_aliased_fraction,
+                  format_length(sweep->wavelength_q_m / 4).c_str());
+    c.warn("filter_sigma_auto_aliased", b,
+           "wave optics needs a scan sampled finer than lambda_q / 4; with this scan give "
+           "--filter-sigma (or render the naive NDF) instead of auto");
+  }
   nlohmann::json out = {
       {"source", source},
       {"resolution", naive->resolution()},

@@ -100,6 +100,19 @@ labels = [m["label"] for m in s["brdf"]["models"]]
 assert "measured (naive NDF)" in labels, labels
 assert "render_ndf_not_nearest_dk" in [w["code"] for w in s["warnings"]], s["warnings"]
 PY
+# A scan sampled far coarser than lambda_q / 4: D_K keeps a small band about the pole only, and
+# the report says so.
+$BIN generate gaussian --nx 96 --ny 96 --spacing 2um --sigma 1um --tau 15um -o "$T/coarse.x3p" \
+  2>/dev/null || fail generate
+$BIN predict "$T/coarse.x3p" --level none --filter-sigma auto --resolution 65 \
+  --sweep-resolution 65 --no-render --quiet -o "$T/pc" >/dev/null || fail "predict coarse"
+/usr/bin/python3 - "$T/pc" <<'PY' || fail "aliased D_K warning"
+import json, os, sys
+s = json.load(open(os.path.join(sys.argv[1], "summary.json")))
+a = s["ndf_comparison"]["filter_sigma_auto"]
+assert a["sweep"]["kirchhoff_aliased_fraction"] > 0.5, a["sweep"]
+assert "filter_sigma_auto_aliased" in [w["code"] for w in s["warnings"]], s["warnings"]
+PY
 if $BIN predict "$T/two.npy" --spacing 25nm --render-ndf kirchhoff -o "$T/pk" 2>"$T/e3"; then
   fail "--render-ndf kirchhoff without --kirchhoff accepted"
 fi
