@@ -191,10 +191,11 @@ std::string ndf_comparison_html(const nlohmann::json& summary, const std::string
     if (!t.contains(k)) continue;
     const auto& r = t[k];
     const double fs = r.value("filter_sigma_m", 0.0);
-    p << "<tr><td>" << k << (j.value("render_ndf", "") == k ? " (renders)" : "")
-      << "</td><td class=\"n\">" << num_of(r["slope_rms_x"]) << "</td><td class=\"n\">"
-      << num_of(r["slope_rms_y"]) << "</td><td class=\"n\">" << (fs > 0 ? length(fs) : "—")
-      << "</td><td class=\"n\">" << (*hk ? num_of(h[hk]) : "0") << "</td></tr>\n";
+    p << "<tr><td>" << (std::string(k) == "kirchhoff" ? "D_K" : k)
+      << (j.value("render_ndf", "") == k ? " (renders)" : "") << "</td><td class=\"n\">"
+      << num_of(r["slope_rms_x"]) << "</td><td class=\"n\">" << num_of(r["slope_rms_y"])
+      << "</td><td class=\"n\">" << (fs > 0 ? length(fs) : "—") << "</td><td class=\"n\">"
+      << (*hk ? num_of(h[hk]) : "0") << "</td></tr>\n";
   }
   p << "</table>\n<p>Hellinger distance naive–filtered " << num_of(h["naive_filtered"])
     << ", naive–D_K " << num_or(h["naive_kirchhoff"], "— (D_K not computed)") << ", filtered–D_K "
