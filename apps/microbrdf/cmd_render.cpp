@@ -4,13 +4,18 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "cli_common.hpp"
 #include "cli_threads.hpp"
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/render.hpp"
+#include "microbrdf/sun_brdf.hpp"
+#include "microbrdf/sun_svbrdf.hpp"
 #include "microbrdf/texture.hpp"
 #include "microbrdf/units.hpp"
 #include "spec_flags.hpp"
@@ -21,6 +26,8 @@ namespace {
 struct RenderArgs {
   SpecFlags spec;  // BRDF and material
   std::string scene = "cylinders", obj, brushing = "linear", brush_angle = "0";
+  // Sun 2002 options (Figs. 8 and 11)
+  std::string sun_form = "standard", sun_ftp = "both", s_texture, s_range = "1,20", color_texture;
   double uv_scale = 1;
   // lights
   std::string envmap, env_rotation = "0";
@@ -33,6 +40,7 @@ struct RenderArgs {
   std::string mis = "mis";
   std::string sampler = "sobol";
   double exposure = 0;
+  bool normalize = false;
   std::vector<std::string> outputs;
   bool json = false, quiet = false;
 };
@@ -62,10 +70,84 @@ void parse_light(const std::string& flag, const std::string& text, std::size_t n
     throw InputError(flag + " '" + text + "': colour values must be finite and >= 0");
 }
 
+bool sun_options_given(const RenderArgs& a) {
+  return a.sun_form != "standard" || a.sun_ftp != "both" || !a.s_texture.empty() ||
+         !a.color_texture.empty();
+}
+
+/// "MIN,MAX" of --s-range.
+std::pair<double, double> parse_s_range(const std::string& text) {
+  std::string t = text;
+  std::replace(t.begin(), t.end(), ',', ' ');
+  std::istringstream is(t);
+  double lo = 0, hi = 0;
+  std::string rest;
+  if (!(is >> lo >> hi) || (is >> rest) || !(lo > 0) || !(hi >= lo) || !std::isfinite(hi))
+    throw InputError("--s-range '" + text + "': expected MIN,MAX with 0 < MIN <= MAX");
+  return {lo, hi};
+}
+
+/// The BRDF spec of the flags; --s-texture stands for --sun.
+BrdfSpec render_brdf_spec(const RenderArgs& a) {
+  const auto it = a.spec.text.find("sun");
+  const bool sun_given = it != a.spec.text.end() && !it->second.empty();
+  if (!a.s_texture.empty() && sun_given)
+    throw InputError("--s-texture gives the smoothness of the Sun 2002 BRDF: leave out --sun");
+  std::optional<BrdfSpec> fallback;
+  if (!a.s_texture.empty()) {
+    BrdfSpec s;
+    s.kind = BrdfSpec::Kind::Sun;
+    s.sun_s = parse_s_range(a.s_range).first;
+    fallback = s;
+  }
+  const BrdfSpec b = brdf_spec(a.spec, fallback);
+  if (sun_options_given(a) && b.kind != BrdfSpec::Kind::Sun)
+    throw InputError(
+        "--sun-form, --sun-ftp and --color-texture go with the Sun 2002 BRDF (--sun S or "
+        "--s-texture FILE)");
+  if (!a.color_texture.empty() && has_material(a.spec.keys()))
+    throw InputError(
+        "--color-texture gives each texel's material: leave out --metal, --n/--k, --nk-csv, "
+        "--r0 and --color");
+  return b;
+}
+
 /// One material for the whole scene (the cylinder pair turns it by 90 degrees on the right).
 std::vector<std::shared_ptr<const Svbrdf>> make_materials(const RenderArgs& a) {
-  const BrdfSpec b = brdf_spec(a.spec);
-  return {make_svbrdf(b, material_spec(a.spec, MaterialSpec::named_metal("Al")))};
+  const BrdfSpec b = render_brdf_spec(a);
+  const MaterialSpec mat = material_spec(a.spec, MaterialSpec::named_metal("Al"));
+  if (b.kind != BrdfSpec::Kind::Sun || !sun_options_given(a)) return {make_svbrdf(b, mat)};
+  const auto form = sun2002::parse_brdf_form(a.sun_form);
+  const auto ftp = sun2002::parse_ftp_terms(a.sun_ftp);
+  if (a.s_texture.empty() && a.color_texture.empty())
+    return {std::make_shared<UniformSvbrdf>(
+        std::make_shared<sun2002::SunBrdf>(b.sun_s, form, make_fresnel(mat), ftp))};
+  sun2002::SunTextureOptions o;
+  o.s = b.sun_s;
+  o.form = form;
+  o.ftp = ftp;
+  if (!a.s_texture.empty()) {
+    o.s_map = sun2002::read_texture_image(a.s_texture);
+    std::tie(o.s_min, o.s_max) = parse_s_range(a.s_range);
+  }
+  if (!a.color_texture.empty())
+    o.color_map = sun2002::read_texture_image(a.color_texture);
+  else
+    o.fresnel = make_fresnel(mat);
+  return {std::make_shared<sun2002::SunTextureSvbrdf>(std::move(o))};
+}
+
+/// --normalize: the exposure (stops) that takes the 99.9th percentile of the pixels' largest
+/// channel to 1 (Sun 2002 scales each image's maximum to 255); 0 for a black image.
+double normalizing_exposure(const RenderImage& img) {
+  std::vector<float> m(img.rgb.size() / 3);
+  for (std::size_t i = 0; i < m.size(); ++i)
+    m[i] = std::max({img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]});
+  if (m.empty()) return 0;
+  const std::size_t k = std::min(m.size() - 1, std::size_t(0.999 * double(m.size())));
+  std::nth_element(m.begin(), m.begin() + std::ptrdiff_t(k), m.end());
+  const double top = m[k];
+  return top > 0 && std::isfinite(top) ? -std::log2(top) : 0.0;
 }
 
 RenderLights make_lights(const RenderArgs& a, PreviewScene scene) {
@@ -110,14 +192,19 @@ void preflight(const RenderArgs& a) {
   if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
   check_spec_files(pre, a.spec);
   if (!a.obj.empty()) pre.input("--obj", a.obj);
+  if (!a.s_texture.empty()) pre.input("--s-texture", a.s_texture);
+  if (!a.color_texture.empty()) pre.input("--color-texture", a.color_texture);
   pre.require(a.spp >= 1, "--spp", "must be >= 1 (got " + std::to_string(a.spp) + ")");
   pre.require((a.width > 0 ? a.width : a.size) >= 1 && (a.height > 0 ? a.height : a.size) >= 1,
               "--size", "the image needs at least 1 x 1 pixels");
   pre.positive("--env-scale", a.env_scale);
   pre.done();
   (void)parse_render_sampler(a.sampler, "--sampler");
-  (void)brdf_spec(a.spec);  // the BRDF and material flags, before any file is read
+  (void)render_brdf_spec(a);  // the BRDF and material flags, before any file is read
   (void)material_spec(a.spec, MaterialSpec::named_metal("Al"));
+  (void)sun2002::parse_brdf_form(a.sun_form);
+  (void)sun2002::parse_ftp_terms(a.sun_ftp);
+  (void)parse_s_range(a.s_range);
 }
 
 void run(RenderArgs& a) {
@@ -158,11 +245,12 @@ void run(RenderArgs& a) {
   Progress progress("render", a.quiet);
   if (!a.quiet) opt.progress = progress.fraction_callback();
   const RenderImage img = render(sc, mats, lights, opt);
+  const double png_exposure = a.exposure + (a.normalize ? normalizing_exposure(img) : 0.0);
   for (const auto& o : a.outputs) {
     if (o.size() >= 4 && (o.substr(o.size() - 4) == ".exr" || o.substr(o.size() - 4) == ".EXR"))
       write_render_exr(img, o);
     else
-      write_render_png(img, o, a.exposure);
+      write_render_png(img, o, png_exposure);
   }
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < img.rgb.size() / 3; ++i)
@@ -185,6 +273,7 @@ void run(RenderArgs& a) {
                 {"rays", img.rays},
                 {"rays_per_second", double(img.rays) / std::max(img.seconds, 1e-9)},
                 {"mean_linear_srgb", {mean[0], mean[1], mean[2]}},
+                {"png_exposure", png_exposure},
                 {"settings", img.settings}});
   } else {
     std::printf("%s\n  %dx%d, %d spp in %.2f s (%.3g samples/s, %.3g rays/s); wrote",
@@ -221,6 +310,11 @@ void register_render(CLI::App& app) {
       "grey, its own reflectance); an ellipsoid parameter texture (--texture TEX.exr from\n"
       "`microbrdf texture`, each texel's fit with the material's Fresnel term; --uv-scale =\n"
       "texture repeats per scene unit).\n"
+      "Sun 2002 options: --sun-form standard|published, --sun-ftp both|view|light|none (the rows\n"
+      "of Sun's Fig. 8), --s-texture FILE (smoothness from an image's grey value mapped to\n"
+      "--s-range MIN,MAX; replaces --sun) and --color-texture FILE (each texel's sRGB colour as\n"
+      "a metal of eta = 1, Sun 5.2; replaces the material flags): PNG, EXR or HDR images, u along\n"
+      "the columns, v up the rows, wrapping (Sun's Fig. 11).\n"
       "The BRDF's x axis follows --brushing linear (the image's horizontal turned by\n"
       "--brush-angle about the normal) or rotational (circles about the object's axis).\n\n"
       "Examples:\n"
@@ -244,6 +338,21 @@ void register_render(CLI::App& app) {
   c->add_option("--uv-scale", a->uv_scale, "Texture repeats per scene unit")->capture_default_str();
   add_brdf_flags(c, a->spec, kFlagAllBrdfs | kFlagTexture);
   add_material_flags(c, a->spec, "default: Al");
+  c->add_option("--sun-form", a->sun_form,
+                "With --sun: standard (microfacet form) or published (eq. 3.5.3 as printed)")
+      ->capture_default_str();
+  c->add_option("--sun-ftp", a->sun_ftp,
+                "With --sun: free travel probabilities both, view (viewer only), light or none "
+                "(Sun's Fig. 8 rows)")
+      ->capture_default_str();
+  c->add_option("--s-texture", a->s_texture,
+                "Sun 2002 BRDF with the smoothness from an image (.png/.exr/.hdr): grey value "
+                "0..1 mapped linearly to --s-range; replaces --sun");
+  c->add_option("--s-range", a->s_range, "With --s-texture: MIN,MAX smoothness for black, white")
+      ->capture_default_str();
+  c->add_option("--color-texture", a->color_texture,
+                "With --sun or --s-texture: each texel's sRGB colour as a metal (eta = 1, kappa "
+                "from the colour's reflectance spectrum; Sun 5.2) instead of --metal");
   c->add_option("--envmap", a->envmap, "Equirectangular environment map (.exr or .hdr)");
   c->add_option("--env-scale", a->env_scale, "Multiplies the environment map")
       ->capture_default_str();
@@ -270,6 +379,9 @@ void register_render(CLI::App& app) {
                 "(plain Monte Carlo)")
       ->capture_default_str();
   c->add_option("--exposure", a->exposure, "Exposure of the PNG, stops")->capture_default_str();
+  c->add_flag("--normalize", a->normalize,
+              "Scale the PNG so that its brightest pixels (99.9th percentile of the largest "
+              "channel) are white, as Sun 2002 scales each image; --exposure adds to it");
   c->add_option("-o,--output", a->outputs, "Output .png and/or .exr (repeatable)");
   c->add_flag("--json", a->json, "Print a JSON summary (timing, rays) on stdout");
   c->add_flag("--quiet", a->quiet, "No progress on stderr");
