@@ -71,14 +71,15 @@ class SunTextureSvbrdf final : public Svbrdf {
   std::size_t distinct_colours() const { return palette_.size() / kBands; }
   std::size_t desaturated_colours() const { return desaturated_; }
 
-  /// kappa(lambda) of a colour texel is tabulated every 10 nm from 360 to 830 nm.
-  static constexpr int kBands = 48;
+  /// kappa(lambda) of a colour texel is tabulated every 5 nm from 360 to 830 nm (the grid of
+  /// the colour fit).
+  static constexpr int kBands = 95;
 
  private:
   double texel_s(double u, double v) const;
   const float* texel_kappa(double u, double v) const;
   SunTextureOptions o_;
-  std::vector<float> s_;             // per s-map texel
+  std::vector<double> s_;            // per s-map texel
   std::vector<std::uint32_t> cidx_;  // per colour texel: palette entry
   std::vector<float> palette_;       // kBands kappa values per distinct colour
   std::size_t desaturated_ = 0;

@@ -60,15 +60,15 @@ std::size_t texel(const TextureImage& t, double u, double v) {
   return iy * std::size_t(t.width) + ix;
 }
 
-double band_nm(int b) { return 360.0 + 10.0 * b; }
+double band_nm(int b) { return 360.0 + 5.0 * b; }
 
-// kappa(lambda) of a colour texel, tabulated every 10 nm; eta = 1.
+// kappa(lambda) of a colour texel, tabulated every 5 nm; eta = 1.
 class KappaBandsFresnel final : public Fresnel {
  public:
   explicit KappaBandsFresnel(const float* k) : k_(k) {}
   double eval(double cos_i, double wavelength_m) const override {
     const double x =
-        std::clamp((wavelength_m * 1e9 - 360.0) / 10.0, 0.0, double(SunTextureSvbrdf::kBands - 1));
+        std::clamp((wavelength_m * 1e9 - 360.0) / 5.0, 0.0, double(SunTextureSvbrdf::kBands - 1));
     const int i = std::min(int(x), SunTextureSvbrdf::kBands - 2);
     const double f = x - i, kappa = (1 - f) * k_[i] + f * k_[i + 1];
     return fresnel_conductor_siegel(cos_i, 1.0, kappa);
@@ -132,7 +132,7 @@ SunTextureSvbrdf::SunTextureSvbrdf(SunTextureOptions o) : o_(std::move(o)) {
     for (std::size_t i = 0; i < s_.size(); ++i) {
       const double g =
           std::clamp((double(m.rgb[3 * i]) + m.rgb[3 * i + 1] + m.rgb[3 * i + 2]) / 3, 0.0, 1.0);
-      s_[i] = float(o_.s_min + g * (o_.s_max - o_.s_min));
+      s_[i] = o_.s_min + g * (o_.s_max - o_.s_min);
     }
   }
   if (o_.color_map) {
@@ -173,7 +173,7 @@ SunTextureSvbrdf::SunTextureSvbrdf(SunTextureOptions o) : o_(std::move(o)) {
 }
 
 double SunTextureSvbrdf::texel_s(double u, double v) const {
-  return o_.s_map ? double(s_[texel(*o_.s_map, u, v)]) : o_.s;
+  return o_.s_map ? s_[texel(*o_.s_map, u, v)] : o_.s;
 }
 
 const float* SunTextureSvbrdf::texel_kappa(double u, double v) const {
