@@ -3,13 +3,13 @@
 # probabilities left out or kept, as published and in the standard form) and Fig. 11 (vases with
 # a smoothness texture on copper and with a colour texture). Every image is made by
 # `microbrdf render`; the plate mesh and the two textures are written here.
-# Usage: [SECTIONS="8 11"] scripts/make-sun-renders.sh [BIN]   (about 1 minute on 2 busy cores)
+# Usage: [SECTIONS="8 10 11"] scripts/make-sun-renders.sh [BIN]   (about 1 minute on 2 busy cores)
 set -euo pipefail
 BIN=${1:-build/bin/microbrdf}
 IMG=docs/img
 W=$(mktemp -d); trap 'rm -rf "$W"' EXIT
 mkdir -p "$IMG"
-want() { [[ " ${SECTIONS:-8 11} " == *" $1 "* ]]; }
+want() { [[ " ${SECTIONS:-8 10 11} " == *" $1 "* ]]; }
 R() { "$BIN" render --quiet --threads 2 --seed 1 --json "$@"; }
 
 # The inputs: a 2 x 2 plate whose normal is 40 deg from the view direction (the camera 50 deg
@@ -66,6 +66,13 @@ if want 8; then
         -o "$IMG/sun_fig8_${form}_${ftp}_s$s.png" >/dev/null
     done
   done
+fi
+
+# Fig. 10: the silver vase with s = 1, the point light at the camera (as the Fig. 9 copper vases
+# of scripts/make-render-figures.sh).
+if want 10; then
+  R --scene vase --sun 1 --sun-form published --metal Ag --point 0,0.8,4.5:40 --size 192 --spp 32 --exposure 2.5 \
+    -o "$IMG/sun_fig10_silver_s1.png" >/dev/null
 fi
 
 # Fig. 11: vases under two point lights left and right of the camera and a dim uniform sky
