@@ -6,18 +6,15 @@
 #include <memory>
 #include <optional>
 #include <sstream>
-#include <tuple>
-#include <utility>
 
 #include "cli_common.hpp"
 #include "cli_threads.hpp"
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/render.hpp"
-#include "microbrdf/sun_brdf.hpp"
-#include "microbrdf/sun_svbrdf.hpp"
 #include "microbrdf/texture.hpp"
 #include "microbrdf/units.hpp"
+#include "render_sun.hpp"
 #include "spec_flags.hpp"
 
 namespace microbrdf::cli {
@@ -26,8 +23,7 @@ namespace {
 struct RenderArgs {
   SpecFlags spec;  // BRDF and material
   std::string scene = "cylinders", obj, brushing = "linear", brush_angle = "0";
-  // Sun 2002 options (Figs. 8 and 11)
-  std::string sun_form = "standard", sun_ftp = "both", s_texture, s_range = "1,20", color_texture;
+  sun2002::SunRenderOptions sun;  // Sun 2002 options (Figs. 8 and 11)
   double uv_scale = 1;
   // lights
   std::string envmap, env_rotation = "0";
@@ -68,86 +64,6 @@ void parse_light(const std::string& flag, const std::string& text, std::size_t n
   rgb = c.size() == 3 ? Eigen::Vector3d(c[0], c[1], c[2]) : Eigen::Vector3d::Constant(c[0]);
   if (!(rgb.minCoeff() >= 0) || !rgb.allFinite())
     throw InputError(flag + " '" + text + "': colour values must be finite and >= 0");
-}
-
-bool sun_options_given(const RenderArgs& a) {
-  return a.sun_form != "standard" || a.sun_ftp != "both" || !a.s_texture.empty() ||
-         !a.color_texture.empty();
-}
-
-/// "MIN,MAX" of --s-range.
-std::pair<double, double> parse_s_range(const std::string& text) {
-  std::string t = text;
-  std::replace(t.begin(), t.end(), ',', ' ');
-  std::istringstream is(t);
-  double lo = 0, hi = 0;
-  std::string rest;
-  if (!(is >> lo >> hi) || (is >> rest) || !(lo > 0) || !(hi >= lo) || !std::isfinite(hi))
-    throw InputError("--s-range '" + text + "': expected MIN,MAX with 0 < MIN <= MAX");
-  return {lo, hi};
-}
-
-/// The BRDF spec of the flags; --s-texture stands for --sun.
-BrdfSpec render_brdf_spec(const RenderArgs& a) {
-  const auto it = a.spec.text.find("sun");
-  const bool sun_given = it != a.spec.text.end() && !it->second.empty();
-  if (!a.s_texture.empty() && sun_given)
-    throw InputError("--s-texture gives the smoothness of the Sun 2002 BRDF: leave out --sun");
-  std::optional<BrdfSpec> fallback;
-  if (!a.s_texture.empty()) {
-    BrdfSpec s;
-    s.kind = BrdfSpec::Kind::Sun;
-    s.sun_s = parse_s_range(a.s_range).first;
-    fallback = s;
-  }
-  const BrdfSpec b = brdf_spec(a.spec, fallback);
-  if (sun_options_given(a) && b.kind != BrdfSpec::Kind::Sun)
-    throw InputError(
-        "--sun-form, --sun-ftp and --color-texture go with the Sun 2002 BRDF (--sun S or "
-        "--s-texture FILE)");
-  if (!a.color_texture.empty() && has_material(a.spec.keys()))
-    throw InputError(
-        "--color-texture gives each texel's material: leave out --metal, --n/--k, --nk-csv, "
-        "--r0 and --color");
-  return b;
-}
-
-/// One material for the whole scene (the cylinder pair turns it by 90 degrees on the right).
-std::vector<std::shared_ptr<const Svbrdf>> make_materials(const RenderArgs& a) {
-  const BrdfSpec b = render_brdf_spec(a);
-  const MaterialSpec mat = material_spec(a.spec, MaterialSpec::named_metal("Al"));
-  if (b.kind != BrdfSpec::Kind::Sun || !sun_options_given(a)) return {make_svbrdf(b, mat)};
-  const auto form = sun2002::parse_brdf_form(a.sun_form);
-  const auto ftp = sun2002::parse_ftp_terms(a.sun_ftp);
-  if (a.s_texture.empty() && a.color_texture.empty())
-    return {std::make_shared<UniformSvbrdf>(
-        std::make_shared<sun2002::SunBrdf>(b.sun_s, form, make_fresnel(mat), ftp))};
-  sun2002::SunTextureOptions o;
-  o.s = b.sun_s;
-  o.form = form;
-  o.ftp = ftp;
-  if (!a.s_texture.empty()) {
-    o.s_map = sun2002::read_texture_image(a.s_texture);
-    std::tie(o.s_min, o.s_max) = parse_s_range(a.s_range);
-  }
-  if (!a.color_texture.empty())
-    o.color_map = sun2002::read_texture_image(a.color_texture);
-  else
-    o.fresnel = make_fresnel(mat);
-  return {std::make_shared<sun2002::SunTextureSvbrdf>(std::move(o))};
-}
-
-/// --normalize: the exposure (stops) that takes the 99.9th percentile of the pixels' largest
-/// channel to 1 (Sun 2002 scales each image's maximum to 255); 0 for a black image.
-double normalizing_exposure(const RenderImage& img) {
-  std::vector<float> m(img.rgb.size() / 3);
-  for (std::size_t i = 0; i < m.size(); ++i)
-    m[i] = std::max({img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]});
-  if (m.empty()) return 0;
-  const std::size_t k = std::min(m.size() - 1, std::size_t(0.999 * double(m.size())));
-  std::nth_element(m.begin(), m.begin() + std::ptrdiff_t(k), m.end());
-  const double top = m[k];
-  return top > 0 && std::isfinite(top) ? -std::log2(top) : 0.0;
 }
 
 RenderLights make_lights(const RenderArgs& a, PreviewScene scene) {
@@ -192,19 +108,16 @@ void preflight(const RenderArgs& a) {
   if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
   check_spec_files(pre, a.spec);
   if (!a.obj.empty()) pre.input("--obj", a.obj);
-  if (!a.s_texture.empty()) pre.input("--s-texture", a.s_texture);
-  if (!a.color_texture.empty()) pre.input("--color-texture", a.color_texture);
+  if (!a.sun.s_texture.empty()) pre.input("--s-texture", a.sun.s_texture);
+  if (!a.sun.color_texture.empty()) pre.input("--color-texture", a.sun.color_texture);
   pre.require(a.spp >= 1, "--spp", "must be >= 1 (got " + std::to_string(a.spp) + ")");
   pre.require((a.width > 0 ? a.width : a.size) >= 1 && (a.height > 0 ? a.height : a.size) >= 1,
               "--size", "the image needs at least 1 x 1 pixels");
   pre.positive("--env-scale", a.env_scale);
   pre.done();
   (void)parse_render_sampler(a.sampler, "--sampler");
-  (void)render_brdf_spec(a);  // the BRDF and material flags, before any file is read
+  (void)render_brdf_spec(a.spec, a.sun);  // the BRDF and material flags, before any file
   (void)material_spec(a.spec, MaterialSpec::named_metal("Al"));
-  (void)sun2002::parse_brdf_form(a.sun_form);
-  (void)sun2002::parse_ftp_terms(a.sun_ftp);
-  (void)parse_s_range(a.s_range);
 }
 
 void run(RenderArgs& a) {
@@ -240,7 +153,7 @@ void run(RenderArgs& a) {
   else
     throw InputError("--mis must be mis, brdf or light");
   opt.sampler = parse_render_sampler(a.sampler, "--sampler");
-  const auto mats = make_materials(a);
+  const auto mats = render_materials(a.spec, a.sun);
   const auto lights = make_lights(a, sc.kind);
   Progress progress("render", a.quiet);
   if (!a.quiet) opt.progress = progress.fraction_callback();
@@ -291,30 +204,37 @@ void register_render(CLI::App& app) {
   auto* c = app.add_subcommand(
       "render", "Preview images of a BRDF on objects under environment maps and lights");
   c->footer(
-      "A spectral path tracer (Embree 3): hero wavelengths 360-830 nm, next-event estimation and\n"
-      "BRDF sampling combined by multiple importance sampling (power heuristic). Output: linear\n"
-      "sRGB (D65) radiance in .exr, tone-mapped sRGB in .png (--exposure stops, then clipped).\n"
-      "Scenes: cylinders (Dong 2015 Fig. 10: two cylinder sections, the brushing direction\n"
-      "horizontal on the left and vertical on the right), plate (Dong Fig. 13: seen from above,\n"
-      "a disk light spanning 9 deg, 23 deg to the left, unless lights are given), sphere, vase\n"
-      "(a surface of revolution), obj (--obj FILE.obj), furnace_sphere.\n"
-      "World frame: y up, the camera looks along -z (the plate: down -y, image up = -z).\n"
-      "Lights: --envmap FILE (.exr or Radiance .hdr, equirectangular, row 0 = zenith, the middle\n"
-      "column straight ahead of the camera); --point X,Y,Z:R,G,B (intensity, W/sr per channel);\n"
-      "--sphere-light X,Y,Z,RADIUS:R,G,B and --disk-light X,Y,Z,NX,NY,NZ,RADIUS:R,G,B (radiance);\n"
-      "with no light at all, a uniform white sky. Radiance 1 = D65 white of luminance 1.\n"
-      "BRDFs: microfacet (--model/--alpha* or --ndf FILE), Kirchhoff (--kirchhoff DK.npy), Sun\n"
-      "2002 (--sun S), --mirror, each with a material's Fresnel term (--metal, default Al; "
-      "--n/--k;\n"
-      "--nk-csv; --r0; --color; --fresnel); --lambertian A; an SH-matrix BRDF (--sh FILE.shbrdf,\n"
-      "grey, its own reflectance); an ellipsoid parameter texture (--texture TEX.exr from\n"
-      "`microbrdf texture`, each texel's fit with the material's Fresnel term; --uv-scale =\n"
-      "texture repeats per scene unit).\n"
-      "Sun 2002 options: --sun-form standard|published, --sun-ftp both|view|light|none (the rows\n"
-      "of Sun's Fig. 8), --s-texture FILE (smoothness from an image's grey value mapped to\n"
-      "--s-range MIN,MAX; replaces --sun) and --color-texture FILE (each texel's sRGB colour as\n"
-      "a metal of eta = 1, Sun 5.2; replaces the material flags): PNG, EXR or HDR images, u along\n"
-      "the columns, v up the rows, wrapping (Sun's Fig. 11).\n"
+      std::string(
+          "A spectral path tracer (Embree 3): hero wavelengths 360-830 nm, next-event estimation "
+          "and\n"
+          "BRDF sampling combined by multiple importance sampling (power heuristic). Output: "
+          "linear\n"
+          "sRGB (D65) radiance in .exr, tone-mapped sRGB in .png (--exposure stops, then "
+          "clipped).\n"
+          "Scenes: cylinders (Dong 2015 Fig. 10: two cylinder sections, the brushing direction\n"
+          "horizontal on the left and vertical on the right), plate (Dong Fig. 13: seen from "
+          "above,\n"
+          "a disk light spanning 9 deg, 23 deg to the left, unless lights are given), sphere, "
+          "vase\n"
+          "(a surface of revolution), obj (--obj FILE.obj), furnace_sphere.\n"
+          "World frame: y up, the camera looks along -z (the plate: down -y, image up = -z).\n"
+          "Lights: --envmap FILE (.exr or Radiance .hdr, equirectangular, row 0 = zenith, the "
+          "middle\n"
+          "column straight ahead of the camera); --point X,Y,Z:R,G,B (intensity, W/sr per "
+          "channel);\n"
+          "--sphere-light X,Y,Z,RADIUS:R,G,B and --disk-light X,Y,Z,NX,NY,NZ,RADIUS:R,G,B "
+          "(radiance);\n"
+          "with no light at all, a uniform white sky. Radiance 1 = D65 white of luminance 1.\n"
+          "BRDFs: microfacet (--model/--alpha* or --ndf FILE), Kirchhoff (--kirchhoff DK.npy), "
+          "Sun\n"
+          "2002 (--sun S), --mirror, each with a material's Fresnel term (--metal, default Al; "
+          "--n/--k;\n"
+          "--nk-csv; --r0; --color; --fresnel); --lambertian A; an SH-matrix BRDF (--sh "
+          "FILE.shbrdf,\n"
+          "grey, its own reflectance); an ellipsoid parameter texture (--texture TEX.exr from\n"
+          "`microbrdf texture`, each texel's fit with the material's Fresnel term; --uv-scale =\n"
+          "texture repeats per scene unit).\n") +
+      kRenderSunHelp +
       "The BRDF's x axis follows --brushing linear (the image's horizontal turned by\n"
       "--brush-angle about the normal) or rotational (circles about the object's axis).\n\n"
       "Examples:\n"
@@ -338,21 +258,7 @@ void register_render(CLI::App& app) {
   c->add_option("--uv-scale", a->uv_scale, "Texture repeats per scene unit")->capture_default_str();
   add_brdf_flags(c, a->spec, kFlagAllBrdfs | kFlagTexture);
   add_material_flags(c, a->spec, "default: Al");
-  c->add_option("--sun-form", a->sun_form,
-                "With --sun: standard (microfacet form) or published (eq. 3.5.3 as printed)")
-      ->capture_default_str();
-  c->add_option("--sun-ftp", a->sun_ftp,
-                "With --sun: free travel probabilities both, view (viewer only), light or none "
-                "(Sun's Fig. 8 rows)")
-      ->capture_default_str();
-  c->add_option("--s-texture", a->s_texture,
-                "Sun 2002 BRDF with the smoothness from an image (.png/.exr/.hdr): grey value "
-                "0..1 mapped linearly to --s-range; replaces --sun");
-  c->add_option("--s-range", a->s_range, "With --s-texture: MIN,MAX smoothness for black, white")
-      ->capture_default_str();
-  c->add_option("--color-texture", a->color_texture,
-                "With --sun or --s-texture: each texel's sRGB colour as a metal (eta = 1, kappa "
-                "from the colour's reflectance spectrum; Sun 5.2) instead of --metal");
+  add_render_sun_flags(c, a->sun);
   c->add_option("--envmap", a->envmap, "Equirectangular environment map (.exr or .hdr)");
   c->add_option("--env-scale", a->env_scale, "Multiplies the environment map")
       ->capture_default_str();

@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "microbrdf/fresnel.hpp"
@@ -42,6 +43,25 @@ struct SunTextureOptions {
   FtpTerms ftp = FtpTerms::Both;
   std::shared_ptr<const Fresnel> fresnel;  ///< where there is no colour map (null: R = 1)
 };
+
+/// "MIN,MAX" (0 < MIN <= MAX), the smoothness range of a smoothness map. InputError otherwise.
+std::pair<double, double> parse_s_range(const std::string& text);
+
+/// The renderer's Sun 2002 options as typed on its command line (`render --sun-form, --sun-ftp,
+/// --s-texture, --s-range, --color-texture`).
+struct SunRenderOptions {
+  std::string form = "standard", ftp = "both", s_texture, s_range = "1,20", color_texture;
+  /// Whether any differs from the plain `--sun S` (then make_sun_svbrdf builds the material).
+  bool given() const;
+  /// Parses form, ftp and the range (InputError naming the value), reading no file.
+  void check() const;
+};
+
+/// The material of those options: SunBrdf (as a UniformSvbrdf) without textures, else a
+/// SunTextureSvbrdf reading the images (FileError naming the file). `s` is the smoothness of
+/// `--sun` (unused with a smoothness map), `fresnel` the material (unused with a colour map).
+std::shared_ptr<const Svbrdf> make_sun_svbrdf(const SunRenderOptions& o, double s,
+                                              std::shared_ptr<const Fresnel> fresnel);
 
 /// Sun's BRDF (sun2002::brdf) with s and the Fresnel term per texel. A colour texel (sRGB) becomes
 /// a smooth reflectance spectrum of that colour (smooth_reflectance_from_linear_srgb), read as the

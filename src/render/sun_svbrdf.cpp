@@ -1,17 +1,21 @@
 // Sun 2002's BRDF with smoothness and colour textures (include/microbrdf/sun_svbrdf.hpp).
+#include "microbrdf/sun_svbrdf.hpp"
+
 #include <png.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <sstream>
+#include <tuple>
 
 #include "microbrdf/envmap_image.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/file_read.hpp"
 #include "microbrdf/microfacet.hpp"
 #include "microbrdf/spectrum.hpp"
-#include "microbrdf/sun_svbrdf.hpp"
+#include "microbrdf/sun_brdf.hpp"
 
 namespace microbrdf::sun2002 {
 namespace {
@@ -92,6 +96,50 @@ bool colour_kappa(const Eigen::Vector3d& lin, float* out) {
 }
 
 }  // namespace
+
+std::pair<double, double> parse_s_range(const std::string& text) {
+  std::string t = text;
+  std::replace(t.begin(), t.end(), ',', ' ');
+  std::istringstream is(t);
+  double lo = 0, hi = 0;
+  std::string rest;
+  if (!(is >> lo >> hi) || (is >> rest) || !(lo > 0) || !(hi >= lo) || !std::isfinite(hi))
+    throw InputError("s-range '" + text + "': expected MIN,MAX with 0 < MIN <= MAX");
+  return {lo, hi};
+}
+
+bool SunRenderOptions::given() const {
+  return form != "standard" || ftp != "both" || !s_texture.empty() || !color_texture.empty();
+}
+
+void SunRenderOptions::check() const {
+  (void)parse_brdf_form(form);
+  (void)parse_ftp_terms(ftp);
+  (void)parse_s_range(s_range);
+}
+
+std::shared_ptr<const Svbrdf> make_sun_svbrdf(const SunRenderOptions& o, double s,
+                                              std::shared_ptr<const Fresnel> fresnel) {
+  o.check();
+  const auto form = parse_brdf_form(o.form);
+  const auto ftp = parse_ftp_terms(o.ftp);
+  if (o.s_texture.empty() && o.color_texture.empty())
+    return std::make_shared<UniformSvbrdf>(
+        std::make_shared<SunBrdf>(s, form, std::move(fresnel), ftp));
+  SunTextureOptions t;
+  t.s = s;
+  t.form = form;
+  t.ftp = ftp;
+  if (!o.s_texture.empty()) {
+    t.s_map = read_texture_image(o.s_texture);
+    std::tie(t.s_min, t.s_max) = parse_s_range(o.s_range);
+  }
+  if (!o.color_texture.empty())
+    t.color_map = read_texture_image(o.color_texture);
+  else
+    t.fresnel = std::move(fresnel);
+  return std::make_shared<SunTextureSvbrdf>(std::move(t));
+}
 
 TextureImage read_texture_image(const std::string& path) {
   require_regular_file(path);
