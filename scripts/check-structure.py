@@ -52,7 +52,7 @@ PUBLIC_HEADERS = {
     "measured_ndf": "brdf", "rgl_bsdf": "brdf", "rgl_coords": "brdf", "tensor_file": "brdf",
     # experiments and products built on BRDFs
     "fit": "fit", "microscene": "simulate", "simulate": "simulate", "goniometer": "simulate",
-    "render": "render", "envmap_image": "render", "texture": "texture", "measured_compare": "fit", "export": "export",
+    "render": "render", "envmap_image": "render", "sun_svbrdf": "render", "texture": "texture", "measured_compare": "fit", "export": "export",
     "scene_export": "export",
     "predict": "report",
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "cli_common.hpp"
@@ -13,6 +14,7 @@
 #include "microbrdf/render.hpp"
 #include "microbrdf/texture.hpp"
 #include "microbrdf/units.hpp"
+#include "render_sun.hpp"
 #include "spec_flags.hpp"
 
 namespace microbrdf::cli {
@@ -21,6 +23,7 @@ namespace {
 struct RenderArgs {
   SpecFlags spec;  // BRDF and material
   std::string scene = "cylinders", obj, brushing = "linear", brush_angle = "0";
+  sun2002::SunRenderOptions sun;  // Sun 2002 options (Figs. 8 and 11)
   double uv_scale = 1;
   // lights
   std::string envmap, env_rotation = "0";
@@ -33,6 +36,7 @@ struct RenderArgs {
   std::string mis = "mis";
   std::string sampler = "sobol";
   double exposure = 0;
+  bool normalize = false;
   std::vector<std::string> outputs;
   bool json = false, quiet = false;
 };
@@ -60,12 +64,6 @@ void parse_light(const std::string& flag, const std::string& text, std::size_t n
   rgb = c.size() == 3 ? Eigen::Vector3d(c[0], c[1], c[2]) : Eigen::Vector3d::Constant(c[0]);
   if (!(rgb.minCoeff() >= 0) || !rgb.allFinite())
     throw InputError(flag + " '" + text + "': colour values must be finite and >= 0");
-}
-
-/// One material for the whole scene (the cylinder pair turns it by 90 degrees on the right).
-std::vector<std::shared_ptr<const Svbrdf>> make_materials(const RenderArgs& a) {
-  const BrdfSpec b = brdf_spec(a.spec);
-  return {make_svbrdf(b, material_spec(a.spec, MaterialSpec::named_metal("Al")))};
 }
 
 RenderLights make_lights(const RenderArgs& a, PreviewScene scene) {
@@ -110,13 +108,15 @@ void preflight(const RenderArgs& a) {
   if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
   check_spec_files(pre, a.spec);
   if (!a.obj.empty()) pre.input("--obj", a.obj);
+  if (!a.sun.s_texture.empty()) pre.input("--s-texture", a.sun.s_texture);
+  if (!a.sun.color_texture.empty()) pre.input("--color-texture", a.sun.color_texture);
   pre.require(a.spp >= 1, "--spp", "must be >= 1 (got " + std::to_string(a.spp) + ")");
   pre.require((a.width > 0 ? a.width : a.size) >= 1 && (a.height > 0 ? a.height : a.size) >= 1,
               "--size", "the image needs at least 1 x 1 pixels");
   pre.positive("--env-scale", a.env_scale);
   pre.done();
   (void)parse_render_sampler(a.sampler, "--sampler");
-  (void)brdf_spec(a.spec);  // the BRDF and material flags, before any file is read
+  (void)render_brdf_spec(a.spec, a.sun);  // the BRDF and material flags, before any file
   (void)material_spec(a.spec, MaterialSpec::named_metal("Al"));
 }
 
@@ -153,16 +153,17 @@ void run(RenderArgs& a) {
   else
     throw InputError("--mis must be mis, brdf or light");
   opt.sampler = parse_render_sampler(a.sampler, "--sampler");
-  const auto mats = make_materials(a);
+  const auto mats = render_materials(a.spec, a.sun);
   const auto lights = make_lights(a, sc.kind);
   Progress progress("render", a.quiet);
   if (!a.quiet) opt.progress = progress.fraction_callback();
   const RenderImage img = render(sc, mats, lights, opt);
+  const double png_exposure = a.exposure + (a.normalize ? normalizing_exposure(img) : 0.0);
   for (const auto& o : a.outputs) {
     if (o.size() >= 4 && (o.substr(o.size() - 4) == ".exr" || o.substr(o.size() - 4) == ".EXR"))
       write_render_exr(img, o);
     else
-      write_render_png(img, o, a.exposure);
+      write_render_png(img, o, png_exposure);
   }
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < img.rgb.size() / 3; ++i)
@@ -185,6 +186,7 @@ void run(RenderArgs& a) {
                 {"rays", img.rays},
                 {"rays_per_second", double(img.rays) / std::max(img.seconds, 1e-9)},
                 {"mean_linear_srgb", {mean[0], mean[1], mean[2]}},
+                {"png_exposure", png_exposure},
                 {"settings", img.settings}});
   } else {
     std::printf("%s\n  %dx%d, %d spp in %.2f s (%.3g samples/s, %.3g rays/s); wrote",
@@ -202,25 +204,37 @@ void register_render(CLI::App& app) {
   auto* c = app.add_subcommand(
       "render", "Preview images of a BRDF on objects under environment maps and lights");
   c->footer(
-      "A spectral path tracer (Embree 3): hero wavelengths 360-830 nm, next-event estimation and\n"
-      "BRDF sampling combined by multiple importance sampling (power heuristic). Output: linear\n"
-      "sRGB (D65) radiance in .exr, tone-mapped sRGB in .png (--exposure stops, then clipped).\n"
-      "Scenes: cylinders (Dong 2015 Fig. 10: two cylinder sections, the brushing direction\n"
-      "horizontal on the left and vertical on the right), plate (Dong Fig. 13: seen from above,\n"
-      "a disk light spanning 9 deg, 23 deg to the left, unless lights are given), sphere, vase\n"
-      "(a surface of revolution), obj (--obj FILE.obj), furnace_sphere.\n"
-      "World frame: y up, the camera looks along -z (the plate: down -y, image up = -z).\n"
-      "Lights: --envmap FILE (.exr or Radiance .hdr, equirectangular, row 0 = zenith, the middle\n"
-      "column straight ahead of the camera); --point X,Y,Z:R,G,B (intensity, W/sr per channel);\n"
-      "--sphere-light X,Y,Z,RADIUS:R,G,B and --disk-light X,Y,Z,NX,NY,NZ,RADIUS:R,G,B (radiance);\n"
-      "with no light at all, a uniform white sky. Radiance 1 = D65 white of luminance 1.\n"
-      "BRDFs: microfacet (--model/--alpha* or --ndf FILE), Kirchhoff (--kirchhoff DK.npy), Sun\n"
-      "2002 (--sun S), --mirror, each with a material's Fresnel term (--metal, default Al; "
-      "--n/--k;\n"
-      "--nk-csv; --r0; --color; --fresnel); --lambertian A; an SH-matrix BRDF (--sh FILE.shbrdf,\n"
-      "grey, its own reflectance); an ellipsoid parameter texture (--texture TEX.exr from\n"
-      "`microbrdf texture`, each texel's fit with the material's Fresnel term; --uv-scale =\n"
-      "texture repeats per scene unit).\n"
+      std::string(
+          "A spectral path tracer (Embree 3): hero wavelengths 360-830 nm, next-event estimation "
+          "and\n"
+          "BRDF sampling combined by multiple importance sampling (power heuristic). Output: "
+          "linear\n"
+          "sRGB (D65) radiance in .exr, tone-mapped sRGB in .png (--exposure stops, then "
+          "clipped).\n"
+          "Scenes: cylinders (Dong 2015 Fig. 10: two cylinder sections, the brushing direction\n"
+          "horizontal on the left and vertical on the right), plate (Dong Fig. 13: seen from "
+          "above,\n"
+          "a disk light spanning 9 deg, 23 deg to the left, unless lights are given), sphere, "
+          "vase\n"
+          "(a surface of revolution), obj (--obj FILE.obj), furnace_sphere.\n"
+          "World frame: y up, the camera looks along -z (the plate: down -y, image up = -z).\n"
+          "Lights: --envmap FILE (.exr or Radiance .hdr, equirectangular, row 0 = zenith, the "
+          "middle\n"
+          "column straight ahead of the camera); --point X,Y,Z:R,G,B (intensity, W/sr per "
+          "channel);\n"
+          "--sphere-light X,Y,Z,RADIUS:R,G,B and --disk-light X,Y,Z,NX,NY,NZ,RADIUS:R,G,B "
+          "(radiance);\n"
+          "with no light at all, a uniform white sky. Radiance 1 = D65 white of luminance 1.\n"
+          "BRDFs: microfacet (--model/--alpha* or --ndf FILE), Kirchhoff (--kirchhoff DK.npy), "
+          "Sun\n"
+          "2002 (--sun S), --mirror, each with a material's Fresnel term (--metal, default Al; "
+          "--n/--k;\n"
+          "--nk-csv; --r0; --color; --fresnel); --lambertian A; an SH-matrix BRDF (--sh "
+          "FILE.shbrdf,\n"
+          "grey, its own reflectance); an ellipsoid parameter texture (--texture TEX.exr from\n"
+          "`microbrdf texture`, each texel's fit with the material's Fresnel term; --uv-scale =\n"
+          "texture repeats per scene unit).\n") +
+      kRenderSunHelp +
       "The BRDF's x axis follows --brushing linear (the image's horizontal turned by\n"
       "--brush-angle about the normal) or rotational (circles about the object's axis).\n\n"
       "Examples:\n"
@@ -244,6 +258,7 @@ void register_render(CLI::App& app) {
   c->add_option("--uv-scale", a->uv_scale, "Texture repeats per scene unit")->capture_default_str();
   add_brdf_flags(c, a->spec, kFlagAllBrdfs | kFlagTexture);
   add_material_flags(c, a->spec, "default: Al");
+  add_render_sun_flags(c, a->sun);
   c->add_option("--envmap", a->envmap, "Equirectangular environment map (.exr or .hdr)");
   c->add_option("--env-scale", a->env_scale, "Multiplies the environment map")
       ->capture_default_str();
@@ -270,6 +285,9 @@ void register_render(CLI::App& app) {
                 "(plain Monte Carlo)")
       ->capture_default_str();
   c->add_option("--exposure", a->exposure, "Exposure of the PNG, stops")->capture_default_str();
+  c->add_flag("--normalize", a->normalize,
+              "Scale the PNG so that its brightest pixels (99.9th percentile of the largest "
+              "channel) are white, as Sun 2002 scales each image; --exposure adds to it");
   c->add_option("-o,--output", a->outputs, "Output .png and/or .exr (repeatable)");
   c->add_flag("--json", a->json, "Print a JSON summary (timing, rays) on stdout");
   c->add_flag("--quiet", a->quiet, "No progress on stderr");

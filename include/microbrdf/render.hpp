@@ -115,6 +115,9 @@ RenderImage render(const RenderScene& scene,
 
 /// Linear EXR (half floats, RGB) with the render settings in the header; atomic.
 void write_render_exr(const RenderImage& img, const std::string& path);
+/// The exposure (stops) that takes the `percentile` of the pixels' largest channel to 1 (Sun
+/// 2002 scales each image to its maximum; 0.999 ignores a few fireflies); 0 for a black image.
+double normalizing_exposure(const RenderImage& img, double percentile = 0.999);
 /// Tone-mapped (exposure, then sRGB transfer, clipped) 8-bit PNG; atomic.
 void write_render_png(const RenderImage& img, const std::string& path, double exposure_stops = 0);
 

@@ -72,9 +72,24 @@ enum class BrdfForm {
   Standard,
 };
 
+/// Which free travel probabilities the BRDF includes (the rows of Sun's Fig. 8): both
+/// Gamma_0(th_i) Gamma_0(th_o) (eq. 3.5.3, the default), only the viewer's Gamma_0(th_o) (the
+/// second row; wo = towards the viewer), only the light's Gamma_0(th_i), or none (the first
+/// row). Without both terms the BRDF is not reciprocal (ViewOnly, LightOnly) or not energy
+/// conserving at grazing angles (None): for reproducing the paper's comparison only.
+enum class FtpTerms { Both, ViewOnly, LightOnly, None };
+
+/// "both", "view", "light", "none" (InputError otherwise) and back.
+FtpTerms parse_ftp_terms(const std::string& name);
+std::string ftp_terms_name(FtpTerms t);
+/// "standard" or "published" (InputError otherwise) and back.
+BrdfForm parse_brdf_form(const std::string& name);
+std::string brdf_form_name(BrdfForm f);
+
 /// One evaluation. Returns 0 when either direction is at or below the horizon.
 double brdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wo, double s, BrdfForm form,
-            const Fresnel* fresnel = nullptr, double wavelength_m = 555e-9);
+            const Fresnel* fresnel = nullptr, double wavelength_m = 555e-9,
+            FtpTerms ftp = FtpTerms::Both);
 
 /// The factor AsPublished / Standard = (h.n) cos th_i cos th_o / (wi.h) for a pair of
 /// directions above the horizon (0 otherwise).

@@ -17,12 +17,13 @@ namespace microbrdf::sun2002 {
 /// exact, BeckmannDistribution::sample_visible) and reflects: pdf(wo) = D_wi(h) / (4 wi.h),
 /// weight = f cos(theta_o) / pdf (for the standard form this is
 /// R Gamma_0(th_i) Gamma_0(th_o) sigma+(wi) / (wi.n), <= R Gamma_0 Gamma_0 / G1(wi)). Samples
-/// below the horizon are dropped (no sample).
+/// below the horizon are dropped (no sample). `ftp` leaves out free travel probabilities as in
+/// the rows of Sun's Fig. 8 (the sampling is the same).
 class SunBrdf final : public Brdf {
  public:
   /// s > 0 (InputError otherwise); a null Fresnel means R = 1.
   explicit SunBrdf(double s, BrdfForm form = BrdfForm::Standard,
-                   std::shared_ptr<const Fresnel> f = nullptr);
+                   std::shared_ptr<const Fresnel> f = nullptr, FtpTerms ftp = FtpTerms::Both);
   double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
   std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
                                    double wavelength_m) const override;
@@ -30,11 +31,13 @@ class SunBrdf final : public Brdf {
   std::string describe() const override;
   double smoothness() const { return s_; }
   BrdfForm form() const { return form_; }
+  FtpTerms ftp_terms() const { return ftp_; }
   const Fresnel* fresnel() const { return f_.get(); }
 
  private:
   double s_;
   BrdfForm form_;
+  FtpTerms ftp_;
   std::shared_ptr<const Fresnel> f_;
   BeckmannDistribution d_;
 };

@@ -16,11 +16,11 @@ double checked_s(double s) {
 }
 }  // namespace
 
-SunBrdf::SunBrdf(double s, BrdfForm form, std::shared_ptr<const Fresnel> f)
-    : s_(checked_s(s)), form_(form), f_(std::move(f)), d_(2 / checked_s(s)) {}
+SunBrdf::SunBrdf(double s, BrdfForm form, std::shared_ptr<const Fresnel> f, FtpTerms ftp)
+    : s_(checked_s(s)), form_(form), ftp_(ftp), f_(std::move(f)), d_(2 / checked_s(s)) {}
 
 double SunBrdf::eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const {
-  return brdf(wi, wo, s_, form_, f_.get(), wavelength_m);
+  return brdf(wi, wo, s_, form_, f_.get(), wavelength_m, ftp_);
 }
 
 std::optional<BrdfSample> SunBrdf::sample(const Vec3& wi, double u1, double u2,
@@ -53,7 +53,10 @@ double SunBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
 std::string SunBrdf::describe() const {
   return "Sun 2002 eq. 3.5.3 (" +
          std::string(form_ == BrdfForm::AsPublished ? "as published" : "standard microfacet form") +
-         "), s = " + std::to_string(s_) + ", " + (f_ ? f_->describe() : std::string("R = 1"));
+         "), s = " + std::to_string(s_) +
+         (ftp_ == FtpTerms::Both ? std::string()
+                                 : ", free travel probabilities: " + ftp_terms_name(ftp_)) +
+         ", " + (f_ ? f_->describe() : std::string("R = 1"));
 }
 
 }  // namespace microbrdf::sun2002

@@ -48,8 +48,40 @@ const std::array<std::pair<double, double>, 16>& gauss_legendre16() {
 
 }  // namespace
 
+FtpTerms parse_ftp_terms(const std::string& name) {
+  if (name == "both") return FtpTerms::Both;
+  if (name == "view") return FtpTerms::ViewOnly;
+  if (name == "light") return FtpTerms::LightOnly;
+  if (name == "none") return FtpTerms::None;
+  throw InputError("free travel probabilities '" + name + "': give both, view, light or none");
+}
+
+std::string ftp_terms_name(FtpTerms t) {
+  switch (t) {
+    case FtpTerms::Both:
+      return "both";
+    case FtpTerms::ViewOnly:
+      return "view";
+    case FtpTerms::LightOnly:
+      return "light";
+    case FtpTerms::None:
+      return "none";
+  }
+  return "both";
+}
+
+BrdfForm parse_brdf_form(const std::string& name) {
+  if (name == "standard") return BrdfForm::Standard;
+  if (name == "published") return BrdfForm::AsPublished;
+  throw InputError("Sun 2002 BRDF form '" + name + "': give standard or published");
+}
+
+std::string brdf_form_name(BrdfForm f) {
+  return f == BrdfForm::AsPublished ? "published" : "standard";
+}
+
 double brdf(const Eigen::Vector3d& wi_in, const Eigen::Vector3d& wo_in, double s, BrdfForm form,
-            const Fresnel* fresnel, double wavelength_m) {
+            const Fresnel* fresnel, double wavelength_m, FtpTerms ftp) {
   if (!(s > 0) || !std::isfinite(s))
     throw InputError("Sun 2002 BRDF: smoothness s must be positive, got " + std::to_string(s));
   const double ni = wi_in.norm(), no = wo_in.norm();
@@ -61,7 +93,9 @@ double brdf(const Eigen::Vector3d& wi_in, const Eigen::Vector3d& wo_in, double s
   const double ch = h.z();      // cos(theta), theta = polar angle of the micro-normal
   const double cd = wi.dot(h);  // cos(delta/2), delta = angle between wi and wo
   const double R = fresnel ? fresnel->eval(cd, wavelength_m) : 1.0;
-  const double G = ftp_cos(ci, s) * ftp_cos(co, s);
+  const bool light = ftp == FtpTerms::Both || ftp == FtpTerms::LightOnly;
+  const bool view = ftp == FtpTerms::Both || ftp == FtpTerms::ViewOnly;
+  const double G = (light ? ftp_cos(ci, s) : 1.0) * (view ? ftp_cos(co, s) : 1.0);
   if (form == BrdfForm::AsPublished) {
     // Eq. 3.5.3 exactly as printed.
     const double tan2 = (1 - ch * ch) / (ch * ch);
