@@ -288,13 +288,13 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   const auto measured = report::measured_brdf(ndfs, fresnel);
   timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, fresnel, measured); });
   c.log("[4/6] renders");
-  RenderImage cylinders;
+  std::vector<report::ReferenceRender> references;
   timed("renders",
-        [&] { summary["renders"] = report::stage_render(c, measured, timing, &cylinders); });
+        [&] { summary["renders"] = report::stage_render(c, measured, timing, &references); });
   if (o.render)
     timed("render_comparison", [&] {
       summary["render_comparison"] =
-          report::stage_compare_renders(c, ndfs, fits, fresnel, measured, cylinders, timing);
+          report::stage_compare_renders(c, ndfs, fits, fresnel, measured, references, timing);
     });
   c.log("[5/6] texture");
   timed("texture", [&] { summary["texture"] = report::stage_texture(c, fresnel, timing); });
