@@ -127,7 +127,8 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
                   " under the neutral studio map (two softboxes, no colour cast): the "
                   "material's own colour";
       s.name += "_studio";
-      jobs.push_back({s, s.name, w, o.render_spp, false, false, "studio"});
+      // Half size: context beside the compared scenes, not compared itself.
+      jobs.push_back({s, s.name, std::max(16, w / 2), o.render_spp, false, false, "studio"});
     }
   }
   {

@@ -374,9 +374,28 @@ void section_fits(Page& p, json& s) {
        "sqrt(mean (T-M)^2), relative L2 = |T-M|/|T|.</p>\n";
   for (auto& f : s["fits"])
     if (f.contains("compare_image"))
-      p << "<figure>" << p.image(str(f["compare_image"]), "ellipsoid fit comparison", 1100)
-        << "<figcaption>Ellipsoid fit: measured | fit | residual (M - T)/max T, zoomed on the "
-           "region of interest.</figcaption></figure>\n";
+      // Colour bars under the three panels (320 px each, 10 px gaps, 1010 px in all): the two
+      // NDFs on a log scale, 4 decades below the table's maximum; the residual diverging.
+      p << "<figure style=\"width:1010px;max-width:100%\">"
+        << p.image(str(f["compare_image"]), "ellipsoid fit comparison")
+        << "<div style=\"display:flex;gap:0.99%;padding-left:0.99%\">"
+        << "<div style=\"width:31.68%\"><div class=\"cbar\" style=\"background:"
+        << report::colour_gradient("to right")
+        << "\"></div><div class=\"cbar-l\"><span>10<sup>-4</sup> max</span><span>D (log), "
+           "measured</span><span>max (printed)</span></div></div>"
+        << "<div style=\"width:31.68%\"><div class=\"cbar\" style=\"background:"
+        << report::colour_gradient("to right")
+        << "\"></div><div class=\"cbar-l\"><span>10<sup>-4</sup> max</span><span>D (log), "
+           "fit</span><span>max</span></div></div>"
+        << "<div style=\"width:31.68%\"><div class=\"cbar\" style=\"background:linear-"
+           "gradient(to right,rgb(51,51,255),#fff,rgb(255,51,51))\"></div><div "
+           "class=\"cbar-l\"><span>&minus;R</span><span>0</span><span>+R (R printed, a "
+           "fraction of max)</span></div></div></div>"
+        << "<figcaption>Ellipsoid fit: measured | fit | residual (M &minus; T) / max T, zoomed "
+           "on the region of interest. Measured and fit share one log colour scale from the "
+           "table's maximum (printed under the first panel, in 1/sr) down 4 decades; the "
+           "residual runs from &minus;R (blue, fit below the measurement) to +R (red), R "
+           "printed under it.</figcaption></figure>\n";
 }
 
 void section_brdf(Page& p, json& s) {
