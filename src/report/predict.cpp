@@ -284,6 +284,7 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   c.log("[2/6] fits");
   timed("fits", [&] { summary["fits"] = report::stage_fits(c, ndfs, fits, timing); });
   timed("ndf_cuts", [&] { summary["ndf_cuts"] = report::stage_ndf_slices(c, ndfs, fits); });
+  timed("exports", [&] { summary["exports"] = report::stage_exports(c, fits); });
   c.log("[3/6] BRDF slices");
   const auto measured = report::measured_brdf(ndfs, fresnel);
   timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, fresnel, measured); });

@@ -121,6 +121,9 @@ RenderLights predict_lights(const PredictOptions& o);
 std::string predict_lights_description(const PredictOptions& o);
 /// Render options of a predict render of width x height pixels (spp, seed, threads from `o`).
 RenderOptions predict_render_options(const PredictOptions& o, int width, int height);
+/// The fits as Mitsuba 3 and pbrt-v4 rough-conductor materials (each with a sphere scene) in
+/// export/ of the output folder; returns the "exports" object.
+nlohmann::json stage_exports(const Context& c, const std::vector<FitResult>& fits);
 /// Texture synthesis from strips; returns the "texture" object.
 nlohmann::json stage_texture(const Context& c, const std::shared_ptr<const Fresnel>& fresnel,
                              nlohmann::json& timing);

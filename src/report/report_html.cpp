@@ -351,6 +351,8 @@ void section_ndf(Page& p, json& s) {
   p << "</div>\n";
 }
 
+void exports_block(Page& p, json& s);
+
 void section_fits(Page& p, json& s) {
   p << "<h2 id=\"s4\">4. Parametric fits of the filtered NDF</h2>\n<table>\n"
     << row({"model", "alpha_x", "alpha_y", "theta_x", "theta_y", "theta_z", "rms error (1/sr)",
@@ -396,6 +398,39 @@ void section_fits(Page& p, json& s) {
            "table's maximum (printed under the first panel, in 1/sr) down 4 decades; the "
            "residual runs from &minus;R (blue, fit below the measurement) to +R (red), R "
            "printed under it.</figcaption></figure>\n";
+  exports_block(p, s);
+}
+
+// Links to the renderer-ready materials predict wrote (summary "exports").
+void exports_block(Page& p, json& s) {
+  if (!s.contains("exports") || !s["exports"].is_object()) return;
+  json& e = s["exports"];
+  p << "<h3 id=\"exports\">Renderer-ready materials</h3>\n<p>Each fit as a GGX rough conductor "
+       "with this run's optical constants, with a sphere scene under a constant white emitter "
+       "(in <code>export/</code> beside this page; the links open the files):</p>\n<table>\n"
+    << row({"fit", "GGX alpha_u", "GGX alpha_v", "Mitsuba 3", "pbrt-v4", "approximations"}, true);
+  for (auto& m : e["materials"]) {
+    auto links = [&](json& files) {
+      std::string l;
+      for (auto& f : files) {
+        const std::string path = str(f);
+        l += (l.empty() ? "" : " ");
+        l += "<a href=\"" + escape(path) + "\"><code>" +
+             escape(path.substr(path.find_last_of('/') + 1)) + "</code></a>";
+      }
+      return l;
+    };
+    std::string notes;
+    for (auto& n : m["notes"]) notes += (notes.empty() ? "" : "; ") + escape(str(n));
+    p << row({escape(str(m["model"])), n4(m["alpha_u"]), n4(m["alpha_v"]), links(m["mitsuba"]),
+              links(m["pbrt"]), notes.empty() ? "none (the fit is a GGX)" : notes});
+  }
+  p << "</table>\n<p class=\"cap\">The measured (tabulated) BRDF as an RGL <code>.bsdf</code> "
+       "table, for Mitsuba's and pbrt's <code>measured</code> material, is not written here (a "
+       "fine anisotropic table takes minutes): from this folder, <code>"
+    << escape(str(e["bsdf_command"]))
+    << "</code>, then <code>microbrdf export mitsuba --bsdf measured.bsdf -o DIR</code> (or "
+       "<code>pbrt</code>).</p>\n";
 }
 
 void section_brdf(Page& p, json& s) {
