@@ -64,13 +64,25 @@ std::vector<PredictScene> predict_scenes(const PredictOptions& o) {
   s[1].caption = "Sphere with the measured BRDF (brushing along the camera's horizontal)";
   s[2].name = "plate";
   s[2].geometry.kind = PreviewScene::Plate;
-  s[2].lights.disks.push_back(dong_plate_light());
+  // The light of Dong Fig. 13 (dong_plate_light) moved to 6 deg from the camera and shrunk to
+  // 3 deg across: its mirror image falls on the plate (0.67 of the half-width left of the
+  // centre), so even a narrow lobe shows a highlight, shaped by the lobe.
+  {
+    RenderLights::Disk d = dong_plate_light();
+    const double dist = d.centre.norm(), a = 6 * M_PI / 180, half = 1.5 * M_PI / 180;
+    const Eigen::Vector3d dir(-std::sin(a), std::cos(a), 0);
+    d.centre = dist * dir;
+    d.normal = -dir;
+    d.radius = dist * std::tan(half);
+    d.rgb_radiance = Eigen::Vector3d::Constant(1 / (std::sin(half) * std::sin(half)));
+    s[2].lights.disks.push_back(d);
+  }
   s[2].lights_text =
-      "one disk light spanning 9 deg, 23 deg left of the camera (Dong 2015 Fig. 13), nothing "
-      "else";
+      "one disk light spanning 3 deg, 6 deg left of the camera (irradiance pi on a surface "
+      "facing it), nothing else";
   s[2].caption =
-      "Flat plate seen from straight above under a small light (Dong 2015 Fig. 13): the "
-      "highlight is where the NDF has facets tilted about 11.5 deg towards the light";
+      "Flat plate (10 cm, camera 64 cm above, after Dong 2015 Fig. 13) under a small light "
+      "whose mirror image falls left of the centre: the highlight is the lobe's shape";
   return s;
 }
 

@@ -49,9 +49,9 @@ assert [x["scene"] for x in sc] == ["cylinders", "sphere", "plate"], [x["scene"]
 assert {k: v for k, v in sc[0].items()} == {k: v for k, v in rc.items() if k != "scenes"}
 for x in sc:
     n = x["noise"]
-    assert 0 <= n["rms_relative_smoothed"] <= n["rms_relative"], (x["scene"], n)
-    # This scan's slopes (~0.01) turn no light into the camera above the plate: black, no noise.
-    assert (n["rms_relative_smoothed"] > 0) == (x["scene"] != "plate"), (x["scene"], n)
+    # Smoothing averages the pixel noise away (the plate's light is mirrored into the camera,
+    # so even this narrow lobe lights it: no scene is black).
+    assert 0 < n["rms_relative_smoothed"] < n["rms_relative"], (x["scene"], n)
     assert [m["model"] for m in x["models"]] == ["ellipsoid", "beckmann", "ggx"]
     assert x["exposure_stops"] == next(r for r in s["renders"] if r["scene"] == x["scene"])["exposure_stops"]
     for m in x["models"]:
