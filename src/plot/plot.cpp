@@ -254,7 +254,86 @@ void draw_plot(cairo_t* cr, const Plot& p, const Prepared& pr, double W, double 
   const double left = 0.6 * fs + (p.y.label.empty() ? 0 : 1.6 * fs) + ylab_w + gap + tick;
   const double bottom = 0.6 * fs + (p.x.label.empty() ? 0 : 1.6 * fs) + fs + gap + tick;
   const double right = std::max(1.2 * fs, 0.5 * last_x_w + 0.4 * fs);
-  const double X0 = left, X1 = W - right, Y0 = H - bottom, Y1 = top;  // Y grows downwards
+  auto ok = [&](double x, double y) { return drawable(x, p.x.scale) && drawable(y, p.y.scale); };
+
+  // The legend's box (font 0.9 fs, set above) and where it goes: a corner of the frame that no
+  // curve, marker or band crosses, else outside the frame on the right (the frame narrows).
+  std::vector<std::size_t> entries;
+  for (std::size_t i = 0; i < p.series.size(); ++i)
+    if (!p.series[i].label.empty()) entries.push_back(i);
+  const bool legend = !entries.empty() && p.legend != LegendPlace::None;
+  double tw = 0;
+  for (auto i : entries) tw = std::max(tw, text_width(cr, p.series[i].label));
+  const double lpad = 0.5 * fs, sample = 2.2 * fs, lrow = 1.35 * fs, lm = 0.5 * fs;
+  const double bw = lpad + sample + lpad + tw + lpad,
+               bh = lpad + lrow * static_cast<double>(entries.size()) + 0.3 * lpad;
+  bool outside = false;
+  double X0 = left, X1 = W - right, Y0 = H - bottom, Y1 = top;  // Y grows downwards
+  auto corner = [&](LegendPlace pl) -> std::pair<double, double> {
+    if (outside) return {X1 + lm, Y1};
+    switch (pl) {
+      case LegendPlace::TopLeft:
+        return {X0 + lm, Y1 + lm};
+      case LegendPlace::BottomRight:
+        return {X1 - lm - bw, Y0 - lm - bh};
+      case LegendPlace::BottomLeft:
+        return {X0 + lm, Y0 - lm - bh};
+      default:
+        return {X1 - lm - bw, Y1 + lm};
+    }
+  };
+  LegendPlace place = p.legend;
+  if (legend && place == LegendPlace::Auto) {
+    // Device points of everything drawn, lines sampled every 2 px between their vertices.
+    const Map mx0{pr.x.lo, pr.x.hi, X0, X1, p.x.scale == AxisScale::Log};
+    const Map my0{pr.y.lo, pr.y.hi, Y0, Y1, p.y.scale == AxisScale::Log};
+    std::vector<std::pair<double, double>> pts;
+    auto keep = [&](double x, double y) {
+      if (x >= X0 && x <= X1 && y >= Y1 && y <= Y0) pts.emplace_back(x, y);
+    };
+    for (const auto& s : p.series) {
+      bool have = false;
+      double px = 0, py = 0;
+      for (std::size_t i = 0; i < s.x.size(); ++i) {
+        for (const std::vector<double>* v : {&s.y, &s.band_lo, &s.band_hi}) {
+          if (v->size() != s.x.size() || !ok(s.x[i], (*v)[i])) continue;
+          keep(mx0(s.x[i]), my0((*v)[i]));
+        }
+        if (!ok(s.x[i], s.y[i])) {
+          have = false;
+          continue;
+        }
+        const double x = mx0(s.x[i]), y = my0(s.y[i]);
+        if (have && has_line(s.style)) {
+          const int n = static_cast<int>(std::min(2000.0, std::hypot(x - px, y - py) / 2));
+          for (int k = 1; k < n; ++k) {
+            const double f = static_cast<double>(k) / n;
+            keep(px + f * (x - px), py + f * (y - py));
+          }
+        }
+        have = true;
+        px = x;
+        py = y;
+      }
+    }
+    std::size_t best = std::numeric_limits<std::size_t>::max();
+    for (auto c : {LegendPlace::TopRight, LegendPlace::TopLeft, LegendPlace::BottomRight,
+                   LegendPlace::BottomLeft}) {
+      auto [lx, ly] = corner(c);
+      std::size_t n = 0;
+      for (auto& [x, y] : pts)
+        n += (x >= lx - 4 && x <= lx + bw + 4 && y >= ly - 4 && y <= ly + bh + 4);
+      if (n < best) {
+        best = n;
+        place = c;
+      }
+    }
+    // Every corner covers a curve: outside, if the frame keeps at least half the width.
+    if (best > 0 && (X1 - X0) - (bw + lm) >= 0.5 * (X1 - X0)) {
+      outside = true;
+      X1 -= bw + lm;
+    }
+  }
   if (X1 - X0 < 20 || Y0 - Y1 < 20) {
     cairo_restore(cr);
     throw InputError(plot_name(p) + ": image too small for the axes and labels");
@@ -329,8 +408,6 @@ void draw_plot(cairo_t* cr, const Plot& p, const Prepared& pr, double W, double 
   cairo_save(cr);
   cairo_rectangle(cr, X0, Y1, X1 - X0, Y0 - Y1);
   cairo_clip(cr);
-  auto ok = [&](double x, double y) { return drawable(x, p.x.scale) && drawable(y, p.y.scale); };
-  std::vector<std::pair<double, double>> drawn;  // device points, for the legend placement
   for (std::size_t si = 0; si < p.series.size(); ++si) {
     const auto& s = p.series[si];
     const PlotColor c = s.color.value_or(plot_palette(si));
@@ -396,7 +473,6 @@ void draw_plot(cairo_t* cr, const Plot& p, const Prepared& pr, double W, double 
     for (std::size_t i = 0; i < s.x.size(); ++i) {
       if (!ok(s.x[i], s.y[i])) continue;
       const double x = mx(s.x[i]), y = my(s.y[i]);
-      if (x >= X0 && x <= X1 && y >= Y1 && y <= Y0) drawn.emplace_back(x, y);
       if (has_markers(s.style)) marker_path(cr, s.marker, x, y, s.marker_size);
     }
     if (has_markers(s.style)) {
@@ -407,44 +483,9 @@ void draw_plot(cairo_t* cr, const Plot& p, const Prepared& pr, double W, double 
   cairo_restore(cr);
 
   // Legend.
-  std::vector<std::size_t> entries;
-  for (std::size_t i = 0; i < p.series.size(); ++i)
-    if (!p.series[i].label.empty()) entries.push_back(i);
-  if (!entries.empty() && p.legend != LegendPlace::None) {
+  if (legend) {
     cairo_set_font_size(cr, 0.9 * fs);
-    double tw = 0;
-    for (auto i : entries) tw = std::max(tw, text_width(cr, p.series[i].label));
-    const double pad = 0.5 * fs, sample = 2.2 * fs, row = 1.35 * fs;
-    const double bw = pad + sample + pad + tw + pad,
-                 bh = pad + row * static_cast<double>(entries.size()) + 0.3 * pad;
-    const double m = 0.5 * fs;
-    auto corner = [&](LegendPlace pl) -> std::pair<double, double> {
-      switch (pl) {
-        case LegendPlace::TopLeft:
-          return {X0 + m, Y1 + m};
-        case LegendPlace::BottomRight:
-          return {X1 - m - bw, Y0 - m - bh};
-        case LegendPlace::BottomLeft:
-          return {X0 + m, Y0 - m - bh};
-        default:
-          return {X1 - m - bw, Y1 + m};
-      }
-    };
-    LegendPlace place = p.legend;
-    if (place == LegendPlace::Auto) {
-      std::size_t best = std::numeric_limits<std::size_t>::max();
-      for (auto c : {LegendPlace::TopRight, LegendPlace::TopLeft, LegendPlace::BottomRight,
-                     LegendPlace::BottomLeft}) {
-        auto [lx, ly] = corner(c);
-        std::size_t n = 0;
-        for (auto& [x, y] : drawn)
-          n += (x >= lx - 4 && x <= lx + bw + 4 && y >= ly - 4 && y <= ly + bh + 4);
-        if (n < best) {
-          best = n;
-          place = c;
-        }
-      }
-    }
+    const double pad = lpad, row = lrow;
     auto [lx, ly] = corner(place);
     cairo_rectangle(cr, lx, ly, bw, bh);
     cairo_set_source_rgba(cr, 1, 1, 1, 0.88);

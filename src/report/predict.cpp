@@ -314,17 +314,18 @@ PredictResult predict_staged(const PredictOptions& given, const std::string& out
   c.log("[2/6] fits");
   timed("fits", [&] { summary["fits"] = report::stage_fits(c, ndfs, fits, timing); });
   timed("ndf_cuts", [&] { summary["ndf_cuts"] = report::stage_ndf_slices(c, ndfs, fits); });
+  timed("exports", [&] { summary["exports"] = report::stage_exports(c, fits); });
   c.log("[3/6] BRDF slices");
   const auto measured = report::measured_brdf(ndfs, fresnel);
   timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, fresnel, measured); });
   c.log("[4/6] renders");
-  RenderImage cylinders;
+  std::vector<report::ReferenceRender> references;
   timed("renders",
-        [&] { summary["renders"] = report::stage_render(c, measured, timing, &cylinders); });
+        [&] { summary["renders"] = report::stage_render(c, measured, timing, &references); });
   if (o.render)
     timed("render_comparison", [&] {
       summary["render_comparison"] =
-          report::stage_compare_renders(c, ndfs, fits, fresnel, measured, cylinders, timing);
+          report::stage_compare_renders(c, ndfs, fits, fresnel, measured, references, timing);
     });
   c.log("[5/6] texture");
   timed("texture", [&] { summary["texture"] = report::stage_texture(c, fresnel, timing); });

@@ -1,9 +1,10 @@
-// predict stage 5b: the comparison strip. The cylinder pair of stage 5 rendered again with each
-// fitted NDF (ellipsoid, Beckmann, GGX) and D_K (with --kirchhoff), same lights, exposure, size,
-// samples and seed; each against the measured-NDF render: SSIM on the displayed luminance
-// (core/image_metrics.hpp, Wang et al. 2004), RMS relative error of the linear luminance, and
-// a false-colour difference image. The measured NDF is rendered once more with the next seed:
-// the two measured renders differ by Monte Carlo noise only, which gives the noise of one image.
+// predict stage 5b: the comparison strip. Each scene of stage 5 (the cylinder pair and the sphere
+// under the environment map, the plate under a small light) rendered again with each fitted NDF
+// (ellipsoid, Beckmann, GGX) and D_K (with --kirchhoff): same lights, exposure, size, samples and
+// seed as its measured-NDF render; each against that render: SSIM on the displayed luminance
+// (core/image_metrics.hpp, Wang et al. 2004), RMS relative error of the linear luminance, and a
+// false-colour difference image. The measured NDF is rendered once more with the next seed: the
+// two measured renders differ by Monte Carlo noise only, which gives the noise of one image.
 #include <algorithm>
 #include <cmath>
 
@@ -15,11 +16,67 @@
 namespace microbrdf::report {
 namespace {
 
-// The luminance an 8-bit PNG of the render shows (exposure 0, sRGB transfer, clipped).
-std::vector<double> displayed(const std::vector<double>& y) {
+// Standard deviation (pixels) of the Gaussian that smooths the difference images and the
+// "smoothed" RMS error.
+constexpr double kSmoothPx = 2.0;
+
+// The luminance an 8-bit PNG of the render shows (exposure, sRGB transfer, clipped).
+std::vector<double> displayed(const std::vector<double>& y, double exposure_stops) {
+  const double k = std::exp2(exposure_stops);
   std::vector<double> v(y.size());
-  for (std::size_t i = 0; i < y.size(); ++i) v[i] = srgb_encode(y[i]);
+  for (std::size_t i = 0; i < y.size(); ++i) v[i] = srgb_encode(k * y[i]);
   return v;
+}
+
+// The image smoothed by a Gaussian of `sigma` pixels (separable, 3 sigma wide, weights
+// renormalised at the borders): pixel noise falls by about 2 sqrt(pi) sigma (7x at 2 px) while
+// the models' differences, highlights many pixels wide, stay.
+std::vector<double> smoothed(const std::vector<double>& v, std::size_t w, std::size_t h,
+                             double sigma) {
+  const int r = static_cast<int>(std::ceil(3 * sigma));
+  std::vector<double> g(2 * r + 1);
+  for (int i = -r; i <= r; ++i) g[i + r] = std::exp(-0.5 * i * i / (sigma * sigma));
+  auto pass = [&](const std::vector<double>& in, bool along_x) {
+    std::vector<double> out(in.size());
+    const auto n = static_cast<std::ptrdiff_t>(along_x ? w : h);
+    for (std::size_t y = 0; y < h; ++y)
+      for (std::size_t x = 0; x < w; ++x) {
+        const auto at = static_cast<std::ptrdiff_t>(along_x ? x : y);
+        double sum = 0, wsum = 0;
+        for (int d = -r; d <= r; ++d) {
+          const std::ptrdiff_t q = at + d;
+          if (q < 0 || q >= n) continue;
+          const std::size_t i =
+              along_x ? y * w + static_cast<std::size_t>(q) : static_cast<std::size_t>(q) * w + x;
+          sum += g[d + r] * in[i];
+          wsum += g[d + r];
+        }
+        out[y * w + x] = sum / wsum;
+      }
+    return out;
+  };
+  return pass(pass(v, true), false);
+}
+
+// Half the size (2 x 2 pixel means of the linear radiance): what the report shows in the strip,
+// a quarter of the bytes of the full render (whose PNG is linked beside it).
+RenderImage half_size(const RenderImage& img) {
+  RenderImage s;
+  s.width = img.width / 2;
+  s.height = img.height / 2;
+  s.rgb.assign(static_cast<std::size_t>(s.width) * s.height * 3, 0.f);
+  const auto w = static_cast<std::size_t>(img.width);
+  for (std::size_t y = 0; y < static_cast<std::size_t>(s.height); ++y)
+    for (std::size_t x = 0; x < static_cast<std::size_t>(s.width); ++x)
+      for (std::size_t ch = 0; ch < 3; ++ch) {
+        const auto at = [&](std::size_t yy, std::size_t xx) {
+          return img.rgb[(yy * w + xx) * 3 + ch];
+        };
+        s.rgb[(y * s.width + x) * 3 + ch] =
+            0.25f * (at(2 * y, 2 * x) + at(2 * y, 2 * x + 1) + at(2 * y + 1, 2 * x) +
+                     at(2 * y + 1, 2 * x + 1));
+      }
+  return s;
 }
 
 double quantile(std::vector<double> v, double q) {
@@ -29,59 +86,65 @@ double quantile(std::vector<double> v, double q) {
   return v[k];
 }
 
-}  // namespace
-
-nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
-                                     const std::vector<FitResult>& fits,
-                                     const std::shared_ptr<const Fresnel>& fresnel,
-                                     const std::shared_ptr<const Brdf>& measured,
-                                     const RenderImage& reference, nlohmann::json& timing) {
+// One scene's strip; `prefix` ("" for the cylinder pair, whose file and timing names predate the
+// other scenes, else "<scene>_") goes into file and timing names.
+nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& models,
+                             const std::shared_ptr<const Brdf>& measured,
+                             const ReferenceRender& ref, nlohmann::json& timing) {
   const auto& o = c.opt;
-  const std::vector<NamedBrdf> models = model_brdfs(ndfs, fits, fresnel);
-  const RenderLights lights = predict_lights(o);
-  RenderScene scene;
-  scene.kind = PreviewScene::Cylinders;
-  const int w = reference.width, h = reference.height;
+  const std::string& sc = ref.scene.name;
+  const std::string prefix = sc == "cylinders" ? "" : sc + "_";
+  const int w = ref.image.width, h = ref.image.height;
+  const double ev = ref.exposure_stops;
   auto render_with = [&](const std::shared_ptr<const Brdf>& brdf, std::uint64_t seed,
                          const std::string& key) {
-    c.log("renders: comparison, cylinders with the " + key + " BRDF");
+    c.log("renders: comparison, " + sc + " with the " + key + " BRDF");
     RenderOptions ro = predict_render_options(o, w, h);
     ro.seed = seed;
-    RenderImage img = render(scene, {std::make_shared<UniformSvbrdf>(brdf)}, lights, ro);
-    timing["render_compare_" + key + "_s"] = img.seconds;
+    RenderImage img =
+        render(ref.scene.geometry, {std::make_shared<UniformSvbrdf>(brdf)}, ref.scene.lights, ro);
+    timing["render_compare_" + prefix + key + "_s"] = img.seconds;
     return img;
   };
 
-  const std::vector<double> ref_y = detail::luminance(reference.rgb);
-  const std::vector<double> ref_d = displayed(ref_y);
+  const std::vector<double> ref_y = detail::luminance(ref.image.rgb);
+  const std::vector<double> ref_d = displayed(ref_y, ev);
   const auto wz = static_cast<std::size_t>(w), hz = static_cast<std::size_t>(h);
 
   // Noise: the measured NDF again with the next seed. Var(A - B) = 2 Var(noise) for independent
   // renders, so one image's noise is their RMS relative difference / sqrt(2).
   const RenderImage again = render_with(measured, o.seed + 1, "measured_seed2");
   const std::vector<double> again_y = detail::luminance(again.rgb);
-  nlohmann::json out = {{"scene", "cylinders"},
-                        {"reference", "img/render_cylinders.png"},
-                        {"reference_model", "measured"},
-                        {"width", w},
-                        {"height", h},
-                        {"spp", o.render_spp},
-                        {"seed", o.seed},
-                        {"noise",
-                         {{"second_seed", o.seed + 1},
-                          {"rms_relative", detail::rms_relative(again_y, ref_y) / std::sqrt(2.0)},
-                          {"ssim_two_seeds", detail::ssim(displayed(again_y), ref_d, wz, hz)}}}};
+  const std::vector<double> ref_s = smoothed(ref_y, wz, hz, kSmoothPx);
+  const std::vector<double> again_s = smoothed(again_y, wz, hz, kSmoothPx);
+  nlohmann::json out = {
+      {"scene", sc},
+      {"lights", ref.scene.lights_text},
+      {"reference", ref.file},
+      {"reference_model", "measured"},
+      {"width", w},
+      {"height", h},
+      {"spp", o.render_spp},
+      {"seed", o.seed},
+      {"exposure_stops", ev},
+      {"smoothing_sigma_px", kSmoothPx},
+      {"noise",
+       {{"second_seed", o.seed + 1},
+        {"rms_relative", detail::rms_relative(again_y, ref_y) / std::sqrt(2.0)},
+        {"rms_relative_smoothed", detail::rms_relative(again_s, ref_s) / std::sqrt(2.0)},
+        {"ssim_two_seeds", detail::ssim(displayed(again_y, ev), ref_d, wz, hz)}}}};
 
   // Every model's render, then one difference scale for all (so the images compare): the
-  // 99.5th percentile of |Y_model - Y_measured| over every model, in units of the measured
-  // render's 99th-percentile luminance.
-  std::vector<std::vector<double> > diffs, ys;
+  // 99.5th percentile of |Y_model - Y_measured| (both smoothed) over every model, in units of the
+  // measured render's 99th-percentile luminance.
+  std::vector<std::vector<double> > diffs, ys, yss;
   std::vector<RenderImage> imgs;
   for (const auto& m : models) {
     imgs.push_back(render_with(m.brdf, o.seed, m.key));
     const auto& y = ys.emplace_back(detail::luminance(imgs.back().rgb));
+    const auto& ysm = yss.emplace_back(smoothed(y, wz, hz, kSmoothPx));
     std::vector<double> dlt(y.size());
-    for (std::size_t i = 0; i < y.size(); ++i) dlt[i] = std::fabs(y[i] - ref_y[i]);
+    for (std::size_t i = 0; i < y.size(); ++i) dlt[i] = std::fabs(ysm[i] - ref_s[i]);
     diffs.push_back(std::move(dlt));
   }
   const double bright = std::max(quantile(ref_y, 0.99), 1e-12);
@@ -101,29 +164,65 @@ nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
     }
     write_png(c.path(file), di);
   };
-  // The noise alone on the same scale: |second seed - first seed| (sqrt(2) x one image's noise).
+  // The noise alone on the same scale and smoothing: |second seed - first seed| (sqrt(2) x one
+  // image's noise).
   std::vector<double> noise_diff(ref_y.size());
-  for (std::size_t i = 0; i < ref_y.size(); ++i) noise_diff[i] = std::fabs(again_y[i] - ref_y[i]);
-  write_difference(noise_diff, "img/compare_measured_seed2_difference.png");
-  out["noise"]["difference_image"] = "img/compare_measured_seed2_difference.png";
+  for (std::size_t i = 0; i < ref_y.size(); ++i) noise_diff[i] = std::fabs(again_s[i] - ref_s[i]);
+  const std::string noise_file = "img/compare_" + prefix + "measured_seed2_difference.png";
+  write_difference(noise_diff, noise_file);
+  out["noise"]["difference_image"] = noise_file;
+  // Renders of 384 px and more: the strip shows half-size copies (same exposure).
+  const bool thumbs = w >= 384 && h >= 384;
+  auto thumbnail = [&](const RenderImage& img, const std::string& file) {
+    write_render_png(half_size(img), c.path(file), ev);
+    return file;
+  };
+  if (thumbs)
+    out["reference_thumbnail"] =
+        thumbnail(ref.image, "img/compare_" + prefix + "measured_half.png");
 
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t k = 0; k < models.size(); ++k) {
     const auto& m = models[k];
-    const std::string image = "img/compare_" + m.key + ".png";
-    const std::string diff = "img/compare_" + m.key + "_difference.png";
-    write_render_png(imgs[k], c.path(image), 0);
+    const std::string image = "img/compare_" + prefix + m.key + ".png";
+    const std::string diff = "img/compare_" + prefix + m.key + "_difference.png";
+    write_render_png(imgs[k], c.path(image), ev);
     write_difference(diffs[k], diff);
     const auto& y = ys[k];
-    list.push_back({{"model", m.key},
-                    {"label", m.label},
-                    {"material", m.brdf->describe()},
-                    {"image", image},
-                    {"difference_image", diff},
-                    {"ssim", detail::ssim(displayed(y), ref_d, wz, hz)},
-                    {"rms_relative", detail::rms_relative(y, ref_y)}});
+    nlohmann::json entry = {{"model", m.key},
+                            {"label", m.label},
+                            {"material", m.brdf->describe()},
+                            {"image", image},
+                            {"difference_image", diff},
+                            {"ssim", detail::ssim(displayed(y, ev), ref_d, wz, hz)},
+                            {"rms_relative", detail::rms_relative(y, ref_y)},
+                            {"rms_relative_smoothed", detail::rms_relative(yss[k], ref_s)}};
+    if (thumbs)
+      entry["thumbnail"] = thumbnail(imgs[k], "img/compare_" + prefix + m.key + "_half.png");
+    list.push_back(std::move(entry));
   }
   out["models"] = std::move(list);
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
+                                     const std::vector<FitResult>& fits,
+                                     const std::shared_ptr<const Fresnel>& fresnel,
+                                     const std::shared_ptr<const Brdf>& measured,
+                                     const std::vector<ReferenceRender>& references,
+                                     nlohmann::json& timing) {
+  const std::vector<NamedBrdf> models = model_brdfs(ndfs, fits, fresnel);
+  nlohmann::json scenes = nlohmann::json::array();
+  for (const auto& ref : references)
+    scenes.push_back(compare_scene(c, models, measured, ref, timing));
+  // The cylinder pair's keys at the top level (as before the other scenes joined), every scene
+  // in "scenes".
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& s : scenes)
+    if (s["scene"] == "cylinders") out = s;
+  out["scenes"] = std::move(scenes);
   return out;
 }
 

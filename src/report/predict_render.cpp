@@ -1,9 +1,15 @@
 // predict stage 5: preview renders of the measured BRDF (the microfacet BRDF of the filtered NDF
 // and the chosen metal): the cylinder pair of Dong 2015 Fig. 10 (the second cylinder has the
-// brushing turned 90 degrees) and a sphere, under the environment map or built-in area lights.
+// brushing turned 90 degrees) and a sphere under the environment map (or built-in area lights),
+// the plate of Dong Fig. 13 under a small light; the cylinders and sphere again under the
+// neutral studio map when it lies beside the given map, and a colour swatch (a small sphere in a
+// uniform white environment). Each scene's exposure is chosen from its measured-NDF render.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 
+#include "core/image_metrics.hpp"
 #include "microbrdf/render.hpp"
 #include "report/predict_stages.hpp"
 
@@ -42,50 +48,139 @@ RenderOptions predict_render_options(const PredictOptions& o, int width, int hei
   return ro;
 }
 
+std::vector<PredictScene> predict_scenes(const PredictOptions& o) {
+  std::vector<PredictScene> s(3);
+  s[0].name = "cylinders";
+  s[0].geometry.kind = PreviewScene::Cylinders;
+  s[0].lights = predict_lights(o);
+  s[0].lights_text = predict_lights_description(o);
+  s[0].caption =
+      "Cylinder pair (Dong 2015 Fig. 10): the same measured BRDF, the brushing direction turned "
+      "90 degrees between the two";
+  s[1].name = "sphere";
+  s[1].geometry.kind = PreviewScene::Sphere;
+  s[1].lights = s[0].lights;
+  s[1].lights_text = s[0].lights_text;
+  s[1].caption = "Sphere with the measured BRDF (brushing along the camera's horizontal)";
+  s[2].name = "plate";
+  s[2].geometry.kind = PreviewScene::Plate;
+  // The light of Dong Fig. 13 (dong_plate_light) moved to 6 deg from the camera and shrunk to
+  // 3 deg across: its mirror image falls on the plate (0.67 of the half-width left of the
+  // centre), so even a narrow lobe shows a highlight, shaped by the lobe.
+  {
+    RenderLights::Disk d = dong_plate_light();
+    const double dist = d.centre.norm(), a = 6 * M_PI / 180, half = 1.5 * M_PI / 180;
+    const Eigen::Vector3d dir(-std::sin(a), std::cos(a), 0);
+    d.centre = dist * dir;
+    d.normal = -dir;
+    d.radius = dist * std::tan(half);
+    d.rgb_radiance = Eigen::Vector3d::Constant(1 / (std::sin(half) * std::sin(half)));
+    s[2].lights.disks.push_back(d);
+  }
+  s[2].lights_text =
+      "one disk light spanning 3 deg, 6 deg left of the camera (irradiance pi on a surface "
+      "facing it), nothing else";
+  s[2].caption =
+      "Flat plate (10 cm, camera 64 cm above, after Dong 2015 Fig. 13) under a small light "
+      "whose mirror image falls left of the centre: the highlight is the lobe's shape";
+  return s;
+}
+
+double auto_exposure_stops(const RenderImage& img) {
+  std::vector<double> y = detail::luminance(img.rgb);
+  if (y.empty()) return 0;
+  const auto k = static_cast<std::size_t>(0.99 * static_cast<double>(y.size() - 1));
+  std::nth_element(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(k), y.end());
+  if (!(y[k] > 0) || !std::isfinite(y[k])) return 0;
+  // Half stops, within +-10 stops: the 99th-percentile luminance shows at (about) full white.
+  return std::clamp(std::round(-2 * std::log2(y[k])) / 2, -10.0, 10.0);
+}
+
+namespace {
+
+// The neutral studio map beside the given one (the bundled maps share a folder), or "".
+std::string studio_beside(const std::string& envmap) {
+  if (envmap.empty()) return "";
+  const auto p = std::filesystem::path(envmap);
+  const auto studio = p.parent_path() / "blender_studio.exr";
+  if (p.filename() == "blender_studio.exr" || !std::filesystem::is_regular_file(studio)) return "";
+  return studio.string();
+}
+
+}  // namespace
+
 nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>& measured,
-                            nlohmann::json& timing, RenderImage* cylinders) {
+                            nlohmann::json& timing, std::vector<ReferenceRender>* references) {
   const auto& o = c.opt;
   if (!o.render) return {{"skipped", "rendering turned off (--no-render)"}};
   std::vector<std::shared_ptr<const Svbrdf> > mats{std::make_shared<UniformSvbrdf>(measured)};
-  const RenderLights lights = predict_lights(o);
-  struct Job {
-    PreviewScene scene;
-    const char* name;
-    const char* caption;
-    int width, height;
-  };
   const int w = o.render_width;
-  const Job jobs[] = {
-      {PreviewScene::Cylinders, "cylinders",
-       "Cylinder pair (Dong 2015 Fig. 10): the same measured BRDF, the brushing direction turned "
-       "90 degrees between the two",
-       w, w},
-      {PreviewScene::Sphere, "sphere",
-       "Sphere with the measured BRDF (brushing along the camera's "
-       "horizontal)",
-       w, w}};
+  struct Job {
+    PredictScene scene;
+    std::string key;  ///< file and timing name
+    int size;
+    int spp;
+    bool compared;     ///< a reference of the comparison strip
+    bool fixed_zero;   ///< exposure 0 instead of the automatic one (the swatch)
+    std::string role;  ///< "scene", "studio", "swatch"
+  };
+  std::vector<Job> jobs;
+  for (const auto& s : predict_scenes(o))
+    jobs.push_back({s, s.name, w, o.render_spp, true, false, "scene"});
+  // The material's own colour: the courtyard is warm, a grey metal looks bronze under it.
+  if (const std::string studio = studio_beside(o.envmap_path); !studio.empty()) {
+    for (int k = 0; k < 2; ++k) {
+      PredictScene s = predict_scenes(o)[k];
+      s.lights = RenderLights{};
+      s.lights.envmap_path = studio;
+      s.lights.envmap_scale = o.envmap_scale;
+      s.lights_text = "neutral studio environment map " + studio;
+      s.caption = (k == 0 ? std::string("Cylinder pair") : std::string("Sphere")) +
+                  " under the neutral studio map (two softboxes, no colour cast): the "
+                  "material's own colour";
+      s.name += "_studio";
+      // Half size: context beside the compared scenes, not compared itself.
+      jobs.push_back({s, s.name, std::max(16, w / 2), o.render_spp, false, false, "studio"});
+    }
+  }
+  {
+    PredictScene s;
+    s.name = "swatch";
+    s.geometry.kind = PreviewScene::Sphere;
+    s.lights.uniform_white_env = true;
+    s.lights_text = "uniform white environment (radiance 1), no other light";
+    s.caption =
+        "Colour swatch: the measured BRDF on a sphere in a uniform white environment (the "
+        "background is white, radiance 1); its colour is the directional albedo's";
+    // Small and at >= 64 samples/pixel: a uniform environment converges fast, and a swatch
+    // should show a colour, not colour noise from the hero wavelengths.
+    const int size = std::clamp(w / 4, 16, 128);
+    jobs.push_back({s, "swatch", size, std::max(o.render_spp, 64), false, true, "swatch"});
+  }
+
   nlohmann::json out = nlohmann::json::array();
   for (const auto& j : jobs) {
-    c.log(std::string("renders: ") + j.name + " " + std::to_string(j.width) + " x " +
-          std::to_string(j.height) + ", " + std::to_string(o.render_spp) + " spp");
-    RenderScene scene;
-    scene.kind = j.scene;
-    RenderOptions ro = predict_render_options(o, j.width, j.height);
-    const std::string name = j.name;
+    c.log("renders: " + j.key + " " + std::to_string(j.size) + " x " + std::to_string(j.size) +
+          ", " + std::to_string(j.spp) + " spp");
+    RenderOptions ro = predict_render_options(o, j.size, j.size);
+    ro.spp = j.spp;
+    const std::string name = j.key;
     ro.progress = [&c, name, last = -1](double f) mutable {
       const int step = static_cast<int>(f * 4);
       if (step != last && step < 4)
         c.log("renders: " + name + " " + std::to_string(step * 25) + "%");
       last = step;
     };
-    const RenderImage img = render(scene, mats, lights, ro);
-    const std::string file = std::string("img/render_") + j.name + ".png";
-    write_render_png(img, c.path(file), 0);
+    RenderImage img = render(j.scene.geometry, mats, j.scene.lights, ro);
+    const double exposure = j.fixed_zero ? 0.0 : auto_exposure_stops(img);
+    const std::string file = "img/render_" + j.key + ".png";
+    write_render_png(img, c.path(file), exposure);
     timing["render_" + name + "_s"] = img.seconds;
-    if (cylinders && j.scene == PreviewScene::Cylinders) *cylinders = img;
     timing["render_" + name + "_samples_per_s"] = img.samples_per_second;
-    out.push_back({{"scene", j.name},
-                   {"caption", j.caption},
+    out.push_back({{"scene", j.key},
+                   {"geometry", preview_scene_name(j.scene.geometry.kind)},
+                   {"role", j.role},
+                   {"caption", j.scene.caption},
                    {"file", file},
                    {"width", img.width},
                    {"height", img.height},
@@ -93,9 +188,18 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
                    {"max_depth", ro.max_depth},
                    {"wavelengths_per_path", ro.wavelengths},
                    {"seed", ro.seed},
+                   {"exposure_stops", exposure},
                    {"rays", img.rays},
                    {"material", measured->describe()},
-                   {"lights", predict_lights_description(o)}});
+                   {"lights", j.scene.lights_text}});
+    if (references && j.compared) {
+      ReferenceRender r;
+      r.scene = j.scene;
+      r.file = file;
+      r.exposure_stops = exposure;
+      r.image = std::move(img);
+      references->push_back(std::move(r));
+    }
   }
   return out;
 }

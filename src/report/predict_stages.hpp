@@ -84,19 +84,43 @@ std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResu
 nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vector<FitResult>& fits,
                           const std::shared_ptr<const Fresnel>& fresnel,
                           const std::shared_ptr<const Brdf>& measured);
+/// A scene of the renders and of the comparison strip: geometry, lights, words for the report.
+struct PredictScene {
+  std::string name;  ///< "cylinders", "sphere", "plate" (file and summary key)
+  RenderScene geometry;
+  RenderLights lights;
+  std::string lights_text, caption;
+};
+/// The compared scenes: the cylinder pair and the sphere under predict_lights(), the plate under
+/// the small light of Dong 2015 Fig. 13.
+std::vector<PredictScene> predict_scenes(const PredictOptions& o);
+/// A measured-NDF render of stage_render that the comparison strip compares each model with.
+struct ReferenceRender {
+  PredictScene scene;
+  std::string file;  ///< img/render_<scene>.png, relative to the output folder
+  double exposure_stops = 0;
+  RenderImage image;
+};
+/// The exposure (stops, half-stop steps within +-10) at which the image's 99th-percentile
+/// luminance shows at about full white; 0 for a black image.
+double auto_exposure_stops(const RenderImage& img);
 /// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`. The
-/// cylinder render (the reference of the comparison strip) goes into `cylinders` when given.
+/// renders of predict_scenes() (the references of the comparison strip) go into `references`
+/// when given.
 nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>& measured,
-                            nlohmann::json& timing, RenderImage* cylinders = nullptr);
-/// The comparison strip: the cylinder pair rendered with each fit (and D_K) at the settings of
-/// `reference` (the measured-NDF cylinder render of stage_render), their SSIM and RMS relative
-/// error against it, difference images, and the render noise from a second seed; returns the
-/// "render_comparison" object.
+                            nlohmann::json& timing,
+                            std::vector<ReferenceRender>* references = nullptr);
+/// The comparison strip: each reference scene rendered with each fit (and D_K) at the settings
+/// of its measured-NDF render (same lights, size, samples, seed, exposure), their SSIM and RMS
+/// relative error against it, difference images, and the render noise from a second seed;
+/// returns the "render_comparison" object (the cylinder pair's keys at the top level, every
+/// scene in "scenes").
 nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
                                      const std::vector<FitResult>& fits,
                                      const std::shared_ptr<const Fresnel>& fresnel,
                                      const std::shared_ptr<const Brdf>& measured,
-                                     const RenderImage& reference, nlohmann::json& timing);
+                                     const std::vector<ReferenceRender>& references,
+                                     nlohmann::json& timing);
 /// The lights of every predict render: the environment map if given, else a dim uniform sky
 /// and two disk softboxes.
 RenderLights predict_lights(const PredictOptions& o);
@@ -104,6 +128,9 @@ RenderLights predict_lights(const PredictOptions& o);
 std::string predict_lights_description(const PredictOptions& o);
 /// Render options of a predict render of width x height pixels (spp, seed, threads from `o`).
 RenderOptions predict_render_options(const PredictOptions& o, int width, int height);
+/// The fits as Mitsuba 3 and pbrt-v4 rough-conductor materials (each with a sphere scene) in
+/// export/ of the output folder; returns the "exports" object.
+nlohmann::json stage_exports(const Context& c, const std::vector<FitResult>& fits);
 /// Texture synthesis from strips; returns the "texture" object.
 nlohmann::json stage_texture(const Context& c, const std::shared_ptr<const Fresnel>& fresnel,
                              nlohmann::json& timing);

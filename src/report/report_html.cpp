@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <utility>
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
@@ -351,6 +352,8 @@ void section_ndf(Page& p, json& s) {
   p << "</div>\n";
 }
 
+void exports_block(Page& p, json& s);
+
 void section_fits(Page& p, json& s) {
   p << "<h2 id=\"s4\">4. Parametric fits of the filtered NDF</h2>\n<table>\n"
     << row({"model", "alpha_x", "alpha_y", "theta_x", "theta_y", "theta_z", "rms error (1/sr)",
@@ -374,9 +377,61 @@ void section_fits(Page& p, json& s) {
        "sqrt(mean (T-M)^2), relative L2 = |T-M|/|T|.</p>\n";
   for (auto& f : s["fits"])
     if (f.contains("compare_image"))
-      p << "<figure>" << p.image(str(f["compare_image"]), "ellipsoid fit comparison", 1100)
-        << "<figcaption>Ellipsoid fit: measured | fit | residual (M - T)/max T, zoomed on the "
-           "region of interest.</figcaption></figure>\n";
+      // Colour bars under the three panels (320 px each, 10 px gaps, 1010 px in all): the two
+      // NDFs on a log scale, 4 decades below the table's maximum; the residual diverging.
+      p << "<figure style=\"width:1010px;max-width:100%\">"
+        << p.image(str(f["compare_image"]), "ellipsoid fit comparison")
+        << "<div style=\"display:flex;gap:0.99%;padding-left:0.99%\">"
+        << "<div style=\"width:31.68%\"><div class=\"cbar\" style=\"background:"
+        << report::colour_gradient("to right")
+        << "\"></div><div class=\"cbar-l\"><span>10<sup>-4</sup> max</span><span>D (log), "
+           "measured</span><span>max (printed)</span></div></div>"
+        << "<div style=\"width:31.68%\"><div class=\"cbar\" style=\"background:"
+        << report::colour_gradient("to right")
+        << "\"></div><div class=\"cbar-l\"><span>10<sup>-4</sup> max</span><span>D (log), "
+           "fit</span><span>max</span></div></div>"
+        << "<div style=\"width:31.68%\"><div class=\"cbar\" style=\"background:linear-"
+           "gradient(to right,rgb(51,51,255),#fff,rgb(255,51,51))\"></div><div "
+           "class=\"cbar-l\"><span>&minus;R</span><span>0</span><span>+R (R printed, a "
+           "fraction of max)</span></div></div></div>"
+        << "<figcaption>Ellipsoid fit: measured | fit | residual (M &minus; T) / max T, zoomed "
+           "on the region of interest. Measured and fit share one log colour scale from the "
+           "table's maximum (printed under the first panel, in 1/sr) down 4 decades; the "
+           "residual runs from &minus;R (blue, fit below the measurement) to +R (red), R "
+           "printed under it.</figcaption></figure>\n";
+  exports_block(p, s);
+}
+
+// Links to the renderer-ready materials predict wrote (summary "exports").
+void exports_block(Page& p, json& s) {
+  if (!s.contains("exports") || !s["exports"].is_object()) return;
+  json& e = s["exports"];
+  p << "<h3 id=\"exports\">Renderer-ready materials</h3>\n<p>Each fit as a GGX rough conductor "
+       "with this run's optical constants, with a sphere scene under a constant white emitter "
+       "(in <code>export/</code> beside this page; the links open the files):</p>\n<table>\n"
+    << row({"fit", "GGX alpha_u", "GGX alpha_v", "Mitsuba 3", "pbrt-v4", "approximations"}, true);
+  for (auto& m : e["materials"]) {
+    auto links = [&](json& files) {
+      std::string l;
+      for (auto& f : files) {
+        const std::string path = str(f);
+        l += (l.empty() ? "" : " ");
+        l += "<a href=\"" + escape(path) + "\"><code>" +
+             escape(path.substr(path.find_last_of('/') + 1)) + "</code></a>";
+      }
+      return l;
+    };
+    std::string notes;
+    for (auto& n : m["notes"]) notes += (notes.empty() ? "" : "; ") + escape(str(n));
+    p << row({escape(str(m["model"])), n4(m["alpha_u"]), n4(m["alpha_v"]), links(m["mitsuba"]),
+              links(m["pbrt"]), notes.empty() ? "none (the fit is a GGX)" : notes});
+  }
+  p << "</table>\n<p class=\"cap\">The measured (tabulated) BRDF as an RGL <code>.bsdf</code> "
+       "table, for Mitsuba's and pbrt's <code>measured</code> material, is not written here (a "
+       "fine anisotropic table takes minutes): from this folder, <code>"
+    << escape(str(e["bsdf_command"]))
+    << "</code>, then <code>microbrdf export mitsuba --bsdf measured.bsdf -o DIR</code> (or "
+       "<code>pbrt</code>).</p>\n";
 }
 
 void section_brdf(Page& p, json& s) {
@@ -424,62 +479,159 @@ void section_brdf(Page& p, json& s) {
   p << "</div>\n";
 }
 
-// The comparison strip under the renders: the cylinder pair with each fit (and D_K) beside the
-// measured-NDF render, difference images on one colour scale, SSIM and RMS relative error.
-void comparison_strip(Page& p, json& s) {
-  if (!s.contains("render_comparison")) return;
-  json& rc = s["render_comparison"];
+// A colour bar from 0 to `top` x Y_99% (HTML: the text is real text).
+std::string difference_bar(const json& scale) {
+  return "<div class=\"cbar\" style=\"background:" + report::colour_gradient("to right") +
+         "\"></div><div class=\"cbar-l\"><span>0</span><span>" + report::num(d(scale["max"]), 3) +
+         " &times; Y<sub>99%</sub></span></div>";
+}
+
+std::string pct(const json& v) { return report::num(100 * d(v), 3) + " %"; }
+
+const char* scene_title(const std::string& scene) {
+  if (scene == "cylinders") return "the cylinder pair";
+  if (scene == "sphere") return "the sphere";
+  if (scene == "plate") return "the plate under a small light";
+  return "the scene";
+}
+
+// One scene of the comparison strip: the measured-NDF render with each fit (and D_K) beside it,
+// difference images on one colour scale, SSIM and RMS relative error, the render noise.
+void comparison_scene(Page& p, json& rc, bool first) {
   json& noise = rc["noise"];
-  // Five columns or so per row at the page width; the images keep their pixels (click to zoom).
-  const int w = std::clamp(rc["width"].get<int>(), 192, 256);
+  const std::string scene = str(rc["scene"]);
+  const bool smooth = rc.contains("smoothing_sigma_px");
+  const std::string sigma = smooth ? report::num(d(rc["smoothing_sigma_px"]), 2) : "";
+  // Five figures per row at the page width; the strip shows half-size copies of large renders
+  // (the full renders are linked).
+  const int w = 232;
   const std::string fig = "<figure style=\"width:" + std::to_string(w) + "px;max-width:100%\">";
-  p << "<h3>Each model rendered: the cylinder pair</h3>\n<p>The scene above rendered with each "
-       "fitted NDF"
-    << (rc["models"].size() > 3 ? " and the Kirchhoff D_K" : "")
-    << " in place of the measured one: same lights, exposure, size ("
-    << std::to_string(rc["width"].get<long>()) << " &times; "
-    << std::to_string(rc["height"].get<long>()) << " px), " << std::to_string(rc["spp"].get<long>())
-    << " samples/pixel and seed. Under each, |Y<sub>model"
-       "</sub> &minus; Y<sub>measured</sub>| of the linear luminance, all on one colour scale, "
-       "and two numbers against the measured-NDF render: SSIM (Wang et al. 2004; 11 &times; 11 "
-       "Gaussian windows, &sigma; = 1.5 px, on the displayed luminance; 1 = identical) and the "
-       "RMS relative error of the linear luminance (RMS of the difference / RMS of the "
-       "measured render).</p>\n<p><b>Render noise</b>: the measured NDF rendered again with seed "
-    << std::to_string(noise["second_seed"].get<long>())
-    << " differs from the first by Monte Carlo noise alone; the noise of one image is "
-    << report::num(100 * d(noise["rms_relative"]), 3)
-    << " % RMS relative (their RMS relative difference / &radic;2), and their SSIM is "
-    << report::num(d(noise["ssim_two_seeds"]), 4)
-    << ". The fits are rendered with the reference's seed, so part of the noise cancels in their "
-       "differences: a model whose numbers are no worse than the second-seed row below differs "
-       "from the measurement by no more than noise can explain.</p>\n<table>\n"
-    << row({"model", "SSIM vs measured", "RMS relative error vs measured"}, true)
-    << row({"measured, second seed (noise only)", n4(noise["ssim_two_seeds"]),
-            report::num(100 * d(noise["rms_relative"]) * std::sqrt(2.0), 3) + " %"});
-  for (auto& m : rc["models"])
-    p << row({str(m["label"]), n4(m["ssim"]), report::num(100 * d(m["rms_relative"]), 3) + " %"});
-  p << "</table>\n<div class=\"grid\">" << fig << p.image(str(rc["reference"]), "measured NDF", w)
-    << p.image(str(noise["difference_image"]), "noise difference", w)
-    << "<div class=\"cbar\" style=\"background:" << report::colour_gradient("to right")
-    << "\"></div><div class=\"cbar-l\"><span>0</span><span>"
-    << report::num(d(rc["difference_scale"]["max"]), 3) << " &times; Y<sub>99%</sub></span></div>"
-    << "<figcaption>Measured (filtered NDF): the reference. Below: noise alone, |&Delta;Y| between "
-       "it and the same render with seed "
+  auto shown = [&](json& e, const char* full, const char* half) {
+    return e.contains(half) ? str(e[half]) : str(e[full]);
+  };
+  auto full_link = [&](json& e, const char* full, const char* half) {
+    if (!e.contains(half)) return std::string();
+    return " <a href=\"" + escape(str(e[full])) + "\">Full size (" +
+           std::to_string(rc["width"].get<long>()) + " px).</a>";
+  };
+  p << "<h3 id=\"compare-" << escape(scene) << "\">Each model rendered: " << scene_title(scene)
+    << "</h3>\n<p>";
+  if (first)
+    p << "The scene above rendered with each fitted NDF"
+      << (rc["models"].size() > 3 ? " and the Kirchhoff D_K" : "")
+      << " in place of the measured one: same lights, exposure, size, samples per pixel and "
+         "seed. Under each, the difference of the linear luminance |Y<sub>model</sub> &minus; "
+         "Y<sub>measured</sub>|"
+      << (smooth ? ", both smoothed by a Gaussian of &sigma; = " + sigma +
+                       " px (Monte Carlo noise is independent from pixel to pixel and averages "
+                       "out; the models' differences are many pixels wide and stay)"
+                 : std::string())
+      << ", on one colour scale per scene, and numbers against the measured-NDF render: SSIM "
+         "(Wang et al. 2004; 11 &times; 11 Gaussian windows, &sigma; = 1.5 px, on the displayed "
+         "luminance, full resolution; 1 = identical) and the RMS relative error of the linear "
+         "luminance (RMS of the difference / RMS of the measured render) per pixel"
+      << (smooth ? " and after the smoothing" : "") << ". ";
+  p << std::to_string(rc["width"].get<long>()) << " &times; "
+    << std::to_string(rc["height"].get<long>()) << " px, " << std::to_string(rc["spp"].get<long>())
+    << " samples/pixel, seed " << std::to_string(rc["seed"].get<long>()) << ", exposure "
+    << report::num(d(rc["exposure_stops"]), 3) << " stops; lights: " << escape(str(rc["lights"]))
+    << ".</p>\n<p><b>Render noise</b>: ";
+  if (first)
+    p << "the measured NDF rendered again with seed "
+      << std::to_string(noise["second_seed"].get<long>())
+      << " differs from the first by Monte Carlo noise alone; the noise of one image is ";
+  else
+    p << "one image, from a second seed as above: ";
+  p << pct(noise["rms_relative"]) << " RMS relative per pixel";
+  if (smooth) p << " and " << pct(noise["rms_relative_smoothed"]) << " after the smoothing";
+  if (first)
+    p << " (their RMS relative difference / &radic;2); their SSIM is "
+      << report::num(d(noise["ssim_two_seeds"]), 4)
+      << ". The models are rendered with the reference's seed, so part of the noise cancels in "
+         "their differences: a model whose numbers are no worse than the second-seed row "
+         "differs from the measurement by no more than noise can explain.</p>\n<table>\n";
+  else
+    p << "; SSIM of the two seeds " << report::num(d(noise["ssim_two_seeds"]), 4)
+      << ".</p>\n<table>\n";
+  if (smooth)
+    p << row({"model", "SSIM vs measured", "RMS relative error per pixel",
+              "RMS relative error, smoothed (&sigma; = " + sigma + " px)"},
+             true)
+      << row({"measured, second seed (noise only)", n4(noise["ssim_two_seeds"]),
+              report::num(100 * d(noise["rms_relative"]) * std::sqrt(2.0), 3) + " %",
+              report::num(100 * d(noise["rms_relative_smoothed"]) * std::sqrt(2.0), 3) + " %"});
+  else
+    p << row({"model", "SSIM vs measured", "RMS relative error vs measured"}, true)
+      << row({"measured, second seed (noise only)", n4(noise["ssim_two_seeds"]),
+              report::num(100 * d(noise["rms_relative"]) * std::sqrt(2.0), 3) + " %"});
+  for (auto& m : rc["models"]) {
+    if (smooth)
+      p << row({escape(str(m["label"])), n4(m["ssim"]), pct(m["rms_relative"]),
+                pct(m["rms_relative_smoothed"])});
+    else
+      p << row({escape(str(m["label"])), n4(m["ssim"]), pct(m["rms_relative"])});
+  }
+  json& sc = rc["difference_scale"];
+  p << "</table>\n";
+  if (!(d(sc["reference_luminance"]) > 1e-9))
+    p << "<p class=\"note\">The measured-NDF render is black: no facet of the measured NDF "
+         "sends this scene's light into the camera (for the plate: facets tilted about 11.5 deg "
+         "towards the light). The numbers compare black with the models.</p>\n";
+  p << "<div class=\"grid\">" << fig
+    << p.image(shown(rc, "reference", "reference_thumbnail"), "measured NDF, " + scene, w)
+    << p.image(str(noise["difference_image"]), "noise difference", w) << difference_bar(sc)
+    << "<figcaption>Measured (filtered NDF): the reference."
+    << full_link(rc, "reference", "reference_thumbnail")
+    << " Below: noise alone, |&Delta;Y| between it and the same render with seed "
     << std::to_string(noise["second_seed"].get<long>())
     << ", on the scale of the models' difference images.</figcaption></figure>";
-  json& sc = rc["difference_scale"];
   for (auto& m : rc["models"]) {
-    p << fig << p.image(str(m["image"]), str(m["label"]), w)
+    p << fig << p.image(shown(m, "image", "thumbnail"), str(m["label"]) + ", " + scene, w)
       << p.image(str(m["difference_image"]), str(m["label"]) + " difference", w)
-      << "<div class=\"cbar\" style=\"background:" << report::colour_gradient("to right")
-      << "\"></div><div class=\"cbar-l\"><span>0</span><span>" << report::num(d(sc["max"]), 3)
-      << " &times; Y<sub>99%</sub></span></div><figcaption>" << escape(str(m["label"])) << ": SSIM "
-      << n4(m["ssim"]) << ", RMS relative error " << report::num(100 * d(m["rms_relative"]), 3)
-      << " %. Below: |&Delta;Y| against the measured render, in units of its 99th-percentile "
+      << difference_bar(sc) << "<figcaption>" << escape(str(m["label"])) << ": SSIM "
+      << n4(m["ssim"]) << ", RMS relative error " << pct(m["rms_relative"]);
+    if (smooth) p << " (" << pct(m["rms_relative_smoothed"]) << " smoothed)";
+    p << "." << full_link(m, "image", "thumbnail")
+      << " Below: |&Delta;Y| against the measured render, in units of its 99th-percentile "
          "luminance Y<sub>99%</sub> = "
       << report::num(d(sc["reference_luminance"]), 3) << " (linear sRGB).</figcaption></figure>";
   }
   p << "</div>\n";
+}
+
+// The comparison strip under the renders: one block per scene ("scenes"; a summary from before
+// the other scenes has the cylinder pair's keys at the top level only).
+void comparison_strip(Page& p, json& s) {
+  if (!s.contains("render_comparison")) return;
+  json& rc = s["render_comparison"];
+  if (rc.contains("scenes") && rc["scenes"].is_array() && !rc["scenes"].empty()) {
+    bool first = true;
+    for (auto& scene : rc["scenes"]) comparison_scene(p, scene, std::exchange(first, false));
+  } else {
+    comparison_scene(p, rc, true);
+  }
+}
+
+// A render's figure: image, caption with its settings.
+void render_figure(Page& p, json& s, json& im, int shown_width, const std::string& extra,
+                   bool brief = false) {
+  const std::string material =
+      uncite(str(im["material"]), s["material"]["source"], " (optical constants of section 5)");
+  p << "<figure style=\"width:" << std::to_string(shown_width) << "px;max-width:100%\">"
+    << p.image(str(im["file"]), str(im["scene"]), shown_width) << "<figcaption>"
+    << escape(str(im["caption"])) << ". " << extra << std::to_string(im["width"].get<long>())
+    << " &times; " << std::to_string(im["height"].get<long>()) << " px, "
+    << std::to_string(im["spp"].get<long>()) << " samples/pixel, path depth &le; "
+    << std::to_string(im["max_depth"].get<long>()) << ", seed "
+    << std::to_string(im["seed"].get<long>());
+  if (im.contains("exposure_stops"))
+    p << ", exposure " << report::num(d(im["exposure_stops"]), 3) << " stops";
+  if (brief) {
+    p << ".</figcaption></figure>";
+    return;
+  }
+  p << "; lights: " << escape(str(im["lights"])) << ". Material: " << escape(material)
+    << ".</figcaption></figure>";
 }
 
 void section_renders(Page& p, json& s) {
@@ -491,10 +643,10 @@ void section_renders(Page& p, json& s) {
     return;
   }
   const double smooth_deg = d(s["ndf"]["filtered"]["smooth_axis_angle_rad"]) * kDeg;
+  auto role = [](json& im) { return im.contains("role") ? str(im["role"]) : std::string("scene"); };
   p << "<div class=\"grid\">";
   for (auto& im : r) {
-    const std::string material =
-        uncite(str(im["material"]), s["material"]["source"], " (optical constants of section 5)");
+    if (role(im) != "scene") continue;
     std::string which;
     if (str(im["scene"]) == "cylinders" && std::isfinite(smooth_deg)) {
       // Linear brushing: the scan's x axis along the camera's right on the left cylinder,
@@ -508,20 +660,35 @@ void section_renders(Page& p, json& s) {
               "; right cylinder: turned 90 deg, scratches " +
               (horizontal ? "along the axis" : "around the cylinder") + ". ";
     }
-    p << "<figure>"
-      << p.image(str(im["file"]), str(im["scene"]), std::max(384, im["width"].get<int>()))
-      << "<figcaption>" << escape(str(im["caption"])) << ". " << which
-      << std::to_string(im["width"].get<long>()) << " &times; "
-      << std::to_string(im["height"].get<long>()) << " px, "
-      << std::to_string(im["spp"].get<long>()) << " samples/pixel, path depth &le; "
-      << std::to_string(im["max_depth"].get<long>()) << ", seed "
-      << std::to_string(im["seed"].get<long>()) << "; lights: " << escape(str(im["lights"]))
-      << ". Material: " << escape(material) << ".</figcaption></figure>";
+    render_figure(p, s, im, std::clamp(im["width"].get<int>(), 384, 400), which);
   }
   p << "</div>\n<p class=\"cap\">Provenance: the spectral path tracer (<code>render</code>, "
-       "Embree 3), linear sRGB tone-mapped to 8-bit sRGB; the BRDF is the measured one "
-       "(filtered NDF as a tabulated distribution with Smith shadowing, exact conductor "
+       "Embree 3), linear sRGB tone-mapped to 8-bit sRGB at the exposure given (chosen per "
+       "scene so that the measured render's 99th-percentile luminance shows at about full "
+       "white; the models of the comparison strip below use the same); the BRDF is the measured "
+       "one (filtered NDF as a tabulated distribution with Smith shadowing, exact conductor "
        "Fresnel).</p>\n";
+  // The material's own colour: the neutral studio map and a swatch on white.
+  bool any = false;
+  for (auto& im : r) any = any || role(im) == "studio" || role(im) == "swatch";
+  if (any) {
+    json& m = s["material"];
+    p << "<h3 id=\"colour\">The material's own colour</h3>\n<p>A warm environment tints a "
+         "metal (under the courtyard, grey steel can look like bronze). Below: the same "
+         "measured BRDF under a neutral studio map (grey surroundings, two white softboxes), "
+         "and on white.</p>\n<div class=\"grid\">";
+    for (auto& im : r)
+      if (role(im) == "studio")
+        render_figure(p, s, im, 300, "Lights: " + escape(str(im["lights"])) + ". ", true);
+    for (auto& im : r)
+      if (role(im) == "swatch") render_figure(p, s, im, 160, "", true);
+    p << "<figure style=\"width:160px\"><div style=\"width:150px;height:96px;border:1px solid "
+         "#888;background:"
+      << escape(str(m["srgb_hex"]))
+      << "\"></div><figcaption>Flat patch: normal-incidence reflectance R(0) of "
+      << escape(str(m["name"])) << " under D65, as sRGB " << escape(str(m["srgb_hex"]))
+      << " (section 5).</figcaption></figure></div>\n";
+  }
   comparison_strip(p, s);
   p << report::material_view_html(s);
 }

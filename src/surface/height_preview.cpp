@@ -42,7 +42,11 @@ RgbImage render_height_preview(const Surface& s, std::size_t max_size) {
     hi = vals[static_cast<std::size_t>(0.995 * static_cast<double>(vals.size() - 1))];
     if (hi <= lo) hi = lo + 1e-12;
   }
-  const std::size_t bar = 14, margin = 8, label_w = 60;
+  auto label = [&](double v) { return format_length(v, 3); };
+  const std::size_t bar = 14, margin = 8,
+                    label_w = std::max(detail::text_width(label(hi), 2),
+                                       detail::text_width(label(lo), 2)) +
+                              4;
   RgbImage out(w + margin + bar + margin + label_w, std::max<std::size_t>(h, 60));
   std::fill(out.pixels.begin(), out.pixels.end(), 255);
   std::uint8_t rgb[3];
@@ -69,13 +73,8 @@ RgbImage render_height_preview(const Surface& s, std::size_t max_size) {
     false_colour(1.0 - static_cast<double>(y) / static_cast<double>(bh - 1), rgb);
     for (std::size_t x = bx; x < bx + bar; ++x) out.set(x, y, rgb[0], rgb[1], rgb[2]);
   }
-  auto label = [&](double v) {
-    std::string t = format_length(v, 3);
-    t.erase(std::remove(t.begin(), t.end(), ' '), t.end());
-    return t;
-  };
   detail::draw_text(out, bx + bar + 4, 2, label(hi), 2);
-  detail::draw_text(out, bx + bar + 4, bh - 12, label(lo), 2);
+  detail::draw_text(out, bx + bar + 4, bh - 14, label(lo), 2);
   return out;
 }
 

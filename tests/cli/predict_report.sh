@@ -23,7 +23,9 @@ d, out = sys.argv[1], json.load(open(sys.argv[2]))
 assert out["report"].endswith("report.html") and os.path.exists(out["report"]), out
 s = json.load(open(os.path.join(d, "summary.json")))
 assert [f["model"] for f in s["fits"]] == ["ellipsoid", "beckmann", "ggx"]
-assert {r["scene"] for r in s["renders"]} == {"cylinders", "sphere"}
+# The compared scenes and the colour swatch (no studio map without --envmap beside it).
+assert [r["scene"] for r in s["renders"]] == ["cylinders", "sphere", "plate", "swatch"], s["renders"]
+assert all(-10 <= r["exposure_stops"] <= 10 for r in s["renders"])
 assert [round(a["theta_i_deg"]) for a in s["brdf"]["albedo"]] == [30, 60]
 html = open(os.path.join(d, "report.html")).read()
 assert len(re.findall(r"<img ", html)) >= 6  # height map, 2 NDFs, fit comparison, 2 renders
@@ -40,6 +42,25 @@ for m in rc["models"]:
 assert 0 < rc["noise"]["rms_relative"] < 10 and 0 < rc["noise"]["ssim_two_seeds"] <= 1
 assert rc["difference_scale"]["max"] > 0
 assert "Each model rendered" in html and "Render noise" in html and "Wang et al. 2004" in html
+# Every scene compared (the cylinder pair's keys also at the top level, as before), each with its
+# noise; the smoothed error is below the per-pixel one for noise (averaging removes noise).
+sc = rc["scenes"]
+assert [x["scene"] for x in sc] == ["cylinders", "sphere", "plate"], [x["scene"] for x in sc]
+assert {k: v for k, v in sc[0].items()} == {k: v for k, v in rc.items() if k != "scenes"}
+for x in sc:
+    n = x["noise"]
+    # Smoothing averages the pixel noise away (the plate's light is mirrored into the camera,
+    # so even this narrow lobe lights it: no scene is black).
+    assert 0 < n["rms_relative_smoothed"] < n["rms_relative"], (x["scene"], n)
+    assert [m["model"] for m in x["models"]] == ["ellipsoid", "beckmann", "ggx"]
+    assert x["exposure_stops"] == next(r for r in s["renders"] if r["scene"] == x["scene"])["exposure_stops"]
+    for m in x["models"]:
+        assert 0 < m["ssim"] <= 1 and 0 <= m["rms_relative_smoothed"] < 10, m
+        for k in ("image", "difference_image"):
+            assert m[k] in s["outputs"] and os.path.getsize(os.path.join(d, m[k])) > 0, m[k]
+    assert x["reference"] == "img/render_%s.png" % x["scene"]
+    assert "thumbnail" not in x["models"][0]  # 32-px renders: shown as they are
+    assert 'id="compare-%s"' % x["scene"] in html
 assert len(re.findall(r"<img ", html)) >= 6 + 1 + 2 * 3  # + the strip: reference, image + diff
 PY
 
@@ -61,9 +82,10 @@ $BIN predict "$T/b.x3p" --level none --resolution 129 --no-render -o "$T/norende
 python3 - "$T/dk/summary.json" "$T/norender/summary.json" <<'PY' || fail "strip with D_K / no render"
 import json, sys
 dk, nr = (json.load(open(p)) for p in sys.argv[1:3])
-models = [m["model"] for m in dk["render_comparison"]["models"]]
-assert models == ["ellipsoid", "beckmann", "ggx", "kirchhoff"], models
-assert all(0 < m["ssim"] <= 1 for m in dk["render_comparison"]["models"])
+for x in dk["render_comparison"]["scenes"]:
+    models = [m["model"] for m in x["models"]]
+    assert models == ["ellipsoid", "beckmann", "ggx", "kirchhoff"], models
+    assert all(0 < m["ssim"] <= 1 for m in x["models"])
 assert "render_comparison" not in nr and "skipped" in nr["renders"]
 PY
 
