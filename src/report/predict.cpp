@@ -280,6 +280,7 @@ PredictResult predict_staged(const PredictOptions& o, const std::string& out_dir
   summary["mpi"] = work.to_json("scans_per_rank");
   const SoloAfterwards solo;
   mpi_set_solo(true);
+  timed("ndf_zoom", [&] { report::stage_zoom(c, paths, ndfs); });
   timed("ndf_write", [&] { summary["ndf"] = report::stage_ndfs(c, ndfs); });
   c.log("[2/6] fits");
   timed("fits", [&] { summary["fits"] = report::stage_fits(c, ndfs, fits, timing); });
