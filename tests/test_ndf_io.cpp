@@ -383,3 +383,119 @@ TEST(ndf_io, PreviewIntoReadOnlyDirectoryThrowsAndLeavesNothing) {
   fs::permissions(dir, fs::perms::owner_all);
   if (!enforced) GTEST_SKIP() << "permissions not enforced (running as root)";
 }
+
+// How the table was sampled and the zoom window travel through both formats; a sidecar from
+// before the record (no "sampling", no "window") reads as an unrecorded sampling (inferred from
+// the method) on the whole disk.
+TEST(ndf_io, SamplingAndWindowRoundTrip) {
+  const auto dir = temp_dir();
+  const NdfWindow w = zoom_window(0.25, -0.5, 0.125);
+  TabulatedNdf t(33, w);
+  fill_beckmann(t, 0.02, 0.25, -0.5);
+  t.meta.method = "filtered";
+  t.meta.sampling = "cell";
+  t.meta.window_mass = 0.875;
+  for (const char* name : {"win.npy", "win.exr"}) {
+    SCOPED_TRACE(name);
+    const std::string path = (dir / name).string();
+    write_ndf(t, path);
+    const TabulatedNdf r = read_ndf(path);
+    EXPECT_EQ(r.window(), w);
+    EXPECT_EQ(r.meta.sampling, "cell");
+    EXPECT_EQ(r.meta.window_mass, 0.875);
+    EXPECT_DOUBLE_EQ(r.node_x(0), 0.125);
+    EXPECT_DOUBLE_EQ(r.node_y(32), -0.375);
+    // The same function: bilinear values inside the window, 0 outside it (inside the disk).
+    EXPECT_NEAR(r.eval_disk(0.25, -0.5), t.eval_disk(0.25, -0.5), 1e-6 * t.eval_disk(0.25, -0.5));
+    EXPECT_EQ(r.eval_disk(0.0, 0.0), 0.0);
+  }
+  std::ifstream in(dir / "win.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j.at("sampling"), "cell");
+  EXPECT_EQ(j.at("window").at("x").at(0).get<double>(), 0.125);
+  EXPECT_EQ(j.at("window").at("y").at(1).get<double>(), -0.375);
+  EXPECT_EQ(j.at("conventions").at("m_x"), "m_x = 0.125 + 0.25 ix/(N-1)");
+  // A whole-disk table writes its sampling (inferred when not set) and the window [-1, 1]^2.
+  TabulatedNdf full(17);
+  fill_beckmann(full, 0.5);
+  full.meta.method = "ggx";
+  write_ndf(full, (dir / "full.npy").string());
+  std::ifstream fin(dir / "full.json");
+  const auto jf = nlohmann::json::parse(fin);
+  EXPECT_EQ(jf.at("sampling"), "point");
+  EXPECT_EQ(jf.at("window").at("x").at(0).get<double>(), -1.0);
+  // An old sidecar: no sampling, no window.
+  nlohmann::json old = jf;
+  old.erase("sampling");
+  old.erase("window");
+  old.erase("window_mass");
+  std::ofstream(dir / "full.json") << old.dump();
+  const TabulatedNdf r = read_ndf((dir / "full.npy").string());
+  EXPECT_TRUE(r.window().full());
+  EXPECT_TRUE(r.meta.sampling.empty());
+  EXPECT_FALSE(ndf_sampling_recorded(r.meta));
+  EXPECT_EQ(ndf_sampling(r.meta), "point");  // from the method "ggx"
+}
+
+TEST(ndf_io, BadWindowOrSamplingInSidecarIsAFileError) {
+  const auto dir = temp_dir();
+  TabulatedNdf t(17);
+  fill_beckmann(t, 0.5);
+  write_ndf(t, (dir / "badw.npy").string());
+  const auto side = (dir / "badw.json").string();
+  std::ifstream in(side);
+  const auto good = nlohmann::json::parse(in);
+  auto expect_bad = [&](const nlohmann::json& j, const std::string& fragment) {
+    std::ofstream(side, std::ios::trunc) << j.dump();
+    expect_file_error(
+        side, [&] { read_ndf((dir / "badw.npy").string()); }, fragment);
+  };
+  nlohmann::json j = good;
+  j["window"] = {{"x", {-0.5, 0.5}}, {"y", {-0.5, 0.25}}};  // not square
+  expect_bad(j, "window");
+  j["window"] = {{"x", {0.5, 1.5}}, {"y", {0, 1}}};  // outside [-1, 1]^2
+  expect_bad(j, "window");
+  j["window"] = "all";
+  expect_bad(j, "window");
+  j = good;
+  j["sampling"] = "splat";
+  expect_bad(j, "sampling");
+  j = good;
+  j["window_mass"] = 1.5;
+  expect_bad(j, "window_mass");
+}
+
+// A zoomed table honours its window everywhere: the integral over its nodes, moments, slices
+// (over the part of the line inside the window), resampling and splatting.
+TEST(ndf_io, ZoomedTableHonoursItsWindow) {
+  const NdfWindow w = zoom_window(0.1, 0.0, 0.05);
+  TabulatedNdf t(101, w);
+  fill_beckmann(t, 0.01, 0.1, 0.0);
+  EXPECT_NEAR(t.integral(), 1.0, 1e-12);
+  EXPECT_NEAR(t.spacing(), 0.001, 1e-15);
+  const Eigen::Vector3d mn = t.mean_normal();
+  EXPECT_NEAR(mn.x() / mn.z(), 0.1 / std::sqrt(1 - 0.01), 2e-3);
+  EXPECT_NEAR(t.rms_slope(M_PI / 2), 0.01 / std::sqrt(2.0), 0.01 * 0.01 / std::sqrt(2.0) * 3);
+  const NdfSlice s = t.slice(0, 201);
+  EXPECT_NEAR(s.t.front(), 0.05, 1e-12);
+  EXPECT_NEAR(s.t.back(), 0.15, 1e-12);
+  double peak_t = 0, peak = 0;
+  for (std::size_t i = 0; i < s.t.size(); ++i)
+    if (s.value[i] > peak) peak = s.value[i], peak_t = s.t[i];
+  EXPECT_NEAR(peak_t, 0.1, 1e-3);
+  const NdfSlice miss = t.slice(M_PI / 2, 11);  // the y axis misses the window
+  for (double v : miss.value) EXPECT_EQ(v, 0.0);
+  const TabulatedNdf r = t.resampled(51);
+  EXPECT_EQ(r.window(), w);
+  EXPECT_NEAR(r.eval_disk(0.1, 0.0) / t.eval_disk(0.1, 0.0), 1.0, 1e-3);
+  TabulatedNdf z(11, w);
+  z.splat(0.1, 0.0, 1.0);  // the centre node
+  z.splat(0.0, 0.0, 1.0);  // outside the window: ignored
+  EXPECT_EQ(z.at(5, 5), 1.0);
+  EXPECT_NEAR(z.integral() / (z.spacing() * z.spacing()), 1.0, 1e-12);
+  EXPECT_THROW(TabulatedNdf(11, NdfWindow{0.9, 0, 0.2}), std::invalid_argument);
+  EXPECT_THROW(t.add(TabulatedNdf(101)), std::invalid_argument);
+  const NdfWindow c = zoom_window(0.99, -2, 0.1);  // clamped inside [-1, 1]^2
+  EXPECT_NEAR(c.x1(), 1.0, 1e-15);
+  EXPECT_NEAR(c.y0(), -1.0, 1e-15);
+}

@@ -32,6 +32,16 @@ void run(const FitArgs& a) {
   o.tent_subsamples = a.subsamples;
   const TabulatedNdf ndf = read_ndf(a.input);
   const FitResult r = about_file(a.input, [&] { return fit_ndf(ndf, o); });
+  // Tables written before they recorded their sampling: say what was assumed (stderr; --json
+  // carries table_sampling_recorded).
+  if (o.sampling == FitSampling::Auto && !r.table_sampling_recorded)
+    std::fprintf(stderr,
+                 "microbrdf fit: warning: %s does not record how it was sampled; assumed %s "
+                 "(from its method '%s'); give --sampling node|tent to override\n",
+                 a.input.c_str(),
+                 r.table_sampling == "point" ? "point samples of the NDF"
+                                             : "cell-integrated estimates (a histogram)",
+                 ndf.meta.method.c_str());
   if (!a.report.empty()) write_fit_report(ndf, r, a.report);
   if (a.json) {
     nlohmann::json j = fit_result_json(r);
@@ -45,6 +55,9 @@ void run(const FitArgs& a) {
   std::printf("%s fit of %s (%s sampling, %s objective)\n", fit_model_name(r.model).c_str(),
               a.input.c_str(), fit_sampling_name(r.sampling).c_str(),
               fit_objective_name(r.objective).c_str());
+  if (!r.window.full())
+    std::printf("  zoomed table: m_x %.6g..%.6g, m_y %.6g..%.6g\n", r.window.x0(), r.window.x1(),
+                r.window.y0(), r.window.y1());
   std::printf("  alpha_x %.6g  alpha_y %.6g\n", p.alpha_x, p.alpha_y);
   if (r.model == FitModel::Ellipsoid)
     std::printf("  theta_x %.6g deg  theta_y %.6g deg  theta_z %.6g deg\n", p.theta_x * deg,
@@ -80,9 +93,12 @@ void register_fit(CLI::App& app) {
       "towards +y, theta_y > 0 towards -x; theta_z is reported in (-90, 90] deg.\n"
       "Objective: least squares on sqrt(D) over the disk (Hellinger distance; variance-"
       "stabilised\n"
-      "histogram counts). Sampling: the model is point-sampled at the nodes (tables made by "
-      "`tabulate`)\n"
-      "or averaged over each node's bilinear tent cell (histogram tables); auto picks.\n"
+      "histogram counts). Sampling: the model is point-sampled at the nodes (tables that record\n"
+      "\"sampling\": \"point\": `tabulate`, Kirchhoff, measured) or averaged over each node's "
+      "bilinear tent\n"
+      "cell (\"cell\": histograms of normals); auto follows the table (older files without the "
+      "record:\n"
+      "inferred from their method, with a warning). Zoomed tables are fitted on their window.\n"
       "Errors over the disk nodes: rms_error = sqrt(mean (T-M)^2) (1/sr), relative_l2_error = "
       "|T-M|/|T|.\n"
       "--report DIR writes fit.json, compare.png (measured | fit | residual), slices.png, "

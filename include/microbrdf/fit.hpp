@@ -13,8 +13,12 @@
 //    function. Node: D at the nodes times a fitted amplitude (what `tabulate` writes: point
 //    samples renormalised to sum D Delta^2 = 1). Tent: D averaged over each node's bilinear
 //    (tent) cell, which is what the histogram estimators' bilinear splatting produce; exactly
-//    normalised, no amplitude. Auto picks Node for tables made by `tabulate` (meta.method is a
-//    model name) and Tent otherwise.
+//    normalised, no amplitude. Auto follows the table's record of how it was sampled
+//    (meta.sampling, see ndf_sampling()): Node for "point", Tent for "cell"; tables that predate
+//    the record get the sampling inferred from meta.method (model names, "kirchhoff",
+//    "measured": point; histograms: cell) and the result says it was inferred.
+//  - Zoomed tables (a window smaller than the disk): residuals on the window's nodes; the model
+//    outside the window is not compared.
 //  - Objective (default): least squares on sqrt(D + eps) over the disk, equal weight per node
 //    (equal projected area): a Hellinger distance between the two densities; sqrt is the
 //    variance-stabilising transform of histogram (Poisson) counts, so unweighted least squares is
@@ -82,6 +86,11 @@ struct FitResult {
   EllipsoidParams initial;  ///< where the solver started
   FitObjective objective = FitObjective::Sqrt;
   FitSampling sampling = FitSampling::Node;  ///< the one used (never Auto)
+  /// How the table says it was sampled ("point" | "cell") and whether it said so (false: inferred
+  /// from its method, for files written before the record existed).
+  std::string table_sampling = "cell";
+  bool table_sampling_recorded = true;
+  NdfWindow window;  ///< the fitted table's window (fit_table uses it)
   int tent_subsamples = 1;
   double floor = 0;  ///< eps used, 1/sr
   /// Errors of the model as compared (the fit table) against the table, over all nodes inside
@@ -117,14 +126,14 @@ FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& options);
 /// The fitted distribution (normalised analytic model).
 std::shared_ptr<MicrofacetDistribution> fitted_distribution(const FitResult& r);
 
-/// The model as it is compared with the table (same resolution, sampling, amplitude): what
-/// the fit errors are measured against.
+/// The model as it is compared with the table (same resolution, window, sampling, amplitude):
+/// what the fit errors are measured against.
 TabulatedNdf fit_table(const FitResult& r, std::size_t resolution);
 
 /// D averaged over every node's tent cell with `subsamples` midpoint samples per spacing and
 /// axis (tent mode's forward operator, in double precision), 0 outside the disk.
 TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& model,
-                           std::size_t resolution, int subsamples);
+                           std::size_t resolution, int subsamples, const NdfWindow& window = {});
 
 /// Objective value (1/2 sum r^2) of `params` for the given options (sampling resolved as in
 /// fit_ndf; amplitude as given). For references and tests.

@@ -150,9 +150,10 @@ std::shared_ptr<MicrofacetDistribution> make_distribution(const NdfSpec& spec);
 /// D(m) at every node of an N x N TabulatedNdf (orthographic disk, node-centred; 0 on and outside
 /// the rim), then normalised to sum D Delta^2 = 1. meta.method = the model name, meta.notes = the
 /// parameters and the sum before normalising (far from 1 when the lobe is narrower than a few
-/// nodes: alpha <~ 3 Delta = 6/(N-1)).
+/// nodes: alpha <~ 3 Delta = 6/(N-1)); meta.sampling = "point". `window`: the nodes cover that
+/// square of the disk plane only (a zoomed table, D = 0 outside it).
 TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model,
-                      std::size_t resolution = 1025);
+                      std::size_t resolution = 1025, const NdfWindow& window = {});
 
 /// Rotation matrices (active, right-handed).
 Eigen::Matrix3d rotation_x(double t);

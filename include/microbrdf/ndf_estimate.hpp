@@ -21,6 +21,10 @@ struct NdfEstimateOptions {
   /// valid neighbours) is at least this fraction of the full-grid value: fits near borders and
   /// holes that see too little surface are skipped and counted (docs/theory.md §3.3).
   double min_support = 0.5;
+  /// The square of the disk plane tabulated (default: all of it). A zoomed window resolves a
+  /// narrow lobe; normals outside it are not counted (their share of the projected area is
+  /// recorded as 1 - meta.window_mass) and the table is normalised over the window.
+  NdfWindow window;
 };
 
 /// One scan's share of an NdfAccumulator: its own unnormalised table (projected area per node)

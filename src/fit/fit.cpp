@@ -182,7 +182,9 @@ struct FitContext {
 
   std::size_t cols() const { return ix1 - ix0 + 1; }
   std::size_t rows() const { return iy1 - iy0 + 1; }
-  double node(std::size_t i) const { return -1.0 + delta * static_cast<double>(i); }
+  double ox = -1, oy = -1;  // the table's first node (its window's corner)
+  double node_x(std::size_t i) const { return ox + delta * static_cast<double>(i); }
+  double node_y(std::size_t i) const { return oy + delta * static_cast<double>(i); }
 
   template <typename T>
   T g(const T& d) const {
@@ -204,9 +206,9 @@ struct FitContext {
   template <typename T>
   void row_values(const ModelEval<T>& me, std::size_t iy, T* out) const {
     const std::size_t nc = cols();
-    const double y = node(iy);
+    const double y = node_y(iy);
     if (!tent) {
-      for (std::size_t c = 0; c < nc; ++c) out[c] = me.D_disk(node(ix0 + c), y);
+      for (std::size_t c = 0; c < nc; ++c) out[c] = me.D_disk(node_x(ix0 + c), y);
       return;
     }
     // Midpoint rule on the tent: 2s points per axis at offsets ((a + 1/2)/s - 1) Delta with
@@ -219,7 +221,7 @@ struct FitContext {
     }
     const std::size_t nsub = ss * (nc + 1);
     std::vector<T> sub(nsub);
-    const double h = delta / s, x0 = node(ix0) - delta + 0.5 * h;
+    const double h = delta / s, x0 = node_x(ix0) - delta + 0.5 * h;
     for (std::size_t c = 0; c < nc; ++c) out[c] = T(0);
     for (std::size_t b = 0; b < 2 * ss; ++b) {
       const double yb = y + ((static_cast<double>(b) + 0.5) / s - 1.0) * delta;
@@ -268,7 +270,7 @@ struct FitContext {
     ModelEval<double> me(model, shape);
     double sum = 0;
     for (std::size_t iy = iy0; iy <= iy1; ++iy)
-      for (std::size_t ix = ix0; ix <= ix1; ++ix) sum += me.D_disk(node(ix), node(iy));
+      for (std::size_t ix = ix0; ix <= ix1; ++ix) sum += me.D_disk(node_x(ix), node_y(iy));
     sum *= delta * delta;
     return sum > 0 ? 1.0 / sum : 1.0;
   }
@@ -419,8 +421,8 @@ NormalEq normal_equations_k(const FitContext& c, const double* shape, double log
   const std::size_t nsub = c.tent ? ss * (nc + 1) : nc;
   const std::size_t ring = c.tent ? 2 * ss : 1;
   const double h = c.delta / static_cast<double>(ss);
-  const double x0 = c.tent ? c.node(c.ix0) - c.delta + 0.5 * h : c.node(c.ix0);
-  const double y0 = c.tent ? c.node(c.iy0) - c.delta + 0.5 * h : c.node(c.iy0);
+  const double x0 = c.tent ? c.node_x(c.ix0) - c.delta + 0.5 * h : c.node_x(c.ix0);
+  const double y0 = c.tent ? c.node_y(c.iy0) - c.delta + 0.5 * h : c.node_y(c.iy0);
   std::vector<double> w(2 * ss, 1.0);
   if (c.tent)
     for (std::size_t a = 0; a < 2 * ss; ++a) {
@@ -692,11 +694,9 @@ bool measured_table(const TabulatedNdf& t) {
   return false;
 }
 
-bool made_by_tabulate(const TabulatedNdf& t) {
-  const std::string m = lower(t.meta.method);
-  return m == "beckmann" || m == "ggx" || m == "ellipsoid" || m == "trowbridge-reitz" ||
-         m == "gtr2";
-}
+// Point samples (analytic models, Kirchhoff, measured): the sampling the table records, or the
+// one inferred from its method when the file predates the record.
+bool point_sampled(const TabulatedNdf& t) { return ndf_sampling(t.meta) == "point"; }
 
 FitContext make_context(const TabulatedNdf& t, const FitOptions& o, const EllipsoidParams& start) {
   FitContext c;
@@ -705,10 +705,12 @@ FitContext make_context(const TabulatedNdf& t, const FitOptions& o, const Ellips
   c.threads = o.threads > 0 ? o.threads : omp_get_max_threads();
   c.n = t.resolution();
   c.delta = t.spacing();
+  c.ox = t.window().x0();
+  c.oy = t.window().y0();
   FitSampling smp = o.sampling;
   const bool measured = measured_table(t);
   if (smp == FitSampling::Auto)
-    smp = made_by_tabulate(t) || measured ? FitSampling::Node : FitSampling::Tent;
+    smp = point_sampled(t) || measured ? FitSampling::Node : FitSampling::Tent;
   c.tent = smp == FitSampling::Tent;
   if (c.tent) {
     int s = o.tent_subsamples;
@@ -724,8 +726,11 @@ FitContext make_context(const TabulatedNdf& t, const FitOptions& o, const Ellips
   if (!(vmax > 0) || !std::isfinite(vmax))
     throw InputError("the NDF table is empty (no positive finite value); nothing to fit");
   c.eps = o.floor * vmax;
-  if (t.meta.samples_used > 0 && !made_by_tabulate(t) && !measured)
-    c.eps = std::max(c.eps, 0.375 / (static_cast<double>(t.meta.samples_used) * c.delta * c.delta));
+  // (On a zoomed table one sample's value is 1 / (samples inside the window Delta^2).)
+  if (t.meta.samples_used > 0 && !point_sampled(t) && !measured)
+    c.eps =
+        std::max(c.eps, 0.375 / (static_cast<double>(t.meta.samples_used) *
+                                 std::clamp(t.meta.window_mass, 1e-6, 1.0) * c.delta * c.delta));
   c.lin_scale = 1.0 / std::sqrt(vmax);
   // Region of interest: the box of nodes above roi_threshold * max, widened.
   const double thr = o.roi_threshold * vmax;
@@ -982,6 +987,9 @@ FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
   r.initial = start;
   r.objective = o.objective;
   r.sampling = ctx.tent ? FitSampling::Tent : FitSampling::Node;
+  r.window = ndf.window();
+  r.table_sampling = ndf_sampling(ndf.meta);
+  r.table_sampling_recorded = ndf_sampling_recorded(ndf.meta);
   r.tent_subsamples = ctx.tent ? ctx.s : 1;
   r.floor = ctx.eps;
   r.residuals = ctx.rows() * ctx.cols();
@@ -1139,7 +1147,7 @@ FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
 // tables (point samples of a model) keep every fourth node.
 TabulatedNdf coarsened(const TabulatedNdf& t, bool tent) {
   const std::size_t n = t.resolution(), nc = (n - 1) / 4 + 1;
-  TabulatedNdf c(nc);
+  TabulatedNdf c(nc, t.window());
   c.meta = t.meta;
   const double w[7] = {0.0625, 0.125, 0.1875, 0.25, 0.1875, 0.125, 0.0625};
 #pragma omp parallel for schedule(static)
@@ -1181,7 +1189,7 @@ FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
     if (std::min(g.alpha_x, g.alpha_y) >= 3 * coarse_spacing) {
       FitSampling smp = o.sampling;
       if (smp == FitSampling::Auto)
-        smp = made_by_tabulate(ndf) ? FitSampling::Node : FitSampling::Tent;
+        smp = point_sampled(ndf) ? FitSampling::Node : FitSampling::Tent;
       const TabulatedNdf coarse = coarsened(ndf, smp == FitSampling::Tent);
       FitOptions co = o;
       co.sampling = smp;
@@ -1212,11 +1220,11 @@ std::shared_ptr<MicrofacetDistribution> fitted_distribution(const FitResult& r) 
 }
 
 TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& model,
-                           std::size_t resolution, int subsamples) {
+                           std::size_t resolution, int subsamples, const NdfWindow& window) {
   if (resolution < 3) throw InputError("NDF table resolution must be at least 3");
   const int s = std::max(1, subsamples);
   const auto ss = static_cast<std::size_t>(s);
-  TabulatedNdf t(resolution);
+  TabulatedNdf t(resolution, window);
   const double delta = t.spacing(), h = delta / s;
   std::vector<double> w(2 * ss);
   for (std::size_t a = 0; a < w.size(); ++a)
@@ -1225,7 +1233,7 @@ TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& m
   // the sub-grid (s (N + 1))^2 (each sub-row's y and sub-column's x from its own index), rows in
   // contiguous bands per thread so that a row reuses the previous row's last s sub-rows.
   const std::size_t nsub = ss * (resolution + 1);
-  const double x0 = t.node_x(0) - delta + 0.5 * h;
+  const double x0 = t.node_x(0) - delta + 0.5 * h, y0 = t.node_y(0) - delta + 0.5 * h;
 #pragma omp parallel
   {
     std::vector<double> buf(2 * ss * nsub);
@@ -1234,7 +1242,7 @@ TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& m
       double* out = &buf[(j % (2 * ss)) * nsub];
       if (held[j % (2 * ss)] == static_cast<long>(j)) return out;
       held[j % (2 * ss)] = static_cast<long>(j);
-      const double y = x0 + static_cast<double>(j) * h;
+      const double y = y0 + static_cast<double>(j) * h;
       for (std::size_t i = 0; i < nsub; ++i) {
         const double x = x0 + static_cast<double>(i) * h, r2 = x * x + y * y;
         out[i] = r2 < 1 ? d.D(Vec3(x, y, std::sqrt(1 - r2))) : 0.0;
@@ -1255,6 +1263,7 @@ TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& m
     }
   }
   t.meta.method = model + "-tent";
+  t.meta.sampling = "cell";
   t.meta.notes = d.describe() + "; tent-cell averages, " + std::to_string(s) + " subsamples";
   return t;
 }
@@ -1262,11 +1271,13 @@ TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& m
 TabulatedNdf fit_table(const FitResult& r, std::size_t resolution) {
   const auto d = fitted_distribution(r);
   if (r.sampling == FitSampling::Tent) {
-    TabulatedNdf t = tabulate_tent(*d, fit_model_name(r.model), resolution, r.tent_subsamples);
+    TabulatedNdf t =
+        tabulate_tent(*d, fit_model_name(r.model), resolution, r.tent_subsamples, r.window);
     t.meta.method = fit_model_name(r.model) + " fit";
     return t;
   }
-  TabulatedNdf t(resolution);
+  TabulatedNdf t(resolution, r.window);
+  t.meta.sampling = "point";
   for (std::size_t iy = 0; iy < resolution; ++iy)
     for (std::size_t ix = 0; ix < resolution; ++ix) {
       const double x = t.node_x(ix), y = t.node_y(iy), r2 = x * x + y * y;
@@ -1286,32 +1297,36 @@ nlohmann::json fit_result_json(const FitResult& r) {
                           {"theta_y", q.theta_y},
                           {"theta_z", q.theta_z}};
   };
-  return {{"model", fit_model_name(r.model)},
-          {"params", params(p)},
-          {"params_deg",
-           {{"theta_x", p.theta_x * 180 / kPi},
-            {"theta_y", p.theta_y * 180 / kPi},
-            {"theta_z", p.theta_z * 180 / kPi}}},
-          {"phi", r.phi},
-          {"rms_error", r.rms_error},
-          {"relative_l2_error", r.relative_l2_error},
-          {"hellinger", r.hellinger},
-          {"amplitude", r.amplitude},
-          {"objective", fit_objective_name(r.objective)},
-          {"sampling", fit_sampling_name(r.sampling)},
-          {"tent_subsamples", r.tent_subsamples},
-          {"floor", r.floor},
-          {"initial_params", params(r.initial)},
-          {"initial_cost", r.initial_cost},
-          {"final_cost", r.final_cost},
-          {"iterations", r.iterations},
-          {"converged", r.converged},
-          {"solver_converged", r.solver_converged},
-          {"at_bound", r.at_bound.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.at_bound)},
-          {"termination", r.termination},
-          {"residuals", r.residuals},
-          {"roi", {r.roi[0], r.roi[1], r.roi[2], r.roi[3]}},
-          {"seconds", r.seconds}};
+  return {
+      {"model", fit_model_name(r.model)},
+      {"params", params(p)},
+      {"params_deg",
+       {{"theta_x", p.theta_x * 180 / kPi},
+        {"theta_y", p.theta_y * 180 / kPi},
+        {"theta_z", p.theta_z * 180 / kPi}}},
+      {"phi", r.phi},
+      {"rms_error", r.rms_error},
+      {"relative_l2_error", r.relative_l2_error},
+      {"hellinger", r.hellinger},
+      {"amplitude", r.amplitude},
+      {"objective", fit_objective_name(r.objective)},
+      {"sampling", fit_sampling_name(r.sampling)},
+      {"table_sampling", r.table_sampling},
+      {"table_sampling_recorded", r.table_sampling_recorded},
+      {"window", {{"x", {r.window.x0(), r.window.x1()}}, {"y", {r.window.y0(), r.window.y1()}}}},
+      {"tent_subsamples", r.tent_subsamples},
+      {"floor", r.floor},
+      {"initial_params", params(r.initial)},
+      {"initial_cost", r.initial_cost},
+      {"final_cost", r.final_cost},
+      {"iterations", r.iterations},
+      {"converged", r.converged},
+      {"solver_converged", r.solver_converged},
+      {"at_bound", r.at_bound.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.at_bound)},
+      {"termination", r.termination},
+      {"residuals", r.residuals},
+      {"roi", {r.roi[0], r.roi[1], r.roi[2], r.roi[3]}},
+      {"seconds", r.seconds}};
 }
 
 }  // namespace microbrdf

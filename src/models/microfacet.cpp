@@ -312,9 +312,9 @@ std::string EllipsoidDistribution::describe() const {
 
 // ---------------------------------------------------------------------------------------------
 TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model,
-                      std::size_t resolution) {
+                      std::size_t resolution, const NdfWindow& window) {
   if (resolution < 3) throw InputError("NDF table resolution must be at least 3");
-  TabulatedNdf t(resolution);
+  TabulatedNdf t(resolution, window);
   for (std::size_t iy = 0; iy < resolution; ++iy)
     for (std::size_t ix = 0; ix < resolution; ++ix) {
       const double x = t.node_x(ix), y = t.node_y(iy), r2 = x * x + y * y;
@@ -323,6 +323,7 @@ TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model,
   const double raw = t.integral();
   t.normalise();
   t.meta.method = model;
+  t.meta.sampling = "point";
   char b[64];
   std::snprintf(b, sizeof b, "; node sum before normalising %.9g", raw);
   t.meta.notes = d.describe() + b;

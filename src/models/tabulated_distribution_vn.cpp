@@ -266,8 +266,9 @@ double VisibleNormalTables::pdf(const Vec3& v, const Vec3& m) const {
   if (!(e > 0)) return 0.0;
   // The cell eval_disk used (same floor and clamp).
   const double inv = 1 / t_->spacing(), top = static_cast<double>(cells_ - 1);
-  const auto cx = static_cast<std::size_t>(std::clamp(std::floor((px + 1) * inv), 0.0, top));
-  const auto cy = static_cast<std::size_t>(std::clamp(std::floor((py + 1) * inv), 0.0, top));
+  const double ox = t_->window().x0(), oy = t_->window().y0();  // the first node
+  const auto cx = static_cast<std::size_t>(std::clamp(std::floor((px - ox) * inv), 0.0, top));
+  const auto cy = static_cast<std::size_t>(std::clamp(std::floor((py - oy) * inv), 0.0, top));
   const std::size_t c = (cy * nc_ / cells_) * nc_ + cx * nc_ / cells_;
   if (!(mass_[c] > 0)) return 0.0;
   return coarse_probability(mix(v), c) * e / mass_[c] * (m.z() / len);

@@ -378,10 +378,11 @@ void splat_normals(const double* mx, const double* my, std::size_t n, double wei
   double* d = t.values().data();
   const double inv = 1.0 / t.spacing();
   const double last = static_cast<double>(res - 1);
+  const double ox = t.window().x0(), oy = t.window().y0();  // the first node (-1 unless zoomed)
   for (std::size_t i = 0; i < n; ++i) {
     const double x = mx[i];
     if (std::isnan(x)) continue;
-    const double fx = (x + 1.0) * inv, fy = (my[i] + 1.0) * inv;
+    const double fx = (x - ox) * inv, fy = (my[i] - oy) * inv;
     if (!(fx >= 0 && fx <= last && fy >= 0 && fy <= last)) continue;
     const auto ix = static_cast<std::size_t>(std::min(std::floor(fx), last - 1));
     const auto iy = static_cast<std::size_t>(std::min(std::floor(fy), last - 1));

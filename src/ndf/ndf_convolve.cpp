@@ -235,7 +235,7 @@ TabulatedNdf convolve_angular_gaussian(const TabulatedNdf& ndf, double fwhm_rad)
   std::vector<double> sum;
   gather(g, q, g.inside, r_nodes, kp, series, sum);
 
-  TabulatedNdf out(n);
+  TabulatedNdf out(n, ndf.window());
   out.meta = ndf.meta;
   for (std::size_t p = 0; p < n * n; ++p) out.values()[p] = g.inside[p] ? sum[p] * inv_z[p] : 0.0;
   char note[96];
@@ -249,7 +249,8 @@ TabulatedNdf convolve_angular_gaussian(const TabulatedNdf& ndf, double fwhm_rad)
 // mass is moved along S's slope offsets, i.e. P * S on the disk in slope-offset approximation
 // (the signatures are ~1 deg wide, where disk offsets and angles agree to < 1e-4 relative).
 TabulatedNdf convolve_signature(const TabulatedNdf& p, const TabulatedNdf& s) {
-  const TabulatedNdf sig = s.resampled(p.resolution());
+  // The signature on nodes of the prediction's spacing, centred on the pole (node n/2).
+  const TabulatedNdf sig = s.resampled(p.resolution(), zoom_window(0, 0, p.window().half));
   const std::size_t n = p.resolution();
   const long c = static_cast<long>(n / 2);
   std::vector<std::pair<long, long>> off;
@@ -265,7 +266,7 @@ TabulatedNdf convolve_signature(const TabulatedNdf& p, const TabulatedNdf& s) {
       }
     }
   if (!(wsum > 0)) throw InputError("the instrument signature has no mass");
-  TabulatedNdf out(n);
+  TabulatedNdf out(n, p.window());
   for (std::size_t iy = 0; iy < n; ++iy)
     for (std::size_t ix = 0; ix < n; ++ix) {
       const double v = p.at(ix, iy);

@@ -3,7 +3,9 @@
 // at any resolution and scans of different spacings combine by projected area.
 #include "microbrdf/ndf_estimate.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "microbrdf/error.hpp"
@@ -12,8 +14,9 @@
 namespace microbrdf {
 
 NdfAccumulator::NdfAccumulator(const NdfEstimateOptions& options)
-    : opt_(options), acc_(options.resolution) {
+    : opt_(options), acc_(options.resolution, options.window) {
   acc_.meta.method = options.method == NdfMethod::Naive ? "naive" : "filtered";
+  acc_.meta.sampling = "cell";
   acc_.meta.filter_sigma_m = options.method == NdfMethod::Filtered ? options.filter_sigma_m : 0.0;
 }
 
@@ -62,7 +65,7 @@ void add_filtered(const Surface& s, const NdfEstimateOptions& o, TabulatedNdf& a
 }
 
 NdfScanPartial estimate_partial(const Surface& s, const NdfEstimateOptions& opt) {
-  NdfScanPartial p{TabulatedNdf(opt.resolution), {}};
+  NdfScanPartial p{TabulatedNdf(opt.resolution, opt.window), {}};
   if (opt.method == NdfMethod::Naive)
     add_naive(s, p.table, p.meta);
   else
@@ -85,6 +88,18 @@ TabulatedNdf finalise(TabulatedNdf t) {
     if (t.meta.sources.size() > 3) names += ", ...";
     throw FileError(names, why);
   }
+  // Every splat keeps its weight (projected area) on the nodes when it lands inside the table's
+  // square: the node sum over the projected area is the share inside a zoomed window.
+  if (!t.window().full()) {
+    double inside = 0;
+    for (double v : t.values()) inside += v;
+    t.meta.window_mass = std::min(1.0, inside / t.meta.projected_area_m2);
+    if (!(inside > 0))
+      throw InputError("no normal falls inside the NDF window (centre " +
+                       std::to_string(t.window().cx) + ", " + std::to_string(t.window().cy) +
+                       ", half-width " + std::to_string(t.window().half) +
+                       "); widen it or centre it on the lobe");
+  }
   // Rim splats can reach nodes just outside the unit disk, where D is 0 by convention.
   t.clear_outside_disk();
   t.normalise();
@@ -98,6 +113,7 @@ NdfScanPartial NdfAccumulator::estimate(const Surface& s) const {
 }
 
 void NdfAccumulator::merge(const NdfScanPartial& p) {
+  // (Shares unpacked from other ranks carry no window; they were estimated with this one.)
   if (p.table.resolution() != acc_.resolution())
     throw InputError("NDF accumulator: a scan's table has resolution " +
                      std::to_string(p.table.resolution()) + ", expected " +
@@ -125,6 +141,7 @@ TabulatedNdf estimate_ndf(const Surface& s, const NdfEstimateOptions& options) {
   NdfScanPartial p = estimate_partial(s, options);
   TabulatedNdf& t = p.table;
   t.meta.method = options.method == NdfMethod::Naive ? "naive" : "filtered";
+  t.meta.sampling = "cell";
   t.meta.filter_sigma_m = options.method == NdfMethod::Filtered ? options.filter_sigma_m : 0.0;
   t.meta.samples_used = p.meta.samples_used;
   t.meta.samples_skipped = p.meta.samples_skipped;

@@ -2,7 +2,10 @@
 // with metadata attributes. See include/microbrdf/ndf_io.hpp.
 //
 // Layout in both: array row iy = m_y = -1 + 2 iy/(N-1), column ix = m_x = -1 + 2 ix/(N-1)
-// (the first row written / the first EXR scanline is iy = 0, i.e. m_y = -1).
+// (the first row written / the first EXR scanline is iy = 0, i.e. m_y = -1); a zoomed table
+// records its window [x0, x1] x [y0, y1] and has m_x = x0 + (x1 - x0) ix/(N-1), likewise m_y.
+// "sampling" ("point" | "cell") says how the nodes were obtained; files without it get the value
+// ndf_sampling() infers from the method.
 #include "microbrdf/ndf_io.hpp"
 
 #include <OpenEXR/ImfChannelList.h>
@@ -19,6 +22,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -63,7 +67,7 @@ std::string sidecar_path(const std::string& path) {
 // Validates a table read from `path`: square N x N, N >= 3, non-negative values; NaN is allowed
 // and means "unmeasured" (effective NDFs inferred from measured BRDFs), infinities are not.
 void validate(const std::string& path, std::size_t rows, std::size_t cols,
-              const std::vector<double>& v) {
+              const std::vector<double>& v, const NdfWindow& w) {
   if (rows != cols)
     throw FileError(path, "NDF table must be square, got " + std::to_string(rows) + " x " +
                               std::to_string(cols));
@@ -82,8 +86,8 @@ void validate(const std::string& path, std::size_t rows, std::size_t cols,
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (std::isnan(v[i])) continue;  // an unmeasured node (NaN) adds nothing
     sum += v[i];
-    const double mx = -1 + 2 * double(i % cols) / double(cols - 1);
-    const double my = -1 + 2 * double(i / cols) / double(rows - 1);
+    const double mx = w.x0() + 2 * w.half * double(i % cols) / double(cols - 1);
+    const double my = w.y0() + 2 * w.half * double(i / cols) / double(rows - 1);
     if (mx * mx + my * my < 1) inside += v[i];
   }
   if (!std::isfinite(sum))
@@ -92,6 +96,40 @@ void validate(const std::string& path, std::size_t rows, std::size_t cols,
                     "normalisable table)");
   if (!(inside > 0))
     throw FileError(path, "the NDF table holds no positive value inside the unit disk");
+}
+
+// The window of a table from its extent [x0, x1] x [y0, y1] (a square inside [-1, 1]^2).
+NdfWindow window_from_extent(const std::string& path, double x0, double x1, double y0, double y1) {
+  constexpr double kTol = 1e-9;
+  if (!(std::isfinite(x0) && std::isfinite(x1) && std::isfinite(y0) && std::isfinite(y1)) ||
+      !(x1 > x0) || !(y1 > y0) || std::abs((x1 - x0) - (y1 - y0)) > kTol * (x1 - x0) + 1e-15 ||
+      x0 < -1 - kTol || y0 < -1 - kTol || x1 > 1 + kTol || y1 > 1 + kTol)
+    throw FileError(path,
+                    "the table's window must be a square inside [-1, 1]^2 (x0 < x1, y0 < y1, "
+                    "equal sides)");
+  NdfWindow w;
+  w.half = std::min(1.0, 0.5 * (x1 - x0));
+  w.cx = 0.5 * (x0 + x1);
+  w.cy = 0.5 * (y0 + y1);
+  if (std::abs(w.cx) < 1e-15 && std::abs(w.cy) < 1e-15 && std::abs(w.half - 1) < 1e-12) return {};
+  w.cx = std::clamp(w.cx, -(1 - w.half), 1 - w.half);
+  w.cy = std::clamp(w.cy, -(1 - w.half), 1 - w.half);
+  return w;
+}
+
+std::string num_text(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+std::string conv_mx(const NdfWindow& w) {
+  return w.full() ? kConvMx
+                  : "m_x = " + num_text(w.x0()) + " + " + num_text(2 * w.half) + " ix/(N-1)";
+}
+std::string conv_my(const NdfWindow& w) {
+  return w.full()
+             ? kConvMy
+             : "m_y = " + num_text(w.y0()) + " + " + num_text(2 * w.half) + " iy/(N-1), row iy";
 }
 
 void check_writable(const TabulatedNdf& ndf, const std::string& path, bool as_float) {
@@ -109,12 +147,17 @@ nlohmann::json metadata_json(const TabulatedNdf& ndf) {
           {"version", 1},
           {"resolution", ndf.resolution()},
           {"conventions",
-           {{"m_x", kConvMx},
-            {"m_y", kConvMy},
+           {{"m_x", conv_mx(ndf.window())},
+            {"m_y", conv_my(ndf.window())},
             {"value", kConvValue},
             {"normalisation", kConvNorm},
             {"disk", kConvDisk}}},
           {"method", m.method},
+          {"sampling", ndf_sampling(m)},
+          {"window",
+           {{"x", {ndf.window().x0(), ndf.window().x1()}},
+            {"y", {ndf.window().y0(), ndf.window().y1()}}}},
+          {"window_mass", m.window_mass},
           {"filter_sigma_m", m.filter_sigma_m},
           {"wavelength_m", m.wavelength_m},
           {"sources", m.sources},
@@ -126,7 +169,8 @@ nlohmann::json metadata_json(const TabulatedNdf& ndf) {
           {"notes", m.notes}};
 }
 
-void read_sidecar(const std::string& side, std::size_t resolution, NdfMetadata& m) {
+void read_sidecar(const std::string& side, std::size_t resolution, NdfMetadata& m,
+                  NdfWindow& window) {
   const nlohmann::json j = read_json_file(side);
   if (!j.is_object()) throw FileError(side, "JSON sidecar is not an object");
   auto bad = [&](const char* key, const char* what) {
@@ -155,6 +199,25 @@ void read_sidecar(const std::string& side, std::size_t resolution, NdfMetadata& 
                                 " but the table is " + std::to_string(resolution));
   }
   str("method", m.method);
+  str("sampling", m.sampling);
+  if (!m.sampling.empty() && m.sampling != "point" && m.sampling != "cell")
+    bad("sampling", "\"point\" or \"cell\"");
+  if (j.contains("window")) {
+    const auto& w = j["window"];
+    auto pair = [&](const char* axis, double& lo, double& hi) {
+      if (!w.is_object() || !w.contains(axis) || !w[axis].is_array() || w[axis].size() != 2 ||
+          !w[axis][0].is_number() || !w[axis][1].is_number())
+        bad("window", "{\"x\": [x0, x1], \"y\": [y0, y1]}");
+      lo = w[axis][0].get<double>();
+      hi = w[axis][1].get<double>();
+    };
+    double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+    pair("x", x0, x1);
+    pair("y", y0, y1);
+    window = window_from_extent(side, x0, x1, y0, y1);
+  }
+  num("window_mass", m.window_mass);
+  if (!(m.window_mass >= 0 && m.window_mass <= 1)) bad("window_mass", "a fraction in [0, 1]");
   num("filter_sigma_m", m.filter_sigma_m);
   num("wavelength_m", m.wavelength_m);
   if (j.contains("sources")) {
@@ -203,12 +266,16 @@ void write_npy_ndf(const TabulatedNdf& ndf, const std::string& path) {
 TabulatedNdf read_npy_ndf(const std::string& path) {
   auto data = read_file_bytes(path, kMaxNpyBytes);
   detail::NpyArray a = detail::parse_npy(data, path);
-  validate(path, a.rows, a.cols, a.values);
-  TabulatedNdf ndf(a.rows);
-  ndf.values() = std::move(a.values);
+  // The sidecar first: it holds the window the values are validated against.
+  NdfMetadata meta;
+  NdfWindow window;
   const std::string side = sidecar_path(path);
   std::error_code ec;
-  if (fs::exists(side, ec)) read_sidecar(side, ndf.resolution(), ndf.meta);
+  if (fs::exists(side, ec)) read_sidecar(side, a.rows, meta, window);
+  validate(path, a.rows, a.cols, a.values, window);
+  TabulatedNdf ndf(a.rows, window);
+  ndf.values() = std::move(a.values);
+  ndf.meta = std::move(meta);
   return ndf;
 }
 
@@ -225,9 +292,17 @@ void write_exr_ndf(const TabulatedNdf& ndf, const std::string& path) {
     h.compression() = Imf::ZIP_COMPRESSION;
     h.channels().insert("D", Imf::Channel(Imf::FLOAT));
     h.insert("microbrdf_format", Imf::StringAttribute("ndf"));
-    h.insert("convention_m_x", Imf::StringAttribute(kConvMx));
+    const NdfWindow& win = ndf.window();
+    h.insert("convention_m_x", Imf::StringAttribute(conv_mx(win)));
     h.insert("convention_m_y",
-             Imf::StringAttribute(std::string(kConvMy) + " (first scanline = iy 0 = m_y -1)"));
+             Imf::StringAttribute(conv_my(win) + " (first scanline = iy 0 = m_y " +
+                                  num_text(win.y0()) + ")"));
+    h.insert("window_x0", Imf::DoubleAttribute(win.x0()));
+    h.insert("window_x1", Imf::DoubleAttribute(win.x1()));
+    h.insert("window_y0", Imf::DoubleAttribute(win.y0()));
+    h.insert("window_y1", Imf::DoubleAttribute(win.y1()));
+    h.insert("window_mass", Imf::DoubleAttribute(m.window_mass));
+    h.insert("sampling", Imf::StringAttribute(ndf_sampling(m)));
     h.insert("convention_value", Imf::StringAttribute(kConvValue));
     h.insert("convention_normalisation", Imf::StringAttribute(kConvNorm));
     h.insert("convention_disk", Imf::StringAttribute(kConvDisk));
@@ -290,8 +365,21 @@ TabulatedNdf read_exr_ndf(const std::string& path) {
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
     std::vector<double> v(buf.begin(), buf.end());
-    validate(path, ny, nx, v);
-    TabulatedNdf ndf(nx);
+    NdfWindow window;
+    {
+      const auto* a0 = h.findTypedAttribute<Imf::DoubleAttribute>("window_x0");
+      const auto* a1 = h.findTypedAttribute<Imf::DoubleAttribute>("window_x1");
+      const auto* b0 = h.findTypedAttribute<Imf::DoubleAttribute>("window_y0");
+      const auto* b1 = h.findTypedAttribute<Imf::DoubleAttribute>("window_y1");
+      if (a0 || a1 || b0 || b1) {
+        if (!(a0 && a1 && b0 && b1))
+          throw FileError(path,
+                          "the window needs all of window_x0, window_x1, window_y0, window_y1");
+        window = window_from_extent(path, a0->value(), a1->value(), b0->value(), b1->value());
+      }
+    }
+    validate(path, ny, nx, v, window);
+    TabulatedNdf ndf(nx, window);
     ndf.values() = std::move(v);
     NdfMetadata& m = ndf.meta;
     auto str = [&](const char* name, std::string& out) {
@@ -314,6 +402,12 @@ TabulatedNdf read_exr_ndf(const std::string& path) {
       }
     };
     str("method", m.method);
+    str("sampling", m.sampling);
+    if (!m.sampling.empty() && m.sampling != "point" && m.sampling != "cell")
+      throw FileError(path, "attribute 'sampling' must be \"point\" or \"cell\"");
+    dbl("window_mass", m.window_mass);
+    if (!(m.window_mass >= 0 && m.window_mass <= 1))
+      throw FileError(path, "attribute 'window_mass' must be a fraction in [0, 1]");
     dbl("filter_sigma_m", m.filter_sigma_m);
     dbl("wavelength_m", m.wavelength_m);
     if (auto* a = h.findTypedAttribute<Imf::StringVectorAttribute>("sources"))

@@ -2,20 +2,51 @@
 #include "microbrdf/tabulated_ndf.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <stdexcept>
 
 namespace microbrdf {
 
-TabulatedNdf::TabulatedNdf(std::size_t resolution)
-    : n_(resolution), d_(resolution * resolution, 0.0) {
+NdfWindow zoom_window(double cx, double cy, double half) {
+  NdfWindow w;
+  w.half = std::isfinite(half) ? std::clamp(half, 1e-6, 1.0) : 1.0;
+  const double lim = 1.0 - w.half;
+  w.cx = std::isfinite(cx) ? std::clamp(cx, -lim, lim) : 0.0;
+  w.cy = std::isfinite(cy) ? std::clamp(cy, -lim, lim) : 0.0;
+  if (w.half == 1.0) w.cx = w.cy = 0.0;
+  return w;
+}
+
+std::string ndf_sampling(const NdfMetadata& meta) {
+  if (!meta.sampling.empty()) return meta.sampling;
+  std::string m = meta.method;
+  std::transform(m.begin(), m.end(), m.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* point : {"beckmann", "ggx", "ellipsoid", "trowbridge-reitz", "gtr2", "kirchhoff",
+                            "measured", "lobe"})
+    if (m == point) return "point";
+  return "cell";
+}
+
+TabulatedNdf::TabulatedNdf(std::size_t resolution, const NdfWindow& window)
+    : n_(resolution), w_(window), d_() {
   if (resolution < 3) throw std::invalid_argument("TabulatedNdf: resolution must be >= 3");
+  constexpr double kTol = 1e-12;
+  if (!(w_.half > 0 && w_.half <= 1 + kTol) || !(std::abs(w_.cx) + w_.half <= 1 + kTol) ||
+      !(std::abs(w_.cy) + w_.half <= 1 + kTol))
+    throw std::invalid_argument("TabulatedNdf: the window must lie inside [-1, 1]^2");
+  d_.assign(resolution * resolution, 0.0);
 }
 
 double TabulatedNdf::eval_disk(double mx, double my) const {
   if (!(mx * mx + my * my <= 1.0)) return 0.0;  // also rejects NaN
   const double inv = 1.0 / spacing();
-  double fx = (mx + 1.0) * inv, fy = (my + 1.0) * inv;
+  double fx = (mx - w_.x0()) * inv, fy = (my - w_.y0()) * inv;
+  if (!w_.full()) {
+    const double last = static_cast<double>(n_ - 1);
+    if (!(fx >= 0 && fx <= last && fy >= 0 && fy <= last)) return 0.0;  // outside the window
+  }
   auto ix = static_cast<std::size_t>(std::clamp(std::floor(fx), 0.0, static_cast<double>(n_ - 2)));
   auto iy = static_cast<std::size_t>(std::clamp(std::floor(fy), 0.0, static_cast<double>(n_ - 2)));
   double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
@@ -112,8 +143,25 @@ NdfSlice TabulatedNdf::slice(double phi, std::size_t samples) const {
   NdfSlice s;
   if (samples < 2) samples = 2;
   const double c = std::cos(phi), sn = std::sin(phi);
+  // The part of the line t (cos phi, sin phi), t in [-1, 1], inside the window (slab clipping).
+  double ta = -1.0, tb = 1.0;
+  if (!w_.full()) {
+    auto clip = [&](double dir, double lo, double hi) {
+      if (std::abs(dir) < 1e-15) {
+        if (lo > 0 || hi < 0) tb = ta - 1;  // parallel and outside
+        return;
+      }
+      double a = lo / dir, b = hi / dir;
+      if (a > b) std::swap(a, b);
+      ta = std::max(ta, a);
+      tb = std::min(tb, b);
+    };
+    clip(c, w_.x0(), w_.x1());
+    clip(sn, w_.y0(), w_.y1());
+    if (!(tb > ta)) ta = -1.0, tb = 1.0;  // the line misses the window: zeros over [-1, 1]
+  }
   for (std::size_t k = 0; k < samples; ++k) {
-    double t = -1.0 + 2.0 * static_cast<double>(k) / static_cast<double>(samples - 1);
+    double t = ta + (tb - ta) * static_cast<double>(k) / static_cast<double>(samples - 1);
     s.t.push_back(t);
     s.theta.push_back(std::asin(std::clamp(t, -1.0, 1.0)));
     s.value.push_back(eval_disk(t * c, t * sn));
@@ -123,7 +171,7 @@ NdfSlice TabulatedNdf::slice(double phi, std::size_t samples) const {
 
 void TabulatedNdf::splat(double mx, double my, double weight) {
   const double inv = 1.0 / spacing();
-  double fx = (mx + 1.0) * inv, fy = (my + 1.0) * inv;
+  double fx = (mx - w_.x0()) * inv, fy = (my - w_.y0()) * inv;
   const double last = static_cast<double>(n_ - 1);
   if (!(fx >= 0 && fx <= last && fy >= 0 && fy <= last)) return;
   auto ix = static_cast<std::size_t>(std::min(std::floor(fx), last - 1));
@@ -139,11 +187,16 @@ void TabulatedNdf::splat(double mx, double my, double weight) {
 
 void TabulatedNdf::add(const TabulatedNdf& other, double w) {
   if (other.n_ != n_) throw std::invalid_argument("TabulatedNdf::add: resolutions differ");
+  if (!(other.w_ == w_)) throw std::invalid_argument("TabulatedNdf::add: windows differ");
   for (std::size_t i = 0; i < d_.size(); ++i) d_[i] += w * other.d_[i];
 }
 
 TabulatedNdf TabulatedNdf::resampled(std::size_t resolution) const {
-  TabulatedNdf out(resolution);
+  return resampled(resolution, w_);
+}
+
+TabulatedNdf TabulatedNdf::resampled(std::size_t resolution, const NdfWindow& window) const {
+  TabulatedNdf out(resolution, window);
   for (std::size_t iy = 0; iy < resolution; ++iy)
     for (std::size_t ix = 0; ix < resolution; ++ix)
       out.at(ix, iy) = eval_disk(out.node_x(ix), out.node_y(iy));

@@ -306,6 +306,7 @@ PredictResult predict_staged(const PredictOptions& given, const std::string& out
   summary["mpi"] = work.to_json("scans_per_rank");
   const SoloAfterwards solo;
   mpi_set_solo(true);
+  timed("ndf_zoom", [&] { report::stage_zoom(c, paths, ndfs); });
   timed("ndf_write", [&] { summary["ndf"] = report::stage_ndfs(c, ndfs); });
   ndfs.render = o.render_ndf;
   timed("ndf_comparison", [&] {

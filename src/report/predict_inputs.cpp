@@ -99,7 +99,8 @@ void warn_scan(const Context& c, const std::string& path, const nlohmann::json& 
 }
 
 // A lobe this narrow is not resolved by the table: rms slope s_min over the node spacing.
-void warn_table(const Context& c, const std::string& name, const TabulatedNdf& t, double s_min) {
+void warn_table(const Context& c, const std::string& name, const TabulatedNdf& t, double s_min,
+                const TabulatedNdf* zoom = nullptr) {
   const double span = 4 * s_min / t.spacing();  // nodes across +-2 rms slopes
   if (!(span < kLobeNodes)) return;
   char b[200];
@@ -119,6 +120,18 @@ void warn_table(const Context& c, const std::string& name, const TabulatedNdf& t
         "the lobe is narrower than the largest table (4097) resolves: take the roughness from "
         "the rms slopes of summary.json's ndf." +
         name + " (slope_rms_x/y), not from the fits or the table's shape";
+  }
+  if (zoom) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(zoom->slope_covariance());
+    const double zs = std::sqrt(std::max(es.eigenvalues()(0), 0.0));
+    char z[320];
+    std::snprintf(z, sizeof z,
+                  "the fits use ndf_%s_zoom.npy instead, the same estimator on a window of "
+                  "half-width %.3g around the lobe (node spacing %.3g; the lobe, smallest rms "
+                  "slope %.3g, spans %.0f nodes; %.4g%% of the normals fall inside it); ",
+                  name.c_str(), zoom->window().half, zoom->spacing(), zs, 4 * zs / zoom->spacing(),
+                  100 * zoom->meta.window_mass);
+    todo = z + std::string("for the whole-disk table (renders, previews): ") + todo;
   }
   c.warn("table_too_coarse", b, todo);
 }
@@ -281,6 +294,57 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
   return inputs;
 }
 
+namespace {
+
+// Smallest and largest rms slope of a table (principal axes of the slope covariance).
+std::pair<double, double> rms_slope_range(const TabulatedNdf& t) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(t.slope_covariance());
+  return {std::sqrt(std::max(es.eigenvalues()(0), 0.0)),
+          std::sqrt(std::max(es.eigenvalues()(1), 0.0))};
+}
+
+constexpr double kZoomSigmas = 12;  // zoom window half-width in rms slopes of the widest axis
+
+}  // namespace
+
+void stage_zoom(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs) {
+  if (!ndfs.filtered) return;
+  const auto& o = c.opt;
+  const std::size_t n = o.ndf_resolution;
+  const TabulatedNdf* from = ndfs.filtered.get();
+  // A lobe a few nodes wide also has its rms slopes inflated by the bilinear splat (variance
+  // Delta^2 / 6 per axis), so the window is set from an upper bound and refined until the lobe
+  // spans kLobeNodes (at most three passes).
+  for (int pass = 0; pass < 3; ++pass) {
+    const auto [s_min, s_max] = rms_slope_range(*from);
+    if (!(4 * s_min / from->spacing() < kLobeNodes)) break;  // resolved
+    const Eigen::Vector3d mn = from->mean_normal();
+    const double half_fit = 0.2 * std::max(s_min, 1e-9) * static_cast<double>(n - 1);
+    const double half =
+        std::min({kZoomSigmas * std::max(s_max, 1e-9), half_fit, from->window().half / 2});
+    NdfEstimateOptions fo;
+    fo.method = NdfMethod::Filtered;
+    fo.resolution = n;
+    fo.filter_sigma_m = o.filter_sigma_m;
+    fo.window = zoom_window(mn.x(), mn.y(), half);
+    char b[200];
+    std::snprintf(b, sizeof b,
+                  "inputs: filtered NDF on a zoomed window (centre %.4g, %.4g, half-width %.4g; "
+                  "node spacing %.3g)",
+                  fo.window.cx, fo.window.cy, fo.window.half, 2 * fo.window.half / double(n - 1));
+    c.log(b);
+    NdfAccumulator acc(fo);
+    auto compute = [&](std::size_t, const std::string& path, Surface& s) {
+      about_file(path, [&] { level_surface(s, o.leveling); });
+      return pack_partial(acc.estimate(s), nlohmann::json::object());
+    };
+    auto consume = [&](std::size_t, WorkResult&& r) { acc.merge(unpack_ndf_partial(r, n)); };
+    distribute_scans(paths, o.read, compute, consume);
+    ndfs.filtered_zoom = std::make_unique<TabulatedNdf>(acc.result());
+    from = ndfs.filtered_zoom.get();
+  }
+}
+
 nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs) {
   nlohmann::json out = nlohmann::json::object();
   const std::pair<const char*, const TabulatedNdf*> list[] = {{"naive", ndfs.naive.get()},
@@ -308,7 +372,8 @@ nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs) {
     const double s_min = std::sqrt(std::max(es.eigenvalues()(0), 0.0));
     const double s_max = std::sqrt(std::max(es.eigenvalues()(1), 0.0));
     const double sx = ndf->rms_slope(0), sy = ndf->rms_slope(M_PI / 2);
-    warn_table(c, name, *ndf, s_min);
+    const TabulatedNdf* zoom = ndf == ndfs.filtered.get() ? ndfs.filtered_zoom.get() : nullptr;
+    warn_table(c, name, *ndf, s_min, zoom);
     nlohmann::json j = {{"method", ndf->meta.method},
                         {"file", table},
                         {"preview", preview},
@@ -331,6 +396,20 @@ nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs) {
                         {"filter_sigma_m", ndf->meta.filter_sigma_m},
                         {"wavelength_m", ndf->meta.wavelength_m},
                         {"notes", ndf->meta.notes}};
+    if (zoom) {
+      // The zoomed table the fits use: its window, the share of the normals inside it and its
+      // own rms slopes (the whole-disk table's are inflated by the splat when the lobe spans a
+      // few nodes).
+      const std::string zt = std::string("ndf_") + name + "_zoom.npy";
+      write_ndf(*zoom, c.path(zt));
+      const auto& w = zoom->window();
+      j["zoom"] = {{"file", zt},
+                   {"window", {{"x", {w.x0(), w.x1()}}, {"y", {w.y0(), w.y1()}}}},
+                   {"node_spacing", zoom->spacing()},
+                   {"window_mass", zoom->meta.window_mass},
+                   {"slope_rms_x", zoom->rms_slope(0)},
+                   {"slope_rms_y", zoom->rms_slope(M_PI / 2)}};
+    }
     if (ndf == ndfs.kirchhoff.get()) {
       j["raw_integral"] = ndfs.kirchhoff_raw_integral;
       j["aliased_fraction"] = ndfs.kirchhoff_aliased_fraction;

@@ -73,17 +73,20 @@ nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitR
                           nlohmann::json& timing) {
   nlohmann::json out = nlohmann::json::array();
   for (FitModel m : {FitModel::Ellipsoid, FitModel::Beckmann, FitModel::Ggx}) {
-    c.log("fits: " + fit_model_name(m) + " to the filtered NDF");
+    // A zoomed table when the whole-disk one does not resolve the lobe (stage_zoom).
+    const TabulatedNdf& table = ndfs.filtered_zoom ? *ndfs.filtered_zoom : *ndfs.filtered;
+    c.log("fits: " + fit_model_name(m) + " to the filtered NDF" +
+          (ndfs.filtered_zoom ? " (zoomed table)" : ""));
     FitOptions fo;
     fo.model = m;
     fo.threads = c.opt.threads;
-    FitResult r = fit_ndf(*ndfs.filtered, fo);
+    FitResult r = fit_ndf(table, fo);
     nlohmann::json j = fit_result_json(r);
     j.erase("seconds");  // wall time lives under "timing" only (determinism)
     timing["fit_" + fit_model_name(m) + "_s"] = r.seconds;
-    j["source"] = "filtered";
+    j["source"] = ndfs.filtered_zoom ? "filtered_zoom" : "filtered";
     if (m == FitModel::Ellipsoid) {
-      write_fit_report(*ndfs.filtered, r, c.path("fit_ellipsoid"));
+      write_fit_report(table, r, c.path("fit_ellipsoid"));
       j["compare_image"] = "fit_ellipsoid/compare.png";
     }
     warn_fit(c, r);
