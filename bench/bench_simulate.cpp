@@ -7,12 +7,19 @@
 //    product per incident direction).
 // Counters: Embree queries and exit rays per second of CPU time of the calling thread: run with
 // OMP_NUM_THREADS=1 for per-core rates that a loaded machine does not distort (docs/benchmarks.md).
+// The estimator runs its blocks on worker threads, so its rates (and BM_SimulateSummary's) are per
+// second of CPU time of the whole process (getrusage, all threads); BM_SimulateSummary measures the
+// bare loop and the estimator at 1 and 2 threads in one go and reports the ratios and the load.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 #include <omp.h>
+#include <sys/resource.h>
 
+#include <algorithm>
+#include <chrono>
 #include <memory>
 
+#include "bench_load.hpp"
 #include "core/embree_ray.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/simulate.hpp"
@@ -21,6 +28,17 @@
 using namespace microbrdf;
 
 namespace {
+
+double process_cpu() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+double wall() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 const MicroScene& scene(bool grid) {
   static std::unique_ptr<MicroScene> s[2];
@@ -31,27 +49,32 @@ const MicroScene& scene(bool grid) {
   return *s[grid];
 }
 
+// `batch` bare rtcIntersect1 queries of random rays (round = seed); returns the hits.
+std::uint64_t bare_rays(const MicroScene& sc, std::int64_t batch, std::uint64_t round) {
+  auto* rs = static_cast<RTCScene>(sc.embree_scene());
+  std::uint64_t h = 0;
+#pragma omp parallel for schedule(static, 1024) reduction(+ : h)
+  for (std::int64_t i = 0; i < batch; ++i) {
+    SimRng rng(round, static_cast<std::uint64_t>(i));
+    const Eigen::Vector3d u = uniform_hemisphere(rng.uniform(), rng.uniform());
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    const double ox = rng.uniform() * sc.width();  // (two statements: x drawn before y)
+    const double oy = rng.uniform() * sc.height();
+    detail::fill_rayhit(rh, Eigen::Vector3d(ox, oy, sc.zmax()), -u, 0, 1e30f);
+    rtcIntersect1(rs, &ctx, &rh);
+    h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  }
+  return h;
+}
+
 void BM_SimulateBareEmbree(benchmark::State& state) {
   const MicroScene& sc = scene(state.range(0) != 0);
-  auto* rs = static_cast<RTCScene>(sc.embree_scene());
   const std::int64_t batch = 1 << 16;
   std::uint64_t hits = 0, round = 0;
   for (auto _ : state) {
-    std::uint64_t h = 0;
-#pragma omp parallel for schedule(static, 1024) reduction(+ : h)
-    for (std::int64_t i = 0; i < batch; ++i) {
-      SimRng rng(round, static_cast<std::uint64_t>(i));
-      const Eigen::Vector3d u = uniform_hemisphere(rng.uniform(), rng.uniform());
-      RTCIntersectContext ctx;
-      rtcInitIntersectContext(&ctx);
-      RTCRayHit rh;
-      const double ox = rng.uniform() * sc.width();  // (two statements: x drawn before y)
-      const double oy = rng.uniform() * sc.height();
-      detail::fill_rayhit(rh, Eigen::Vector3d(ox, oy, sc.zmax()), -u, 0, 1e30f);
-      rtcIntersect1(rs, &ctx, &rh);
-      h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    }
-    hits += h;
+    hits += bare_rays(sc, batch, round);
     ++round;
   }
   state.counters["queries/s"] =
@@ -102,18 +125,77 @@ void BM_SimulateEstimator(benchmark::State& state) {
   o.points = 16;
   SimulateStats total;
   std::uint64_t round = 0;
+  double cpu = 0;
   for (auto _ : state) {
     o.seed = ++round;
     SimulateStats st;
+    const double c0 = process_cpu();
     benchmark::DoNotOptimize(simulate(sc, o, &st));
+    cpu += process_cpu() - c0;
     total.counters.merge(st.counters);
   }
-  state.counters["queries/s"] = benchmark::Counter(double(total.counters.segments) / double(round),
-                                                   benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["exits/s"] = benchmark::Counter(double(total.counters.exits) / double(round),
-                                                 benchmark::Counter::kIsIterationInvariantRate);
-  state.SetLabel("lmax " + std::to_string(o.lmax) + ", 16 points per direction");
+  state.counters["queries_per_cpu_s"] = double(total.counters.segments) / cpu;
+  state.counters["exits_per_cpu_s"] = double(total.counters.exits) / cpu;
+  state.SetLabel("lmax " + std::to_string(o.lmax) + ", 16 points per direction, process CPU");
 }
 BENCHMARK(BM_SimulateEstimator)->Arg(15)->Arg(8)->Unit(benchmark::kMillisecond);
+
+// One run, interleaved: the bare loop and the estimator (lmax 15, 16 points) with 1 and 2 threads,
+// each timed `reps` times. Rates per second of process CPU (all threads: what the work costs,
+// independent of how much of the machine the process got) and per second of the best wall time.
+void BM_SimulateSummary(benchmark::State& state) {
+  const double load0 = microbrdf::bench::load_average();
+  const MicroScene& sc = scene(false);
+  const std::int64_t batch = 1 << 17;
+  const int reps = 3;
+  struct Rate {
+    double cpu = 0, best_wall = 1e30, work = 0;
+  };
+  Rate bare[2], est[2];
+  std::uint64_t seed = 0;
+  for (auto _ : state) {
+    for (int rep = 0; rep < reps; ++rep)
+      for (int nt : {1, 2}) {
+        const int before = omp_get_max_threads();
+        omp_set_num_threads(nt);
+        double c0 = process_cpu(), w0 = wall();
+        benchmark::DoNotOptimize(bare_rays(sc, batch, ++seed));
+        Rate& b = bare[nt - 1];
+        b.cpu += process_cpu() - c0;
+        b.best_wall = std::min(b.best_wall, wall() - w0);
+        b.work += double(batch);
+        omp_set_num_threads(before);
+        SimulateOptions o;
+        o.lmax = 15;
+        o.points = 16;
+        o.incident_directions = 8192;
+        o.threads = nt;
+        o.seed = ++seed;
+        SimulateStats st;
+        c0 = process_cpu();
+        w0 = wall();
+        benchmark::DoNotOptimize(simulate(sc, o, &st));
+        Rate& e = est[nt - 1];
+        e.cpu += process_cpu() - c0;
+        e.best_wall = std::min(e.best_wall, wall() - w0);
+        e.work += double(st.counters.exits);
+      }
+  }
+  const double iters = double(state.iterations()) * reps;
+  for (int i = 0; i < 2; ++i) {
+    const std::string t = std::to_string(i + 1) + "t";
+    state.counters["bare_rays_per_cpu_s_" + t] = bare[i].work / bare[i].cpu;
+    state.counters["exits_per_cpu_s_" + t] = est[i].work / est[i].cpu;
+    state.counters["ratio_cpu_" + t] = (est[i].work / est[i].cpu) / (bare[i].work / bare[i].cpu);
+    state.counters["ratio_wall_" + t] =
+        (est[i].work / iters / est[i].best_wall) / (bare[i].work / iters / bare[i].best_wall);
+  }
+  // CPU for the same estimator run with one thread over two (the goal: never above 1).
+  state.counters["est_cpu_1t_over_2t"] = est[0].cpu / est[1].cpu;
+  state.counters["load_before"] = load0;
+  state.counters["load_after"] = microbrdf::bench::load_average();
+  state.SetLabel("lmax 15, 16 points, 524288 triangles; rates per process CPU second");
+}
+BENCHMARK(BM_SimulateSummary)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace

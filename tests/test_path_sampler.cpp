@@ -195,3 +195,53 @@ TEST(PathSampler, EnvironmentInversionIsMonotoneAndKeepsStrata) {
   }
   EXPECT_EQ(cells.size(), 16u);
 }
+
+TEST(PathSampler, EnvironmentInversionMatchesBinarySearch) {
+  // The guide tables only say where a search starts: the cell and the position within it are
+  // those of a plain binary search of the running sums, for skewed weights with empty runs, a
+  // single bright cell and numbers next to the strata edges.
+  const std::size_t nu = 37, nv = 23;
+  std::vector<double> w(nu * nv);
+  std::uint64_t s = 12345;
+  auto next = [&s] {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    return double(s >> 11) * 0x1.0p-53;
+  };
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const double r = next();
+    w[i] = r < 0.3 ? 0.0 : std::pow(r, 12.0);
+  }
+  for (std::size_t c = 0; c < nu; ++c) w[4 * nu + c] = 0;  // an empty row
+  w[9 * nu + 3] = 1e4;                                     // a sun
+  const microbrdf::pt::PiecewiseConstant2D d(w, nu, nv);
+  std::vector<double> rows(nv + 1, 0.0), cols((nu + 1) * nv, 0.0);
+  for (std::size_t r = 0; r < nv; ++r) {
+    for (std::size_t c = 0; c < nu; ++c)
+      cols[r * (nu + 1) + c + 1] = cols[r * (nu + 1) + c] + w[r * nu + c];
+    rows[r + 1] = rows[r] + cols[r * (nu + 1) + nu];
+  }
+  auto find = [](const double* c, std::size_t m, double x) {
+    const double t = x * c[m];
+    std::size_t k = std::size_t(std::upper_bound(c, c + m + 1, t) - c);
+    k = std::clamp<std::size_t>(k, 1, m) - 1;
+    while (k + 1 < m && !(c[k + 1] > c[k])) ++k;
+    while (k > 0 && !(c[k + 1] > c[k])) --k;
+    return k;
+  };
+  std::vector<double> xs;
+  for (int k = 0; k < 4000; ++k) xs.push_back(next());
+  for (std::size_t j = 0; j <= 64; ++j) {  // on and next to the guide's own points
+    const double g = double(j) / 64;
+    for (double x : {g, std::nextafter(g, 0.0), std::nextafter(g, 1.0)})
+      if (x >= 0 && x < 1) xs.push_back(x);
+  }
+  for (std::size_t i = 0; i + 1 < xs.size(); ++i) {
+    const double u1 = xs[i], u2 = xs[xs.size() - 1 - i];
+    double u, v, pdf;
+    const std::size_t cell = d.sample(u1, u2, u, v, pdf);
+    const std::size_t row = find(rows.data(), nv, u2);
+    const std::size_t col = find(&cols[row * (nu + 1)], nu, u1);
+    ASSERT_EQ(cell, row * nu + col) << "u1 " << u1 << " u2 " << u2;
+    EXPECT_GT(w[cell], 0);
+  }
+}

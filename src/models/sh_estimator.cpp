@@ -1,5 +1,7 @@
 // The Monte Carlo estimator of the SH coefficient matrix (W92 eqs. 17 and 25, constants of
 // docs/theory.md §6.4) and the convergence measure Q (eqs. 26-27 with 1/J^2, docs/theory.md §6.5).
+#include <omp.h>
+
 #include <cmath>
 #include <string>
 
@@ -19,7 +21,15 @@ ShEstimator::ShEstimator(int lmax) : basis_(lmax) {
 
 void ShEstimator::flush() const {
   if (n_pend_ == 0) return;
+  // An estimator is one thread's accumulator (the tracers run one per worker thread): the
+  // product stays on the calling thread. Eigen would otherwise open an OpenMP team of
+  // omp_get_max_threads() inside every worker (nested parallelism: with one worker, a second
+  // spinning thread for a product of a few microseconds). Eigen reads the thread count per call
+  // from this thread's OpenMP setting, so it is lowered for the product only.
+  const int saved = omp_get_max_threads();
+  if (saved > 1) omp_set_num_threads(1);
   sum_.noalias() += pend_u_.leftCols(n_pend_) * pend_v_.leftCols(n_pend_).transpose();
+  if (saved > 1) omp_set_num_threads(saved);
   n_pend_ = 0;
 }
 

@@ -48,7 +48,10 @@ EnvironmentMap::EnvironmentMap(RgbFloatImage img, double scale, double rotation_
       f[r * w + c] = std::max({p[0], p[1], p[2]}) * s;
     }
   }
-  dist_ = PiecewiseConstant2D(f, w, h);
+  // The radiance travels with the sampling tables (one record per pixel, see distribution2d.hpp):
+  // every look-up reads it from there, and the image itself is not kept.
+  dist_ = PiecewiseConstant2D(f, w, h, img_.rgb.data());
+  std::vector<float>().swap(img_.rgb);
 }
 
 EnvironmentMap EnvironmentMap::uniform(const Eigen::Vector3d& rgb) {
@@ -76,7 +79,7 @@ Eigen::Vector3d EnvironmentMap::rgb(const Eigen::Vector3d& d) const {
   if (uniform_) return uniform_rgb_;
   int c, r;
   pixel_of(d, c, r);
-  const float* p = &img_.rgb[(std::size_t(r) * img_.width + c) * 3];
+  const float* p = dist_.payload(c, r);
   return {p[0], p[1], p[2]};
 }
 
@@ -92,7 +95,7 @@ Eigen::Vector3d EnvironmentMap::sample(double u1, double u2, double& pdf,
   const std::size_t cell = dist_.sample(u1, u2, u, v, p);
   if (rgb) {
     // Cells index the stored image (the rotation acts in direction()).
-    const float* q = &img_.rgb[cell * 3];
+    const float* q = dist_.payload(cell);
     *rgb = Eigen::Vector3d(q[0], q[1], q[2]);
   }
   const double st = std::sin(M_PI * v);
@@ -117,7 +120,7 @@ Eigen::Vector3d EnvironmentMap::rgb_and_pdf(const Eigen::Vector3d& d, double& pd
   pixel_of(d, c, r);
   const double st = std::hypot(d.x(), d.z()) / d.norm();  // sin theta, exact near the poles
   pdf = st > 0 ? dist_.pdf(c, r) / (2 * M_PI * M_PI * st) : 0;
-  const float* p = &img_.rgb[(std::size_t(r) * img_.width + c) * 3];
+  const float* p = dist_.payload(c, r);
   return {p[0], p[1], p[2]};
 }
 
