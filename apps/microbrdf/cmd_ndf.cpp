@@ -146,6 +146,8 @@ void run_kirchhoff(const NdfArgs& a) {
 }
 
 void run(const NdfArgs& a) {
+  if (a.method == "kirchhoff" && a.filter_sigma == "auto")
+    throw InputError("--filter-sigma auto applies to --method filtered");
   if (a.method == "kirchhoff") return run_kirchhoff(a);
   run_geometric(a);
 }
