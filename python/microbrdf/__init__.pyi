@@ -101,6 +101,19 @@ def ndf(
     keep_aliases: bool = False,
     progress: Optional[Callable[[float], None]] = None,
 ) -> TabulatedNdf: ...
+def hellinger_distance(a: TabulatedNdf, b: TabulatedNdf) -> float: ...
+def filter_sigma_auto(
+    surface: Scans,
+    wavelength: float = 555e-9,
+    patch: Optional[Length2] = (70e-6, 53e-6),
+    window: str = "none",
+    accuracy: float = 1e-3,
+    keep_aliases: bool = False,
+    resolution: int = 257,
+    level: str = "plane",
+    spacing: Optional[Length2] = None,
+    min_support: float = 0.5,
+) -> dict[str, Any]: ...
 def tabulate(
     model: str = "ggx",
     alpha_x: float = 0.1,
