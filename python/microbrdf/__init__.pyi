@@ -243,7 +243,7 @@ def predict(
     inputs: Union[PathLike, Sequence[PathLike]],
     out_dir: PathLike,
     metal: str = "Fe",
-    filter_sigma: float = 1e-6,
+    filter_sigma: Union[float, str] = 1e-6,
     resolution: int = 1025,
     kirchhoff: bool = False,
     wavelength: float = 555e-9,
@@ -261,5 +261,7 @@ def predict(
     threads: int = 0,
     level: str = "plane",
     spacing: Optional[Length2] = None,
+    render_ndf: str = "filtered",
+    sweep_resolution: int = 257,
     progress: Optional[Callable[[str], None]] = None,
 ) -> dict[str, Any]: ...
