@@ -41,7 +41,7 @@ PUBLIC_HEADERS = {
     "statistics": "surface", "scanset": "surface", "ndf_scanset": "ndf", "height_preview": "surface",
     # ndf: tabulated distributions of normals and how they are estimated, stored and drawn
     "tabulated_ndf": "ndf", "ndf_estimate": "ndf", "ndf_io": "ndf", "ndf_preview": "ndf",
-    "ndf_sampler": "ndf", "ndf_convolve": "ndf", "kirchhoff": "ndf",
+    "ndf_sampler": "ndf", "ndf_convolve": "ndf", "kirchhoff": "ndf", "filter_sigma_auto": "ndf",
     # models: distributions, Fresnel, spectra, Sun's and Westin's mathematics
     "microfacet": "models", "fresnel": "models", "spectrum": "models", "sun2002": "models",
     "sh_basis": "models", "tabulated_distribution": "models", "material_spec": "models",

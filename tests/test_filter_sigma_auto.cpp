@@ -67,8 +67,8 @@ TEST(Hellinger, ZeroForEqualTablesOneForDisjointAndScaleFree) {
 
 // Two scales: a geometric-optics Gaussian (tau 3 um, 0.2 um rms: q h ~ 4.5) plus a fine roughness
 // of 10 nm rms and 100 nm correlation length, far below lambda_q = 555 nm (q h ~ 0.2). D_K sees
-// the large slopes only; the naive NDF sees the fine slopes (rms 0.14 per axis) too. A filter of about the
-// fine scale removes them and keeps the large ones: the distance has an interior minimum.
+// the large slopes only; the naive NDF sees the fine slopes (rms 0.14 per axis) too. A filter of
+// about the fine scale removes them and keeps the large ones: the distance has an interior minimum.
 TEST(FilterSigmaAuto, TwoScaleSurfaceHasAnInteriorMinimumBelowTheNaiveDistance) {
   Surface s = gaussian(512, 25e-9, 0.2e-6, 3e-6, 1);
   const Surface fine = gaussian(512, 25e-9, 10e-9, 0.1e-6, 2);

@@ -101,6 +101,19 @@ def ndf(
     keep_aliases: bool = False,
     progress: Optional[Callable[[float], None]] = None,
 ) -> TabulatedNdf: ...
+def hellinger_distance(a: TabulatedNdf, b: TabulatedNdf) -> float: ...
+def filter_sigma_auto(
+    surface: Scans,
+    wavelength: float = 555e-9,
+    patch: Optional[Length2] = (70e-6, 53e-6),
+    window: str = "none",
+    accuracy: float = 1e-3,
+    keep_aliases: bool = False,
+    resolution: int = 257,
+    level: str = "plane",
+    spacing: Optional[Length2] = None,
+    min_support: float = 0.5,
+) -> dict[str, Any]: ...
 def tabulate(
     model: str = "ggx",
     alpha_x: float = 0.1,
@@ -230,7 +243,7 @@ def predict(
     inputs: Union[PathLike, Sequence[PathLike]],
     out_dir: PathLike,
     metal: str = "Fe",
-    filter_sigma: float = 1e-6,
+    filter_sigma: Union[float, str] = 1e-6,
     resolution: int = 1025,
     kirchhoff: bool = False,
     wavelength: float = 555e-9,
@@ -248,5 +261,7 @@ def predict(
     threads: int = 0,
     level: str = "plane",
     spacing: Optional[Length2] = None,
+    render_ndf: str = "filtered",
+    sweep_resolution: int = 257,
     progress: Optional[Callable[[str], None]] = None,
 ) -> dict[str, Any]: ...

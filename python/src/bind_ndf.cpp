@@ -7,6 +7,7 @@
 
 #include "bindings.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/filter_sigma_auto.hpp"
 #include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/microfacet.hpp"
 #include "microbrdf/ndf_convolve.hpp"
@@ -85,6 +86,48 @@ TabulatedNdf kirchhoff_ndf(const ScanInputs& in, KirchhoffOptions o, const ReadO
     acc.add(load_scan(in, i, read, level, keep));
   }
   return acc.result();
+}
+
+/// --filter-sigma auto (filter_sigma_auto.hpp): the sweep's result as a dict, with its tables.
+py::dict filter_sigma_auto(const py::object& scans, double wavelength, const py::object& patch,
+                           const std::string& window, double accuracy, bool keep_aliases,
+                           std::size_t resolution, const std::string& level,
+                           const py::object& spacing, double min_support) {
+  check_resolution(resolution);
+  FilterSigmaAutoOptions o;
+  o.resolution = resolution;
+  o.min_support = min_support;
+  o.kirchhoff.wavelength_q = wavelength;
+  if (patch.is_none()) {
+    o.kirchhoff.patch_x = o.kirchhoff.patch_y = 0;
+  } else {
+    const auto p = length_pair(patch, "patch");
+    o.kirchhoff.patch_x = p->first;
+    o.kirchhoff.patch_y = p->second;
+  }
+  o.kirchhoff.window = parse_kirchhoff_window(window);
+  o.kirchhoff.accuracy = accuracy;
+  o.kirchhoff.nyquist_mask = !keep_aliases;
+  if (!(wavelength > 0)) throw InputError("wavelength must be > 0 (metres)");
+  if (!(accuracy > 0 && accuracy < 1)) throw InputError("accuracy must be in (0, 1)");
+  const auto lev = LevelingSpec::parse(level);
+  const ReadOptions read = read_options(spacing);
+  const ScanInputs in = scan_inputs(scans);
+  const FilterSigmaAuto r = call_released([&] {
+    return choose_filter_sigma(
+        [&](const std::function<void(const Surface&)>& f) {
+          for (std::size_t i = 0; i < in.size(); ++i) {
+            Surface keep;
+            f(load_scan(in, i, read, lev, keep));
+          }
+        },
+        o);
+  });
+  py::dict d = json_to_py(r.to_json().dump());
+  d["naive"] = std::make_shared<TabulatedNdf>(r.naive);
+  d["filtered"] = std::make_shared<TabulatedNdf>(r.filtered);
+  d["kirchhoff"] = std::make_shared<TabulatedNdf>(r.kirchhoff);
+  return d;
 }
 
 TabulatedNdf ndf(const py::object& scans, const std::string& method, double filter_sigma,
@@ -295,6 +338,27 @@ progress: optional callable(fraction in [0, 1]), called from the calling thread.
 
 Runs without the GIL; Ctrl-C interrupts it (between scans, and between Kirchhoff patches).
 Returns a TabulatedNdf equal bit for bit to what the CLI writes for the same inputs and flags.)");
+
+  m.def("hellinger_distance", &hellinger_distance, py::arg("a"), py::arg("b"),
+        "Hellinger distance between two tables of the same resolution, in [0, 1]: H^2 = 1 - "
+        "sum sqrt(p q) over the nodes, p and q the nodes' probabilities under D(m)(m.n) dw.");
+  m.def(
+      "filter_sigma_auto", &filter_sigma_auto, py::arg("surface"), py::arg("wavelength") = 555e-9,
+      py::arg("patch") = py::make_tuple(70e-6, 53e-6), py::arg("window") = "none",
+      py::arg("accuracy") = KirchhoffOptions{}.accuracy, py::arg("keep_aliases") = false,
+      py::arg("resolution") = 257, py::arg("level") = "plane", py::arg("spacing") = py::none(),
+      py::arg("min_support") = 0.5,
+      R"(The filter sigma whose filtered NDF is nearest D_K, as `microbrdf ndf --filter-sigma auto`.
+
+surface: as for ndf(). wavelength, patch, window, accuracy, keep_aliases: the D_K compared with
+(as for ndf(method='kirchhoff')). resolution: N of the sweep's tables. level, spacing,
+min_support: as for ndf().
+
+Returns a dict: sigma_m (the chosen sigma), hellinger (its distance to D_K), curve (a list of
+{sigma_m, hellinger}, ascending), sweep (range, points, resolution, wavelength_q_m,
+kirchhoff_raw_integral, kirchhoff_aliased_fraction, at_lower_end, at_upper_end), distances
+(naive_kirchhoff, naive_filtered, filtered_kirchhoff), and the tables naive, filtered (at the
+chosen sigma) and kirchhoff at the sweep's resolution.)");
 
   m.def(
       "tabulate",

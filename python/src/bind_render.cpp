@@ -107,19 +107,29 @@ py::array render_image(const py::object& brdfs, const std::string& scene, int si
 }
 
 py::object predict_run(const py::object& inputs, const py::object& out_dir,
-                       const std::string& metal, double filter_sigma, std::size_t resolution,
-                       bool kirchhoff, double wavelength, const py::object& patch,
-                       const std::vector<double>& theta_i, const py::object& envmap,
-                       double envmap_scale, int render_width, int spp, bool no_render,
-                       const py::object& strips, double texel, std::size_t texture_size,
-                       std::uint64_t seed, int threads, const std::string& level,
-                       const py::object& spacing, const py::object& progress) {
+                       const std::string& metal, const py::object& filter_sigma,
+                       std::size_t resolution, bool kirchhoff, double wavelength,
+                       const py::object& patch, const std::vector<double>& theta_i,
+                       const py::object& envmap, double envmap_scale, int render_width, int spp,
+                       bool no_render, const py::object& strips, double texel,
+                       std::size_t texture_size, std::uint64_t seed, int threads,
+                       const std::string& level, const py::object& spacing,
+                       const std::string& render_ndf, std::size_t sweep_resolution,
+                       const py::object& progress) {
   PredictOptions o;
   o.inputs = path_list(inputs);
   o.read = read_options(spacing);
   o.leveling = LevelingSpec::parse(level);
   o.material = MaterialSpec::named_metal(metal);
-  o.filter_sigma_m = filter_sigma;
+  if (py::isinstance<py::str>(filter_sigma)) {
+    if (filter_sigma.cast<std::string>() != "auto")
+      throw py::value_error("filter_sigma: metres, or 'auto'");
+    o.filter_sigma_auto = true;
+  } else {
+    o.filter_sigma_m = filter_sigma.cast<double>();
+  }
+  o.filter_sigma_sweep_resolution = sweep_resolution;
+  o.render_ndf = render_ndf;
   o.ndf_resolution = resolution;
   o.kirchhoff = kirchhoff;
   o.wavelength_m = wavelength;
@@ -185,12 +195,14 @@ calling thread; Ctrl-C is honoured when the image is finished.)");
         py::arg("no_render") = false, py::arg("strips") = py::none(), py::arg("texel") = 53e-6,
         py::arg("texture_size") = 128, py::arg("seed") = 1, py::arg("threads") = 0,
         py::arg("level") = "plane", py::arg("spacing") = py::none(),
+        py::arg("render_ndf") = "filtered", py::arg("sweep_resolution") = 257,
         py::arg("progress") = py::none(),
         R"(The whole pipeline, as `microbrdf predict`: scans -> NDFs -> fits -> BRDF slices ->
 renders -> out_dir/report.html and summary.json. Returns the summary (a dict, SI units).
 
 inputs: a path (or glob, directory, @manifest) or a list. metal: optical constants of the BRDFs.
-filter_sigma (m), resolution (N), kirchhoff (also D_K), wavelength (m), patch ((dx, dy) m),
+filter_sigma (m, or 'auto': the sigma nearest D_K, on sweep_resolution tables), render_ndf
+('naive' | 'filtered' | 'kirchhoff': the NDF of the slices and renders), resolution (N), kirchhoff (also D_K), wavelength (m), patch ((dx, dy) m),
 theta_i (radians, the slices' angles of incidence), envmap, envmap_scale, render_width (pixels),
 spp, no_render, strips=(along, across) exemplar scans for the texture, texel (m),
 texture_size, seed, threads, level, spacing. progress: optional callable(str) receiving the

@@ -1,4 +1,5 @@
 """mb.ndf equals the CLI bit for bit; the table's moments and slices against numpy."""
+import json
 import subprocess
 
 import numpy as np
@@ -105,3 +106,27 @@ def test_save_and_read_round_trip(tmp_path):
     assert np.array_equal(np.asarray(E), np.asarray(D)) and E.metadata["method"] == "beckmann"
     # Beckmann: rms slope along x is alpha_x / sqrt(2).
     assert D.moments()["slope_rms_x"] == pytest.approx(0.2 / np.sqrt(2), rel=2e-2)
+
+
+def test_filter_sigma_auto_equals_cli_and_hellinger_against_numpy(cli, tmp_path):
+    """mb.filter_sigma_auto chooses what `ndf --filter-sigma auto` chooses; the curve's minimum is
+    the chosen sigma; mb.hellinger_distance is H^2 = 1 - sum sqrt(p q) over the normalised tables."""
+    z = gaussian_surface(nx=96, ny=96, spacing=50e-9, sigma=0.1e-6, tau=1e-6, seed=4)
+    np.save(tmp_path / "g.npy", z)
+    r = mb.filter_sigma_auto(tmp_path / "g.npy", spacing=50e-9, patch=None, resolution=65, level="none")
+    out = subprocess.run([cli, "ndf", tmp_path / "g.npy", "--spacing", metres(50e-9), "--level", "none",
+                          "--filter-sigma", "auto", "--patch", "whole", "--sweep-resolution", "65",
+                          "--wavelength", metres(555e-9),
+                          "--resolution", "65", "-o", tmp_path / "cli.npy", "--json"],
+                         check=True, capture_output=True, text=True)
+    j = json.loads(out.stdout)
+    assert r["sigma_m"] == j["filter_sigma_m"]
+    assert r["curve"] == j["filter_sigma_auto"]["curve"]
+    h = [p["hellinger"] for p in r["curve"]]
+    assert r["hellinger"] == min(h) and r["curve"][h.index(min(h))]["sigma_m"] == r["sigma_m"]
+    p = np.clip(np.asarray(r["filtered"]), 0, None)
+    q = np.clip(np.asarray(r["kirchhoff"]), 0, None)
+    want = np.sqrt(max(0.0, 1 - np.sqrt((p / p.sum()) * (q / q.sum())).sum()))
+    assert abs(mb.hellinger_distance(r["filtered"], r["kirchhoff"]) - want) < 1e-12
+    assert abs(r["hellinger"] - want) < 1e-12
+    assert mb.hellinger_distance(r["naive"], r["naive"]) < 1e-7

@@ -49,3 +49,17 @@ def test_predict_summary(data, tmp_path):
     on_disk = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary == on_disk
     assert any("fits" in line for line in lines)
+
+
+def test_predict_filter_sigma_auto_and_render_ndf(tmp_path):
+    z = np.random.default_rng(2).standard_normal((64, 64)) * 20e-9
+    np.save(tmp_path / "s.npy", z)
+    s = mb.predict(tmp_path / "s.npy", tmp_path / "out", spacing=50e-9, level="none", resolution=65,
+                   no_render=True, filter_sigma="auto", sweep_resolution=33, render_ndf="naive")
+    c = s["ndf_comparison"]
+    assert c["render_ndf"] == "naive" and s["settings"]["filter_sigma_auto"]
+    assert s["settings"]["filter_sigma_m"] == c["filter_sigma_auto"]["sigma_m"]
+    h = [p["hellinger"] for p in c["filter_sigma_auto"]["curve"]]
+    assert c["filter_sigma_auto"]["hellinger"] == min(h)
+    with pytest.raises(ValueError):
+        mb.predict(tmp_path / "s.npy", tmp_path / "bad", spacing=50e-9, filter_sigma="best")

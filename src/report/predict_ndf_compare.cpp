@@ -1,12 +1,14 @@
 // predict: --filter-sigma auto and the NDF comparison (predict_ndf_compare.hpp).
 #include "report/predict_ndf_compare.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
 
 #include "microbrdf/atomic_file.hpp"
+#include "microbrdf/ndf_preview.hpp"
 #include "microbrdf/plot.hpp"
 #include "microbrdf/units.hpp"
 #include "report/html.hpp"
@@ -61,6 +63,27 @@ nlohmann::json stage_ndf_comparison(const Context& c, const NdfSet& ndfs,
   describe("naive", naive);
   describe("filtered", filtered);
   describe("kirchhoff", kirchhoff);
+  // Previews side by side on one colour scale and one zoom window.
+  double top = 0, slope = 0;
+  for (const TabulatedNdf* t : {naive, filtered, kirchhoff})
+    if (t)
+      for (double v : t->values()) top = std::max(top, v);
+  for (const TabulatedNdf* t : {naive, filtered, kirchhoff})
+    if (t) slope = std::max({slope, t->rms_slope(0), t->rms_slope(M_PI / 2)});
+  NdfPreviewOptions po;
+  po.size = 260;
+  po.zoom = true;
+  po.max_value = top;
+  po.zoom_half_width = std::clamp(4 * slope, 8 * naive->spacing(), 1.0);
+  const std::pair<const char*, const TabulatedNdf*> shown[] = {
+      {"naive", naive}, {"filtered", filtered}, {"kirchhoff", kirchhoff}};
+  for (const auto& [key, t] : shown) {
+    if (!t) continue;
+    const std::string rel = std::string("img/ndf_compare_") + key + ".png";
+    po.title = key == std::string("kirchhoff") ? "D_K" : key;
+    write_ndf_preview(*t, c.path(rel), po);
+    tables[key]["preview"] = rel;
+  }
   const double h_nf = hellinger_distance(*naive, *filtered);
   const double h_nk = kirchhoff ? hellinger_distance(*naive, *kirchhoff) : NAN;
   const double h_fk = kirchhoff ? hellinger_distance(*filtered, *kirchhoff) : NAN;
@@ -197,8 +220,23 @@ std::string ndf_comparison_html(const nlohmann::json& summary, const std::string
       << "</td><td class=\"n\">" << (fs > 0 ? length(fs) : "—") << "</td><td class=\"n\">"
       << (*hk ? num_of(h[hk]) : "0") << "</td></tr>\n";
   }
-  p << "</table>\n<p>Hellinger distance naive–filtered " << num_of(h["naive_filtered"])
-    << ", naive–D_K " << num_or(h["naive_kirchhoff"], "— (D_K not computed)") << ", filtered–D_K "
+  p << "</table>\n<div class=\"grid\">";
+  for (const auto& [k, hk] : rows) {
+    (void)hk;
+    if (!t.contains(k) || !t[k].contains("preview")) continue;
+    const std::string file =
+        (std::filesystem::path(dir) / t[k]["preview"].get<std::string>()).string();
+    const std::string name = std::string(k) == "kirchhoff" ? "D_K" : k;
+    p << "<figure><img src=\"" << data_uri(file, "image/png") << "\" alt=\"NDF " << name
+      << "\" width=\"390\"><figcaption>" << name
+      << (j.value("render_ndf", "") == k ? " (the renders use it)" : "")
+      << "</figcaption></figure>";
+  }
+  p << "</div>\n<p class=\"cap\">The three tables on one logarithmic colour scale (decades of "
+       "1/sr below the largest value of the three) with the same zoom window about the pole.</p>\n"
+       "<p>Hellinger distance naive–filtered "
+    << num_of(h["naive_filtered"]) << ", naive–D_K "
+    << num_or(h["naive_kirchhoff"], "— (D_K not computed)") << ", filtered–D_K "
     << num_or(h["filtered_kirchhoff"], "— (D_K not computed)") << ", on "
     << escape(j.value("source", "")) << ", " << std::to_string(j.value("resolution", 0))
     << "&sup2; nodes. H&sup2; = 1 − Σ √(p q) over the table, p and q the nodes' probabilities "

@@ -55,6 +55,9 @@ test -s "$T/plain_filter_sigma.csv" || fail "no curve file beside the table"
 if $BIN ndf "$T/two.npy" --spacing 25nm --method naive --filter-sigma auto -o "$T/x.npy" \
   2>"$T/e1"; then fail "auto with --method naive accepted"; fi
 grep -q -- "--filter-sigma auto applies to --method filtered" "$T/e1" || fail "$(cat "$T/e1")"
+if $BIN ndf "$T/two.npy" --spacing 25nm --method kirchhoff --filter-sigma auto -o "$T/x.npy" \
+  2>"$T/e1"; then fail "auto with --method kirchhoff accepted"; fi
+grep -q -- "--filter-sigma auto applies to --method filtered" "$T/e1" || fail "$(cat "$T/e1")"
 $BIN generate gaussian --nx 8 --ny 8 --spacing 50nm --sigma 10nm --tau 0.1um -o "$T/tiny.x3p" \
   2>/dev/null || fail generate
 if $BIN ndf "$T/tiny.x3p" --filter-sigma auto -o "$T/tiny.npy" 2>"$T/e2"; then
