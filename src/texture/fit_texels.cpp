@@ -11,6 +11,7 @@
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fit.hpp"
+#include "microbrdf/microfacet.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/texture.hpp"
 
@@ -59,16 +60,37 @@ std::string out_of_range(EllipsoidParams& p, bool& lifted) {
   return {};
 }
 
+// The texel's filtered normals (those the filter kept), for widths below a node.
+std::vector<Vec3> texel_normals(const NormalField& nf, std::size_t nx, std::size_t x0,
+                                std::size_t x1, std::size_t y0, std::size_t y1) {
+  std::vector<Vec3> out;
+  out.reserve((x1 - x0) * (y1 - y0));
+  for (std::size_t y = y0; y < y1; ++y)
+    for (std::size_t x = x0; x < x1; ++x) {
+      const std::size_t j = y * nx + x;
+      if (nf.mz[j] > 0) out.emplace_back(nf.mx[j], nf.my[j], nf.mz[j]);
+    }
+  return out;
+}
+
 struct ScanResult {
   std::size_t tx = 0, ty = 0;  // texels along x and y
   std::vector<EllipsoidParams> p;
   std::vector<std::uint8_t> ok;
   std::vector<std::string> why;
   nlohmann::json info;
-  std::atomic<std::size_t> lifted{0};  // texels whose alpha was lifted to alpha_min
+  std::atomic<std::size_t> lifted{0};        // texels whose alpha was lifted to alpha_min
+  std::atomic<std::size_t> from_normals{0};  // texels with a width from their normals
   ScanResult() = default;
   ScanResult(const ScanResult& o)
-      : tx(o.tx), ty(o.ty), p(o.p), ok(o.ok), why(o.why), info(o.info), lifted(o.lifted.load()) {}
+      : tx(o.tx),
+        ty(o.ty),
+        p(o.p),
+        ok(o.ok),
+        why(o.why),
+        info(o.info),
+        lifted(o.lifted.load()),
+        from_normals(o.from_normals.load()) {}
 };
 
 ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
@@ -92,7 +114,10 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
   if (n == 0) return r;
   struct Lifted {  // reports the count into info when the scan is done
     ScanResult& r;
-    ~Lifted() { r.info["alpha_lifted_to_min"] = r.lifted.load(); }
+    ~Lifted() {
+      r.info["alpha_lifted_to_min"] = r.lifted.load();
+      r.info["alpha_from_normals"] = r.from_normals.load();
+    }
   } report{r};
   const NormalField nf = filtered_normals(s, o.filter_sigma_m);
   const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
@@ -130,6 +155,16 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
       fo.max_iterations = o.max_iterations;
       const FitResult fr = fit_ndf(t, fo);
       r.p[i] = fr.params;
+      // A width below the table's resolution: from the texel's own normals.
+      const double below = o.widths_from_normals_below_nodes * t.spacing();
+      bool from_normals = false;
+      if (fr.solver_converged && (r.p[i].alpha_x < below || r.p[i].alpha_y < below)) {
+        const auto w =
+            ellipsoid_widths_from_normals(texel_normals(nf, s.nx, x0, x1, y0, y1), r.p[i]);
+        if (r.p[i].alpha_x < below) r.p[i].alpha_x = w[0];
+        if (r.p[i].alpha_y < below) r.p[i].alpha_y = w[1];
+        from_normals = true;
+      }
       bool lifted = false;
       if (!fr.solver_converged) {  // a texel at the alpha floor is lifted below, not dropped
         r.why[i] = "fit did not converge: " + fr.termination;
@@ -138,6 +173,7 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
       } else {
         r.ok[i] = 1;
         if (lifted) r.lifted.fetch_add(1);
+        if (from_normals) r.from_normals.fetch_add(1);
       }
     } catch (const std::exception& e) {
       r.p[i] = EllipsoidParams{NAN, NAN, NAN, NAN, NAN};
@@ -157,10 +193,13 @@ WorkResult pack(const ScanResult& r) {
     w.values.insert(w.values.end(),
                     {p.alpha_x, p.alpha_y, p.theta_x, p.theta_y, p.theta_z, double(r.ok[i])});
   }
-  w.text =
-      nlohmann::json{
-          {"tx", r.tx}, {"ty", r.ty}, {"why", r.why}, {"info", r.info}, {"lifted", r.lifted.load()}}
-          .dump();
+  w.text = nlohmann::json{{"tx", r.tx},
+                          {"ty", r.ty},
+                          {"why", r.why},
+                          {"info", r.info},
+                          {"lifted", r.lifted.load()},
+                          {"from_normals", r.from_normals.load()}}
+               .dump();
   return w;
 }
 
@@ -172,6 +211,7 @@ ScanResult unpack(const WorkResult& w) {
   r.why = j.at("why").get<std::vector<std::string>>();
   r.info = j.at("info");
   r.lifted = j.at("lifted").get<std::size_t>();
+  r.from_normals = j.at("from_normals").get<std::size_t>();
   const std::size_t n = r.tx * r.ty;
   if (w.values.size() != 6 * n || r.why.size() != n)
     throw std::runtime_error("texel fits: a scan's result does not match its texel count");
@@ -192,7 +232,8 @@ nlohmann::json options_json(const TexelFitOptions& o) {
           {"min_area_fraction", o.min_area_fraction},
           {"model", "ellipsoid"},
           {"sampling", fit_sampling_name(o.sampling)},
-          {"stacking", o.stack_along_y ? "y" : "x"}};
+          {"stacking", o.stack_along_y ? "y" : "x"},
+          {"widths_from_normals_below_nodes", o.widths_from_normals_below_nodes}};
 }
 
 // Lays the scans' texel grids side by side (along x, or along y when stacking along y).
@@ -232,7 +273,8 @@ class Assembler {
               {"scans", meta_scans_},
               {"texels", nx * ny},
               {"failed", nx * ny - t.valid_count()},
-              {"alpha_lifted_to_min", lifted()}};
+              {"alpha_lifted_to_min", lifted()},
+              {"alpha_from_normals", from_normals()}};
     nlohmann::json sources = nlohmann::json::array();
     for (const auto& s : meta_scans_) sources.push_back(s.at("path"));
     t.meta["sources"] = sources;
@@ -243,6 +285,11 @@ class Assembler {
   std::size_t lifted() const {
     std::size_t v = 0;
     for (const auto& r : scans_) v += r.lifted.load();
+    return v;
+  }
+  std::size_t from_normals() const {
+    std::size_t v = 0;
+    for (const auto& r : scans_) v += r.from_normals.load();
     return v;
   }
   std::size_t total_x() const {
@@ -261,6 +308,34 @@ class Assembler {
 };
 
 }  // namespace
+
+std::array<double, 2> ellipsoid_widths_from_normals(const std::vector<Vec3>& normals,
+                                                    const EllipsoidParams& p) {
+  const EllipsoidDistribution d(p);
+  std::vector<double> sx, sy;
+  sx.reserve(normals.size());
+  sy.reserve(normals.size());
+  for (const Vec3& m : normals) {
+    const Vec3 q = d.R() * m;
+    if (!(q.z() > 0)) continue;
+    sx.push_back(q.x() / q.z());
+    sy.push_back(q.y() / q.z());
+  }
+  if (sx.size() < 2) throw InputError("widths from normals: fewer than two normals");
+  auto median = [](std::vector<double>& v) {
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  };
+  std::array<double, 2> w{};
+  for (int axis = 0; axis < 2; ++axis) {
+    std::vector<double>& v = axis == 0 ? sx : sy;
+    const double centre = median(v);
+    for (double& x : v) x = std::fabs(x - centre);
+    w[static_cast<std::size_t>(axis)] = std::sqrt(3.0) * median(v);
+  }
+  return w;
+}
 
 ParamTexture fit_texels(const Surface& s, const TexelFitOptions& options) {
   Surface lv = s;
