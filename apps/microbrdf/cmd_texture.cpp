@@ -82,12 +82,17 @@ nlohmann::json summary(const ParamTexture& t) {
     ch[ParamTexture::channel_names[c]] = {
         {"mean", s.mean}, {"std", std::sqrt(s.variance)}, {"min", s.min}, {"max", s.max}};
   }
-  return {{"nx", t.nx},
-          {"ny", t.ny},
-          {"texel_m", t.texel_m},
-          {"valid", t.valid_count()},
-          {"failed", t.size() - t.valid_count()},
-          {"channels", ch}};
+  nlohmann::json j = {{"nx", t.nx},
+                      {"ny", t.ny},
+                      {"texel_m", t.texel_m},
+                      {"valid", t.valid_count()},
+                      {"failed", t.size() - t.valid_count()},
+                      {"channels", ch}};
+  // Fitted texels: how many widths came from the texel's normals (below a table node) and how
+  // many were still lifted to alpha_min.
+  for (const char* k : {"alpha_from_normals", "alpha_lifted_to_min"})
+    if (t.meta.contains(k)) j[k] = t.meta.at(k);
+  return j;
 }
 
 std::string preview_path(const TextureArgs& a) {
