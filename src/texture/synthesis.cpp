@@ -3,6 +3,7 @@
 // resampled to the output size and pitch, random phases, inverse FFT, then the exemplars' mean
 // and variance, and the valid range. See docs/texture.md.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <cstring>
@@ -360,12 +361,13 @@ struct Grids {
 // Relative L2 distance between the output's line amplitude spectra along x and y and the design
 // (sx, sy: one-sided power per output bin), gathered into the exemplar's bands (what acceptance
 // measures), each normalised to unit power.
-double design_error(const std::vector<float>& v, std::size_t n, const std::vector<double>& sx,
-                    const std::vector<double>& sy, const Grids& g) {
+std::array<double, 2> design_errors(const std::vector<float>& v, std::size_t n,
+                                    const std::vector<double>& sx, const std::vector<double>& sy,
+                                    const Grids& g) {
   double mean = 0;
   for (float x : v) mean += x;
   mean /= static_cast<double>(v.size());
-  double err = 0;
+  std::array<double, 2> err{};
   for (int axis = 0; axis < 2; ++axis) {
     std::vector<double> a(v.size());
     for (std::size_t iy = 0; iy < n; ++iy)
@@ -398,9 +400,15 @@ double design_error(const std::vector<float>& v, std::size_t n, const std::vecto
       num += (x - y) * (x - y);
       den += y * y;
     }
-    err += std::sqrt(num / den);
+    err[static_cast<std::size_t>(axis)] = std::sqrt(num / den);
   }
   return err;
+}
+
+double design_error(const std::vector<float>& v, std::size_t n, const std::vector<double>& sx,
+                    const std::vector<double>& sy, const Grids& g) {
+  const auto e = design_errors(v, n, sx, sy, g);
+  return e[0] + e[1];
 }
 
 // Histogram matching after the spectrum step (iterative amplitude-adjusted Fourier transform,
@@ -495,7 +503,8 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
   std::fill(out.valid.begin(), out.valid.end(), 1);
   const std::size_t h = n / 2 + 1;
   nlohmann::json stats = nlohmann::json::object(), clamped = nlohmann::json::object(),
-                 field = nlohmann::json::object(), histogram = nlohmann::json::object();
+                 field = nlohmann::json::object(), histogram = nlohmann::json::object(),
+                 spectra = nlohmann::json::object();
   const Grids grids{along.nx, across.ny, along.texel_m, across.texel_m, pitch};
   for (int c = 0; c < 5; ++c) {
     const ChannelStats target = &along == &across
@@ -547,6 +556,8 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
       if (ln.spectrum_error < best.spectrum_error) best = std::move(ln);
     }
     {
+      const auto line = design_errors(best.values, n, sx, sy, grids);
+      spectra[ParamTexture::channel_names[c]] = {{"x", line[0]}, {"y", line[1]}};
       std::vector<double> v(best.values.begin(), best.values.end());
       const auto after = detail::radial_power_spectrum(v, n);
       const double change = detail::spectrum_distance(after, best.before);
@@ -584,6 +595,7 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
       {"exemplar_stats", stats},
       {"clamped_texels", clamped},
       {"histogram", histogram},
+      {"line_spectrum_error", spectra},
       {"field", field},
       {"sources", sources}};
   return out;
