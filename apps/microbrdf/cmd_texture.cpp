@@ -88,9 +88,9 @@ nlohmann::json summary(const ParamTexture& t) {
                       {"valid", t.valid_count()},
                       {"failed", t.size() - t.valid_count()},
                       {"channels", ch}};
-  // Fitted texels: how many widths came from the texel's normals (below a table node) and how
+  // Fitted texels: how many had a width below a table node (refitted on a zoomed table) and how
   // many were still lifted to alpha_min.
-  for (const char* k : {"alpha_from_normals", "alpha_lifted_to_min"})
+  for (const char* k : {"alpha_zoomed", "alpha_lifted_to_min"})
     if (t.meta.contains(k)) j[k] = t.meta.at(k);
   return j;
 }

@@ -71,11 +71,21 @@ struct TexelFitOptions {
   /// resolution (docs/texture.md) and tent mode then refines its quadrature to the limit.
   FitSampling sampling = FitSampling::Node;
   int max_iterations = 200;  ///< Levenberg-Marquardt iterations per texel
-  /// A fitted width below this many table nodes (2/(N-1) each) is taken from the texel's own
-  /// normals instead (ellipsoid_widths_from_normals; counted in meta.alpha_from_normals): the
-  /// table cannot show a lobe narrower than a node. 0 = never.
-  double widths_from_normals_below_nodes = 1.0;
+  /// A fitted width below this many table nodes (2/(N-1) each) is refitted on a table zoomed
+  /// along that axis so that the lobe spans about zoom_nodes nodes (refit_narrow_lobe; counted
+  /// in meta.alpha_zoomed): the N^2 table cannot show a lobe narrower than a node. 0 = never.
+  double zoom_below_nodes = 1.0;
+  double zoom_nodes = 10.0;
 };
+
+/// Refits a texel's ellipsoid whose width along x and/or y is below zoom_below_nodes nodes of the
+/// N^2 table on a table zoomed along that axis: the slopes (m_x/m_z, m_y/m_z) of the texel's
+/// normals are stretched k-fold along it (k = zoom_nodes nodes / the width the median rule of
+/// ellipsoid_widths_from_normals gives, 1..1e5) before they are splatted, the ellipsoid fitted as
+/// usual, and its width and tilt along that axis divided by k. The other parameters are kept from
+/// `first`. Returns `first` when nothing is below a node or the zoomed fit does not converge.
+EllipsoidParams refit_narrow_lobe(const std::vector<Vec3>& normals, const EllipsoidParams& first,
+                                  const TexelFitOptions& options);
 
 /// Widths (alpha_x, alpha_y) of the ellipsoid NDF with the tilts of `p` from unit normals
 /// (projected-area weighted, as a texel's filtered normals are) directly, without a table: each

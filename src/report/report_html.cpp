@@ -529,9 +529,9 @@ void texture_block(Page& p, json& t, const char* title) {
   p << "<h3>" << title << ": " << std::to_string(t["nx"].get<long>()) << " &times; "
     << std::to_string(t["ny"].get<long>()) << " texels of " << len(t["texel_m"]) << ", "
     << std::to_string(t["invalid_texels"].get<long>()) << " invalid"
-    << (t.contains("alpha_from_normals")
-            ? ", " + std::to_string(t["alpha_from_normals"].get<long>()) +
-                  " widths from the texels' normals (below a table node), " +
+    << (t.contains("alpha_zoomed")
+            ? ", " + std::to_string(t["alpha_zoomed"].get<long>()) +
+                  " narrow widths refitted on zoomed tables, " +
                   std::to_string(t.value("alpha_lifted_to_min", 0L)) + " lifted to alpha 1e-4"
             : "")
     << "</h3>\n<table>\n"

@@ -60,7 +60,7 @@ std::string out_of_range(EllipsoidParams& p, bool& lifted) {
   return {};
 }
 
-// The texel's filtered normals (those the filter kept), for widths below a node.
+// The texel's filtered normals (those the filter kept), for lobes below a node.
 std::vector<Vec3> texel_normals(const NormalField& nf, std::size_t nx, std::size_t x0,
                                 std::size_t x1, std::size_t y0, std::size_t y1) {
   std::vector<Vec3> out;
@@ -79,8 +79,8 @@ struct ScanResult {
   std::vector<std::uint8_t> ok;
   std::vector<std::string> why;
   nlohmann::json info;
-  std::atomic<std::size_t> lifted{0};        // texels whose alpha was lifted to alpha_min
-  std::atomic<std::size_t> from_normals{0};  // texels with a width from their normals
+  std::atomic<std::size_t> lifted{0};  // texels whose alpha was lifted to alpha_min
+  std::atomic<std::size_t> zoomed{0};  // texels refitted on a zoomed table
   ScanResult() = default;
   ScanResult(const ScanResult& o)
       : tx(o.tx),
@@ -90,7 +90,7 @@ struct ScanResult {
         why(o.why),
         info(o.info),
         lifted(o.lifted.load()),
-        from_normals(o.from_normals.load()) {}
+        zoomed(o.zoomed.load()) {}
 };
 
 ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
@@ -116,7 +116,7 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
     ScanResult& r;
     ~Lifted() {
       r.info["alpha_lifted_to_min"] = r.lifted.load();
-      r.info["alpha_from_normals"] = r.from_normals.load();
+      r.info["alpha_zoomed"] = r.zoomed.load();
     }
   } report{r};
   const NormalField nf = filtered_normals(s, o.filter_sigma_m);
@@ -155,15 +155,12 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
       fo.max_iterations = o.max_iterations;
       const FitResult fr = fit_ndf(t, fo);
       r.p[i] = fr.params;
-      // A width below the table's resolution: from the texel's own normals.
-      const double below = o.widths_from_normals_below_nodes * t.spacing();
-      bool from_normals = false;
+      // A width below the table's resolution: refitted on a table zoomed along that axis.
+      const double below = o.zoom_below_nodes * t.spacing();
+      bool zoomed = false;
       if (fr.solver_converged && (r.p[i].alpha_x < below || r.p[i].alpha_y < below)) {
-        const auto w =
-            ellipsoid_widths_from_normals(texel_normals(nf, s.nx, x0, x1, y0, y1), r.p[i]);
-        if (r.p[i].alpha_x < below) r.p[i].alpha_x = w[0];
-        if (r.p[i].alpha_y < below) r.p[i].alpha_y = w[1];
-        from_normals = true;
+        r.p[i] = refit_narrow_lobe(texel_normals(nf, s.nx, x0, x1, y0, y1), r.p[i], o);
+        zoomed = true;
       }
       bool lifted = false;
       if (!fr.solver_converged) {  // a texel at the alpha floor is lifted below, not dropped
@@ -173,7 +170,7 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
       } else {
         r.ok[i] = 1;
         if (lifted) r.lifted.fetch_add(1);
-        if (from_normals) r.from_normals.fetch_add(1);
+        if (zoomed) r.zoomed.fetch_add(1);
       }
     } catch (const std::exception& e) {
       r.p[i] = EllipsoidParams{NAN, NAN, NAN, NAN, NAN};
@@ -198,7 +195,7 @@ WorkResult pack(const ScanResult& r) {
                           {"why", r.why},
                           {"info", r.info},
                           {"lifted", r.lifted.load()},
-                          {"from_normals", r.from_normals.load()}}
+                          {"zoomed", r.zoomed.load()}}
                .dump();
   return w;
 }
@@ -211,7 +208,7 @@ ScanResult unpack(const WorkResult& w) {
   r.why = j.at("why").get<std::vector<std::string>>();
   r.info = j.at("info");
   r.lifted = j.at("lifted").get<std::size_t>();
-  r.from_normals = j.at("from_normals").get<std::size_t>();
+  r.zoomed = j.at("zoomed").get<std::size_t>();
   const std::size_t n = r.tx * r.ty;
   if (w.values.size() != 6 * n || r.why.size() != n)
     throw std::runtime_error("texel fits: a scan's result does not match its texel count");
@@ -233,7 +230,8 @@ nlohmann::json options_json(const TexelFitOptions& o) {
           {"model", "ellipsoid"},
           {"sampling", fit_sampling_name(o.sampling)},
           {"stacking", o.stack_along_y ? "y" : "x"},
-          {"widths_from_normals_below_nodes", o.widths_from_normals_below_nodes}};
+          {"zoom_below_nodes", o.zoom_below_nodes},
+          {"zoom_nodes", o.zoom_nodes}};
 }
 
 // Lays the scans' texel grids side by side (along x, or along y when stacking along y).
@@ -274,7 +272,7 @@ class Assembler {
               {"texels", nx * ny},
               {"failed", nx * ny - t.valid_count()},
               {"alpha_lifted_to_min", lifted()},
-              {"alpha_from_normals", from_normals()}};
+              {"alpha_zoomed", zoomed()}};
     nlohmann::json sources = nlohmann::json::array();
     for (const auto& s : meta_scans_) sources.push_back(s.at("path"));
     t.meta["sources"] = sources;
@@ -287,9 +285,9 @@ class Assembler {
     for (const auto& r : scans_) v += r.lifted.load();
     return v;
   }
-  std::size_t from_normals() const {
+  std::size_t zoomed() const {
     std::size_t v = 0;
-    for (const auto& r : scans_) v += r.from_normals.load();
+    for (const auto& r : scans_) v += r.zoomed.load();
     return v;
   }
   std::size_t total_x() const {
@@ -335,6 +333,68 @@ std::array<double, 2> ellipsoid_widths_from_normals(const std::vector<Vec3>& nor
     w[static_cast<std::size_t>(axis)] = std::sqrt(3.0) * median(v);
   }
   return w;
+}
+
+EllipsoidParams refit_narrow_lobe(const std::vector<Vec3>& normals, const EllipsoidParams& first,
+                                  const TexelFitOptions& o) {
+  const double node = 2.0 / static_cast<double>(o.ndf_resolution - 1);
+  const double below = o.zoom_below_nodes * node;
+  const bool zx = first.alpha_x < below, zy = first.alpha_y < below;
+  if (!zx && !zy) return first;
+  // The lobe's scale from the normals (median rule), then the zoom that spreads it over
+  // zoom_nodes nodes; at most 1e5 (a width of 1e-6 at N = 129).
+  const auto guess = ellipsoid_widths_from_normals(normals, first);
+  auto zoom = [&](bool narrow, double w) {
+    return narrow ? std::clamp(o.zoom_nodes * node / std::max(w, 1e-12), 1.0, 1e5) : 1.0;
+  };
+  const double kx = zoom(zx, guess[0]), ky = zoom(zy, guess[1]);
+  // The zoom is centred on the lobe (median slope along the zoomed axis), so the stretched lobe
+  // stays near the disk centre, where slopes and disk coordinates agree.
+  std::vector<double> sx, sy;
+  for (const Vec3& m : normals)
+    if (m.z() > 0) {
+      sx.push_back(m.x() / m.z());
+      sy.push_back(m.y() / m.z());
+    }
+  if (sx.empty()) return first;
+  auto median = [](std::vector<double> v) {
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  };
+  const double cx = zx ? median(sx) : 0.0, cy = zy ? median(sy) : 0.0;
+  TabulatedNdf t(o.ndf_resolution);
+  std::size_t used = 0;
+  for (std::size_t i = 0; i < sx.size(); ++i) {
+    // Slopes stretched k-fold along the zoomed axis: a table node there is 1/k of a slope node.
+    const Vec3 q = Vec3(kx * (sx[i] - cx), ky * (sy[i] - cy), 1.0).normalized();
+    t.splat(q.x(), q.y(), 1.0);
+    ++used;
+  }
+  t.normalise();
+  t.meta.method = "filtered";
+  t.meta.filter_sigma_m = o.filter_sigma_m;
+  t.meta.samples_used = used;
+  FitOptions fo;
+  fo.model = FitModel::Ellipsoid;
+  fo.threads = 1;
+  fo.sampling = o.sampling;
+  fo.max_iterations = o.max_iterations;
+  const FitResult fr = fit_ndf(t, fo);
+  if (!fr.solver_converged) return first;
+  // Back to unstretched slopes: the width along a zoomed axis shrinks by k, and so does the
+  // peak's slope along it about the centre (theta_y > 0 puts the peak at slope -tan theta_y
+  // along x, theta_x > 0 at +tan theta_x along y); small-slope forms.
+  EllipsoidParams p = first;
+  if (zx) {
+    p.alpha_x = fr.params.alpha_x / kx;
+    p.theta_y = std::atan(std::tan(fr.params.theta_y) / kx - cx);
+  }
+  if (zy) {
+    p.alpha_y = fr.params.alpha_y / ky;
+    p.theta_x = std::atan(std::tan(fr.params.theta_x) / ky + cy);
+  }
+  return p;
 }
 
 ParamTexture fit_texels(const Surface& s, const TexelFitOptions& options) {

@@ -31,7 +31,7 @@ assert 1e-4 <= j["channels"]["alpha_x"]["mean"] < j["channels"]["alpha_y"]["mean
 assert len(j["meta"]["scans"]) == 2 and j["meta"]["scans"][1]["offset"] == 6
 # Widths below a node of the 129^2 tables (brushed texels along the scratches) come from the
 # texels' normals; the counts are reported.
-assert j["alpha_from_normals"] >= 40 and j["alpha_lifted_to_min"] <= 2, j
+assert j["alpha_zoomed"] >= 40 and j["alpha_lifted_to_min"] <= 2, j
 PY
 grep -q "2 scan" "$T/fit.err" || fail "no progress on stderr"
 
@@ -71,7 +71,7 @@ assert abs(j["texel_m"] - 28e-6) < 1e-12
 al, ac = j["exemplars"]["along"], j["exemplars"]["across"]
 assert (al["nx"], al["ny"]) == (12, 4), al
 assert (ac["nx"], ac["ny"]) == (6, 8), ac
-assert "alpha_lifted_to_min" in al and "alpha_from_normals" in ac, al
+assert "alpha_lifted_to_min" in al and "alpha_zoomed" in ac, al
 PY
 
 # --- errors: exit non-zero, say why, write nothing.
