@@ -49,7 +49,7 @@ struct ParamTexture {
 
 /// Valid ranges the fits and the synthesis keep parameters in.
 struct ParamRange {
-  static constexpr double alpha_min = 1e-4, alpha_max = 2.0;
+  static constexpr double alpha_min = 1e-5, alpha_max = 2.0;
   static constexpr double tilt_max = 0.5;  ///< |theta_x|, |theta_y|, rad
 };
 

@@ -532,7 +532,7 @@ void texture_block(Page& p, json& t, const char* title) {
     << (t.contains("alpha_zoomed")
             ? ", " + std::to_string(t["alpha_zoomed"].get<long>()) +
                   " narrow widths refitted on zoomed tables, " +
-                  std::to_string(t.value("alpha_lifted_to_min", 0L)) + " lifted to alpha 1e-4"
+                  std::to_string(t.value("alpha_lifted_to_min", 0L)) + " lifted to alpha 1e-5"
             : "")
     << "</h3>\n<table>\n"
     << row({"channel", "unit", "mean", "std", "min", "max"}, true);
