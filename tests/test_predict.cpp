@@ -284,6 +284,9 @@ TEST(Predict, StripsGiveASynthesisedTexture) {
   EXPECT_EQ(tx["across"]["nx"], 1);
   EXPECT_EQ(tx["across"]["ny"], 8);
   EXPECT_EQ(tx["synthesised"]["nx"], 16);
+  // Widths below a texel-table node are refitted on zoomed tables; both counts are reported.
+  EXPECT_GT(tx["along"]["alpha_zoomed"].get<int>(), 0) << tx["along"].dump();
+  EXPECT_TRUE(tx["across"].contains("alpha_lifted_to_min"));
   // The textured render is described like the other renders (the report reads every field; a
   // missing one was a use-after-free under ASan).
   ASSERT_TRUE(tx.contains("render"));

@@ -29,6 +29,7 @@ struct TextureArgs {
   std::size_t preview_size = 512;
   bool tent = false;
   bool lognormal = false;
+  bool no_histogram = false;
   bool json = false;
   ReadFlags read;
 };
@@ -81,12 +82,17 @@ nlohmann::json summary(const ParamTexture& t) {
     ch[ParamTexture::channel_names[c]] = {
         {"mean", s.mean}, {"std", std::sqrt(s.variance)}, {"min", s.min}, {"max", s.max}};
   }
-  return {{"nx", t.nx},
-          {"ny", t.ny},
-          {"texel_m", t.texel_m},
-          {"valid", t.valid_count()},
-          {"failed", t.size() - t.valid_count()},
-          {"channels", ch}};
+  nlohmann::json j = {{"nx", t.nx},
+                      {"ny", t.ny},
+                      {"texel_m", t.texel_m},
+                      {"valid", t.valid_count()},
+                      {"failed", t.size() - t.valid_count()},
+                      {"channels", ch}};
+  // Fitted texels: how many had a width below a table node (refitted on a zoomed table) and how
+  // many were still lifted to alpha_min.
+  for (const char* k : {"alpha_zoomed", "alpha_lifted_to_min"})
+    if (t.meta.contains(k)) j[k] = t.meta.at(k);
+  return j;
 }
 
 std::string preview_path(const TextureArgs& a) {
@@ -120,6 +126,7 @@ void run(const TextureArgs& a) {
     so.size = a.size;
     so.seed = a.seed;
     so.lognormal_alpha = a.lognormal;
+    so.match_histogram = !a.no_histogram;
     so.texel_m = a.pitch.empty() ? 0.0 : parse_length(a.pitch);
     if (strips) {
       const ParamTexture along = exemplar(a.along, a, false, "along", j["mpi"]);
@@ -196,9 +203,12 @@ void register_texture(CLI::App& app) {
       "(default the\n"
       "exemplar's; band power kept, nothing beyond the exemplar's extent or Nyquist "
       "frequency), random\n"
-      "phases from --seed, inverse FFT, the exemplar's mean and variance, clamped to the "
-      "valid range\n"
-      "(alpha 0.001..2, |theta_x|, |theta_y| <= 0.5 rad). The texture's x axis is the "
+      "phases from --seed, inverse FFT, then each channel matched to the exemplars' "
+      "histogram\n"
+      "(its values are the exemplars' quantiles, so within their range; rounds of the "
+      "iterative\n"
+      "amplitude-adjusted Fourier transform keep the spectrum within 1%). The texture's x axis "
+      "is the\n"
       "brushing direction.\n"
       "Output: OUT.exr (5 float channels + valid, metadata in the header) and OUT.png "
       "(one panel per\n"
@@ -224,6 +234,9 @@ void register_texture(CLI::App& app) {
   c->add_option("--seed", a->seed, "Random phases' seed")->capture_default_str();
   c->add_flag("--lognormal-alpha", a->lognormal,
               "Also try log-normal alpha fields; keep whichever matches the spectra better");
+  c->add_flag("--no-histogram-match", a->no_histogram,
+              "Match only the exemplars' mean and variance and clamp to the valid range, instead "
+              "of their histogram (values then leave the exemplars' range)");
   c->add_option("-o,--output", a->output, "Output parameter texture (.exr)")->required();
   c->add_option("--texels-out", a->texels_out,
                 "Synthesis: also write the fitted exemplar texels (strips: FILE.along.exr, "

@@ -49,7 +49,7 @@ struct ParamTexture {
 
 /// Valid ranges the fits and the synthesis keep parameters in.
 struct ParamRange {
-  static constexpr double alpha_min = 1e-3, alpha_max = 2.0;
+  static constexpr double alpha_min = 1e-5, alpha_max = 2.0;
   static constexpr double tilt_max = 0.5;  ///< |theta_x|, |theta_y|, rad
 };
 
@@ -71,7 +71,32 @@ struct TexelFitOptions {
   /// resolution (docs/texture.md) and tent mode then refines its quadrature to the limit.
   FitSampling sampling = FitSampling::Node;
   int max_iterations = 200;  ///< Levenberg-Marquardt iterations per texel
+  /// A fitted width below this many table nodes (2/(N-1) each) is refitted on a table zoomed
+  /// along that axis so that the lobe spans about zoom_nodes nodes (refit_narrow_lobe; counted
+  /// in meta.alpha_zoomed): the N^2 table cannot show a lobe narrower than a node. 0 = never.
+  double zoom_below_nodes = 1.0;
+  double zoom_nodes = 10.0;
 };
+
+/// Refits a texel's ellipsoid whose width along x and/or y is below zoom_below_nodes nodes of the
+/// N^2 table on a table zoomed along that axis: the slopes (m_x/m_z, m_y/m_z) of the texel's
+/// normals are stretched k-fold along it (k = zoom_nodes nodes / the width the median rule of
+/// ellipsoid_widths_from_normals gives, 1..1e5) before they are splatted, the ellipsoid fitted as
+/// usual, and its width and tilt along that axis divided by k. The other parameters are kept from
+/// `first`. Returns `first` when nothing is below a node or the zoomed fit does not converge.
+EllipsoidParams refit_narrow_lobe(const std::vector<Vec3>& normals, const EllipsoidParams& first,
+                                  const TexelFitOptions& options);
+
+/// Widths (alpha_x, alpha_y) of the ellipsoid NDF with the tilts of `p` from unit normals
+/// (projected-area weighted, as a texel's filtered normals are) directly, without a table: each
+/// normal is turned into the ellipsoid's frame (m' = R m, EllipsoidDistribution::R), its slopes
+/// s = (m'x/m'z, m'y/m'z) taken, and alpha = sqrt(3) median |s - median s| per axis. In that
+/// frame the ellipsoid NDF is GGX, whose slope marginal 1/(2a) (1 + s^2/a^2)^(-3/2) has
+/// median |s| = a/sqrt(3) (its variance is infinite, so the median, not the second moment). Exact
+/// for untilted lobes; the tilt's change of the area weighting (m.n against m'.z) is of order
+/// tilt x width. Needs >= 2 normals with m'z > 0; throws InputError otherwise.
+std::array<double, 2> ellipsoid_widths_from_normals(const std::vector<Vec3>& normals,
+                                                    const EllipsoidParams& p);
 
 /// Cuts every scan of the set into whole texels (partial texels at the borders are dropped, the
 /// count is in meta) and fits an ellipsoid NDF to each texel's filtered NDF. One scan in memory at
@@ -93,6 +118,14 @@ struct SynthesisOptions {
   /// variance): positive and right-skewed like the fitted alphas, so far fewer texels are clamped
   /// at alpha_min than with a Gaussian field (docs/texture.md). false = D15's Gaussian field.
   bool lognormal_alpha = false;
+  /// Histogram matching after the spectrum step: every channel's values are the exemplars'
+  /// quantiles (so within their range); rounds of the iterative amplitude-adjusted Fourier
+  /// transform restore the spectrum until its moduli are within histogram_tolerance (relative
+  /// L2) of the design, at most histogram_rounds (docs/texture.md).
+  /// false = the exemplars' mean and variance, clamped to ParamRange.
+  bool match_histogram = true;
+  int histogram_rounds = 20;
+  double histogram_tolerance = 0.01;
 };
 /// Separable synthesis from an exemplar strip along the brushing direction (its 1D spectra along
 /// x) and one across (along y): per-parameter amplitude spectra, outer product, resampling to the

@@ -51,6 +51,8 @@ nlohmann::json describe_texture(const Context& c, const ParamTexture& t, const s
   std::size_t invalid = 0;
   for (auto v : t.valid) invalid += v ? 0 : 1;
   j["invalid_texels"] = invalid;
+  for (const char* k : {"alpha_zoomed", "alpha_lifted_to_min"})  // fitted texels only
+    if (t.meta.contains(k)) j[k] = t.meta.at(k);
   for (int ch = 0; ch < 5; ++ch) {
     auto st = channel_json(t, ch);
     j["channels"][kChannel[ch]] = st;

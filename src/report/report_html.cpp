@@ -696,7 +696,13 @@ void section_renders(Page& p, json& s) {
 void texture_block(Page& p, json& t, const char* title) {
   p << "<h3>" << title << ": " << std::to_string(t["nx"].get<long>()) << " &times; "
     << std::to_string(t["ny"].get<long>()) << " texels of " << len(t["texel_m"]) << ", "
-    << std::to_string(t["invalid_texels"].get<long>()) << " invalid</h3>\n<table>\n"
+    << std::to_string(t["invalid_texels"].get<long>()) << " invalid"
+    << (t.contains("alpha_zoomed")
+            ? ", " + std::to_string(t["alpha_zoomed"].get<long>()) +
+                  " narrow widths refitted on zoomed tables, " +
+                  std::to_string(t.value("alpha_lifted_to_min", 0L)) + " lifted to alpha 1e-5"
+            : "")
+    << "</h3>\n<table>\n"
     << row({"channel", "unit", "mean", "std", "min", "max"}, true);
   for (auto& [ch, st] : t["channels"].items()) {
     const bool angle = ch.rfind("theta", 0) == 0;

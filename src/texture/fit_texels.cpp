@@ -11,6 +11,7 @@
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fit.hpp"
+#include "microbrdf/microfacet.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/texture.hpp"
 
@@ -59,6 +60,19 @@ std::string out_of_range(EllipsoidParams& p, bool& lifted) {
   return {};
 }
 
+// The texel's filtered normals (those the filter kept), for lobes below a node.
+std::vector<Vec3> texel_normals(const NormalField& nf, std::size_t nx, std::size_t x0,
+                                std::size_t x1, std::size_t y0, std::size_t y1) {
+  std::vector<Vec3> out;
+  out.reserve((x1 - x0) * (y1 - y0));
+  for (std::size_t y = y0; y < y1; ++y)
+    for (std::size_t x = x0; x < x1; ++x) {
+      const std::size_t j = y * nx + x;
+      if (nf.mz[j] > 0) out.emplace_back(nf.mx[j], nf.my[j], nf.mz[j]);
+    }
+  return out;
+}
+
 struct ScanResult {
   std::size_t tx = 0, ty = 0;  // texels along x and y
   std::vector<EllipsoidParams> p;
@@ -66,9 +80,17 @@ struct ScanResult {
   std::vector<std::string> why;
   nlohmann::json info;
   std::atomic<std::size_t> lifted{0};  // texels whose alpha was lifted to alpha_min
+  std::atomic<std::size_t> zoomed{0};  // texels refitted on a zoomed table
   ScanResult() = default;
   ScanResult(const ScanResult& o)
-      : tx(o.tx), ty(o.ty), p(o.p), ok(o.ok), why(o.why), info(o.info), lifted(o.lifted.load()) {}
+      : tx(o.tx),
+        ty(o.ty),
+        p(o.p),
+        ok(o.ok),
+        why(o.why),
+        info(o.info),
+        lifted(o.lifted.load()),
+        zoomed(o.zoomed.load()) {}
 };
 
 ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
@@ -92,7 +114,10 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
   if (n == 0) return r;
   struct Lifted {  // reports the count into info when the scan is done
     ScanResult& r;
-    ~Lifted() { r.info["alpha_lifted_to_min"] = r.lifted.load(); }
+    ~Lifted() {
+      r.info["alpha_lifted_to_min"] = r.lifted.load();
+      r.info["alpha_zoomed"] = r.zoomed.load();
+    }
   } report{r};
   const NormalField nf = filtered_normals(s, o.filter_sigma_m);
   const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
@@ -130,6 +155,13 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
       fo.max_iterations = o.max_iterations;
       const FitResult fr = fit_ndf(t, fo);
       r.p[i] = fr.params;
+      // A width below the table's resolution: refitted on a table zoomed along that axis.
+      const double below = o.zoom_below_nodes * t.spacing();
+      bool zoomed = false;
+      if (fr.solver_converged && (r.p[i].alpha_x < below || r.p[i].alpha_y < below)) {
+        r.p[i] = refit_narrow_lobe(texel_normals(nf, s.nx, x0, x1, y0, y1), r.p[i], o);
+        zoomed = true;
+      }
       bool lifted = false;
       if (!fr.solver_converged) {  // a texel at the alpha floor is lifted below, not dropped
         r.why[i] = "fit did not converge: " + fr.termination;
@@ -138,6 +170,7 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
       } else {
         r.ok[i] = 1;
         if (lifted) r.lifted.fetch_add(1);
+        if (zoomed) r.zoomed.fetch_add(1);
       }
     } catch (const std::exception& e) {
       r.p[i] = EllipsoidParams{NAN, NAN, NAN, NAN, NAN};
@@ -157,10 +190,13 @@ WorkResult pack(const ScanResult& r) {
     w.values.insert(w.values.end(),
                     {p.alpha_x, p.alpha_y, p.theta_x, p.theta_y, p.theta_z, double(r.ok[i])});
   }
-  w.text =
-      nlohmann::json{
-          {"tx", r.tx}, {"ty", r.ty}, {"why", r.why}, {"info", r.info}, {"lifted", r.lifted.load()}}
-          .dump();
+  w.text = nlohmann::json{{"tx", r.tx},
+                          {"ty", r.ty},
+                          {"why", r.why},
+                          {"info", r.info},
+                          {"lifted", r.lifted.load()},
+                          {"zoomed", r.zoomed.load()}}
+               .dump();
   return w;
 }
 
@@ -172,6 +208,7 @@ ScanResult unpack(const WorkResult& w) {
   r.why = j.at("why").get<std::vector<std::string>>();
   r.info = j.at("info");
   r.lifted = j.at("lifted").get<std::size_t>();
+  r.zoomed = j.at("zoomed").get<std::size_t>();
   const std::size_t n = r.tx * r.ty;
   if (w.values.size() != 6 * n || r.why.size() != n)
     throw std::runtime_error("texel fits: a scan's result does not match its texel count");
@@ -192,7 +229,9 @@ nlohmann::json options_json(const TexelFitOptions& o) {
           {"min_area_fraction", o.min_area_fraction},
           {"model", "ellipsoid"},
           {"sampling", fit_sampling_name(o.sampling)},
-          {"stacking", o.stack_along_y ? "y" : "x"}};
+          {"stacking", o.stack_along_y ? "y" : "x"},
+          {"zoom_below_nodes", o.zoom_below_nodes},
+          {"zoom_nodes", o.zoom_nodes}};
 }
 
 // Lays the scans' texel grids side by side (along x, or along y when stacking along y).
@@ -232,7 +271,8 @@ class Assembler {
               {"scans", meta_scans_},
               {"texels", nx * ny},
               {"failed", nx * ny - t.valid_count()},
-              {"alpha_lifted_to_min", lifted()}};
+              {"alpha_lifted_to_min", lifted()},
+              {"alpha_zoomed", zoomed()}};
     nlohmann::json sources = nlohmann::json::array();
     for (const auto& s : meta_scans_) sources.push_back(s.at("path"));
     t.meta["sources"] = sources;
@@ -243,6 +283,11 @@ class Assembler {
   std::size_t lifted() const {
     std::size_t v = 0;
     for (const auto& r : scans_) v += r.lifted.load();
+    return v;
+  }
+  std::size_t zoomed() const {
+    std::size_t v = 0;
+    for (const auto& r : scans_) v += r.zoomed.load();
     return v;
   }
   std::size_t total_x() const {
@@ -261,6 +306,96 @@ class Assembler {
 };
 
 }  // namespace
+
+std::array<double, 2> ellipsoid_widths_from_normals(const std::vector<Vec3>& normals,
+                                                    const EllipsoidParams& p) {
+  const EllipsoidDistribution d(p);
+  std::vector<double> sx, sy;
+  sx.reserve(normals.size());
+  sy.reserve(normals.size());
+  for (const Vec3& m : normals) {
+    const Vec3 q = d.R() * m;
+    if (!(q.z() > 0)) continue;
+    sx.push_back(q.x() / q.z());
+    sy.push_back(q.y() / q.z());
+  }
+  if (sx.size() < 2) throw InputError("widths from normals: fewer than two normals");
+  auto median = [](std::vector<double>& v) {
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  };
+  std::array<double, 2> w{};
+  for (int axis = 0; axis < 2; ++axis) {
+    std::vector<double>& v = axis == 0 ? sx : sy;
+    const double centre = median(v);
+    for (double& x : v) x = std::fabs(x - centre);
+    w[static_cast<std::size_t>(axis)] = std::sqrt(3.0) * median(v);
+  }
+  return w;
+}
+
+EllipsoidParams refit_narrow_lobe(const std::vector<Vec3>& normals, const EllipsoidParams& first,
+                                  const TexelFitOptions& o) {
+  const double node = 2.0 / static_cast<double>(o.ndf_resolution - 1);
+  const double below = o.zoom_below_nodes * node;
+  const bool zx = first.alpha_x < below, zy = first.alpha_y < below;
+  if (!zx && !zy) return first;
+  // The lobe's scale from the normals (median rule), then the zoom that spreads it over
+  // zoom_nodes nodes; at most 1e5 (a width of 1e-6 at N = 129).
+  const auto guess = ellipsoid_widths_from_normals(normals, first);
+  auto zoom = [&](bool narrow, double w) {
+    return narrow ? std::clamp(o.zoom_nodes * node / std::max(w, 1e-12), 1.0, 1e5) : 1.0;
+  };
+  const double kx = zoom(zx, guess[0]), ky = zoom(zy, guess[1]);
+  // The zoom is centred on the lobe (median slope along the zoomed axis), so the stretched lobe
+  // stays near the disk centre, where slopes and disk coordinates agree.
+  std::vector<double> sx, sy;
+  for (const Vec3& m : normals)
+    if (m.z() > 0) {
+      sx.push_back(m.x() / m.z());
+      sy.push_back(m.y() / m.z());
+    }
+  if (sx.empty()) return first;
+  auto median = [](std::vector<double> v) {
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  };
+  const double cx = zx ? median(sx) : 0.0, cy = zy ? median(sy) : 0.0;
+  TabulatedNdf t(o.ndf_resolution);
+  std::size_t used = 0;
+  for (std::size_t i = 0; i < sx.size(); ++i) {
+    // Slopes stretched k-fold along the zoomed axis: a table node there is 1/k of a slope node.
+    const Vec3 q = Vec3(kx * (sx[i] - cx), ky * (sy[i] - cy), 1.0).normalized();
+    t.splat(q.x(), q.y(), 1.0);
+    ++used;
+  }
+  t.normalise();
+  t.meta.method = "filtered";
+  t.meta.filter_sigma_m = o.filter_sigma_m;
+  t.meta.samples_used = used;
+  FitOptions fo;
+  fo.model = FitModel::Ellipsoid;
+  fo.threads = 1;
+  fo.sampling = o.sampling;
+  fo.max_iterations = o.max_iterations;
+  const FitResult fr = fit_ndf(t, fo);
+  if (!fr.solver_converged) return first;
+  // Back to unstretched slopes: the width along a zoomed axis shrinks by k, and so does the
+  // peak's slope along it about the centre (theta_y > 0 puts the peak at slope -tan theta_y
+  // along x, theta_x > 0 at +tan theta_x along y); small-slope forms.
+  EllipsoidParams p = first;
+  if (zx) {
+    p.alpha_x = fr.params.alpha_x / kx;
+    p.theta_y = std::atan(std::tan(fr.params.theta_y) / kx - cx);
+  }
+  if (zy) {
+    p.alpha_y = fr.params.alpha_y / ky;
+    p.theta_x = std::atan(std::tan(fr.params.theta_x) / ky + cy);
+  }
+  return p;
+}
 
 ParamTexture fit_texels(const Surface& s, const TexelFitOptions& options) {
   Surface lv = s;

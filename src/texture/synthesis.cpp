@@ -3,8 +3,10 @@
 // resampled to the output size and pitch, random phases, inverse FFT, then the exemplars' mean
 // and variance, and the valid range. See docs/texture.md.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
+#include <cstring>
 #include <numbers>
 
 #include "core/fft.hpp"
@@ -167,6 +169,108 @@ void to_lognormal(std::vector<double>& f, double mean, double variance) {
   for (double& x : f) x = std::exp(mu + s * (sd > 0 ? (x - m) / sd : 0.0));
 }
 
+std::vector<double> radial_power_spectrum(const std::vector<std::complex<double>>& spec,
+                                          std::size_t n) {
+  const std::size_t h = n / 2 + 1;
+  if (n < 2 || spec.size() != h * n) throw InputError("radial spectrum: not an n x n spectrum");
+  std::vector<double> sum(h, 0.0), count(h, 0.0);
+  const double norm = 1.0 / (static_cast<double>(n) * static_cast<double>(n));
+  for (std::size_t ky = 0; ky < n; ++ky) {
+    const double fy = static_cast<double>(std::min(ky, n - ky));
+    for (std::size_t kx = 0; kx < h; ++kx) {
+      const auto r =
+          static_cast<std::size_t>(std::llround(std::sqrt(static_cast<double>(kx * kx) + fy * fy)));
+      if (r == 0 || r >= h) continue;  // the mean, and the corners beyond the Nyquist circle
+      // Half spectrum: every entry but the self-conjugate columns stands for two.
+      const double w = (kx == 0 || 2 * kx == n) ? 1.0 : 2.0;
+      sum[r] += w * std::norm(spec[ky * h + kx]) * norm * norm;
+      count[r] += w;
+    }
+  }
+  for (std::size_t r = 1; r < h; ++r) sum[r] = count[r] > 0 ? sum[r] / count[r] : 0.0;
+  return sum;
+}
+
+std::vector<double> radial_power_spectrum(const std::vector<double>& v, std::size_t n) {
+  if (n < 2 || v.size() != n * n) throw InputError("radial spectrum: not an n x n field");
+  double mean = 0;
+  for (double x : v) mean += x;
+  mean /= static_cast<double>(v.size());
+  std::vector<double> c(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) c[i] = v[i] - mean;
+  return radial_power_spectrum(fft2_r2c(n, n, c), n);
+}
+
+double spectrum_distance(const std::vector<double>& a, const std::vector<double>& b) {
+  double sa = 0, sb = 0;
+  for (std::size_t r = 1; r < a.size() && r < b.size(); ++r) sa += a[r], sb += b[r];
+  if (!(sa > 0) || !(sb > 0)) return 0.0;
+  double num = 0, den = 0;
+  for (std::size_t r = 1; r < a.size() && r < b.size(); ++r) {
+    const double x = a[r] / sa, y = b[r] / sb;
+    num += (x - y) * (x - y);
+    den += y * y;
+  }
+  return std::sqrt(num / den);
+}
+
+std::vector<float> quantile_table(std::vector<float> values, std::size_t n) {
+  if (values.empty()) throw InputError("histogram matching: no exemplar values");
+  std::sort(values.begin(), values.end());
+  const std::size_t m = values.size();
+  std::vector<float> q(n);
+  for (std::size_t r = 0; r < n; ++r) {
+    // Output rank r sits at the probability (r + 1/2)/n; exemplar order statistic i at
+    // (i + 1/2)/m; linear between neighbours, the extremes held at the exemplar's min and max.
+    const double pos =
+        (static_cast<double>(r) + 0.5) * static_cast<double>(m) / static_cast<double>(n) - 0.5;
+    if (pos <= 0) {
+      q[r] = values.front();
+    } else if (pos >= static_cast<double>(m - 1)) {
+      q[r] = values.back();
+    } else {
+      const auto i = static_cast<std::size_t>(pos);
+      const double t = pos - static_cast<double>(i);
+      const double v = (1 - t) * values[i] + t * values[i + 1];
+      // Rounding to float stays between the two neighbours (both floats).
+      q[r] = std::clamp(static_cast<float>(v), values[i], values[i + 1]);
+    }
+  }
+  return q;
+}
+
+void rank_remap(const std::vector<double>& f, const std::vector<float>& q,
+                std::vector<float>& out) {
+  const std::size_t n = f.size();
+  if (q.size() != n) throw InputError("histogram matching: quantile table of the wrong size");
+  if (n >= (std::size_t{1} << 32)) throw InputError("histogram matching: field too large");
+  // Stable LSD radix sort (two 16-bit passes) of the values as order-preserving 32-bit keys
+  // (float precision), carrying the texel index: equal keys keep index order, so the ranking is
+  // deterministic. Linear in n: a 2048^2 channel ranks in tens of ms.
+  std::vector<std::uint32_t> key(n), key2(n), idx(n), idx2(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t b;
+    const float x = static_cast<float>(f[i]);
+    std::memcpy(&b, &x, sizeof b);
+    key[i] = (b & 0x80000000u) ? ~b : (b | 0x80000000u);
+    idx[i] = static_cast<std::uint32_t>(i);
+  }
+  for (int shift : {0, 16}) {
+    std::vector<std::size_t> start(65537, 0);
+    for (std::size_t i = 0; i < n; ++i) ++start[((key[i] >> shift) & 0xffffu) + 1];
+    for (std::size_t d = 1; d <= 65536; ++d) start[d] += start[d - 1];
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t j = start[(key[i] >> shift) & 0xffffu]++;
+      key2[j] = key[i];
+      idx2[j] = idx[i];
+    }
+    key.swap(key2);
+    idx.swap(idx2);
+  }
+  out.resize(n);
+  for (std::size_t r = 0; r < n; ++r) out[idx[r]] = q[r];
+}
+
 }  // namespace detail
 
 namespace {
@@ -243,6 +347,9 @@ struct Candidate {
   std::size_t clipped = 0;
   bool lognormal = false;
   double spectrum_error = 0;
+  std::vector<double> before;  // radially averaged power spectrum of the field before matching
+  int rounds = 0;              // histogram-matching rounds
+  double modulus_error = 0;    // relative L2 of the moduli against the design before the last round
 };
 
 // Exemplar grids of the two axes (bands the spectra are compared in).
@@ -254,12 +361,13 @@ struct Grids {
 // Relative L2 distance between the output's line amplitude spectra along x and y and the design
 // (sx, sy: one-sided power per output bin), gathered into the exemplar's bands (what acceptance
 // measures), each normalised to unit power.
-double design_error(const std::vector<float>& v, std::size_t n, const std::vector<double>& sx,
-                    const std::vector<double>& sy, const Grids& g) {
+std::array<double, 2> design_errors(const std::vector<float>& v, std::size_t n,
+                                    const std::vector<double>& sx, const std::vector<double>& sy,
+                                    const Grids& g) {
   double mean = 0;
   for (float x : v) mean += x;
   mean /= static_cast<double>(v.size());
-  double err = 0;
+  std::array<double, 2> err{};
   for (int axis = 0; axis < 2; ++axis) {
     std::vector<double> a(v.size());
     for (std::size_t iy = 0; iy < n; ++iy)
@@ -292,21 +400,70 @@ double design_error(const std::vector<float>& v, std::size_t n, const std::vecto
       num += (x - y) * (x - y);
       den += y * y;
     }
-    err += std::sqrt(num / den);
+    err[static_cast<std::size_t>(axis)] = std::sqrt(num / den);
   }
   return err;
+}
+
+double design_error(const std::vector<float>& v, std::size_t n, const std::vector<double>& sx,
+                    const std::vector<double>& sy, const Grids& g) {
+  const auto e = design_errors(v, n, sx, sy, g);
+  return e[0] + e[1];
+}
+
+// Histogram matching after the spectrum step (iterative amplitude-adjusted Fourier transform,
+// Schreiber & Schmitz 1996): the field's values are replaced rank for rank by the exemplar's
+// quantiles (q); then, in rounds, the designed moduli are put back under the field's own phases
+// and the result replaced rank for rank again, until the spectrum's moduli are within `tolerance`
+// (relative L2) of the design (or after max_rounds). It ends on a rank
+// step, so the values are exactly the exemplar's quantiles (its range, its histogram); the
+// spectrum is what the rounds left (meta.histogram.*.spectrum_change).
+void match_histogram(const std::vector<double>& f, const std::vector<double>& amp, std::size_t n,
+                     const std::vector<float>& q, int max_rounds, double tolerance,
+                     Candidate& out) {
+  detail::rank_remap(f, q, out.values);
+  out.rounds = 0;
+  for (int round = 0; round < max_rounds; ++round) {
+    std::vector<double> v(out.values.begin(), out.values.end());
+    auto spec = detail::fft2_r2c(n, n, v);
+    // Distance of the moduli from the design, both normalised (the mean left out): the quantity
+    // the rounds reduce, stricter than the radial average.
+    double sm = 0, sa = 0, num = 0;
+    for (std::size_t i = 1; i < spec.size(); ++i) sm += std::norm(spec[i]), sa += amp[i] * amp[i];
+    const double km = sm > 0 ? 1 / std::sqrt(sm) : 0.0, ka = sa > 0 ? 1 / std::sqrt(sa) : 0.0;
+    for (std::size_t i = 1; i < spec.size(); ++i) {
+      const double d = std::abs(spec[i]) * km - amp[i] * ka;
+      num += d * d;
+    }
+    out.modulus_error = std::sqrt(num);
+    if (out.modulus_error <= tolerance) break;
+    for (std::size_t i = 0; i < spec.size(); ++i) {
+      const double m = std::abs(spec[i]);
+      spec[i] = m > 0 ? spec[i] * (amp[i] / m) : std::complex<double>(amp[i], 0.0);
+    }
+    ++out.rounds;
+    detail::rank_remap(detail::fft2_c2r(n, n, std::move(spec)), q, out.values);
+  }
+  out.clipped = 0;
 }
 
 Candidate make_candidate(const std::vector<double>& amp, std::size_t n, int c,
                          const ChannelStats& target, std::uint64_t seed, bool lognormal,
                          const std::vector<double>& sx, const std::vector<double>& sy,
-                         const Grids& g, bool compare) {
+                         const Grids& g, bool compare, const std::vector<float>* quantiles,
+                         const SynthesisOptions& o) {
   Candidate out;
   out.lognormal = lognormal;
   std::vector<double> f = detail::random_phase_field(
       lognormal ? detail::lognormal_amplitudes(amp, n, n, target.mean, target.variance) : amp, n, n,
       seed, static_cast<std::uint64_t>(c));
   if (lognormal) detail::to_lognormal(f, target.mean, target.variance);
+  out.before = detail::radial_power_spectrum(f, n);
+  if (quantiles) {
+    match_histogram(f, amp, n, *quantiles, o.histogram_rounds, o.histogram_tolerance, out);
+    out.spectrum_error = compare ? design_error(out.values, n, sx, sy, g) : 0.0;
+    return out;
+  }
   out.clipped = match_clamp(f, c, target, out.values);
   // A clamped tail changes the spectrum too (clipping whitens it). Iterative amplitude adjustment
   // (Schreiber & Schmitz 1996): put the designed moduli back under the field's own phases, invert,
@@ -346,7 +503,8 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
   std::fill(out.valid.begin(), out.valid.end(), 1);
   const std::size_t h = n / 2 + 1;
   nlohmann::json stats = nlohmann::json::object(), clamped = nlohmann::json::object(),
-                 field = nlohmann::json::object();
+                 field = nlohmann::json::object(), histogram = nlohmann::json::object(),
+                 spectra = nlohmann::json::object();
   const Grids grids{along.nx, across.ny, along.texel_m, across.texel_m, pitch};
   for (int c = 0; c < 5; ++c) {
     const ChannelStats target = &along == &across
@@ -371,10 +529,42 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
     // D15's Gaussian field; for alphas optionally also a log-normal field, keeping the one whose
     // line spectra are nearer the design (docs/texture.md).
     const bool both = options.lognormal_alpha && c < 2 && target.mean > 0;
-    Candidate best = make_candidate(amp, n, c, target, options.seed, false, sx, sy, grids, both);
+    // The exemplar's values (valid texels of both strips, pooled) as n^2 quantiles.
+    std::vector<float> q;
+    if (options.match_histogram) {
+      std::vector<float> values;
+      const std::vector<const ParamTexture*> exemplars =
+          &along == &across ? std::vector<const ParamTexture*>{&along}
+                            : std::vector<const ParamTexture*>{&along, &across};
+      for (const ParamTexture* e : exemplars) {
+        const auto& ch = e->channel[static_cast<std::size_t>(c)];
+        for (std::size_t i = 0; i < e->size(); ++i)
+          if (e->valid[i]) {
+            double v = ch[i];
+            clamp_range(c, v);  // fitted texels are in range already; a hand-made file may not be
+            values.push_back(static_cast<float>(v));
+          }
+      }
+      q = detail::quantile_table(std::move(values), n * n);
+    }
+    const std::vector<float>* qp = options.match_histogram ? &q : nullptr;
+    Candidate best =
+        make_candidate(amp, n, c, target, options.seed, false, sx, sy, grids, both, qp, options);
     if (both) {
-      Candidate ln = make_candidate(amp, n, c, target, options.seed, true, sx, sy, grids, true);
+      Candidate ln =
+          make_candidate(amp, n, c, target, options.seed, true, sx, sy, grids, true, qp, options);
       if (ln.spectrum_error < best.spectrum_error) best = std::move(ln);
+    }
+    {
+      const auto line = design_errors(best.values, n, sx, sy, grids);
+      spectra[ParamTexture::channel_names[c]] = {{"x", line[0]}, {"y", line[1]}};
+      std::vector<double> v(best.values.begin(), best.values.end());
+      const auto after = detail::radial_power_spectrum(v, n);
+      const double change = detail::spectrum_distance(after, best.before);
+      const auto range = std::minmax_element(best.values.begin(), best.values.end());
+      histogram[ParamTexture::channel_names[c]] = {
+          {"exemplar_min", target.min}, {"exemplar_max", target.max}, {"min", *range.first},
+          {"max", *range.second},       {"rounds", best.rounds},      {"spectrum_change", change}};
     }
     out.channel[static_cast<std::size_t>(c)] = std::move(best.values);
     const std::size_t clipped = best.clipped;
@@ -388,9 +578,15 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
   out.meta = {
       {"kind", "synthesised"},
       {"method",
-       "separable Fourier synthesis (Dong 2015 sec. 9): 1-D amplitude spectra along x "
-       "(along exemplar) and y (across exemplar), outer product, random phase, inverse "
-       "FFT, matched mean and variance, clamped to the valid range"},
+       options.match_histogram
+           ? "separable Fourier synthesis (Dong 2015 sec. 9): 1-D amplitude spectra along x "
+             "(along exemplar) and y (across exemplar), outer product, random phase, inverse "
+             "FFT, then each channel matched to the exemplars' histogram (iterative "
+             "amplitude-adjusted Fourier transform): values within the exemplars' range"
+           : "separable Fourier synthesis (Dong 2015 sec. 9): 1-D amplitude spectra along x "
+             "(along exemplar) and y (across exemplar), outer product, random phase, inverse "
+             "FFT, matched mean and variance, clamped to the valid range"},
+      {"histogram_matched", options.match_histogram},
       {"seed", options.seed},
       {"size", n},
       {"texel_m", pitch},
@@ -398,6 +594,8 @@ ParamTexture synthesize_texture(const ParamTexture& along, const ParamTexture& a
       {"exemplar_size", {{"along", {along.nx, along.ny}}, {"across", {across.nx, across.ny}}}},
       {"exemplar_stats", stats},
       {"clamped_texels", clamped},
+      {"histogram", histogram},
+      {"line_spectrum_error", spectra},
       {"field", field},
       {"sources", sources}};
   return out;

@@ -1,5 +1,6 @@
 #pragma once
 // Pieces of the separable Fourier texture synthesis, exposed for tests and benchmarks.
+#include <complex>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -36,5 +37,24 @@ std::vector<double> lognormal_amplitudes(const std::vector<double>& amp, std::si
                                          std::size_t ny, double mean, double variance);
 /// Standardises f and maps it to exp(mu + s z) with the log-normal mean and variance given.
 void to_lognormal(std::vector<double>& f, double mean, double variance);
+
+/// Radially averaged power spectrum of an n x n field (mean removed): the mean of |X(k)|^2 / n^4
+/// over the annulus round(|k|) = r (k in cycles per n texels), r = 1..n/2; entry 0 is 0 and
+/// the corners beyond the Nyquist circle are left out.
+std::vector<double> radial_power_spectrum(const std::vector<double>& v, std::size_t n);
+/// The same from the half spectrum (fft2_r2c layout, unnormalised) of an n x n field.
+std::vector<double> radial_power_spectrum(const std::vector<std::complex<double>>& spec,
+                                          std::size_t n);
+/// Relative L2 distance between two radial spectra, each normalised to unit total (the shape):
+/// sqrt(sum (a - b)^2 / sum b^2).
+double spectrum_distance(const std::vector<double>& a, const std::vector<double>& b);
+
+/// n quantiles of the exemplar values (sorted; linear between order statistics, the ends held
+/// at the minimum and maximum), entry r for the output rank r: every entry within
+/// [min, max] of the values.
+std::vector<float> quantile_table(std::vector<float> values, std::size_t n);
+/// out[i] = q[rank of f[i]]: ranks of the values at float precision, ties in texel order (a stable
+/// radix sort; deterministic). q must have f.size() entries.
+void rank_remap(const std::vector<double>& f, const std::vector<float>& q, std::vector<float>& out);
 
 }  // namespace microbrdf::detail
