@@ -105,3 +105,30 @@ def test_save_and_read_round_trip(tmp_path):
     assert np.array_equal(np.asarray(E), np.asarray(D)) and E.metadata["method"] == "beckmann"
     # Beckmann: rms slope along x is alpha_x / sqrt(2).
     assert D.moments()["slope_rms_x"] == pytest.approx(0.2 / np.sqrt(2), rel=2e-2)
+
+
+def test_sampling_and_zoom_window(cli, tmp_path):
+    """Tables say how they were sampled; a zoomed table's window reaches Python and the fit."""
+    D = mb.tabulate(model="beckmann", alpha_x=0.002, alpha_y=0.003, resolution=129,
+                    window=(0.01, 0.0, 0.02))
+    assert D.sampling == "point" and D.metadata["sampling_recorded"]
+    assert D.window == {"x": pytest.approx((-0.01, 0.03)), "y": pytest.approx((-0.02, 0.02))}
+    assert D.nodes[0] == pytest.approx(-0.01) and D.nodes_y[-1] == pytest.approx(0.02)
+    assert D.spacing == pytest.approx(0.04 / 128)
+    assert D.integral() == pytest.approx(1.0)
+    assert D.eval([0.5, 0.0, np.sqrt(0.75)]) == 0.0  # outside the window
+    f = mb.fit(D, model="beckmann")
+    assert f["converged"] and f["table_sampling"] == "point"
+    assert f["params"]["alpha_x"] == pytest.approx(0.002, rel=5e-3)
+    assert f["window"]["x"] == pytest.approx([-0.01, 0.03])
+    # The CLI writes the same table; numpy, the sidecar and read_ndf agree.
+    out = tmp_path / "zoom.npy"
+    subprocess.run([cli, "tabulate", "--model", "beckmann", "--alpha-x", "0.002", "--alpha-y",
+                    "0.003", "--resolution", "129", "--window", "0.01,0,0.02", "-o", out],
+                   check=True, capture_output=True)
+    E = mb.read_ndf(out)
+    assert E.window == D.window and E.sampling == "point"
+    np.testing.assert_allclose(np.asarray(E), np.asarray(D), rtol=1e-12)
+    # A histogram says "cell".
+    S = mb.ndf(gaussian_surface(), method="naive", resolution=65)
+    assert S.sampling == "cell"
