@@ -1,5 +1,6 @@
 // `microbrdf slice NDF... -o plot.png`: 1-D cuts through tabulated NDFs along in-plane
 // directions (the cross-brush and along-brush plots of Dong 2015 Fig. 9), several NDFs overlaid.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -28,9 +29,19 @@ void run(const SliceArgs& a) {
   if (!a.labels.empty() && a.labels.size() != a.inputs.size())
     throw InputError("--label must be given once per input (" + std::to_string(a.inputs.size()) +
                      ")");
-  const double tmax = parse_angle(a.theta_max) * 180 / M_PI;
+  double tmax = parse_angle(a.theta_max) * 180 / M_PI;
   std::vector<TabulatedNdf> ndfs;
   for (const auto& p : a.inputs) ndfs.push_back(read_ndf(p));
+  // Zoomed tables only (and no --theta-max given): the axis spans their windows.
+  bool all_zoomed = a.theta_max == "90deg";
+  double reach = 0;
+  for (const auto& t : ndfs) {
+    const NdfWindow& w = t.window();
+    all_zoomed = all_zoomed && !w.full();
+    reach =
+        std::max({reach, std::abs(w.x0()), std::abs(w.x1()), std::abs(w.y0()), std::abs(w.y1())});
+  }
+  if (all_zoomed) tmax = std::asin(std::min(1.0, reach)) * 180 / M_PI;
   std::vector<Plot> plots;
   std::ostringstream csv;
   csv << "# D (1/sr) along in-plane directions; theta = signed polar angle of "
@@ -79,7 +90,11 @@ void register_slice(CLI::App& app) {
       app.add_subcommand("slice", "Plot 1-D cuts through tabulated NDFs (Dong 2015 Fig. 9)");
   cmd->footer(
       "Cuts run through the disk centre at the given azimuths (0 = along x, 90 = along y); the\n"
-      "abscissa is the signed polar angle of the microfacet normal.\n\n"
+      "abscissa is the signed polar angle of the microfacet normal. Zoomed tables (a window of "
+      "the\n"
+      "disk, see docs/formats.md) are cut over their window only; when every table is zoomed and "
+      "no\n"
+      "--theta-max is given, the axis spans the windows.\n\n"
       "Examples:\n"
       "  microbrdf slice naive.npy filtered.npy --azimuth 0,90 --log -o slices.png\n"
       "  microbrdf slice ndf.npy --azimuth 90 --theta-max 15deg -o cross.svg --csv cross.csv");

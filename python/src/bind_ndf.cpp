@@ -30,6 +30,9 @@ py::dict metadata_dict(const NdfMetadata& m) {
   d["leveling"] = m.leveling;
   d["parameterisation"] = m.parameterisation;
   d["notes"] = m.notes;
+  d["sampling"] = ndf_sampling(m);
+  d["sampling_recorded"] = ndf_sampling_recorded(m);
+  d["window_mass"] = m.window_mass;
   return d;
 }
 
@@ -194,7 +197,8 @@ void bind_ndf(py::module_& m) {
       R"(A normal distribution function tabulated on the projected unit disk.
 
 N x N nodes, node-centred: m_x = -1 + 2 ix/(N-1), m_y = -1 + 2 iy/(N-1) (row iy, column ix);
-values D(m) per steradian, 0 outside the unit disk, normalised so that the integral of
+a zoomed table covers only its `window` (m_x = x0 + (x1 - x0) ix/(N-1)). Values D(m) per
+steradian, 0 outside the unit disk (and the window), normalised so that the integral of
 D(m)(m.n) over the hemisphere is 1 (sum D Delta^2 = 1, Delta = 2/(N-1)).
 
 np.asarray(D) and D.values are float64 (N, N) views of the table (no copy), writable; they
@@ -225,7 +229,24 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
           "The table, float64 (N, N), 1/sr: a writable view (no copy).")
       .def_property_readonly("resolution", &TabulatedNdf::resolution, "N, nodes per side.")
       .def_property_readonly("spacing", &TabulatedNdf::spacing,
-                             "Node spacing Delta = 2/(N-1) in disk coordinates.")
+                             "Node spacing Delta = 2 half/(N-1) in disk coordinates (2/(N-1) "
+                             "for the whole disk).")
+      .def_property_readonly(
+          "window",
+          [](const TabulatedNdf& d) {
+            const NdfWindow& w = d.window();
+            py::dict out;
+            out["x"] = py::make_tuple(w.x0(), w.x1());
+            out["y"] = py::make_tuple(w.y0(), w.y1());
+            return out;
+          },
+          "The square of the disk plane the nodes cover: {'x': (x0, x1), 'y': (y0, y1)}; "
+          "(-1, 1) both for the whole disk, smaller for a zoomed table (D = 0 outside it).")
+      .def_property_readonly(
+          "sampling", [](const TabulatedNdf& d) { return ndf_sampling(d.meta); },
+          "'point' (D at the nodes: analytic models, Kirchhoff, measured) or 'cell' (D averaged "
+          "over each node's tent cell: histograms of normals); inferred from the method for "
+          "files that do not record it (metadata['sampling_recorded'] is then False).")
       .def_property_readonly(
           "nodes",
           [](const TabulatedNdf& d) {
@@ -233,11 +254,20 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
             for (std::size_t i = 0; i < d.resolution(); ++i) x.mutable_data()[i] = d.node_x(i);
             return x;
           },
-          "Node coordinates -1 + 2 i/(N-1) (the same along x and y).")
+          "Node coordinates along x: x0 + (x1 - x0) i/(N-1) (-1 + 2 i/(N-1) for the whole disk).")
+      .def_property_readonly(
+          "nodes_y",
+          [](const TabulatedNdf& d) {
+            py::array_t<double> y(static_cast<py::ssize_t>(d.resolution()));
+            for (std::size_t i = 0; i < d.resolution(); ++i) y.mutable_data()[i] = d.node_y(i);
+            return y;
+          },
+          "Node coordinates along y (rows): y0 + (y1 - y0) i/(N-1).")
       .def_property_readonly(
           "metadata", [](const TabulatedNdf& d) { return metadata_dict(d.meta); },
           "Where the table came from: method, filter_sigma_m, wavelength_m, "
-          "sources, samples_used, samples_skipped, leveling, notes.")
+          "sources, samples_used, samples_skipped, leveling, notes, sampling ('point' | 'cell'), "
+          "sampling_recorded, window_mass (share of the normals inside a zoomed window).")
       .def(
           "eval",
           [](const TabulatedNdf& d, const py::object& m_obj) {
@@ -276,8 +306,9 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
           py::arg("azimuth") = 0.0, py::arg("samples") = 1025,
           "Cut through the disk centre at `azimuth` (rad): dict of arrays t (signed disk "
           "coordinate), theta (signed polar angle of m, rad), value (D, 1/sr).")
-      .def("resampled", &TabulatedNdf::resampled, py::arg("resolution"),
-           "Bilinear resampling to another resolution (normalised again).")
+      .def("resampled", py::overload_cast<std::size_t>(&TabulatedNdf::resampled, py::const_),
+           py::arg("resolution"),
+           "Bilinear resampling to another resolution (same window; normalised again).")
       .def(
           "save",
           [](const TabulatedNdf& d, const py::object& path) {
@@ -363,8 +394,17 @@ chosen sigma) and kirchhoff at the sweep's resolution.)");
   m.def(
       "tabulate",
       [](const std::string& model, double alpha_x, double alpha_y, double phi, double theta_x,
-         double theta_y, double theta_z, std::size_t resolution) {
+         double theta_y, double theta_z, std::size_t resolution, const py::object& window) {
         check_resolution(resolution);
+        NdfWindow w;
+        if (!window.is_none()) {
+          const auto v = window.cast<std::vector<double>>();
+          if (v.size() != 3 || !(v[2] > 0 && v[2] <= 1) || !(std::abs(v[0]) + v[2] <= 1) ||
+              !(std::abs(v[1]) + v[2] <= 1))
+            throw InputError(
+                "window must be (cx, cy, half) with the square inside [-1, 1]^2 (0 < half <= 1)");
+          w = zoom_window(v[0], v[1], v[2]);
+        }
         NdfSpec s;
         s.model = model;
         s.alpha_x = alpha_x;
@@ -374,13 +414,15 @@ chosen sigma) and kirchhoff at the sweep's resolution.)");
         s.theta_y = theta_y;
         s.theta_z = theta_z;
         auto d = make_distribution(s);
-        return std::make_shared<TabulatedNdf>(tabulate(*d, model, resolution));
+        return std::make_shared<TabulatedNdf>(tabulate(*d, model, resolution, w));
       },
       py::arg("model") = "ggx", py::arg("alpha_x") = 0.1, py::arg("alpha_y") = 0.0,
       py::arg("phi") = 0.0, py::arg("theta_x") = 0.0, py::arg("theta_y") = 0.0,
-      py::arg("theta_z") = 0.0, py::arg("resolution") = 1025,
+      py::arg("theta_z") = 0.0, py::arg("resolution") = 1025, py::arg("window") = py::none(),
       "A parametric NDF ('beckmann' | 'ggx' | 'ellipsoid') written into a table, as "
-      "`microbrdf tabulate`. alpha_y = 0 means alpha_y = alpha_x; angles in radians.");
+      "`microbrdf tabulate`. alpha_y = 0 means alpha_y = alpha_x; angles in radians. "
+      "window=(cx, cy, half): a zoomed table of that square of the disk plane (`tabulate "
+      "--window`). The table records sampling 'point'.");
 }
 
 }  // namespace microbrdf::python

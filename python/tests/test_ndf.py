@@ -130,3 +130,30 @@ def test_filter_sigma_auto_equals_cli_and_hellinger_against_numpy(cli, tmp_path)
     assert abs(mb.hellinger_distance(r["filtered"], r["kirchhoff"]) - want) < 1e-12
     assert abs(r["hellinger"] - want) < 1e-12
     assert mb.hellinger_distance(r["naive"], r["naive"]) < 1e-7
+
+
+def test_sampling_and_zoom_window(cli, tmp_path):
+    """Tables say how they were sampled; a zoomed table's window reaches Python and the fit."""
+    D = mb.tabulate(model="beckmann", alpha_x=0.002, alpha_y=0.003, resolution=129,
+                    window=(0.01, 0.0, 0.02))
+    assert D.sampling == "point" and D.metadata["sampling_recorded"]
+    assert D.window == {"x": pytest.approx((-0.01, 0.03)), "y": pytest.approx((-0.02, 0.02))}
+    assert D.nodes[0] == pytest.approx(-0.01) and D.nodes_y[-1] == pytest.approx(0.02)
+    assert D.spacing == pytest.approx(0.04 / 128)
+    assert D.integral() == pytest.approx(1.0)
+    assert D.eval([0.5, 0.0, np.sqrt(0.75)]) == 0.0  # outside the window
+    f = mb.fit(D, model="beckmann")
+    assert f["converged"] and f["table_sampling"] == "point"
+    assert f["params"]["alpha_x"] == pytest.approx(0.002, rel=5e-3)
+    assert f["window"]["x"] == pytest.approx([-0.01, 0.03])
+    # The CLI writes the same table; numpy, the sidecar and read_ndf agree.
+    out = tmp_path / "zoom.npy"
+    subprocess.run([cli, "tabulate", "--model", "beckmann", "--alpha-x", "0.002", "--alpha-y",
+                    "0.003", "--resolution", "129", "--window", "0.01,0,0.02", "-o", out],
+                   check=True, capture_output=True)
+    E = mb.read_ndf(out)
+    assert E.window == D.window and E.sampling == "point"
+    np.testing.assert_allclose(np.asarray(E), np.asarray(D), rtol=1e-12)
+    # A histogram says "cell".
+    S = mb.ndf(gaussian_surface(), method="naive", resolution=65)
+    assert S.sampling == "cell"

@@ -124,14 +124,22 @@ void warn_table(const Context& c, const std::string& name, const TabulatedNdf& t
   if (zoom) {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(zoom->slope_covariance());
     const double zs = std::sqrt(std::max(es.eigenvalues()(0), 0.0));
-    char z[320];
+    char z[480];
     std::snprintf(z, sizeof z,
-                  "the fits use ndf_%s_zoom.npy instead, the same estimator on a window of "
-                  "half-width %.3g around the lobe (node spacing %.3g; the lobe, smallest rms "
-                  "slope %.3g, spans %.0f nodes; %.4g%% of the normals fall inside it); ",
-                  name.c_str(), zoom->window().half, zoom->spacing(), zs, 4 * zs / zoom->spacing(),
-                  100 * zoom->meta.window_mass);
-    todo = z + std::string("for the whole-disk table (renders, previews): ") + todo;
+                  "%sndf_%s_zoom.npy holds the same estimator on a window of half-width %.3g "
+                  "around the lobe (node spacing %.3g; the lobe, smallest rms slope %.3g, spans "
+                  "%.0f nodes; %.4g%% of the normals fall inside it), with its rms slopes in "
+                  "summary.json's ndf.%s.zoom; ",
+                  name == "filtered" ? "the fits use the zoomed table: " : "", name.c_str(),
+                  zoom->window().half, zoom->spacing(), zs, 4 * zs / zoom->spacing(),
+                  100 * zoom->meta.window_mass, name.c_str());
+    // The whole-disk table's rms slopes are blurred by the splat (Delta^2 / 6 per axis): the
+    // zoomed table's are the ones to read.
+    todo = z + std::string("the whole-disk table (renders, previews) and its rms slopes are ") +
+           "blurred by its node spacing" +
+           (need <= 4097
+                ? "; --resolution " + std::to_string(static_cast<long>(need)) + " would resolve it"
+                : std::string());
   }
   c.warn("table_too_coarse", b, todo);
 }
@@ -308,41 +316,56 @@ constexpr double kZoomSigmas = 12;  // zoom window half-width in rms slopes of t
 }  // namespace
 
 void stage_zoom(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs) {
-  if (!ndfs.filtered) return;
   const auto& o = c.opt;
   const std::size_t n = o.ndf_resolution;
-  const TabulatedNdf* from = ndfs.filtered.get();
-  // A lobe a few nodes wide also has its rms slopes inflated by the bilinear splat (variance
-  // Delta^2 / 6 per axis), so the window is set from an upper bound and refined until the lobe
-  // spans kLobeNodes (at most three passes).
-  for (int pass = 0; pass < 3; ++pass) {
-    const auto [s_min, s_max] = rms_slope_range(*from);
-    if (!(4 * s_min / from->spacing() < kLobeNodes)) break;  // resolved
-    const Eigen::Vector3d mn = from->mean_normal();
-    const double half_fit = 0.2 * std::max(s_min, 1e-9) * static_cast<double>(n - 1);
-    const double half =
-        std::min({kZoomSigmas * std::max(s_max, 1e-9), half_fit, from->window().half / 2});
-    NdfEstimateOptions fo;
-    fo.method = NdfMethod::Filtered;
-    fo.resolution = n;
-    fo.filter_sigma_m = o.filter_sigma_m;
-    fo.window = zoom_window(mn.x(), mn.y(), half);
-    char b[200];
-    std::snprintf(b, sizeof b,
-                  "inputs: filtered NDF on a zoomed window (centre %.4g, %.4g, half-width %.4g; "
-                  "node spacing %.3g)",
-                  fo.window.cx, fo.window.cy, fo.window.half, 2 * fo.window.half / double(n - 1));
-    c.log(b);
-    NdfAccumulator acc(fo);
-    auto compute = [&](std::size_t, const std::string& path, Surface& s) {
-      about_file(path, [&] { level_surface(s, o.leveling); });
-      return pack_partial(acc.estimate(s), nlohmann::json::object());
-    };
-    auto consume = [&](std::size_t, WorkResult&& r) { acc.merge(unpack_ndf_partial(r, n)); };
-    distribute_scans(paths, o.read, compute, consume);
-    ndfs.filtered_zoom = std::make_unique<TabulatedNdf>(acc.result());
-    from = ndfs.filtered_zoom.get();
-  }
+  auto zoom = [&](const TabulatedNdf* from, NdfMethod method, std::unique_ptr<TabulatedNdf>& out) {
+    // A lobe a few nodes wide also has its rms slopes inflated by the bilinear splat (variance
+    // Delta^2 / 6 per axis), so the window is set from an upper bound and refined until the
+    // lobe spans kLobeNodes (at most three passes).
+    for (int pass = 0; from && pass < 3; ++pass) {
+      const auto [s_min, s_max] = rms_slope_range(*from);
+      if (!(4 * s_min / from->spacing() < kLobeNodes)) break;  // resolved
+      const Eigen::Vector3d mn = from->mean_normal();
+      const double half_fit = 0.2 * std::max(s_min, 1e-9) * static_cast<double>(n - 1);
+      const double half =
+          std::min({kZoomSigmas * std::max(s_max, 1e-9), half_fit, from->window().half / 2});
+      // A square window cannot hold a lobe far more elongated than it is wide (a grating's or a
+      // brushed surface's line of normals): then no zoom, and the table warning stands.
+      if (half < 3 * s_max) {
+        c.log(std::string("inputs: no zoomed ") +
+              (method == NdfMethod::Naive ? "naive" : "filtered") +
+              " NDF: the lobe is too elongated for a square window at this resolution");
+        break;
+      }
+      NdfEstimateOptions eo;
+      eo.method = method;
+      eo.resolution = n;
+      eo.filter_sigma_m = o.filter_sigma_m;
+      eo.window = zoom_window(mn.x(), mn.y(), half);
+      char b[200];
+      std::snprintf(b, sizeof b,
+                    "inputs: %s NDF on a zoomed window (centre %.4g, %.4g, half-width %.4g; "
+                    "node spacing %.3g)",
+                    method == NdfMethod::Naive ? "naive" : "filtered", eo.window.cx, eo.window.cy,
+                    eo.window.half, 2 * eo.window.half / double(n - 1));
+      c.log(b);
+      NdfAccumulator acc(eo);
+      auto compute = [&](std::size_t, const std::string& path, Surface& s) {
+        about_file(path, [&] { level_surface(s, o.leveling); });
+        return pack_partial(acc.estimate(s), nlohmann::json::object());
+      };
+      auto consume = [&](std::size_t, WorkResult&& r) { acc.merge(unpack_ndf_partial(r, n)); };
+      distribute_scans(paths, o.read, compute, consume);
+      try {
+        out = std::make_unique<TabulatedNdf>(acc.result());
+      } catch (const InputError&) {
+        break;  // nothing fell inside the window: keep what there is (the warning stands)
+      }
+      from = out.get();
+    }
+  };
+  zoom(ndfs.naive.get(), NdfMethod::Naive, ndfs.naive_zoom);
+  zoom(ndfs.filtered.get(), NdfMethod::Filtered, ndfs.filtered_zoom);
 }
 
 nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs) {
@@ -372,7 +395,9 @@ nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs) {
     const double s_min = std::sqrt(std::max(es.eigenvalues()(0), 0.0));
     const double s_max = std::sqrt(std::max(es.eigenvalues()(1), 0.0));
     const double sx = ndf->rms_slope(0), sy = ndf->rms_slope(M_PI / 2);
-    const TabulatedNdf* zoom = ndf == ndfs.filtered.get() ? ndfs.filtered_zoom.get() : nullptr;
+    const TabulatedNdf* zoom = ndf == ndfs.filtered.get() ? ndfs.filtered_zoom.get()
+                               : ndf == ndfs.naive.get()  ? ndfs.naive_zoom.get()
+                                                          : nullptr;
     warn_table(c, name, *ndf, s_min, zoom);
     nlohmann::json j = {{"method", ndf->meta.method},
                         {"file", table},

@@ -41,18 +41,22 @@ std::vector<double> slice_values(const Brdf& b, double ti, double lambda, SliceP
 
 constexpr double kPoorFit = 0.45;  // relative L2 error from which a fit is called poor
 
-void warn_fit(const Context& c, const FitResult& r) {
+void warn_fit(const Context& c, const FitResult& r, bool zoomed) {
   const std::string m = fit_model_name(r.model);
   if (!r.at_bound.empty()) {
     const bool floor = r.at_bound.find("lower alpha") != std::string::npos;
     c.warn("fit_at_bound",
            "the " + m + " fit ended at " + r.at_bound +
                ": not converged, the parameter is the bound, not the surface's value",
-           floor ? "the lobe is narrower than the table resolves: raise --resolution (see the "
-                   "table warning) and meanwhile take the widths from the rms slopes of the "
-                   "filtered NDF (alpha = sqrt(2) x rms slope, summary.json ndf.filtered)"
-                 : "the model does not suit this NDF: look at the NDF preview and the cuts, and "
-                   "prefer a model whose fit converged or the measured table itself");
+           floor && zoomed
+               ? "the lobe is narrower than the fits' smallest width even on the zoomed table: "
+                 "take the widths from the rms slopes of the zoomed filtered NDF (alpha = "
+                 "sqrt(2) x rms slope, summary.json ndf.filtered.zoom)"
+           : floor ? "the lobe is narrower than the table resolves: raise --resolution (see the "
+                     "table warning) and meanwhile take the widths from the rms slopes of the "
+                     "filtered NDF (alpha = sqrt(2) x rms slope, summary.json ndf.filtered)"
+                   : "the model does not suit this NDF: look at the NDF preview and the cuts, and "
+                     "prefer a model whose fit converged or the measured table itself");
   }
   if (r.relative_l2_error >= kPoorFit) {
     char b[160];
@@ -65,6 +69,70 @@ void warn_fit(const Context& c, const FitResult& r) {
            "lowest Hellinger distance) or render with the measured NDF table "
            "(ndf_filtered.npy)");
   }
+}
+
+constexpr double kWidthVsRms = 0.05;  // Beckmann width vs the NDF's rms slope, relative
+
+// Kurtosis E[(s - mean)^4] / E[(s - mean)^2]^2 of the slope s = -(m_x, m_y)/m_z . u under the
+// table (3 for Gaussian slopes, as Beckmann's).
+double slope_kurtosis(const TabulatedNdf& t, double phi) {
+  const double ux = std::cos(phi), uy = std::sin(phi);
+  double w = 0, m1 = 0;
+  auto each = [&](auto&& f) {
+    for (std::size_t iy = 0; iy < t.resolution(); ++iy)
+      for (std::size_t ix = 0; ix < t.resolution(); ++ix) {
+        const double v = t.at(ix, iy), x = t.node_x(ix), y = t.node_y(iy), r2 = x * x + y * y;
+        if (!(v > 0) || r2 >= 1) continue;
+        const double z = std::sqrt(1 - r2);
+        f(v, -(x * ux + y * uy) / z);
+      }
+  };
+  each([&](double v, double sl) {
+    w += v;
+    m1 += v * sl;
+  });
+  if (!(w > 0)) return 3;
+  m1 /= w;
+  double m2 = 0, m4 = 0;
+  each([&](double v, double sl) {
+    const double d = (sl - m1) * (sl - m1);
+    m2 += v * d;
+    m4 += v * d * d;
+  });
+  return m2 > 0 ? (m4 / w) / ((m2 / w) * (m2 / w)) : 3;
+}
+
+// The Beckmann fit's widths against the table's own rms slopes along the fitted axes (alpha =
+// sqrt 2 x rms slope for Beckmann): a departure above kWidthVsRms warns and says why (the slopes
+// are not Gaussian: a narrow core with heavy tails, or the reverse).
+void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf& t,
+                       const std::string& where, nlohmann::json& j) {
+  if (r.model != FitModel::Beckmann || !r.at_bound.empty()) return;  // (a bound fit warns)
+  const double ax = r.params.alpha_x / std::sqrt(2.0), ay = r.params.alpha_y / std::sqrt(2.0);
+  const double sx = t.rms_slope(r.phi), sy = t.rms_slope(r.phi + M_PI / 2);
+  const double dx = sx > 0 ? ax / sx - 1 : 0, dy = sy > 0 ? ay / sy - 1 : 0;
+  const double kx = slope_kurtosis(t, r.phi), ky = slope_kurtosis(t, r.phi + M_PI / 2);
+  j["width_vs_rms"] = {{"rms_slope_fit", {ax, ay}},
+                       {"rms_slope_table", {sx, sy}},
+                       {"relative_difference", {dx, dy}},
+                       {"slope_kurtosis", {kx, ky}}};
+  if (!(std::max(std::abs(dx), std::abs(dy)) > kWidthVsRms)) return;
+  char b[420];
+  std::snprintf(b, sizeof b,
+                "the Beckmann fit's widths correspond to rms slopes %.3g x %.3g (alpha / sqrt 2), "
+                "but the fitted NDF's own rms slopes along the same axes are %.3g x %.3g "
+                "(%+.0f%%, %+.0f%%): its slopes are not Gaussian (kurtosis %.3g and %.3g; "
+                "Gaussian 3), %s",
+                ax, ay, sx, sy, 100 * dx, 100 * dy, kx, ky,
+                std::max(kx, ky) > 3 ? "a narrow core with heavy tails: the fit follows the core, "
+                                       "the rms slopes weigh the tails"
+                                     : "a flat-topped lobe with light tails: the fit widens to "
+                                       "the shoulders, the rms slopes stay narrower");
+  c.warn("fit_width_vs_rms", b,
+         "use the fitted widths for the highlight's shape and the rms slopes (summary.json " +
+             where +
+             ") for the overall spread; GGX and ellipsoid have no finite rms slope, compare "
+             "them with the NDF cuts instead");
 }
 
 }  // namespace
@@ -89,7 +157,8 @@ nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitR
       write_fit_report(table, r, c.path("fit_ellipsoid"));
       j["compare_image"] = "fit_ellipsoid/compare.png";
     }
-    warn_fit(c, r);
+    warn_fit(c, r, ndfs.filtered_zoom != nullptr);
+    warn_width_vs_rms(c, r, table, ndfs.filtered_zoom ? "ndf.filtered.zoom" : "ndf.filtered", j);
     out.push_back(std::move(j));
     fits.push_back(r);
   }

@@ -41,9 +41,9 @@ struct Context {
 /// What the input stage hands on: the NDFs of all scans together.
 struct NdfSet {
   std::unique_ptr<TabulatedNdf> naive, filtered, kirchhoff;
-  /// The filtered NDF on a zoomed window around its lobe, when the whole-disk table does not
-  /// resolve it (stage_zoom); the fits use it.
-  std::unique_ptr<TabulatedNdf> filtered_zoom;
+  /// The naive and filtered NDFs on a zoomed window around their lobes, when the whole-disk
+  /// tables do not resolve them (stage_zoom); the fits use filtered_zoom.
+  std::unique_ptr<TabulatedNdf> naive_zoom, filtered_zoom;
   double kirchhoff_raw_integral = 0, kirchhoff_aliased_fraction = 0;
   std::size_t kirchhoff_patches = 0;
   /// The table of the "measured" BRDF (PredictOptions::render_ndf): naive, filtered or kirchhoff.
@@ -60,11 +60,11 @@ struct NdfSet {
 /// the "inputs" array; `stats` (rank 0): scans and seconds per rank.
 nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs,
                             WorkStats* stats = nullptr);
-/// When the filtered NDF's lobe spans fewer than 10 nodes of its table (smallest rms slope
-/// s: 4 s / Delta < 10), reads and levels the scans again on this rank and tabulates their
-/// filtered normals on a window around the mean normal, half-width 12 x the largest rms slope
-/// (clamped so that the lobe spans at least 10 nodes), into ndfs.filtered_zoom. Call on rank 0
-/// after the distributed stage (mpi_set_solo).
+/// For the naive and the filtered NDF whose lobe spans fewer than 10 nodes of its table
+/// (smallest rms slope s: 4 s / Delta < 10): reads and levels the scans again on this rank and
+/// tabulates the same estimator on a window around the mean normal, half-width 12 x the largest
+/// rms slope (at most what keeps the lobe 10 nodes wide), refined up to three times, into
+/// ndfs.naive_zoom / filtered_zoom. Call on rank 0 after the distributed stage (mpi_set_solo).
 void stage_zoom(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs);
 /// Writes the tables and previews; returns the "ndf" object.
 nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs);
