@@ -5,7 +5,7 @@
 # -> .shbrdf -> render --sh.
 # Usage: [SECTIONS="sim cyl velvet cloth"] scripts/make-westin-renders.sh [BIN] [WORK_DIR]
 # WORK_DIR keeps the .shbrdf files and the simulation summaries (default: a temporary folder).
-# About 6 minutes on 2 busy cores.
+# About 30 minutes on 2 heavily loaded cores (the SH evaluation dominates the renders).
 set -euo pipefail
 BIN=${1:-build/bin/microbrdf}
 W=${2:-$(mktemp -d)}
