@@ -5,7 +5,7 @@
 # -> .shbrdf -> render --sh.
 # Usage: [SECTIONS="sim cyl velvet cloth"] scripts/make-westin-renders.sh [BIN] [WORK_DIR]
 # WORK_DIR keeps the .shbrdf files and the simulation summaries (default: a temporary folder).
-# About 6 minutes on 2 busy cores.
+# About 30 minutes on 2 heavily loaded cores (the SH evaluation dominates the renders).
 set -euo pipefail
 BIN=${1:-build/bin/microbrdf}
 W=${2:-$(mktemp -d)}
@@ -37,7 +37,7 @@ fi
 #    averaged over rotations about the normal (W92 Fig. 8: isotropic vs anisotropic aluminium).
 if want cyl; then
   R --scene cylinders --sh "$W/cylinders.shbrdf" --envmap "$ENV/blender_courtyard.exr" \
-    --size 192 --spp 32 -o "$IMG/westin_cyl_pair.png"
+    --size 160 --spp 128 -o "$IMG/westin_cyl_pair.png"
   VASE=(--scene vase --sh "$W/cylinders.shbrdf" --envmap "$ENV/blender_interior.exr" --size 192 --spp 32)
   R "${VASE[@]}" --brushing rotational -o "$IMG/westin_cyl_vase_rotational.png"
   R "${VASE[@]}" --isotropic-average -o "$IMG/westin_cyl_vase_isotropic.png"

@@ -489,3 +489,20 @@ TEST(Render, RadianceReaderSurvivesMutations) {
   }
   EXPECT_GT(refused, 0);
 }
+
+TEST(Render, NormalizingExposureTakesTheBrightestPixelsToWhite) {
+  // 10^4 pixels whose largest channel runs 0.0004 ... 4 (one channel per pixel in turn): the
+  // 99.9th percentile is 3.9964 (the 9991st value), so the exposure is -log2(3.9964); a firefly
+  // of 10^6 moves it by one place only; the median gives about -1; a black image gets 0.
+  RenderImage img;
+  img.width = 10000;
+  img.height = 1;
+  img.rgb.assign(30000, 0.0f);
+  for (int i = 0; i < 10000; ++i) img.rgb[3 * i + i % 3] = 0.0004f * float(i + 1);
+  EXPECT_NEAR(normalizing_exposure(img), -std::log2(3.9964), 1e-5);
+  img.rgb[0] = 1e6f;  // a firefly
+  EXPECT_NEAR(normalizing_exposure(img), -std::log2(3.9968), 1e-5);
+  EXPECT_NEAR(normalizing_exposure(img, 0.5), -1, 1e-3);
+  std::fill(img.rgb.begin(), img.rgb.end(), 0.0f);
+  EXPECT_EQ(normalizing_exposure(img), 0.0);
+}

@@ -234,54 +234,66 @@ Energy energy(const MicroScene& sc, std::uint64_t rays, int max_depth, std::uint
   return e;
 }
 
-// The SH matrix against the direct cone estimate at one angle of incidence, in the plane of
+// The SH matrix against the direct cone estimate at angles of incidence theta_i, in the plane of
 // incidence (phi_i = 0), theta_r in [-70, 70] deg every 5 deg, 10 deg cones (wide: these BRDFs
 // are low, 0.002-0.05 /sr, and the direct estimate needs the counts); the SH is averaged over the
-// same cones. Compared in f = rho cos(theta_i) cos(theta_r), the quantity the matrix stores,
-// relative to the largest f of the direct curve; and the directional albedo of the expansion (exact
-// for the truncated matrix) against the traced fraction of energy that leaves.
+// same cones. Compared in f = rho cos(theta_i) cos(theta_r), the quantity the matrix stores: the
+// error of a truncated, Monte Carlo estimated expansion is spread evenly in f over all direction
+// pairs, so it is measured relative to the largest f of all the direct curves (velvet and cloth
+// reflect most at grazing incidence: the theta_i = 0 curve is 3 times lower than the 60 deg one).
+// Also the directional albedo of the expansion (exact for the truncated matrix) against the
+// traced fraction of energy that leaves.
 struct ShVsDirect {
-  double worst = 0, rms = 0, albedo_sh = 0, albedo_direct = 0;
+  double ti = 0, worst = 0, rms = 0, albedo_sh = 0, albedo_direct = 0;
 };
 
-ShVsDirect sh_vs_direct(const MicroScene& sc, const ShBrdf& sh, double ti_deg, bool isotropic,
-                        std::uint64_t rays) {
-  GoniometerOptions g;
-  g.theta_i_rad = {ti_deg * kDeg};
-  g.cone_half_angle_rad = 10 * kDeg;
-  g.theta_r_min_deg = -70;
-  g.theta_r_max_deg = 70;
-  g.theta_r_step_deg = 5;
-  g.rays = rays;
-  g.seed = 77;
-  g.isotropic = isotropic;
-  const GoniometerCurve c = in_plane_goniometer(sc, g).at(0);
-  const Vec wi(-std::sin(ti_deg * kDeg), 0, std::cos(ti_deg * kDeg));
-  std::vector<double> fd, fs;
-  for (std::size_t k = 0; k < c.theta_r_deg.size(); ++k) {
-    const double t = c.theta_r_deg[k] * kDeg;
-    const Vec wo(std::sin(t), 0, std::cos(t));
-    const double rho_sh =
-        cone_average([&](const Vec& w) { return sh.cosine_weighted(wi, w) / (wi.z() * w.z()); }, wo,
-                     g.cone_half_angle_rad, Vec(0, 1, 0));
-    fd.push_back(c.simulated[k] * wi.z() * wo.z());
-    fs.push_back(rho_sh * wi.z() * wo.z());
+std::vector<ShVsDirect> sh_vs_direct(const MicroScene& sc, const ShBrdf& sh,
+                                     const std::vector<double>& ti_deg, bool isotropic,
+                                     std::uint64_t rays) {
+  std::vector<std::vector<double>> fd(ti_deg.size()), fs(ti_deg.size());
+  std::vector<ShVsDirect> out(ti_deg.size());
+  double scale = 0;
+  for (std::size_t a = 0; a < ti_deg.size(); ++a) {
+    GoniometerOptions g;
+    g.theta_i_rad = {ti_deg[a] * kDeg};
+    g.cone_half_angle_rad = 10 * kDeg;
+    g.theta_r_min_deg = -70;
+    g.theta_r_max_deg = 70;
+    g.theta_r_step_deg = 5;
+    g.rays = rays;
+    g.seed = 77;
+    g.isotropic = isotropic;
+    const GoniometerCurve c = in_plane_goniometer(sc, g).at(0);
+    const Vec wi(-std::sin(ti_deg[a] * kDeg), 0, std::cos(ti_deg[a] * kDeg));
+    for (std::size_t k = 0; k < c.theta_r_deg.size(); ++k) {
+      const double t = c.theta_r_deg[k] * kDeg;
+      const Vec wo(std::sin(t), 0, std::cos(t));
+      const double rho_sh =
+          cone_average([&](const Vec& w) { return sh.cosine_weighted(wi, w) / (wi.z() * w.z()); },
+                       wo, g.cone_half_angle_rad, Vec(0, 1, 0));
+      fd[a].push_back(c.simulated[k] * wi.z() * wo.z());
+      fs[a].push_back(rho_sh * wi.z() * wo.z());
+      scale = std::max(scale, fd[a].back());
+    }
+    out[a].ti = ti_deg[a];
+    out[a].albedo_sh = sh.albedo(wi);
+    out[a].albedo_direct = c.albedo;
   }
-  const double peak = *std::max_element(fd.begin(), fd.end());
-  ShVsDirect r;
-  for (std::size_t k = 0; k < fd.size(); ++k) {
-    const double d = std::abs(fs[k] - fd[k]) / peak;
-    r.worst = std::max(r.worst, d);
-    r.rms += d * d;
+  for (std::size_t a = 0; a < ti_deg.size(); ++a) {
+    auto& r = out[a];
+    for (std::size_t k = 0; k < fd[a].size(); ++k) {
+      const double d = std::abs(fs[a][k] - fd[a][k]) / scale;
+      r.worst = std::max(r.worst, d);
+      r.rms += d * d;
+    }
+    r.rms = std::sqrt(r.rms / double(fd[a].size()));
+    std::printf(
+        "theta_i %2.0f: f(SH) - f(direct) relative to the largest f %.4g: worst %.3f, rms %.3f "
+        "(this curve's peak %.4g); albedo SH %.5f, traced %.5f\n",
+        r.ti, scale, r.worst, r.rms, *std::max_element(fd[a].begin(), fd[a].end()), r.albedo_sh,
+        r.albedo_direct);
   }
-  r.rms = std::sqrt(r.rms / double(fd.size()));
-  r.albedo_sh = sh.albedo(wi);
-  r.albedo_direct = c.albedo;
-  std::printf(
-      "theta_i %2.0f: f(SH) - f(direct), relative to the peak %.4g: worst %.3f, rms %.3f; albedo "
-      "SH %.5f, traced %.5f\n",
-      ti_deg, peak, r.worst, r.rms, r.albedo_sh, r.albedo_direct);
-  return r;
+  return out;
 }
 
 }  // namespace
@@ -333,18 +345,21 @@ TEST(WestinCloth, EnergyBalance) {
 TEST(WestinVelvet, SlowShMatrixMatchesTheDirectInPlaneEstimate) {
   // lmax 12, 10^6 rays (as `microbrdf simulate velvet.json --lmax 12`), averaged over rotations
   // about n (velvet is statistically isotropic); the direct estimate with the plane of incidence
-  // at random azimuths, 10^6 rays per angle. Tolerances: see docs/westin.md ("Checks of velvet
-  // and cloth"); the difference is dominated by the Monte Carlo noise of the matrix.
+  // at random azimuths, 10^6 rays per angle (docs/westin.md, "Checks of velvet and cloth").
   const MicroScene sc = velvet_scene(false);
   SimulateOptions o;
   o.lmax = 12;
   o.incident_directions = 1000000 / 16;
   const ShBrdf sh = ShBrdf::from_estimator(simulate(sc, o)).isotropic_average();
-  for (double ti : {0.0, 30.0, 60.0}) {
-    const ShVsDirect r = sh_vs_direct(sc, sh, ti, true, 1000000);
-    EXPECT_LT(r.rms, 0.2) << ti;
-    EXPECT_LT(r.worst, 0.45) << ti;
-    EXPECT_NEAR(r.albedo_sh / r.albedo_direct, 1.0, ti == 0 ? 0.15 : 0.05) << ti;
+  // Measured (rms / worst of |f(SH) - f(direct)| over the largest f, albedo SH / traced):
+  // 0.076 / 0.188 / 0.89 at theta_i = 0, 0.033 / 0.093 / 1.00 at 30, 0.031 / 0.065 / 1.00 at 60.
+  // Two independent 10^6-ray matrices (seeds 1, 2) differ from each other by 0.074 / 0.198,
+  // 0.042 / 0.105, 0.031 / 0.062: the difference is the matrix's Monte Carlo noise, largest at
+  // the pole (every m = 0 term peaks there). Tolerances 0.12 / 0.3, albedo 15 % at 0 and 5 %.
+  for (const ShVsDirect& r : sh_vs_direct(sc, sh, {0, 30, 60}, true, 1000000)) {
+    EXPECT_LT(r.rms, 0.12) << r.ti;
+    EXPECT_LT(r.worst, 0.3) << r.ti;
+    EXPECT_NEAR(r.albedo_sh / r.albedo_direct, 1.0, r.ti == 0 ? 0.15 : 0.05) << r.ti;
   }
 }
 
@@ -357,10 +372,11 @@ TEST(WestinCloth, SlowShMatrixMatchesTheDirectInPlaneEstimate) {
   o.lmax = 12;
   o.incident_directions = 1000000 / 16;
   const ShBrdf sh = ShBrdf::from_estimator(simulate(sc, o));
-  for (double ti : {0.0, 30.0, 60.0}) {
-    const ShVsDirect r = sh_vs_direct(sc, sh, ti, false, 1000000);
-    EXPECT_LT(r.rms, 0.2) << ti;
-    EXPECT_LT(r.worst, 0.45) << ti;
-    EXPECT_NEAR(r.albedo_sh / r.albedo_direct, 1.0, 0.05) << ti;
+  // Measured: rms / worst 0.097 / 0.222, 0.082 / 0.183, 0.064 / 0.149 at theta_i = 0, 30, 60;
+  // albedo SH / traced 0.978, 0.986, 0.970. Same tolerances as the velvet.
+  for (const ShVsDirect& r : sh_vs_direct(sc, sh, {0, 30, 60}, false, 1000000)) {
+    EXPECT_LT(r.rms, 0.12) << r.ti;
+    EXPECT_LT(r.worst, 0.3) << r.ti;
+    EXPECT_NEAR(r.albedo_sh / r.albedo_direct, 1.0, r.ti == 0 ? 0.15 : 0.05) << r.ti;
   }
 }
