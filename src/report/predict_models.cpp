@@ -253,6 +253,10 @@ std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResu
   return models;
 }
 
+namespace {
+double d_or_0(const nlohmann::json& v) { return v.is_number() ? v.get<double>() : 0.0; }
+}  // namespace
+
 nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vector<FitResult>& fits,
                           const std::shared_ptr<const Fresnel>& fresnel,
                           const std::shared_ptr<const Brdf>& measured) {
@@ -333,14 +337,50 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
       std::snprintf(svg, sizeof svg, "img/brdf_%s_%02d.svg", pname,
                     static_cast<int>(std::lround(ti * kDeg)));
       p.write_svg(c.path(svg), 560, 380);
-      slices.push_back({{"theta_i_rad", ti},
-                        {"theta_i_deg", ti * kDeg},
-                        {"plane", pname},
-                        {"angle_deg", finite_array(angles)},
-                        {"range_deg", {lo, hi}},
-                        {"values_per_sr", values},
-                        {"peak", peaks},
-                        {"plot", svg}});
+      nlohmann::json slice = {{"theta_i_rad", ti},     {"theta_i_deg", ti * kDeg},
+                              {"plane", pname},        {"angle_deg", finite_array(angles)},
+                              {"range_deg", {lo, hi}}, {"values_per_sr", values},
+                              {"peak", peaks},         {"plot", svg}};
+      // A narrow measured lobe (above a tenth of its peak over less than 1/15 of the axis): a
+      // zoomed companion plot, +-3 of those widths about the peak, sampled afresh.
+      {
+        const auto& mv = values[models[0].key];
+        const double mtop = d_or_0(peaks[models[0].key]["value_per_sr"]);
+        double a0 = hi, a1 = lo;
+        for (std::size_t i = 0; i < angles.size(); ++i)
+          if (mv[i].is_number() && mv[i].get<double>() > 0.1 * mtop)
+            a0 = std::min(a0, angles[i]), a1 = std::max(a1, angles[i]);
+        const double width = std::max(a1 - a0, 2 * (hi - lo) / static_cast<double>(angles.size()));
+        if (mtop > 0 && a1 >= a0 && width < (hi - lo) / 15) {
+          const double mid = d_or_0(peaks[models[0].key]["angle_deg"]);
+          const double zlo = std::max(lo, mid - std::max(3 * width, 0.25));
+          const double zhi = std::min(hi, mid + std::max(3 * width, 0.25));
+          std::vector<double> za(o.slice_samples);
+          for (std::size_t i = 0; i < za.size(); ++i)
+            za[i] = zlo + (zhi - zlo) * static_cast<double>(i) / static_cast<double>(za.size() - 1);
+          Plot z;
+          z.title = std::string("zoom on the measured lobe");
+          z.x.label = "angle (deg)";
+          z.y.label = "BRDF (1/sr)";
+          z.y.scale = AxisScale::Log;
+          z.x.min = zlo;
+          z.x.max = zhi;
+          z.legend = LegendPlace::None;  // the same curves as the main plot's legend
+          for (std::size_t k = 0; k < models.size(); ++k)
+            z.add(PlotSeries(za, slice_values(*models[k].brdf, ti, o.wavelength_m, plane, za), "",
+                             k == 0 ? PlotStyle::Line : PlotStyle::Dashed));
+          if (top > 0) {
+            z.y.min = top * 1e-3;
+            z.y.max = top * 3;
+          }
+          char zsvg[64];
+          std::snprintf(zsvg, sizeof zsvg, "img/brdf_%s_%02d_zoom.svg", pname,
+                        static_cast<int>(std::lround(ti * kDeg)));
+          z.write_svg(c.path(zsvg), 300, 380);
+          slice["zoom"] = {{"range_deg", {zlo, zhi}}, {"plot", zsvg}};
+        }
+      }
+      slices.push_back(std::move(slice));
     }
   }
   return {{"wavelength_m", o.wavelength_m},

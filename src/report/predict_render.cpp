@@ -139,8 +139,10 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
                   " under the neutral studio map (two softboxes, no colour cast): the "
                   "material's own colour";
       s.name += "_studio";
-      // Half size: context beside the compared scenes, not compared itself.
-      jobs.push_back({s, s.name, std::max(16, w / 2), o.render_spp, false, false, "studio"});
+      // Half size at 4x the samples (the cost of one full render, half the noise): context
+      // beside the compared scenes, not compared itself.
+      jobs.push_back({s, s.name, std::max(16, w / 2), std::min(65536, 4 * o.render_spp), false,
+                      false, "studio"});
     }
   }
   {

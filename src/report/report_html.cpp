@@ -100,6 +100,8 @@ table{max-width:100%} td,th{overflow-wrap:break-word} code{overflow-wrap:anywher
 .warnbox{background:#fff1ee;border:2px solid #d9534f;padding:6px 12px;margin:10px 0;max-width:1100px}
 .warnbox.ok{background:#f0f8f0;border:1px solid #8bc58b} .warnbox li{margin:4px 0}
 .warnbox .todo{color:#333}
+.zpair{display:flex;gap:6px;align-items:flex-start} figure.zoomed svg{width:560px}
+figure.zoomed .zoomp svg{width:300px}
 nav.toc{background:#f6f6f8;border:1px solid #ddd;padding:6px 12px;display:inline-block}
 nav.toc ol{margin:4px 0;padding-left:22px} details summary{cursor:pointer;color:#444}
 )";
@@ -475,7 +477,19 @@ void section_brdf(Page& p, json& s) {
     p << "</tr>\n";
   }
   p << "</table>\n<div class=\"grid\">";
-  for (auto& sl : b["slices"]) p << "<figure>" << p.svg(str(sl["plot"])) << "</figure>";
+  for (auto& sl : b["slices"]) {
+    if (!sl.contains("zoom")) {
+      p << "<figure>" << p.svg(str(sl["plot"])) << "</figure>";
+      continue;
+    }
+    // A narrow lobe: the zoomed companion plot beside the full one.
+    json& z = sl["zoom"];
+    p << "<figure class=\"zoomed\"><div class=\"zpair\"><div>" << p.svg(str(sl["plot"]))
+      << "</div><div class=\"zoomp\">" << p.svg(str(z["plot"]))
+      << "</div></div><figcaption>Right: zoom on the measured lobe, "
+      << report::num(d(z["range_deg"][0]), 3) << " to " << report::num(d(z["range_deg"][1]), 3)
+      << " deg (the same curves and colours; 3 decades).</figcaption></figure>";
+  }
   p << "</div>\n";
 }
 
