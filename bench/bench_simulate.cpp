@@ -85,29 +85,32 @@ void BM_SimulateBareEmbree(benchmark::State& state) {
 }
 BENCHMARK(BM_SimulateBareEmbree)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+// The tracer alone (exits dropped): `dirs` incident directions of 16 points, seed `round`.
+TraceCounters trace_only(const MicroScene& sc, std::int64_t dirs, std::uint64_t round) {
+  const int points = 16;
+  std::vector<TraceCounters> cnt(omp_get_max_threads());
+#pragma omp parallel
+  {
+    MicroTracer t(sc, TraceOptions{});
+    auto& c = cnt[omp_get_thread_num()];
+#pragma omp for schedule(static, 16)
+    for (std::int64_t k = 0; k < dirs; ++k) {
+      SimRng rng(round, static_cast<std::uint64_t>(k));
+      const Eigen::Vector3d u = uniform_hemisphere(rng.uniform(), rng.uniform());
+      t.trace(
+          u, points, rng, [](const Eigen::Vector3d&, double) {}, c);
+    }
+  }
+  TraceCounters total;
+  for (const auto& c : cnt) total.merge(c);
+  return total;
+}
+
 void BM_SimulateTracer(benchmark::State& state) {
   const MicroScene& sc = scene(state.range(0) != 0);
-  const std::int64_t dirs = 4096;
-  const int points = 16;
   TraceCounters total;
   std::uint64_t round = 0;
-  for (auto _ : state) {
-    std::vector<TraceCounters> cnt(omp_get_max_threads());
-#pragma omp parallel
-    {
-      MicroTracer t(sc, TraceOptions{});
-      auto& c = cnt[omp_get_thread_num()];
-#pragma omp for schedule(static, 16)
-      for (std::int64_t k = 0; k < dirs; ++k) {
-        SimRng rng(round, static_cast<std::uint64_t>(k));
-        const Eigen::Vector3d u = uniform_hemisphere(rng.uniform(), rng.uniform());
-        t.trace(
-            u, points, rng, [](const Eigen::Vector3d&, double) {}, c);
-      }
-    }
-    for (const auto& c : cnt) total.merge(c);
-    ++round;
-  }
+  for (auto _ : state) total.merge(trace_only(sc, 4096, round++));
   state.counters["queries/s"] = benchmark::Counter(double(total.segments) / double(round),
                                                    benchmark::Counter::kIsIterationInvariantRate);
   state.counters["exits/s"] = benchmark::Counter(double(total.exits) / double(round),
@@ -151,7 +154,7 @@ void BM_SimulateSummary(benchmark::State& state) {
   struct Rate {
     double cpu = 0, best_wall = 1e30, work = 0;
   };
-  Rate bare[2], est[2];
+  Rate bare[2], est[2], tracer[2];
   std::uint64_t seed = 0;
   for (auto _ : state) {
     for (int rep = 0; rep < reps; ++rep)
@@ -164,6 +167,13 @@ void BM_SimulateSummary(benchmark::State& state) {
         b.cpu += process_cpu() - c0;
         b.best_wall = std::min(b.best_wall, wall() - w0);
         b.work += double(batch);
+        c0 = process_cpu();
+        w0 = wall();
+        const TraceCounters tc = trace_only(sc, 4096, ++seed);
+        Rate& tr = tracer[nt - 1];
+        tr.cpu += process_cpu() - c0;
+        tr.best_wall = std::min(tr.best_wall, wall() - w0);
+        tr.work += double(tc.exits);
         omp_set_num_threads(before);
         SimulateOptions o;
         o.lmax = 15;
@@ -189,6 +199,9 @@ void BM_SimulateSummary(benchmark::State& state) {
     state.counters["ratio_cpu_" + t] = (est[i].work / est[i].cpu) / (bare[i].work / bare[i].cpu);
     state.counters["ratio_wall_" + t] =
         (est[i].work / iters / est[i].best_wall) / (bare[i].work / iters / bare[i].best_wall);
+    // The tracer alone (no spherical harmonics): the ceiling of ratio_cpu.
+    state.counters["tracer_ratio_cpu_" + t] =
+        (tracer[i].work / tracer[i].cpu) / (bare[i].work / bare[i].cpu);
   }
   // CPU for the same estimator run with one thread over two (the goal: never above 1).
   state.counters["est_cpu_1t_over_2t"] = est[0].cpu / est[1].cpu;

@@ -55,6 +55,20 @@ TEST(PathSampler, SobolDimensionOneIsTheKnownSequence) {
   EXPECT_EQ(PathSampler::reverse_bits(6u), 0x60000000u);
 }
 
+TEST(PathSampler, BitReversalMatchesTheDefinition) {
+  // Bit k goes to bit 31 - k, for single bits and for mixed words; and the scramble of a reversed
+  // index skips the two reversals that cancel without changing the value.
+  for (int k = 0; k < 32; ++k) EXPECT_EQ(PathSampler::reverse_bits(1u << k), 1u << (31 - k)) << k;
+  std::uint32_t x = 0x9E3779B9u;
+  for (int n = 0; n < 1000; ++n) {
+    x = x * 1664525u + 1013904223u;
+    std::uint32_t r = 0;
+    for (int k = 0; k < 32; ++k) r |= ((x >> k) & 1u) << (31 - k);
+    ASSERT_EQ(PathSampler::reverse_bits(x), r) << x;
+    EXPECT_EQ(PathSampler::owen_of_reversed(x, r), PathSampler::owen(r, r));
+  }
+}
+
 TEST(PathSampler, ScrambleAndShuffleArePermutations) {
   // The Owen scramble maps the 2^m intervals of width 2^-m onto themselves (a permutation of the
   // leading m bits); the index shuffle permutes [0, 2^m) for every m.

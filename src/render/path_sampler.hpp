@@ -44,7 +44,7 @@ class PathSampler {
     if (kind_ == PathSamplerKind::Independent)
       return to_unit(std::uint32_t(mix(h ^ (std::uint64_t(sample_) << 32))));
     const std::uint32_t i = shuffle(sample_, std::uint32_t(h >> 32), bits_);
-    return to_unit(owen(reverse_bits(i), std::uint32_t(h)));
+    return to_unit(owen_of_reversed(i, std::uint32_t(h)));
   }
 
   /// Two uniforms in [0,1)^2 (one 2D request: stratified jointly).
@@ -58,17 +58,16 @@ class PathSampler {
     }
     const std::uint32_t i = shuffle(sample_, std::uint32_t(h >> 32), bits_);
     const std::uint64_t h2 = mix(h + 1);
-    u1 = to_unit(owen(reverse_bits(i), std::uint32_t(h)));
+    u1 = to_unit(owen_of_reversed(i, std::uint32_t(h)));
     u2 = to_unit(owen(sobol_dim1(i), std::uint32_t(h2)));
   }
 
   // Exposed for the tests.
   static std::uint32_t reverse_bits(std::uint32_t x) {
+    x = __builtin_bswap32(x);  // the bytes in reverse order, then the bits within each byte
     x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
     x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-    x = ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
-    x = ((x >> 8) & 0x00FF00FFu) | ((x & 0x00FF00FFu) << 8);
-    return (x >> 16) | (x << 16);
+    return ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
   }
   /// Second Sobol' dimension (primitive polynomial x + 1): direction numbers
   /// v_0 = 2^31, v_k = v_{k-1} ^ (v_{k-1} >> 1); the value is the XOR of v_k over the set bits k
@@ -82,6 +81,11 @@ class PathSampler {
   /// Nested uniform scramble of a 32-bit binary fraction (most significant bit first).
   static std::uint32_t owen(std::uint32_t x, std::uint32_t seed) {
     return reverse_bits(t_function(reverse_bits(x), seed));
+  }
+  /// owen(reverse_bits(i), seed) (the van der Corput value of index i, scrambled) without the
+  /// two reversals that cancel.
+  static std::uint32_t owen_of_reversed(std::uint32_t i, std::uint32_t seed) {
+    return reverse_bits(t_function(i, seed));
   }
   /// A permutation of [0, 2^m) chosen by `seed`: a nested scramble of the m index bits taken
   /// from the most significant one down (bit-reversed T-function), so that the low index bits,
