@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/predict.hpp"
 #include "microbrdf/units.hpp"
 #include "spec_flags.hpp"
@@ -31,6 +32,7 @@ struct PredictArgs {
   int threads = 0;
   std::uint64_t seed = 1;
   bool kirchhoff = false, no_render = false, json = false, quiet = false;
+  std::string dk_integration = "exact";
 };
 
 void run(const PredictArgs& a) {
@@ -56,6 +58,8 @@ void run(const PredictArgs& a) {
   o.wavelength_m = parse_length(a.wavelength);
   o.ndf_resolution = a.resolution;
   o.kirchhoff = a.kirchhoff;
+  (void)parse_kirchhoff_integration(a.dk_integration);  // a bad name fails before the run
+  o.kirchhoff_integration = a.dk_integration;
   const LengthPair patch = parse_length_pair(a.patch);
   o.kirchhoff_patch_x_m = patch.x;
   o.kirchhoff_patch_y_m = patch.y;
@@ -157,6 +161,10 @@ void register_predict(CLI::App& app) {
   c->add_option("--wavelength", a->wavelength, "lambda_q of D_K and the wavelength of the slices")
       ->capture_default_str();
   c->add_option("--patch", a->patch, "D_K tile size (coherence area)")->capture_default_str();
+  c->add_option("--dk-integration", a->dk_integration,
+                "D_K: exact (over the triangles of the piecewise-linear surface; default) | "
+                "midpoint (one point per sample: much faster, about 1% off on brushed steel)")
+      ->capture_default_str();
   c->add_option("--theta-i", a->theta_i, "Angles of incidence of the BRDF slices, comma-separated")
       ->capture_default_str();
   c->add_option("--envmap", a->envmap, "Equirectangular EXR/HDR environment map for the renders");

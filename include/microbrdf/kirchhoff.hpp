@@ -9,11 +9,18 @@
 //   D_K(q) = |I(q)|^2 / (4 pi^2 A_w),   A_w = integral w^2 dx dy
 // with w the aperture: 1 on valid samples (0 at invalid ones) times an optional window.
 //
-// Quadrature (the "sampled surface"): midpoint rule per sample. Each valid sample j stands for
-// its projected cell dx dy, at the point s_j = (x_j, y_j, h_j), with the slope (g_x, g_y) of
-// central differences over its valid neighbours (one-sided beside a hole or the edge of the
-// surface, 0 along an axis with no valid neighbour):
-//   I(q) = dx dy sum_j w_j (q_z - q_x g_xj - q_y g_yj) exp(-i q.s_j).
+// Integration over the sampled surface (KirchhoffIntegration; docs/kirchhoff.md "Integration"):
+//  - Exact (default): the surface is the piecewise-linear one through the samples, two triangles
+//    per grid cell split along the (ix,iy)-(ix+1,iy+1) diagonal (as the naive NDF). On a triangle
+//    T with vertices s_0, s_1, s_2 the slope, hence (q.m), is constant and the phase linear, and
+//      integral_T exp(-i q.s) dx dy = 2 A_T exp[z_0, z_1, z_2],   z_k = -i q.s_k        (K1)
+//    with A_T the projected area and exp[.,.,.] the second divided difference of exp
+//    (exp_divided_difference). Triangles with an invalid vertex are left out; the window is
+//    constant on a triangle (the mean of its vertices' weights).
+//  - Midpoint: each valid sample j stands for its projected cell dx dy, at s_j, with the slope
+//    (g_x, g_y) of central differences over its valid neighbours (one-sided beside a hole or the
+//    edge of the surface, 0 along an axis with no valid neighbour):
+//      I(q) = dx dy sum_j w_j (q_z - q_x g_xj - q_y g_yj) exp(-i q.s_j).
 // The (q.m) factor is kept as it is (no integration by parts, so the edge-diffraction term of the
 // patch outline and of holes is included). Invalid samples are excluded, never filled.
 //
@@ -48,6 +55,20 @@ enum class KirchhoffWindow { None, Hann, Gauss };
 KirchhoffWindow parse_kirchhoff_window(const std::string& name);  ///< none|hann|gauss; InputError
 std::string to_string(KirchhoffWindow w);
 
+/// How the surface integral of eq. 6 is evaluated (see the top of this file): exactly over the
+/// triangles of the piecewise-linear surface, or by the midpoint rule per sample (faster).
+enum class KirchhoffIntegration { Exact, Midpoint };
+KirchhoffIntegration parse_kirchhoff_integration(const std::string& name);  ///< exact|midpoint
+std::string to_string(KirchhoffIntegration m);
+
+/// exp[z0, z1, z2], the second divided difference of exp (docs/kirchhoff.md eq. K2):
+/// sum_k exp(z_k) / prod_{j != k} (z_k - z_j), continued to coincident points (exp[z,z,z] =
+/// exp(z)/2). The integral of exp over the standard triangle {a, b >= 0, a + b <= 1} of the
+/// linear function taking z0, z1, z2 at its corners. Stable everywhere: a series about the mean
+/// when the points are within 1 of it, otherwise differences of first divided differences.
+std::complex<double> exp_divided_difference(std::complex<double> z0, std::complex<double> z1,
+                                            std::complex<double> z2);
+
 /// One patch prepared for evaluation: heights, slopes and aperture weights on its samples.
 struct KirchhoffPatch {
   std::size_t nx = 0, ny = 0;
@@ -55,8 +76,11 @@ struct KirchhoffPatch {
   std::vector<double> h;       ///< height, m (0 where invalid)
   std::vector<double> gx, gy;  ///< slopes (central differences over valid neighbours)
   std::vector<double> w;       ///< aperture: window x validity (0 where invalid)
-  double area_w2 = 0;          ///< A_w = dx dy sum w^2, m^2
+  double area_w2 = 0;          ///< A_w = dx dy sum w^2, m^2 (midpoint rule)
   double valid_area = 0;       ///< dx dy x valid samples, m^2
+  double area_w2_tri = 0;      ///< A_w over the triangles, sum_T A_T w_T^2 (exact integration)
+  double valid_area_tri = 0;   ///< projected area of the valid triangles, m^2
+  std::size_t triangles = 0;   ///< valid triangles (all three vertices valid)
   std::size_t valid = 0, invalid = 0;
   std::size_t no_slope = 0;  ///< valid samples with no valid neighbour along an axis (slope 0)
 };
@@ -73,11 +97,16 @@ KirchhoffPatch make_kirchhoff_patch(const Surface& s,
                                     KirchhoffWindow window = KirchhoffWindow::None,
                                     double gauss_fraction = 0.125);
 
+/// A_w of the patch for the given integration (area_w2_tri or area_w2).
+double kirchhoff_area_w2(const KirchhoffPatch& p, KirchhoffIntegration m);
+
 /// I(q) by direct summation (the reference; O(samples) per q). Positions are relative to the
 /// patch's first sample (a global phase, irrelevant to D_K). q in 1/m.
-std::complex<double> kirchhoff_amplitude(const KirchhoffPatch& p, const Eigen::Vector3d& q);
+std::complex<double> kirchhoff_amplitude(const KirchhoffPatch& p, const Eigen::Vector3d& q,
+                                         KirchhoffIntegration m = KirchhoffIntegration::Midpoint);
 /// Physical D_K(q) = |I|^2 / (4 pi^2 A_w) by direct summation.
-double kirchhoff_dk_direct(const KirchhoffPatch& p, const Eigen::Vector3d& q);
+double kirchhoff_dk_direct(const KirchhoffPatch& p, const Eigen::Vector3d& q,
+                           KirchhoffIntegration m = KirchhoffIntegration::Midpoint);
 
 /// The node q of an N x N table at lambda_q: q = (4 pi / lambda_q) (m_x, m_y, m_z).
 Eigen::Vector3d kirchhoff_node_q(std::size_t n, std::size_t ix, std::size_t iy, double lambda_q);
@@ -86,7 +115,8 @@ Eigen::Vector3d kirchhoff_node_q(std::size_t n, std::size_t ix, std::size_t iy, 
 /// over nodes; nodes on or outside the unit circle give 0.
 std::vector<double> kirchhoff_nodes_direct(const KirchhoffPatch& p, double lambda_q,
                                            std::size_t resolution,
-                                           const std::vector<std::size_t>& nodes);
+                                           const std::vector<std::size_t>& nodes,
+                                           KirchhoffIntegration m = KirchhoffIntegration::Midpoint);
 
 /// What the fast method did (for reports and the accuracy knob).
 struct KirchhoffFastInfo {
@@ -94,6 +124,10 @@ struct KirchhoffFastInfo {
   double height_half_range = 0;  ///< H = (max - min)/2 of the valid heights, m
   double z_max = 0;              ///< |q| H / 2, the Bessel argument that sets the term count
   double tail_bound = 0;         ///< 2 sum_{n > terms-1} |J_n(z_max)| (plus the q_z-factor term)
+  /// Exact integration: quadrature points per triangle (pu x pv, collapsed Gauss-Legendre,
+  /// chosen from the largest phase span |q| x longest triangle edge); 1 for the midpoint rule.
+  std::size_t points_per_triangle = 1;
+  double phase_span = 0;  ///< |q| x the longest edge of a valid triangle (exact integration)
 };
 
 /// Physical D_K on all N x N nodes (0 on and outside the unit circle), fast:
@@ -104,9 +138,17 @@ struct KirchhoffFastInfo {
 /// directly at the node frequencies -- by a type-2 NUFFT with a kernel accurate to accuracy/100
 /// (default), or exactly by chirp-z transforms (`chirp_z`, about 3x slower) -- and the series is
 /// summed per node (Clenshaw).
+///
+/// Exact integration (`m`): I(q) is a sum over triangles of K1. Each triangle's integral is
+/// evaluated by a collapsed Gauss-Legendre rule of pu x pv points whose error for the triangle's
+/// largest phase span is below accuracy/100; the points of one rule position form a shifted copy
+/// of the cell grid, so each is one more set of sample arrays through the same transforms (the
+/// shift is a phase after the transform). Cost: points_per_triangle x 2 x the midpoint rule's
+/// x-passes.
 std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_q,
                                          std::size_t resolution, double accuracy = 1e-3,
-                                         KirchhoffFastInfo* info = nullptr, bool chirp_z = false);
+                                         KirchhoffFastInfo* info = nullptr, bool chirp_z = false,
+                                         KirchhoffIntegration m = KirchhoffIntegration::Midpoint);
 
 /// Bessel functions J_0..J_nmax(x), x >= 0, by Miller's backward recurrence normalised with
 /// J_0 + 2 sum J_2k = 1 (relative accuracy ~1e-14 where J_n is not negligible).
@@ -119,7 +161,15 @@ struct KirchhoffOptions {
   KirchhoffWindow window = KirchhoffWindow::None;
   double gauss_fraction = 0.125;  ///< Gauss window std as a fraction of the patch side
   double accuracy = 1e-3;         ///< fast method: Chebyshev tail bound (NUFFT: accuracy/100)
-  bool direct = false;            ///< use the direct sums on every node (slow; small patches)
+  /// Exact triangles (default) or the midpoint rule per sample.
+  KirchhoffIntegration integration = KirchhoffIntegration::Exact;
+  /// Node values as averages over each node's cell of S x S sub-nodes (S odd; the table of
+  /// resolution S (N-1) + 1 computed and averaged), instead of point samples. 0 = automatic: the
+  /// smallest odd S with 2/(N-1)/S <= lambda_q / (2 L), L the longer tile side -- the spacing at
+  /// which the sampled |I|^2, whose Fourier transform has support |lag| <= L, integrates exactly
+  /// (docs/kirchhoff.md "Table resolution"). 1 = point samples.
+  std::size_t supersample = 0;
+  bool direct = false;  ///< use the direct sums on every node (slow; small patches)
   /// Zero the nodes whose |q_x| > pi/dx or |q_y| > pi/dy: beyond the scan's Nyquist band the
   /// sampled-surface sum only repeats the band (aliases, e.g. a copy of the specular peak at
   /// q_y = 2 pi/dy). Only matters when a spacing exceeds lambda_q / 4 (|q| > pi / d).
@@ -138,7 +188,8 @@ struct KirchhoffScanPartial {
   std::size_t patches = 0, used = 0, skipped = 0;
   std::string tiles, leveling, source;
   KirchhoffFastInfo info;
-  bool has_info = false;  ///< the fast method ran on at least one patch
+  bool has_info = false;        ///< the fast method ran on at least one patch
+  std::size_t supersample = 1;  ///< S of KirchhoffOptions::supersample used (largest over tiles)
 };
 
 /// Averages D_K over patches and scans (Dong App. A): each scan is cut into tiles of about
@@ -164,6 +215,8 @@ class KirchhoffAccumulator {
   /// Fraction of the (A_w-weighted, physical) D_K mass removed by the Nyquist mask.
   double aliased_fraction() const;
   const KirchhoffFastInfo& last_info() const { return info_; }
+  /// Sub-nodes per axis averaged into each node (1 = point samples); largest over the scans.
+  std::size_t supersample() const { return supersample_; }
   const KirchhoffOptions& options() const { return opt_; }
 
  private:
@@ -174,7 +227,13 @@ class KirchhoffAccumulator {
   std::string tiles_, leveling_;
   std::vector<std::string> sources_;
   KirchhoffFastInfo info_;
+  std::size_t supersample_ = 1;
 };
+
+/// The S that KirchhoffOptions::supersample = 0 picks for a tile of extent lx x ly (m): the
+/// smallest odd S with 2 / (N - 1) / S <= lambda_q / (2 max(lx, ly)).
+std::size_t kirchhoff_auto_supersample(std::size_t resolution, double lambda_q, double lx,
+                                       double ly);
 
 /// One scan's D_K (KirchhoffAccumulator with one add).
 TabulatedNdf estimate_kirchhoff(const Surface& s, const KirchhoffOptions& options);

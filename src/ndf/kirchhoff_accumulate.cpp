@@ -22,10 +22,22 @@ void tiling(std::size_t n, double d, double patch, std::size_t& count, std::size
 
 }  // namespace
 
+std::size_t kirchhoff_auto_supersample(std::size_t resolution, double lambda_q, double lx,
+                                       double ly) {
+  const double delta = 2.0 / static_cast<double>(resolution - 1);
+  const double need = delta * 2 * std::max(lx, ly) / lambda_q;  // S >= need
+  auto s = static_cast<std::size_t>(std::ceil(need - 1e-9));
+  s = std::max<std::size_t>(s, 1);
+  if (s % 2 == 0) ++s;
+  return s;
+}
+
 KirchhoffAccumulator::KirchhoffAccumulator(const KirchhoffOptions& options)
     : opt_(options), acc_(options.resolution) {
   if (!(opt_.wavelength_q > 0)) throw InputError("Kirchhoff: the wavelength must be > 0");
   if (opt_.resolution < 17) throw InputError("Kirchhoff: resolution must be >= 17");
+  if (opt_.supersample != 0 && opt_.supersample % 2 == 0)
+    throw InputError("Kirchhoff: the supersampling factor must be odd (or 0 = automatic)");
 }
 
 KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
@@ -42,11 +54,20 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
                 ly, static_cast<double>(lx) * s.dx * 1e6, static_cast<double>(ly) * s.dy * 1e6);
   r.tiles = buf;
   r.skipped += s.size() - cx * lx * cy * ly;  // margins left out by the tiling
-  const std::size_t N = opt_.resolution;
+  // Sub-nodes per axis: node values are averages over each node's cell (S odd: the centre
+  // sub-node is the node itself, and every sub-node belongs to exactly one cell).
+  const std::size_t S = opt_.supersample != 0
+                            ? opt_.supersample
+                            : kirchhoff_auto_supersample(opt_.resolution, opt_.wavelength_q,
+                                                         static_cast<double>(lx) * s.dx,
+                                                         static_cast<double>(ly) * s.dy);
+  r.supersample = S;
+  const std::size_t N = opt_.resolution, NF = S * (N - 1) + 1;
+  const KirchhoffIntegration integ = opt_.integration;
   std::vector<std::size_t> all;
   if (opt_.direct) {
-    all.resize(N * N);
-    for (std::size_t i = 0; i < N * N; ++i) all[i] = i;
+    all.resize(NF * NF);
+    for (std::size_t i = 0; i < NF * NF; ++i) all[i] = i;
   }
   const double n_tiles = static_cast<double>(cx * cy);
   std::size_t done = 0;
@@ -61,31 +82,51 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
           make_kirchhoff_patch(s, tx * lx, ty * ly, lx, ly, opt_.window, opt_.gauss_fraction);
       r.used += p.valid;
       r.skipped += p.invalid;
-      if (!(p.area_w2 > 0)) {
+      const double aw = kirchhoff_area_w2(p, integ);
+      if (!(aw > 0)) {
         tick();
         continue;
       }
-      std::vector<double> d =
-          opt_.direct ? kirchhoff_nodes_direct(p, opt_.wavelength_q, N, all)
-                      : kirchhoff_table_fast(p, opt_.wavelength_q, N, opt_.accuracy, &r.info);
+      std::vector<double> d = opt_.direct
+                                  ? kirchhoff_nodes_direct(p, opt_.wavelength_q, NF, all, integ)
+                                  : kirchhoff_table_fast(p, opt_.wavelength_q, NF, opt_.accuracy,
+                                                         &r.info, false, integ);
       r.has_info = r.has_info || !opt_.direct;
+      const double del = 2.0 / static_cast<double>(NF - 1);
       if (opt_.nyquist_mask) {
-        const double qm = 4 * M_PI / opt_.wavelength_q, del = 2.0 / static_cast<double>(N - 1);
+        const double qm = 4 * M_PI / opt_.wavelength_q;
         const double bx = M_PI / s.dx, by = M_PI / s.dy;
-        for (std::size_t iy = 0; iy < N; ++iy)
-          for (std::size_t ix = 0; ix < N; ++ix) {
+        for (std::size_t iy = 0; iy < NF; ++iy)
+          for (std::size_t ix = 0; ix < NF; ++ix) {
             double qx = qm * std::fabs(-1 + del * static_cast<double>(ix));
             double qy = qm * std::fabs(-1 + del * static_cast<double>(iy));
             if (qx > bx || qy > by) {
-              r.aliased += p.area_w2 * d[iy * N + ix] * del * del;
-              d[iy * N + ix] = 0;
+              r.aliased += aw * d[iy * NF + ix] * del * del;
+              d[iy * NF + ix] = 0;
             }
           }
       }
       auto& v = r.table.values();
-      for (std::size_t i = 0; i < v.size(); ++i) v[i] += p.area_w2 * d[i];
-      r.area_w2 += p.area_w2;
-      r.valid_area += p.valid_area;
+      if (S == 1) {
+        for (std::size_t i = 0; i < v.size(); ++i) v[i] += aw * d[i];
+      } else {  // cell averages of the S x S sub-nodes about each node
+        const auto half = static_cast<std::ptrdiff_t>(S / 2), nf = static_cast<std::ptrdiff_t>(NF);
+        const double wgt = aw / static_cast<double>(S * S);
+        for (std::size_t iy = 0; iy < N; ++iy)
+          for (std::size_t ix = 0; ix < N; ++ix) {
+            const auto cx = static_cast<std::ptrdiff_t>(S * ix),
+                       cy = static_cast<std::ptrdiff_t>(S * iy);
+            double sum = 0;
+            for (std::ptrdiff_t fy = std::max<std::ptrdiff_t>(cy - half, 0);
+                 fy <= std::min(cy + half, nf - 1); ++fy)
+              for (std::ptrdiff_t fx = std::max<std::ptrdiff_t>(cx - half, 0);
+                   fx <= std::min(cx + half, nf - 1); ++fx)
+                sum += d[static_cast<std::size_t>(fy * nf + fx)];
+            v[iy * N + ix] += wgt * sum;
+          }
+      }
+      r.area_w2 += aw;
+      r.valid_area += integ == KirchhoffIntegration::Exact ? p.valid_area_tri : p.valid_area;
       ++r.patches;
       tick();
     }
@@ -108,6 +149,7 @@ void KirchhoffAccumulator::merge(const KirchhoffScanPartial& p) {
   used_ += p.used;
   skipped_ += p.skipped;
   if (p.has_info) info_ = p.info;
+  supersample_ = std::max(supersample_, p.supersample);
 }
 
 void KirchhoffAccumulator::add(const Surface& s) { merge(estimate(s)); }
@@ -134,21 +176,36 @@ TabulatedNdf KirchhoffAccumulator::result() const {
   out.meta.projected_area_m2 = valid_area_;
   out.meta.sources = sources_;
   out.meta.leveling = leveling_;
-  char method[120];
+  char method[200];
+  const bool exact = opt_.integration == KirchhoffIntegration::Exact;
   if (opt_.direct)
     std::snprintf(method, sizeof method, "direct sums");
+  else if (exact)
+    std::snprintf(method, sizeof method,
+                  "fast (Chebyshev series in q_z x NUFFT at the node frequencies, %zu-point rule "
+                  "per triangle), accuracy %g, %zu terms",
+                  info_.points_per_triangle, opt_.accuracy, info_.terms);
   else
     std::snprintf(method, sizeof method,
                   "fast (Chebyshev series in q_z x NUFFT at the node frequencies), accuracy %g, "
                   "%zu terms",
                   opt_.accuracy, info_.terms);
-  char buf[600];
+  char sampling[120];
+  if (supersample_ > 1)
+    std::snprintf(sampling, sizeof sampling, "node values are cell averages of %zu x %zu sub-nodes",
+                  supersample_, supersample_);
+  else
+    std::snprintf(sampling, sizeof sampling, "node values are point samples");
+  char buf[800];
   std::snprintf(buf, sizeof buf,
-                "D_K (Dong eq. 6), midpoint rule per sample with the (q.m) factor; lambda_q = "
-                "%.6g nm; %zu patch(es), last: %s; window %s; %s; integral before "
+                "D_K (Dong eq. 6), %s with the (q.m) factor; lambda_q = "
+                "%.6g nm; %zu patch(es), last: %s; window %s; %s; %s; integral before "
                 "normalising %.6g (Nyquist mask %s, removed %.3g of the mass)",
+                exact ? "exact integration over the triangles of the piecewise-linear surface"
+                      : "midpoint rule per sample",
                 opt_.wavelength_q * 1e9, patches_, tiles_.c_str(), to_string(opt_.window).c_str(),
-                method, raw_integral(), opt_.nyquist_mask ? "on" : "off", aliased_fraction());
+                method, sampling, raw_integral(), opt_.nyquist_mask ? "on" : "off",
+                aliased_fraction());
   out.meta.notes = buf;
   return out;
 }

@@ -90,10 +90,20 @@ WorkResult pack_partial(const KirchhoffScanPartial& p, const nlohmann::json& inf
   r.values = {p.area_w2,    p.valid_area,     p.aliased, p.info.height_half_range,
               p.info.z_max, p.info.tail_bound};
   pack_rows(p.table, r.values);
-  r.text = nlohmann::json{{"patches", p.patches},  {"used", p.used},         {"skipped", p.skipped},
-                          {"tiles", p.tiles},      {"leveling", p.leveling}, {"source", p.source},
-                          {"terms", p.info.terms}, {"has_info", p.has_info}, {"scan", info}}
-               .dump();
+  r.text = nlohmann::json{
+      {"patches", p.patches},
+      {"used", p.used},
+      {"skipped", p.skipped},
+      {"tiles", p.tiles},
+      {"leveling", p.leveling},
+      {"source", p.source},
+      {"terms", p.info.terms},
+      {"has_info", p.has_info},
+      {"supersample", p.supersample},
+      {"points", p.info.points_per_triangle},
+      {"phase_span", p.info.phase_span},
+      {"scan",
+       info}}.dump();
   return r;
 }
 
@@ -116,6 +126,9 @@ KirchhoffScanPartial unpack_kirchhoff_partial(const WorkResult& r, std::size_t r
   p.source = j.at("source");
   p.info.terms = j.at("terms");
   p.has_info = j.at("has_info");
+  p.supersample = j.value("supersample", std::size_t{1});
+  p.info.points_per_triangle = j.value("points", std::size_t{1});
+  p.info.phase_span = j.value("phase_span", 0.0);
   return p;
 }
 

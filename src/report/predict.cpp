@@ -139,6 +139,7 @@ nlohmann::json settings_json(const PredictOptions& o, const OpticalConstants& m)
           {"kirchhoff", o.kirchhoff},
           {"wavelength_m", o.wavelength_m},
           {"kirchhoff_patch_m", {o.kirchhoff_patch_x_m, o.kirchhoff_patch_y_m}},
+          {"kirchhoff_integration", o.kirchhoff_integration},
           {"slice_theta_i_rad", ti},
           {"instrument_fwhm_rad", o.instrument_fwhm_rad},
           {"instrument", o.instrument_path.empty() ? "none" : o.instrument_path},

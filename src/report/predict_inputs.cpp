@@ -163,6 +163,7 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
     ko.resolution = o.ndf_resolution;
     ko.patch_x = o.kirchhoff_patch_x_m;
     ko.patch_y = o.kirchhoff_patch_y_m;
+    ko.integration = parse_kirchhoff_integration(o.kirchhoff_integration);
     kirchhoff = std::make_unique<KirchhoffAccumulator>(ko);
   }
   // D_K is the slowest step (tens of seconds on a 2048 x 1024 scan): report it in 10 % steps,
@@ -440,6 +441,7 @@ nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs) {
       j["aliased_fraction"] = ndfs.kirchhoff_aliased_fraction;
       j["patches"] = ndfs.kirchhoff_patches;
       j["patch_m"] = {c.opt.kirchhoff_patch_x_m, c.opt.kirchhoff_patch_y_m};
+      j["integration"] = c.opt.kirchhoff_integration;
       const double raw = ndfs.kirchhoff_raw_integral;
       if (std::abs(raw - 1) > kRawIntegralWarn) {
         char b[96];

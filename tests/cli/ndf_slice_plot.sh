@@ -33,9 +33,11 @@ assert abs(b['integral']-1)<1e-9 and b['slope_rms_x']>a['slope_rms_x'], (a['slop
 # The instrument signature applies to every method (Kirchhoff D_K too): the table changes, the
 # integral stays 1, and the FWHM is recorded in the JSON summary and in the sidecar's notes.
 for m in naive filtered kirchhoff; do
-  $BIN ndf "$T/g.x3p" --method $m --level none --resolution 257 -o "$T/$m-0.npy" --json \
-    >"$T/$m-0.summary" 2>/dev/null || fail "ndf $m"
-  $BIN ndf "$T/g.x3p" --method $m --level none --resolution 257 --instrument-fwhm 3deg \
+  # (D_K by the midpoint rule: the exact rule takes ~50 points per triangle on this 0.25 um grid)
+  $BIN ndf "$T/g.x3p" --method $m --level none --resolution 257 --dk-integration midpoint \
+    -o "$T/$m-0.npy" --json >"$T/$m-0.summary" 2>/dev/null || fail "ndf $m"
+  $BIN ndf "$T/g.x3p" --method $m --level none --resolution 257 --dk-integration midpoint \
+    --instrument-fwhm 3deg \
     -o "$T/$m-3.npy" --json >"$T/$m-3.summary" 2>/dev/null || fail "ndf $m --instrument-fwhm"
   /usr/bin/python3 - "$T/$m-0" "$T/$m-3" <<'PY' || fail "instrument with --method $m"
 import json, sys, math
@@ -56,7 +58,8 @@ PY
 done
 # A measured signature (an NDF table: a narrow lobe about the pole) instead of the Gaussian.
 $BIN tabulate --model beckmann --alpha 0.03 --resolution 257 -o "$T/sig.npy" >/dev/null || fail tabulate
-$BIN ndf "$T/g.x3p" --method kirchhoff --level none --resolution 257 --instrument "$T/sig.npy" \
+$BIN ndf "$T/g.x3p" --method kirchhoff --dk-integration midpoint --level none --resolution 257 \
+  --instrument "$T/sig.npy" \
   -o "$T/ks.npy" --json >"$T/ks.summary" 2>/dev/null || fail "ndf --instrument"
 grep -q "measured instrument signature" "$T/ks.json" || fail "signature not recorded"
 $BIN ndf "$T/g.x3p" --instrument "$T/sig.npy" --instrument-fwhm 1deg -o "$T/bad.npy" \

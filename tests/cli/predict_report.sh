@@ -75,7 +75,8 @@ assert a == b
 PY
 
 # With D_K the strip gains a Kirchhoff render; --no-render has no strip.
-$BIN predict "$T/b.x3p" --level none --resolution 129 --kirchhoff --render-width 16 --spp 1 \
+$BIN predict "$T/b.x3p" --level none --resolution 129 --kirchhoff --dk-integration midpoint \
+  --render-width 16 --spp 1 \
   -o "$T/dk" --quiet >/dev/null || fail "--kirchhoff run"
 $BIN predict "$T/b.x3p" --level none --resolution 129 --no-render -o "$T/norender" --quiet \
   >/dev/null || fail "--no-render run"
