@@ -9,7 +9,9 @@
 //    fftw_malloc'ed buffer. The project's own transform (FFTW_ESTIMATE plan, std::polar fill
 //    of a zeroed array) is timed next to it, as a second, slower unit.
 // BM_KirchhoffSummary reports the ratios (speed-up, cost in padded FFTs of either unit), the
-// fast method's relative L1 error on those nodes and the load average as counters.
+// fast method's relative L1 error on those nodes and the load average as counters, for the
+// midpoint rule and for the exact integration over the triangles (the default), each against
+// the direct sums of the same integral, and the midpoint rule's departure from the exact one.
 #include <benchmark/benchmark.h>
 #include <fftw3.h>
 #include <omp.h>
@@ -134,8 +136,11 @@ void BM_KirchhoffFast(benchmark::State& state) {
   const auto& p = patch();
   double acc = std::pow(10.0, -static_cast<double>(state.range(0)));
   KirchhoffFastInfo info;
-  for (auto _ : state) benchmark::DoNotOptimize(kirchhoff_table_fast(p, kLq, kN, acc, &info));
+  const auto m = state.range(1) ? KirchhoffIntegration::Exact : KirchhoffIntegration::Midpoint;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(kirchhoff_table_fast(p, kLq, kN, acc, &info, false, m));
   state.counters["terms"] = static_cast<double>(info.terms);
+  state.counters["points"] = static_cast<double>(info.points_per_triangle);
 }
 
 void BM_KirchhoffDirect64Nodes(benchmark::State& state) {
@@ -159,6 +164,7 @@ void BM_PaddedFft2dMeasured(benchmark::State& state) {
 void BM_KirchhoffScanToTable(benchmark::State& state) {
   KirchhoffOptions o;
   o.window = KirchhoffWindow::Hann;
+  o.integration = state.range(0) ? KirchhoffIntegration::Exact : KirchhoffIntegration::Midpoint;
   for (auto _ : state) benchmark::DoNotOptimize(estimate_kirchhoff(scan(), o));
 }
 
@@ -180,20 +186,35 @@ void BM_KirchhoffSummary(benchmark::State& state) {
   const auto& p = patch();
   PaddedFft f;
   MeasuredFft g;
-  std::vector<double> fast, direct;
-  KirchhoffFastInfo info;
-  double t_fast = 0, t_direct = 0, t_fft = 0, t_own = 0;
+  std::vector<double> fast, direct, exact, exact_direct;
+  KirchhoffFastInfo info, info_exact;
+  double t_fast = 0, t_direct = 0, t_fft = 0, t_own = 0, t_exact = 0, t_fft_after = 0;
+  const auto ex = KirchhoffIntegration::Exact;
   for (auto _ : state) {
     t_fft = best_seconds([&] { g.run(); }, 20);
     t_own = best_seconds([&] { f.run(); }, 10);
     t_fast = best_seconds([&] { fast = kirchhoff_table_fast(p, kLq, kN, 1e-3, &info); }, 3);
     t_direct = seconds([&] { direct = kirchhoff_nodes_direct(p, kLq, kN, nodes()); }, 1);
+    t_exact =
+        seconds([&] { exact = kirchhoff_table_fast(p, kLq, kN, 1e-3, &info_exact, false, ex); }, 1);
+    exact_direct = kirchhoff_nodes_direct(p, kLq, kN, nodes(), ex);
+    t_fft_after = best_seconds([&] { g.run(); }, 20);  // the unit again, after the long runs
   }
-  double num = 0, den = 0;
+  double num = 0, den = 0, num_x = 0, den_x = 0, num_mx = 0;
   for (std::size_t i = 0; i < nodes().size(); ++i) {
     num += std::fabs(fast[nodes()[i]] - direct[i]);
     den += std::fabs(direct[i]);
+    num_x += std::fabs(exact[nodes()[i]] - exact_direct[i]);
+    den_x += std::fabs(exact_direct[i]);
+    num_mx += std::fabs(fast[nodes()[i]] - exact[nodes()[i]]);
   }
+  state.counters["exact_s"] = t_exact;
+  state.counters["exact_in_ffts"] = t_exact / std::max(t_fft, t_fft_after);
+  state.counters["exact_over_midpoint"] = t_exact / t_fast;
+  state.counters["exact_points"] = static_cast<double>(info_exact.points_per_triangle);
+  state.counters["rel_L1_exact"] = num_x / den_x;
+  state.counters["midpoint_vs_exact_L1"] = num_mx / den_x;
+  state.counters["fft_after_ms"] = 1e3 * t_fft_after;
   const double t_direct_full =
       t_direct / static_cast<double>(nodes().size()) * static_cast<double>(disk_nodes());
   state.counters["fast_s"] = t_fast;
@@ -213,7 +234,13 @@ void BM_KirchhoffSummary(benchmark::State& state) {
 
 BENCHMARK(BM_PaddedFft2d)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PaddedFft2dMeasured)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_KirchhoffFast)->Arg(2)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KirchhoffFast)
+    ->Args({2, 0})
+    ->Args({3, 0})
+    ->Args({6, 0})
+    ->Args({3, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 BENCHMARK(BM_KirchhoffDirect64Nodes)->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK(BM_KirchhoffScanToTable)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_KirchhoffScanToTable)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_KirchhoffSummary)->Unit(benchmark::kSecond)->Iterations(1);
