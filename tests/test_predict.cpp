@@ -19,6 +19,7 @@
 #include "microbrdf/level.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/ndf_estimate.hpp"
+#include "microbrdf/ndf_io.hpp"
 #include "microbrdf/predict.hpp"
 #include "microbrdf/statistics.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
@@ -125,10 +126,22 @@ TEST(Predict, SummaryHoldsWhatTheLibraryComputes) {
   EXPECT_LT(jf["slope_rms_x"].get<double>(), 0.5 * jf["slope_rms_y"].get<double>());
   EXPECT_NEAR(jf["smooth_axis_angle_rad"].get<double>(), 0.0, 0.05);
 
+  // The lobe spans a few nodes of the 257^2 table: predict tabulates the filtered normals again
+  // on a zoomed window (ndf.filtered.zoom) and fits that table.
+  ASSERT_TRUE(jf.contains("zoom"));
+  const auto& jw = jf["zoom"]["window"];
+  const double x0 = jw["x"][0].get<double>(), x1 = jw["x"][1].get<double>();
+  const double y0 = jw["y"][0].get<double>(), y1 = jw["y"][1].get<double>();
+  NdfEstimateOptions zo = no;
+  zo.window = zoom_window(0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * (x1 - x0));
+  const TabulatedNdf zoom = estimate_ndf(surf, zo);
+  EXPECT_EQ(read_ndf((fs::path(t / "out") / "ndf_filtered_zoom.npy").string()).values(), zoom.values());
+  EXPECT_GE(4 * std::min(zoom.rms_slope(0), zoom.rms_slope(M_PI / 2)) / zoom.spacing(), 10.0);
   FitOptions fo;
   fo.model = FitModel::Ellipsoid;
-  const FitResult fr = fit_ndf(ndf, fo);
+  const FitResult fr = fit_ndf(zoom, fo);
   const auto& jfit = s["fits"][0];
+  EXPECT_EQ(jfit["source"], "filtered_zoom");
   EXPECT_EQ(jfit["model"], "ellipsoid");
   EXPECT_NEAR(jfit["params"]["alpha_x"].get<double>(), fr.params.alpha_x, 1e-9 * fr.params.alpha_x);
   EXPECT_NEAR(jfit["params"]["alpha_y"].get<double>(), fr.params.alpha_y, 1e-9 * fr.params.alpha_y);

@@ -98,7 +98,9 @@ python3 - "$T/fitz.json" "$T/fit.json" "$T/zygo/summary.json" <<'PY' || fail "fi
 import json, sys
 z, f, s = (json.load(open(p)) for p in sys.argv[1:])
 b = [x for x in s["fits"] if x["model"] == "beckmann"][0]
-assert z["converged"] and z["window"] == b["window"], (z["window"], b["window"])
+assert z["converged"], z
+for a in ("x", "y"):
+    assert all(abs(p - q) < 1e-15 for p, q in zip(z["window"][a], b["window"][a])), (z, b)
 assert abs(z["params"]["alpha_x"] / b["params"]["alpha_x"] - 1) < 1e-6, (z["params"], b["params"])
 assert f["converged"] is False and "lower alpha bound" in f["at_bound"], f
 PY
