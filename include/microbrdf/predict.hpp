@@ -7,9 +7,10 @@
 //   3. fits        ellipsoid, Beckmann and GGX fits of the filtered NDF (section 8);
 //   4. BRDF slices in-plane and out-of-plane cuts of the microfacet BRDF (Dong eq. 1) with the
 //                  measured (tabulated) NDF, the fitted models and D_K, for several theta_i;
-//   5. renders     the cylinder pair of Dong Fig. 10 and a sphere under an environment map, and
-//                  the comparison strip: the cylinder pair with each fit (and D_K), SSIM and RMS
-//                  relative error against the measured-NDF render, and the render noise;
+//   5. renders     the cylinder pair of Dong Fig. 10 and a sphere under an environment map, a
+//                  plate under a small light, and the comparison strip: each of the three with
+//                  each fit (and D_K), SSIM and RMS relative error against the measured-NDF
+//                  render, and the render noise; the fits as Mitsuba 3 / pbrt-v4 materials;
 //   6. texture     when exemplar strips are given: per-texel ellipsoid fits and a synthesised
 //                  parameter texture (Dong section 9), and a render of it.
 // and writes into DIR:
