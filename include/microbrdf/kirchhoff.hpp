@@ -31,6 +31,7 @@
 // normalising is reported (KirchhoffAccumulator::raw_integral, metadata notes).
 
 #include <Eigen/Core>
+#include <cmath>
 #include <complex>
 #include <cstddef>
 #include <functional>
@@ -127,7 +128,7 @@ struct KirchhoffFastInfo {
   /// Exact integration: quadrature points per triangle (pu x pv, collapsed Gauss-Legendre,
   /// chosen from the largest phase span |q| x longest triangle edge); 1 for the midpoint rule.
   std::size_t points_per_triangle = 1;
-  double phase_span = 0;  ///< |q| x the longest edge of a valid triangle (exact integration)
+  double phase_span = 0;  ///< largest phase difference along a valid triangle's edge (exact)
 };
 
 /// Physical D_K on all N x N nodes (0 on and outside the unit circle), fast:
@@ -144,11 +145,13 @@ struct KirchhoffFastInfo {
 /// largest phase span is below accuracy/100; the points of one rule position form a shifted copy
 /// of the cell grid, so each is one more set of sample arrays through the same transforms (the
 /// shift is a phase after the transform). Cost: points_per_triangle x 2 x the midpoint rule's
-/// x-passes.
+/// x-passes. `band_x`, `band_y` (1/m): only nodes with |q_x| <= band_x and |q_y| <= band_y need
+/// the rule's accuracy (the others are masked by the caller), which bounds the phase span.
 std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_q,
                                          std::size_t resolution, double accuracy = 1e-3,
                                          KirchhoffFastInfo* info = nullptr, bool chirp_z = false,
-                                         KirchhoffIntegration m = KirchhoffIntegration::Midpoint);
+                                         KirchhoffIntegration m = KirchhoffIntegration::Midpoint,
+                                         double band_x = INFINITY, double band_y = INFINITY);
 
 /// Bessel functions J_0..J_nmax(x), x >= 0, by Miller's backward recurrence normalised with
 /// J_0 + 2 sum J_2k = 1 (relative accuracy ~1e-14 where J_n is not negligible).

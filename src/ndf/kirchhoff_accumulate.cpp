@@ -87,10 +87,12 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
         tick();
         continue;
       }
-      std::vector<double> d = opt_.direct
-                                  ? kirchhoff_nodes_direct(p, opt_.wavelength_q, NF, all, integ)
-                                  : kirchhoff_table_fast(p, opt_.wavelength_q, NF, opt_.accuracy,
-                                                         &r.info, false, integ);
+      std::vector<double> d =
+          opt_.direct
+              ? kirchhoff_nodes_direct(p, opt_.wavelength_q, NF, all, integ)
+              : kirchhoff_table_fast(p, opt_.wavelength_q, NF, opt_.accuracy, &r.info, false, integ,
+                                     opt_.nyquist_mask ? M_PI / s.dx : INFINITY,
+                                     opt_.nyquist_mask ? M_PI / s.dy : INFINITY);
       r.has_info = r.has_info || !opt_.direct;
       const double del = 2.0 / static_cast<double>(NF - 1);
       if (opt_.nyquist_mask) {

@@ -128,7 +128,7 @@ double gauss_error(std::size_t p, double span) {
 template <class Transform>
 std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::size_t resolution,
                                double accuracy, KirchhoffFastInfo* info,
-                               KirchhoffIntegration method) {
+                               KirchhoffIntegration method, double band_x, double band_y) {
   if (!(lambda_q > 0)) throw InputError("Kirchhoff: lambda_q must be > 0");
   if (resolution < 3) throw InputError("Kirchhoff: resolution must be >= 3");
   if (!(accuracy > 0 && accuracy < 1)) throw InputError("Kirchhoff: accuracy must be in (0, 1)");
@@ -176,7 +176,8 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
     std::vector<double> h0, sa, sb, gx, gy, w;
   };
   std::vector<Family> fam(exact ? 2 : 1);
-  double longest = 0;  // longest edge of a valid triangle, m
+  double longest = 0;  // largest phase span of a valid triangle's edge, rad
+  const double bx = std::min(qmag, band_x), by = std::min(qmag, band_y);
   for (auto& f : fam) {
     f.h0.assign(ns, 0.0);
     f.gx.assign(ns, 0.0);
@@ -214,15 +215,20 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
           f.gx[c] = sa / p.dx;
           f.gy[c] = sb / p.dy;
           f.w[c] = (p.w[i00] + p.w[i11] + p.w[i3]) / 3;
-          const double ea = std::hypot(p.dx, sa), eb = std::hypot(p.dy, sb),
-                       ed = std::sqrt(p.dx * p.dx + p.dy * p.dy + (h11 - h00) * (h11 - h00));
+          // Largest phase difference along an edge over the nodes that count: |q| x its
+          // length, or with |q_x| <= bx, |q_y| <= by (a band mask) bx |dx| + by |dy| + |q| |dh|.
+          const double d11 = std::fabs(h11 - h00);
+          const double ea = std::min(qmag * std::hypot(p.dx, sa), bx * p.dx + qmag * std::fabs(sa)),
+                       eb = std::min(qmag * std::hypot(p.dy, sb), by * p.dy + qmag * std::fabs(sb)),
+                       ed = std::min(qmag * std::sqrt(p.dx * p.dx + p.dy * p.dy + d11 * d11),
+                                     bx * p.dx + by * p.dy + qmag * d11);
           longest = std::max({longest, ea, eb, ed});
         }
       }
   }
   // Rule: one point at the sample (midpoint), or per triangle a collapsed Gauss-Legendre rule
-  // whose error for the largest phase span |q| x longest edge is below accuracy / 100.
-  const double span = qmag * longest;
+  // whose error for the largest phase span along an edge is below accuracy / 100.
+  const double span = longest;
   std::size_t pu = 1;
   if (exact)
     while (pu < 40 && gauss_error(pu, span) > accuracy * 1e-2) ++pu;
@@ -362,9 +368,11 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
 std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_q,
                                          std::size_t resolution, double accuracy,
                                          KirchhoffFastInfo* info, bool chirp_z,
-                                         KirchhoffIntegration m) {
-  return chirp_z ? table_fast<detail::ChirpZ>(p, lambda_q, resolution, accuracy, info, m)
-                 : table_fast<detail::ZoomNufft>(p, lambda_q, resolution, accuracy, info, m);
+                                         KirchhoffIntegration m, double band_x, double band_y) {
+  return chirp_z ? table_fast<detail::ChirpZ>(p, lambda_q, resolution, accuracy, info, m, band_x,
+                                              band_y)
+                 : table_fast<detail::ZoomNufft>(p, lambda_q, resolution, accuracy, info, m, band_x,
+                                                 band_y);
 }
 
 }  // namespace microbrdf
