@@ -234,7 +234,8 @@ class KirchhoffAccumulator {
 };
 
 /// The S that KirchhoffOptions::supersample = 0 picks for a tile of extent lx x ly (m): the
-/// smallest odd S with 2 / (N - 1) / S <= lambda_q / (2 max(lx, ly)).
+/// smallest odd S with 2 / (N - 1) / S <= lambda_q / (2 max(lx, ly)), but at most the largest
+/// odd S with S (N - 1) + 1 <= 1025 (so never a finer table than the default one).
 std::size_t kirchhoff_auto_supersample(std::size_t resolution, double lambda_q, double lx,
                                        double ly);
 

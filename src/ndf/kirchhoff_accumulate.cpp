@@ -26,9 +26,13 @@ std::size_t kirchhoff_auto_supersample(std::size_t resolution, double lambda_q, 
                                        double ly) {
   const double delta = 2.0 / static_cast<double>(resolution - 1);
   const double need = delta * 2 * std::max(lx, ly) / lambda_q;  // S >= need
-  auto s = static_cast<std::size_t>(std::ceil(need - 1e-9));
+  auto s = static_cast<std::size_t>(std::ceil(std::min(need, 1e6) - 1e-9));
   s = std::max<std::size_t>(s, 1);
   if (s % 2 == 0) ++s;
+  // Never more than a 1025^2 sub-node table (the default table's cost): very large tiles (a
+  // whole mm-sized scan) would need thousands of sub-nodes per axis. The raw integral then says
+  // how far the table is from resolving D_K, and its warning fires.
+  while (s > 1 && s * (resolution - 1) + 1 > 1025) s -= 2;
   return s;
 }
 
