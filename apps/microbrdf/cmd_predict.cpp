@@ -32,7 +32,7 @@ struct PredictArgs {
   int threads = 0;
   std::uint64_t seed = 1;
   bool kirchhoff = false, no_render = false, json = false, quiet = false;
-  std::string dk_integration = "exact";
+  std::string dk_integration = "midpoint";
 };
 
 void run(const PredictArgs& a) {
@@ -164,8 +164,9 @@ void register_predict(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--patch", a->patch, "D_K tile size (coherence area)")->capture_default_str();
   c->add_option("--dk-integration", a->dk_integration,
-                "D_K: exact (over the triangles of the piecewise-linear surface; default) | "
-                "midpoint (one point per sample: much faster, about 1% off on brushed steel)")
+                "D_K: midpoint (one point per sample; default: 20-60x faster, about 1% off on brushed "
+                "steel, more on steep or coarse scans) | exact (over the triangles of the "
+                "piecewise-linear surface: the accurate reference)")
       ->capture_default_str();
   c->add_option("--theta-i", a->theta_i, "Angles of incidence of the BRDF slices, comma-separated")
       ->capture_default_str();

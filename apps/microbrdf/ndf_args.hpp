@@ -29,7 +29,7 @@ struct NdfArgs {
   double accuracy = KirchhoffOptions{}.accuracy;
   bool direct = false;
   bool keep_aliases = false;
-  std::string dk_integration = "exact";
+  std::string dk_integration = "midpoint";
   std::string dk_supersample = "auto";
   std::size_t sweep_resolution = FilterSigmaAutoOptions{}.resolution;  // --filter-sigma auto
 };

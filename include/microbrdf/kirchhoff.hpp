@@ -164,8 +164,9 @@ struct KirchhoffOptions {
   KirchhoffWindow window = KirchhoffWindow::None;
   double gauss_fraction = 0.125;  ///< Gauss window std as a fraction of the patch side
   double accuracy = 1e-3;         ///< fast method: Chebyshev tail bound (NUFFT: accuracy/100)
-  /// Exact triangles (default) or the midpoint rule per sample.
-  KirchhoffIntegration integration = KirchhoffIntegration::Exact;
+  /// The midpoint rule per sample (default: 20-60x faster, about 1% relative L1 off on brushed
+  /// steel, more on steep or coarse scans) or exact triangles (the accurate reference).
+  KirchhoffIntegration integration = KirchhoffIntegration::Midpoint;
   /// Node values as averages over each node's cell of S x S sub-nodes (S odd; the table of
   /// resolution S (N-1) + 1 computed and averaged), instead of point samples. 0 = automatic: the
   /// smallest odd S with 2/(N-1)/S <= lambda_q / (2 L), L the longer tile side -- the spacing at

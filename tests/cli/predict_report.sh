@@ -29,7 +29,7 @@ assert all(-10 <= r["exposure_stops"] <= 10 for r in s["renders"])
 assert [round(a["theta_i_deg"]) for a in s["brdf"]["albedo"]] == [30, 60]
 html = open(os.path.join(d, "report.html")).read()
 assert len(re.findall(r"<img ", html)) >= 6  # height map, 2 NDFs, fit comparison, 2 renders
-assert html.count("<svg") == 2 + 2 * 2       # NDF cuts x, y; in/out slices at 2 angles
+assert html.count("<svg") == 2 + 2 * 2 + html.count('class="zoomp"')  # NDF cuts x, y; in/out slices at 2 angles; zooms
 # The comparison strip: every fit rendered like the measured-NDF cylinders, its difference image,
 # SSIM in (0, 1] and RMS relative error against the measured render, and the render noise.
 rc = s["render_comparison"]
