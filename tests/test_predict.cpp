@@ -135,7 +135,8 @@ TEST(Predict, SummaryHoldsWhatTheLibraryComputes) {
   NdfEstimateOptions zo = no;
   zo.window = zoom_window(0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * (x1 - x0));
   const TabulatedNdf zoom = estimate_ndf(surf, zo);
-  EXPECT_EQ(read_ndf((fs::path(t / "out") / "ndf_filtered_zoom.npy").string()).values(), zoom.values());
+  EXPECT_EQ(read_ndf((fs::path(t / "out") / "ndf_filtered_zoom.npy").string()).values(),
+            zoom.values());
   EXPECT_GE(4 * std::min(zoom.rms_slope(0), zoom.rms_slope(M_PI / 2)) / zoom.spacing(), 10.0);
   FitOptions fo;
   fo.model = FitModel::Ellipsoid;

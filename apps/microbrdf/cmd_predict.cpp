@@ -163,10 +163,11 @@ void register_predict(CLI::App& app) {
   c->add_option("--wavelength", a->wavelength, "lambda_q of D_K and the wavelength of the slices")
       ->capture_default_str();
   c->add_option("--patch", a->patch, "D_K tile size (coherence area)")->capture_default_str();
-  c->add_option("--dk-integration", a->dk_integration,
-                "D_K: midpoint (one point per sample; default: 20-60x faster, about 1% off on brushed "
-                "steel, more on steep or coarse scans) | exact (over the triangles of the "
-                "piecewise-linear surface: the accurate reference)")
+  c->add_option(
+       "--dk-integration", a->dk_integration,
+       "D_K: midpoint (one point per sample; default: 20-60x faster, about 1% off on brushed "
+       "steel, more on steep or coarse scans) | exact (over the triangles of the "
+       "piecewise-linear surface: the accurate reference)")
       ->capture_default_str();
   c->add_option("--theta-i", a->theta_i, "Angles of incidence of the BRDF slices, comma-separated")
       ->capture_default_str();
