@@ -502,6 +502,38 @@ std::string difference_bar(const json& scale) {
 
 std::string pct(const json& v) { return report::num(100 * d(v), 3) + " %"; }
 
+// The NDF the measured renders use ("naive", "filtered" or "kirchhoff"; --render-ndf), for
+// captions: "filtered NDF" unless the run chose another.
+std::string render_ndf_label(const json& s) {
+  std::string k = "filtered";
+  if (s.contains("ndf_comparison") && s["ndf_comparison"].is_object())
+    k = s["ndf_comparison"].value("render_ndf", k);
+  return k == "kirchhoff" ? "D_K" : k + " NDF";
+}
+
+// The table of contents' links into the renders section: the colour block and each scene of the
+// comparison strip, only those this run made.
+std::string toc_render_links(const json& s) {
+  std::vector<std::string> links;
+  bool colour = false;
+  if (s.contains("renders") && s["renders"].is_array())
+    for (auto& r : s["renders"]) {
+      const std::string role = r.value("role", "");
+      colour = colour || role == "studio" || role == "swatch";
+    }
+  if (colour) links.push_back("<a href=\"#colour\">the material's own colour</a>");
+  if (s.contains("render_comparison") && s["render_comparison"].contains("scenes"))
+    for (auto& sc : s["render_comparison"]["scenes"]) {
+      const std::string scene = sc.value("scene", "");
+      if (!scene.empty())
+        links.push_back("<a href=\"#compare-" + escape(scene) + "\">each model: " + escape(scene) +
+                        "</a>");
+    }
+  std::string out;
+  for (auto& l : links) out += (out.empty() ? " (" : ", ") + l;
+  return out.empty() ? out : out + ")";
+}
+
 const char* scene_title(const std::string& scene) {
   if (scene == "cylinders") return "the cylinder pair";
   if (scene == "sphere") return "the sphere";
@@ -511,7 +543,7 @@ const char* scene_title(const std::string& scene) {
 
 // One scene of the comparison strip: the measured-NDF render with each fit (and D_K) beside it,
 // difference images on one colour scale, SSIM and RMS relative error, the render noise.
-void comparison_scene(Page& p, json& rc, bool first) {
+void comparison_scene(Page& p, json& rc, bool first, const std::string& ndf_label) {
   json& noise = rc["noise"];
   const std::string scene = str(rc["scene"]);
   const bool smooth = rc.contains("smoothing_sigma_px");
@@ -594,7 +626,7 @@ void comparison_scene(Page& p, json& rc, bool first) {
   p << "<div class=\"grid\">" << fig
     << p.image(shown(rc, "reference", "reference_thumbnail"), "measured NDF, " + scene, w)
     << p.image(str(noise["difference_image"]), "noise difference", w) << difference_bar(sc)
-    << "<figcaption>Measured (filtered NDF): the reference."
+    << "<figcaption>Measured (" << escape(ndf_label) << "): the reference."
     << full_link(rc, "reference", "reference_thumbnail")
     << " Below: noise alone, |&Delta;Y| between it and the same render with seed "
     << std::to_string(noise["second_seed"].get<long>())
@@ -620,9 +652,10 @@ void comparison_strip(Page& p, json& s) {
   json& rc = s["render_comparison"];
   if (rc.contains("scenes") && rc["scenes"].is_array() && !rc["scenes"].empty()) {
     bool first = true;
-    for (auto& scene : rc["scenes"]) comparison_scene(p, scene, std::exchange(first, false));
+    for (auto& scene : rc["scenes"])
+      comparison_scene(p, scene, std::exchange(first, false), render_ndf_label(s));
   } else {
-    comparison_scene(p, rc, true);
+    comparison_scene(p, rc, true, render_ndf_label(s));
   }
 }
 
@@ -680,8 +713,9 @@ void section_renders(Page& p, json& s) {
        "Embree 3), linear sRGB tone-mapped to 8-bit sRGB at the exposure given (chosen per "
        "scene so that the measured render's 99th-percentile luminance shows at about full "
        "white; the models of the comparison strip below use the same); the BRDF is the measured "
-       "one (filtered NDF as a tabulated distribution with Smith shadowing, exact conductor "
-       "Fresnel).</p>\n";
+       "one ("
+    << escape(render_ndf_label(s))
+    << " as a tabulated distribution with Smith shadowing, exact conductor Fresnel).</p>\n";
   // The material's own colour: the neutral studio map and a swatch on white.
   bool any = false;
   for (auto& im : r) any = any || role(im) == "studio" || role(im) == "swatch";
@@ -874,8 +908,10 @@ std::string render_report_html(const json& summary, const std::string& dir) {
     << "<li><a href=\"#s1\">Inputs</a></li>"
        "<li><a href=\"#s2\">Surface statistics</a></li><li><a href=\"#s3\">Normal "
        "distribution functions</a></li><li><a href=\"#s4\">Parametric fits</a></li><li><a "
-       "href=\"#s5\">BRDF slices</a></li><li><a href=\"#s6\">Renders</a> and the <a "
-       "href=\"#view\">interactive view</a></li><li><a href=\"#s7\">Texture synthesis</a></li>";
+       "href=\"#s5\">BRDF slices</a></li><li><a href=\"#s6\">Renders</a>"
+    << toc_render_links(s)
+    << " and the <a href=\"#view\">interactive view</a></li><li><a href=\"#s7\">Texture "
+       "synthesis</a></li>";
   if (s.contains("measured") && s["measured"].is_object())
     p << "<li><a href=\"#s-measured\">Prediction against the measurement</a></li>";
   p << "<li><a href=\"#s8\">Settings and versions</a></li><li><a href=\"#s9\">Timings</a></li>"
