@@ -1,6 +1,7 @@
 #pragma once
 // Sun 2002's analytic BRDF (sun2002.hpp) behind the Brdf interface.
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,6 +20,13 @@ namespace microbrdf::sun2002 {
 /// R Gamma_0(th_i) Gamma_0(th_o) sigma+(wi) / (wi.n), <= R Gamma_0 Gamma_0 / G1(wi)). Samples
 /// below the horizon are dropped (no sample). `ftp` leaves out free travel probabilities as in
 /// the rows of Sun's Fig. 8 (the sampling is the same).
+/// One importance sample of Sun's BRDF (and of its textured form): a visible normal of the
+/// Beckmann distribution d of Sun's slope variance (alpha = 2 / s), mirrored; `eval(wo)` gives
+/// f(wi, wo) for the weight f cos / pdf. No sample when wi or wo is below the horizon.
+std::optional<BrdfSample> sample_visible_beckmann(const BeckmannDistribution& d, const Vec3& wi,
+                                                  double u1, double u2,
+                                                  const std::function<double(const Vec3&)>& eval);
+
 class SunBrdf final : public Brdf {
  public:
   /// s > 0 (InputError otherwise); a null Fresnel means R = 1.

@@ -23,20 +23,27 @@ double SunBrdf::eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const 
   return brdf(wi, wo, s_, form_, f_.get(), wavelength_m, ftp_);
 }
 
-std::optional<BrdfSample> SunBrdf::sample(const Vec3& wi, double u1, double u2,
-                                          double wavelength_m) const {
+std::optional<BrdfSample> sample_visible_beckmann(const BeckmannDistribution& d, const Vec3& wi,
+                                                  double u1, double u2,
+                                                  const std::function<double(const Vec3&)>& eval) {
   if (!(wi.z() > 0)) return std::nullopt;
-  const Vec3 m = d_.sample_visible(wi, u1, u2);
+  const Vec3 m = d.sample_visible(wi, u1, u2);
   const double im = wi.dot(m);
   if (!(im > 0)) return std::nullopt;
   const Vec3 wo = 2 * im * m - wi;
   if (!(wo.z() > 0)) return std::nullopt;
   BrdfSample r;
   r.wo = wo;
-  r.pdf = d_.pdf_visible(wi, m) / (4 * im);
+  r.pdf = d.pdf_visible(wi, m) / (4 * im);  // Jacobian of the mirror map, d omega_o / d omega_m
   if (!(r.pdf > 0)) return std::nullopt;
-  r.weight = eval(wi, wo, wavelength_m) * wo.z() / r.pdf;
+  r.weight = eval(wo) * wo.z() / r.pdf;
   return r;
+}
+
+std::optional<BrdfSample> SunBrdf::sample(const Vec3& wi, double u1, double u2,
+                                          double wavelength_m) const {
+  return sample_visible_beckmann(d_, wi, u1, u2,
+                                 [&](const Vec3& wo) { return eval(wi, wo, wavelength_m); });
 }
 
 double SunBrdf::pdf(const Vec3& wi, const Vec3& wo) const {

@@ -248,18 +248,8 @@ double SunTextureSvbrdf::eval(double u, double v, const Vec3& wi, const Vec3& wo
 std::optional<BrdfSample> SunTextureSvbrdf::sample(double u, double v, const Vec3& wi, double u1,
                                                    double u2, double wavelength_m) const {
   if (!(wi.z() > 0)) return std::nullopt;
-  const BeckmannDistribution d(2 / texel_s(u, v));
-  const Vec3 m = d.sample_visible(wi, u1, u2);
-  const double im = wi.dot(m);
-  if (!(im > 0)) return std::nullopt;
-  const Vec3 wo = 2 * im * m - wi;
-  if (!(wo.z() > 0)) return std::nullopt;
-  BrdfSample r;
-  r.wo = wo;
-  r.pdf = d.pdf_visible(wi, m) / (4 * im);
-  if (!(r.pdf > 0)) return std::nullopt;
-  r.weight = eval(u, v, wi, wo, wavelength_m) * wo.z() / r.pdf;
-  return r;
+  return sample_visible_beckmann(BeckmannDistribution(2 / texel_s(u, v)), wi, u1, u2,
+                                 [&](const Vec3& wo) { return eval(u, v, wi, wo, wavelength_m); });
 }
 
 double SunTextureSvbrdf::pdf(double u, double v, const Vec3& wi, const Vec3& wo) const {

@@ -93,6 +93,21 @@ struct ScanResult {
         zoomed(o.zoomed.load()) {}
 };
 
+// The ellipsoid fit of one texel's splatted table (normalised here), single-threaded: the texels
+// themselves are the parallel work.
+FitResult fit_texel_table(TabulatedNdf& t, std::size_t used, const TexelFitOptions& o) {
+  t.normalise();
+  t.meta.method = "filtered";
+  t.meta.filter_sigma_m = o.filter_sigma_m;
+  t.meta.samples_used = used;
+  FitOptions fo;
+  fo.model = FitModel::Ellipsoid;
+  fo.threads = 1;
+  fo.sampling = o.sampling;
+  fo.max_iterations = o.max_iterations;
+  return fit_ndf(t, fo);
+}
+
 ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
   if (!(o.texel_m > 0)) throw InputError("texel size must be positive");
   if (o.ndf_resolution < 17) throw InputError("texel NDF resolution must be at least 17");
@@ -144,16 +159,7 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
         r.why[i] = buf;
         continue;
       }
-      t.normalise();
-      t.meta.method = "filtered";
-      t.meta.filter_sigma_m = o.filter_sigma_m;
-      t.meta.samples_used = used;
-      FitOptions fo;
-      fo.model = FitModel::Ellipsoid;
-      fo.threads = 1;
-      fo.sampling = o.sampling;
-      fo.max_iterations = o.max_iterations;
-      const FitResult fr = fit_ndf(t, fo);
+      const FitResult fr = fit_texel_table(t, used, o);
       r.p[i] = fr.params;
       // A width below the table's resolution: refitted on a table zoomed along that axis.
       const double below = o.zoom_below_nodes * t.spacing();
@@ -371,16 +377,7 @@ EllipsoidParams refit_narrow_lobe(const std::vector<Vec3>& normals, const Ellips
     t.splat(q.x(), q.y(), 1.0);
     ++used;
   }
-  t.normalise();
-  t.meta.method = "filtered";
-  t.meta.filter_sigma_m = o.filter_sigma_m;
-  t.meta.samples_used = used;
-  FitOptions fo;
-  fo.model = FitModel::Ellipsoid;
-  fo.threads = 1;
-  fo.sampling = o.sampling;
-  fo.max_iterations = o.max_iterations;
-  const FitResult fr = fit_ndf(t, fo);
+  const FitResult fr = fit_texel_table(t, used, o);
   if (!fr.solver_converged) return first;
   // Back to unstretched slopes: the width along a zoomed axis shrinks by k, and so does the
   // peak's slope along it about the centre (theta_y > 0 puts the peak at slope -tan theta_y
