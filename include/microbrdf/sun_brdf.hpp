@@ -26,6 +26,8 @@ namespace microbrdf::sun2002 {
 std::optional<BrdfSample> sample_visible_beckmann(const BeckmannDistribution& d, const Vec3& wi,
                                                   double u1, double u2,
                                                   const std::function<double(const Vec3&)>& eval);
+/// The density of sample_visible_beckmann, per steradian of wo (0 below the horizon).
+double pdf_visible_beckmann(const BeckmannDistribution& d, const Vec3& wi, const Vec3& wo);
 
 class SunBrdf final : public Brdf {
  public:

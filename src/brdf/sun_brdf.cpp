@@ -46,7 +46,7 @@ std::optional<BrdfSample> SunBrdf::sample(const Vec3& wi, double u1, double u2,
                                  [&](const Vec3& wo) { return eval(wi, wo, wavelength_m); });
 }
 
-double SunBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
+double pdf_visible_beckmann(const BeckmannDistribution& d, const Vec3& wi, const Vec3& wo) {
   if (!(wi.z() > 0) || !(wo.z() > 0)) return 0;
   const Vec3 hs = wi + wo;
   const double len = hs.norm();
@@ -54,7 +54,11 @@ double SunBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
   const Vec3 h = hs / len;
   const double ih = wi.dot(h);
   if (!(ih > 0)) return 0;
-  return d_.pdf_visible(wi, h) / (4 * ih);
+  return d.pdf_visible(wi, h) / (4 * ih);
+}
+
+double SunBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
+  return pdf_visible_beckmann(d_, wi, wo);
 }
 
 std::string SunBrdf::describe() const {

@@ -254,13 +254,7 @@ std::optional<BrdfSample> SunTextureSvbrdf::sample(double u, double v, const Vec
 
 double SunTextureSvbrdf::pdf(double u, double v, const Vec3& wi, const Vec3& wo) const {
   if (!(wi.z() > 0) || !(wo.z() > 0)) return 0;
-  const Vec3 hs = wi + wo;
-  const double len = hs.norm();
-  if (!(len > 0)) return 0;
-  const Vec3 h = hs / len;
-  const double ih = wi.dot(h);
-  if (!(ih > 0)) return 0;
-  return BeckmannDistribution(2 / texel_s(u, v)).pdf_visible(wi, h) / (4 * ih);
+  return pdf_visible_beckmann(BeckmannDistribution(2 / texel_s(u, v)), wi, wo);
 }
 
 std::string SunTextureSvbrdf::describe() const {
