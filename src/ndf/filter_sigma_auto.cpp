@@ -69,10 +69,6 @@ FilterSigmaAuto choose_filter_sigma(const ScanVisitor& for_each_scan,
   r.wavelength_q_m = o.kirchhoff.wavelength_q;
   KirchhoffOptions ko = o.kirchhoff;
   ko.resolution = o.resolution;
-  // The sweep compares shapes on small tables: the midpoint rule (within about 1% relative L1 of
-  // the exact triangle integral, docs/kirchhoff.md) at a small fraction of the exact rule's cost,
-  // which grows with the phase span per triangle on coarse or steep scans.
-  ko.integration = KirchhoffIntegration::Midpoint;
   KirchhoffAccumulator dk(ko);
   NdfEstimateOptions no;
   no.method = NdfMethod::Naive;
