@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "core/image_metrics.hpp"
 #include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fit.hpp"
@@ -21,9 +22,11 @@
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/ndf_io.hpp"
 #include "microbrdf/predict.hpp"
+#include "microbrdf/render.hpp"
 #include "microbrdf/statistics.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "microbrdf/texture.hpp"
+#include "report/predict_stages.hpp"
 
 using namespace microbrdf;
 namespace fs = std::filesystem;
@@ -356,4 +359,60 @@ TEST(Predict, FlatScanGivesNoNan) {
   EXPECT_EQ(nlohmann::json::parse(slurp(r.summary_path)), r.summary);
   EXPECT_EQ(r.summary["inputs"][0]["stats"]["sq_m"], 0.0);
   EXPECT_NEAR(r.summary["ndf"]["filtered"]["slope_rms_x"].get<double>(), 0.0, 1e-12);
+}
+
+namespace {
+
+// RMS over pixels of a luminance vector.
+double rms(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x * x;
+  return std::sqrt(s / static_cast<double>(v.size()));
+}
+
+}  // namespace
+
+TEST(Predict, NoiseFromTheHalvesOfOneRenderMatchesTwoIndependentRenders) {
+  // The comparison strip knows the reference render's noise from the two halves of its samples
+  // (report::render_split), without a second render. Check that estimate against its definition:
+  // two split renders with disjoint seeds differ by sqrt(2) x the noise of one. Cylinder pair
+  // under the courtyard map, copper GGX (0.08, 0.3), 48 x 48 px, 16 spp.
+  report::PredictScene sc;
+  sc.geometry.kind = PreviewScene::Cylinders;
+  sc.lights.envmap_path = std::string(MICROBRDF_DATA) + "/envmaps/blender_courtyard.exr";
+  auto b = std::make_shared<MicrofacetBrdf>(std::make_shared<GgxDistribution>(0.08, 0.3),
+                                            std::make_shared<ConductorFresnel>(metal("Cu")));
+  const std::vector<std::shared_ptr<const Svbrdf> > mats{std::make_shared<UniformSvbrdf>(b)};
+  RenderOptions o;
+  o.width = o.height = 48;
+  o.spp = 16;
+  o.threads = 2;
+  std::vector<double> estimates, independent;
+  for (std::uint64_t seed : {1, 21, 41}) {
+    o.seed = seed;
+    std::vector<double> n1, n2;
+    const RenderImage a = report::render_split(sc, mats, o, n1);
+    o.seed = seed + 10;
+    const RenderImage c = report::render_split(sc, mats, o, n2);
+    const auto ya = detail::luminance(a.rgb), yc = detail::luminance(c.rgb);
+    std::vector<double> diff(ya.size());
+    for (std::size_t i = 0; i < ya.size(); ++i) diff[i] = (ya[i] - yc[i]) / std::sqrt(2.0);
+    estimates.push_back(0.5 * (rms(n1) + rms(n2)));
+    independent.push_back(rms(diff));
+    // The average of the halves is an image of the scene, not of the noise: far above it.
+    EXPECT_GT(rms(ya), 2 * rms(n1));
+  }
+  double e = 0, r = 0;
+  for (std::size_t k = 0; k < estimates.size(); ++k) e += estimates[k], r += independent[k];
+  std::printf("noise from halves %.5g, from independent renders %.5g (ratio %.3f)\n", e / 3, r / 3,
+              e / r);
+  // 2304 pixels each: the RMS of either estimate scatters by a few per cent.
+  EXPECT_NEAR(e / r, 1.0, 0.12);
+  // One sample per pixel: a second render, and the same relation.
+  o.spp = 1;
+  o.seed = 5;
+  std::vector<double> n1;
+  const RenderImage one = report::render_split(sc, mats, o, n1);
+  EXPECT_EQ(one.rgb.size(), 48u * 48u * 3u);
+  EXPECT_GT(rms(n1), 0);
 }

@@ -341,7 +341,7 @@ PredictResult predict_staged(const PredictOptions& given, const std::string& out
   if (o.render)
     timed("render_comparison", [&] {
       summary["render_comparison"] =
-          report::stage_compare_renders(c, ndfs, fits, fresnel, measured, references, timing);
+          report::stage_compare_renders(c, ndfs, fits, fresnel, references, timing);
     });
   c.log("[5/6] texture");
   timed("texture", [&] { summary["texture"] = report::stage_texture(c, fresnel, timing); });

@@ -3,8 +3,8 @@
 // (ellipsoid, Beckmann, GGX) and D_K (with --kirchhoff): same lights, exposure, size, samples and
 // seed as its measured-NDF render; each against that render: SSIM on the displayed luminance
 // (core/image_metrics.hpp, Wang et al. 2004), RMS relative error of the linear luminance, and a
-// false-colour difference image. The measured NDF is rendered once more with the next seed: the
-// two measured renders differ by Monte Carlo noise only, which gives the noise of one image.
+// false-colour difference image. The render noise comes with the measured-NDF render itself (two
+// halves of its samples with independent scrambles, see stage_render): no extra render.
 #include <algorithm>
 #include <cmath>
 
@@ -89,7 +89,6 @@ double quantile(std::vector<double> v, double q) {
 // One scene's strip; `prefix` ("" for the cylinder pair, whose file and timing names predate the
 // other scenes, else "<scene>_") goes into file and timing names.
 nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& models,
-                             const std::shared_ptr<const Brdf>& measured,
                              const ReferenceRender& ref, nlohmann::json& timing) {
   const auto& o = c.opt;
   const std::string& sc = ref.scene.name;
@@ -111,10 +110,15 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
   const std::vector<double> ref_d = displayed(ref_y, ev);
   const auto wz = static_cast<std::size_t>(w), hz = static_cast<std::size_t>(h);
 
-  // Noise: the measured NDF again with the next seed. Var(A - B) = 2 Var(noise) for independent
-  // renders, so one image's noise is their RMS relative difference / sqrt(2).
-  const RenderImage again = render_with(measured, o.seed + 1, "measured_seed2");
-  const std::vector<double> again_y = detail::luminance(again.rgb);
+  // Noise: stage_render made the reference from two halves of its samples with independent
+  // scrambles and left one realisation r of the reference's own noise (variance sigma^2 per
+  // pixel). Two independent renders would differ by sqrt(2) r: that is the "second seed" row the
+  // models are read against, and the noise of one image is RMS(r) / RMS(reference).
+  const std::vector<double>& r = ref.noise_luminance;
+  if (r.size() != ref_y.size())
+    throw std::logic_error("comparison strip: the reference render has no noise estimate");
+  std::vector<double> again_y(ref_y.size());
+  for (std::size_t i = 0; i < ref_y.size(); ++i) again_y[i] = ref_y[i] + std::sqrt(2.0) * r[i];
   const std::vector<double> ref_s = smoothed(ref_y, wz, hz, kSmoothPx);
   const std::vector<double> again_s = smoothed(again_y, wz, hz, kSmoothPx);
   nlohmann::json out = {
@@ -129,7 +133,8 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
       {"exposure_stops", ev},
       {"smoothing_sigma_px", kSmoothPx},
       {"noise",
-       {{"second_seed", o.seed + 1},
+       {{"second_seed", ref.noise_seed},
+        {"method", o.render_spp >= 2 ? "halves" : "second_render"},
         {"rms_relative", detail::rms_relative(again_y, ref_y) / std::sqrt(2.0)},
         {"rms_relative_smoothed", detail::rms_relative(again_s, ref_s) / std::sqrt(2.0)},
         {"ssim_two_seeds", detail::ssim(displayed(again_y, ev), ref_d, wz, hz)}}}};
@@ -164,11 +169,11 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
     }
     write_png(c.path(file), di);
   };
-  // The noise alone on the same scale and smoothing: |second seed - first seed| (sqrt(2) x one
-  // image's noise).
+  // The noise alone on the same scale and smoothing: what two independent renders differ by
+  // (sqrt(2) x one image's noise).
   std::vector<double> noise_diff(ref_y.size());
   for (std::size_t i = 0; i < ref_y.size(); ++i) noise_diff[i] = std::fabs(again_s[i] - ref_s[i]);
-  const std::string noise_file = "img/compare_" + prefix + "measured_seed2_difference.png";
+  const std::string noise_file = "img/compare_" + prefix + "measured_noise_difference.png";
   write_difference(noise_diff, noise_file);
   out["noise"]["difference_image"] = noise_file;
   // Renders of 384 px and more: the strip shows half-size copies (same exposure).
@@ -210,13 +215,11 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
 nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
                                      const std::vector<FitResult>& fits,
                                      const std::shared_ptr<const Fresnel>& fresnel,
-                                     const std::shared_ptr<const Brdf>& measured,
                                      const std::vector<ReferenceRender>& references,
                                      nlohmann::json& timing) {
   const std::vector<NamedBrdf> models = model_brdfs(ndfs, fits, fresnel);
   nlohmann::json scenes = nlohmann::json::array();
-  for (const auto& ref : references)
-    scenes.push_back(compare_scene(c, models, measured, ref, timing));
+  for (const auto& ref : references) scenes.push_back(compare_scene(c, models, ref, timing));
   // The cylinder pair's keys at the top level (as before the other scenes joined), every scene
   // in "scenes".
   nlohmann::json out = nlohmann::json::object();

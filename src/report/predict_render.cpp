@@ -109,6 +109,49 @@ std::string studio_beside(const std::string& envmap) {
 
 }  // namespace
 
+// A compared scene's measured-NDF render, made so that its noise can be told without a second
+// render: two halves of the samples (ceil(spp/2) with the seed, floor(spp/2) with seed + 1: two
+// independent scrambles of the Sobol' points) averaged with weights nA / N and nB / N. The
+// average has the noise variance s^2 / N of one N-sample render (s^2 per sample), and the
+// halves' difference A - B has s^2 (1/nA + 1/nB), so k (Y_A - Y_B) with k = sqrt(nA nB) / N is
+// one realisation of the average's own noise (k = 1/2 for even N). At one sample per pixel the
+// image is rendered again with seed + 1 and (Y_2 - Y_1) / sqrt 2 is used.
+RenderImage render_split(const PredictScene& scene,
+                         const std::vector<std::shared_ptr<const Svbrdf> >& mats,
+                         const RenderOptions& ro, std::vector<double>& noise) {
+  const int n = ro.spp;
+  const int na = n >= 2 ? (n + 1) / 2 : n, nb = n >= 2 ? n / 2 : n;
+  RenderOptions oa = ro, ob = ro;
+  oa.spp = na;
+  ob.spp = nb;
+  ob.seed = ro.seed + 1;
+  if (ro.progress) {
+    oa.progress = [&ro, na, n](double f) { ro.progress(f * na / n); };
+    ob.progress = [&ro, na, nb, n](double f) { ro.progress((na + f * nb) / n); };
+  }
+  RenderImage a = render(scene.geometry, mats, scene.lights, oa);
+  const RenderImage b = render(scene.geometry, mats, scene.lights, ob);
+  const std::vector<double> ya = detail::luminance(a.rgb), yb = detail::luminance(b.rgb);
+  noise.resize(ya.size());
+  if (n >= 2) {
+    const double wa = static_cast<double>(na) / n, wb = static_cast<double>(nb) / n;
+    const double k = std::sqrt(static_cast<double>(na) * nb) / n;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i)
+      a.rgb[i] = static_cast<float>(wa * a.rgb[i] + wb * b.rgb[i]);
+    for (std::size_t i = 0; i < ya.size(); ++i) noise[i] = k * (ya[i] - yb[i]);
+  } else {
+    for (std::size_t i = 0; i < ya.size(); ++i) noise[i] = (yb[i] - ya[i]) / std::sqrt(2.0);
+  }
+  a.seconds += b.seconds;
+  a.rays += b.rays;
+  a.samples_per_second =
+      a.seconds > 0 ? static_cast<double>(a.width) * a.height * (n >= 2 ? n : 2) / a.seconds : 0;
+  if (n >= 2)
+    a.settings += "; samples split " + std::to_string(na) + " + " + std::to_string(nb) +
+                  " over seeds " + std::to_string(ro.seed) + ", " + std::to_string(ob.seed);
+  return a;
+}
+
 nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>& measured,
                             nlohmann::json& timing, std::vector<ReferenceRender>* references) {
   const auto& o = c.opt;
@@ -173,7 +216,9 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
         c.log("renders: " + name + " " + std::to_string(step * 25) + "%");
       last = step;
     };
-    RenderImage img = render(j.scene.geometry, mats, j.scene.lights, ro);
+    std::vector<double> noise;
+    RenderImage img = j.compared ? render_split(j.scene, mats, ro, noise)
+                                 : render(j.scene.geometry, mats, j.scene.lights, ro);
     const double exposure = j.fixed_zero ? 0.0 : auto_exposure_stops(img);
     const std::string file = "img/render_" + j.key + ".png";
     write_render_png(img, c.path(file), exposure);
@@ -200,6 +245,8 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
       r.file = file;
       r.exposure_stops = exposure;
       r.image = std::move(img);
+      r.noise_luminance = std::move(noise);
+      r.noise_seed = ro.seed + 1;
       references->push_back(std::move(r));
     }
   }

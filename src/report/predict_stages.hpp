@@ -109,25 +109,39 @@ struct ReferenceRender {
   std::string file;  ///< img/render_<scene>.png, relative to the output folder
   double exposure_stops = 0;
   RenderImage image;
+  /// One realisation of the image's Monte Carlo noise in linear luminance, with the variance of
+  /// the image's own noise (see stage_render): what a second, independent render of the same
+  /// samples would add or take per pixel.
+  std::vector<double> noise_luminance;
+  std::uint64_t noise_seed = 0;  ///< the seed of the second half (or of the second render)
 };
 /// The exposure (stops, half-stop steps within +-10) at which the image's 99th-percentile
 /// luminance shows at about full white; 0 for a black image.
 double auto_exposure_stops(const RenderImage& img);
+/// A render of `scene` at `options.spp` samples per pixel made of two halves of the samples,
+/// ceil(spp/2) with options.seed and floor(spp/2) with seed + 1 (independent scrambles),
+/// averaged with weights nA / spp and nB / spp; `noise` receives one realisation of that
+/// image's own Monte Carlo noise in linear luminance, k (Y_A - Y_B) with k = sqrt(nA nB) / spp
+/// (at spp = 1: a second 1-sample render with seed + 1, and (Y_2 - Y_1) / sqrt 2).
+RenderImage render_split(const PredictScene& scene,
+                         const std::vector<std::shared_ptr<const Svbrdf> >& materials,
+                         const RenderOptions& options, std::vector<double>& noise);
 /// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`. The
 /// renders of predict_scenes() (the references of the comparison strip) go into `references`
-/// when given.
+/// when given; each is made of two halves of its samples with independent scrambles (seed and
+/// seed + 1), averaged, so that its noise is known without a second render.
 nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>& measured,
                             nlohmann::json& timing,
                             std::vector<ReferenceRender>* references = nullptr);
 /// The comparison strip: each reference scene rendered with each fit (and D_K) at the settings
 /// of its measured-NDF render (same lights, size, samples, seed, exposure), their SSIM and RMS
-/// relative error against it, difference images, and the render noise from a second seed;
+/// relative error against it, difference images, and the render noise (from the two halves of
+/// the reference's samples, see ReferenceRender::noise_luminance);
 /// returns the "render_comparison" object (the cylinder pair's keys at the top level, every
 /// scene in "scenes").
 nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
                                      const std::vector<FitResult>& fits,
                                      const std::shared_ptr<const Fresnel>& fresnel,
-                                     const std::shared_ptr<const Brdf>& measured,
                                      const std::vector<ReferenceRender>& references,
                                      nlohmann::json& timing);
 /// The lights of every predict render: the environment map if given, else a dim uniform sky

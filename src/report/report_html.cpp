@@ -582,33 +582,44 @@ void comparison_scene(Page& p, json& rc, bool first, const std::string& ndf_labe
     << " samples/pixel, seed " << std::to_string(rc["seed"].get<long>()) << ", exposure "
     << report::num(d(rc["exposure_stops"]), 3) << " stops; lights: " << escape(str(rc["lights"]))
     << ".</p>\n<p><b>Render noise</b>: ";
-  if (first)
-    p << "the measured NDF rendered again with seed "
-      << std::to_string(noise["second_seed"].get<long>())
-      << " differs from the first by Monte Carlo noise alone; the noise of one image is ";
-  else
-    p << "one image, from a second seed as above: ";
+  const bool halves = noise.contains("method") && str(noise["method"]) == "halves";
+  if (first) {
+    if (halves)
+      p << "the measured-NDF render is the mean of two halves of its samples with independent "
+           "scrambles (seeds "
+        << std::to_string(rc["seed"].get<long>()) << " and "
+        << std::to_string(noise["second_seed"].get<long>())
+        << "); half their difference is one realisation of the image's own Monte Carlo noise, "
+           "so the noise is known without a second render. The noise of the image is ";
+    else
+      p << "the measured NDF rendered again with seed "
+        << std::to_string(noise["second_seed"].get<long>())
+        << " differs from the first by Monte Carlo noise alone; the noise of one image is ";
+  } else {
+    p << "one image, estimated as above: ";
+  }
   p << pct(noise["rms_relative"]) << " RMS relative per pixel";
   if (smooth) p << " and " << pct(noise["rms_relative_smoothed"]) << " after the smoothing";
   if (first)
-    p << " (their RMS relative difference / &radic;2); their SSIM is "
+    p << ". Two independent renders would differ by &radic;2 times that (the row \"noise "
+         "only\" below; its SSIM compares the render with itself plus that difference: "
       << report::num(d(noise["ssim_two_seeds"]), 4)
-      << ". The models are rendered with the reference's seed, so part of the noise cancels in "
-         "their differences: a model whose numbers are no worse than the second-seed row "
+      << "). The models are rendered with the reference's seed, so part of the noise cancels in "
+         "their differences: a model whose numbers are no worse than the noise-only row "
          "differs from the measurement by no more than noise can explain.</p>\n<table>\n";
   else
-    p << "; SSIM of the two seeds " << report::num(d(noise["ssim_two_seeds"]), 4)
+    p << "; SSIM with noise only " << report::num(d(noise["ssim_two_seeds"]), 4)
       << ".</p>\n<table>\n";
   if (smooth)
     p << row({"model", "SSIM vs measured", "RMS relative error per pixel",
               "RMS relative error, smoothed (&sigma; = " + sigma + " px)"},
              true)
-      << row({"measured, second seed (noise only)", n4(noise["ssim_two_seeds"]),
+      << row({"measured, noise only (two independent renders)", n4(noise["ssim_two_seeds"]),
               report::num(100 * d(noise["rms_relative"]) * std::sqrt(2.0), 3) + " %",
               report::num(100 * d(noise["rms_relative_smoothed"]) * std::sqrt(2.0), 3) + " %"});
   else
     p << row({"model", "SSIM vs measured", "RMS relative error vs measured"}, true)
-      << row({"measured, second seed (noise only)", n4(noise["ssim_two_seeds"]),
+      << row({"measured, noise only (two independent renders)", n4(noise["ssim_two_seeds"]),
               report::num(100 * d(noise["rms_relative"]) * std::sqrt(2.0), 3) + " %"});
   for (auto& m : rc["models"]) {
     if (smooth)
@@ -628,9 +639,8 @@ void comparison_scene(Page& p, json& rc, bool first, const std::string& ndf_labe
     << p.image(str(noise["difference_image"]), "noise difference", w) << difference_bar(sc)
     << "<figcaption>Measured (" << escape(ndf_label) << "): the reference."
     << full_link(rc, "reference", "reference_thumbnail")
-    << " Below: noise alone, |&Delta;Y| between it and the same render with seed "
-    << std::to_string(noise["second_seed"].get<long>())
-    << ", on the scale of the models' difference images.</figcaption></figure>";
+    << " Below: noise alone, |&Delta;Y| that two independent renders of it would show, on the "
+       "scale of the models' difference images.</figcaption></figure>";
   for (auto& m : rc["models"]) {
     p << fig << p.image(shown(m, "image", "thumbnail"), str(m["label"]) + ", " + scene, w)
       << p.image(str(m["difference_image"]), str(m["label"]) + " difference", w)
