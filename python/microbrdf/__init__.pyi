@@ -106,6 +106,8 @@ def ndf(
     direct: bool = False,
     keep_aliases: bool = False,
     progress: Optional[Callable[[float], None]] = None,
+    integration: str = "midpoint",
+    supersample: int = 0,
 ) -> TabulatedNdf: ...
 def hellinger_distance(a: TabulatedNdf, b: TabulatedNdf) -> float: ...
 def filter_sigma_auto(

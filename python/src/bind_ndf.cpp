@@ -137,7 +137,8 @@ TabulatedNdf ndf(const py::object& scans, const std::string& method, double filt
                  std::size_t resolution, const std::string& level, const py::object& spacing,
                  double min_support, double instrument_fwhm, double wavelength,
                  const py::object& patch, const std::string& window, double accuracy, bool direct,
-                 bool keep_aliases, const py::object& progress) {
+                 bool keep_aliases, const py::object& progress, const std::string& integration,
+                 std::size_t supersample) {
   check_resolution(resolution);
   const auto lev = LevelingSpec::parse(level);
   const ReadOptions read = read_options(spacing);
@@ -157,6 +158,11 @@ TabulatedNdf ndf(const py::object& scans, const std::string& method, double filt
     o.accuracy = accuracy;
     o.direct = direct;
     o.nyquist_mask = !keep_aliases;
+    o.integration = parse_kirchhoff_integration(integration);
+    if (supersample != 0 && (supersample % 2 == 0 || supersample > 15))
+      throw InputError("supersample must be 0 (automatic) or an odd number 1..15, not " +
+                       std::to_string(supersample));
+    o.supersample = supersample;
     if (!(o.wavelength_q > 0)) throw InputError("wavelength must be > 0 (metres)");
     if (!(o.accuracy > 0 && o.accuracy < 1)) throw InputError("accuracy must be in (0, 1)");
     const ScanInputs in = scan_inputs(scans);
@@ -349,6 +355,7 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
         py::arg("patch") = py::make_tuple(70e-6, 53e-6), py::arg("window") = "none",
         py::arg("accuracy") = KirchhoffOptions{}.accuracy, py::arg("direct") = false,
         py::arg("keep_aliases") = false, py::arg("progress") = py::none(),
+        py::arg("integration") = "midpoint", py::arg("supersample") = 0,
         R"(The normal distribution function of one scan or of a scan set, as `microbrdf ndf`.
 
 surface: a Surface, a path (or glob, directory, @manifest), or a list of them; several scans
@@ -366,6 +373,11 @@ wavelength: kirchhoff: lambda_q, metres. patch: kirchhoff: tile size (dx, dy) in
     fast method. direct: direct sums (slow reference). keep_aliases: keep nodes beyond the
     scan's Nyquist band.
 progress: optional callable(fraction in [0, 1]), called from the calling thread.
+integration: kirchhoff: 'midpoint' (the midpoint rule per sample; the default, as in the CLI)
+    or 'exact' (exactly over the triangles of the piecewise-linear surface: the reference,
+    20-60x slower; quote it for numbers that matter). supersample: kirchhoff: node values as
+    cell averages over S x S sub-nodes (S odd, 1..15); 0 chooses S from the tile size and
+    lambda_q (the CLI's --dk-supersample auto), 1 takes point samples.
 
 Runs without the GIL; Ctrl-C interrupts it (between scans, and between Kirchhoff patches).
 Returns a TabulatedNdf equal bit for bit to what the CLI writes for the same inputs and flags.)");
