@@ -72,35 +72,11 @@ ScanSetOptions scan_set_options(const NdfArgs& a, std::size_t scans) {
 namespace {
 
 void run_kirchhoff(const NdfArgs& a) {
-  KirchhoffOptions o;
-  o.wavelength_q = parse_length(a.wavelength);
-  if (a.patch == "none" || a.patch == "whole" || a.patch == "0") {
-    o.patch_x = o.patch_y = 0;
-  } else {
-    LengthPair lp = parse_length_pair(a.patch);
-    o.patch_x = lp.x;
-    o.patch_y = lp.y;
-  }
-  o.window = parse_kirchhoff_window(a.window);
-  o.accuracy = a.accuracy;
+  KirchhoffOptions o = kirchhoff_options(a.dk, a.wavelength);
   o.direct = a.direct;
-  o.nyquist_mask = !a.keep_aliases;
-  o.integration = parse_kirchhoff_integration(a.dk_integration);
-  if (a.dk_supersample == "auto") {
-    o.supersample = 0;
-  } else {
-    char* end = nullptr;
-    const long v = std::strtol(a.dk_supersample.c_str(), &end, 10);
-    if (end == a.dk_supersample.c_str() || *end != 0 || v < 1 || v > 15 || v % 2 == 0)
-      throw InputError("--dk-supersample must be auto or an odd number 1..15, not '" +
-                       a.dk_supersample + "'");
-    o.supersample = static_cast<std::size_t>(v);
-  }
   o.resolution = a.resolution;
   if (a.resolution < 17 || a.resolution > 8193)
     throw InputError("--resolution must be in 17..8193");
-  if (!(o.wavelength_q > 0)) throw InputError("--wavelength must be > 0");
-  if (!(o.accuracy > 0 && o.accuracy < 1)) throw InputError("--accuracy must be in (0, 1)");
   auto paths = scan_inputs(a.inputs);
   // D_K takes ~25 s per scan at 1025^2: report the overall fraction on stderr in 10 % steps.
   Progress dk_progress("ndf", false, 0.1, "kirchhoff D_K");
@@ -255,28 +231,8 @@ void register_ndf(CLI::App& app) {
                   "mirror's effective NDF) instead");
   cmd->add_option("--wavelength", a->wavelength, "Kirchhoff: lambda_q (Dong eq. 5)")
       ->capture_default_str();
-  cmd->add_option(
-         "--patch", a->patch,
-         "Kirchhoff: tile size (coherence area), e.g. 70x53um; 'whole' = one tile per scan")
-      ->capture_default_str();
-  cmd->add_option("--window", a->window, "Kirchhoff: apodisation none | hann | gauss")
-      ->capture_default_str();
-  cmd->add_option("--accuracy", a->accuracy,
-                  "Kirchhoff: tail bound of the fast method (smaller = more terms)")
-      ->capture_default_str();
+  add_kirchhoff_flags(cmd, a->dk, "Kirchhoff: ");
   cmd->add_flag("--direct", a->direct, "Kirchhoff: direct sums on every node (slow reference)");
-  cmd->add_option("--dk-integration", a->dk_integration,
-                  "Kirchhoff: midpoint (one point per sample with central-difference slopes; "
-                  "default: 20-60x faster, approximate) | exact (the surface integral over each "
-                  "triangle of the piecewise-linear surface, in closed form: the reference)")
-      ->capture_default_str();
-  cmd->add_option("--dk-supersample", a->dk_supersample,
-                  "Kirchhoff: node values as averages of S x S sub-nodes (odd S), or auto (S "
-                  "from the tile size so that the table resolves the speckle; 1 = point samples)")
-      ->capture_default_str();
-  cmd->add_flag(
-      "--keep-aliases", a->keep_aliases,
-      "Kirchhoff: keep nodes beyond the scan's Nyquist band (|q_x| > pi/dx, |q_y| > pi/dy)");
   cmd->add_option("-o,--output", a->output, "Output table (.npy or .exr)")->required();
   cmd->add_option("--preview", a->preview, "Write a log-scale false-colour PNG of the NDF");
   cmd->add_flag("--zoom", a->zoom, "Add a zoom panel around the peak to the preview (narrow NDFs)");

@@ -8,6 +8,7 @@
 #include "cli_common.hpp"
 #include "cli_threads.hpp"
 #include "commands.hpp"
+#include "kirchhoff_flags.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
@@ -18,21 +19,28 @@
 namespace microbrdf::cli {
 namespace {
 
+// The library's defaults, read once (a PredictOptions temporary per default would copy its
+// std::function members for nothing).
+const PredictOptions& predict_defaults() {
+  static const PredictOptions d;
+  return d;
+}
+
 struct PredictArgs {
   std::vector<std::string> inputs, strips;
   ReadFlags read;
   SpecFlags material;
   std::string output, filter_sigma = "1um", wavelength = "555nm";
-  std::string theta_i = "20,45,70", envmap, texel = "53um", patch = "70x53um";
+  std::string theta_i = "20,45,70", envmap, texel = "53um";
   std::string measured, instrument_fwhm = "0", instrument, render_ndf = "filtered";
-  std::size_t sweep_resolution = PredictOptions{}.filter_sigma_sweep_resolution;
+  std::size_t sweep_resolution = predict_defaults().filter_sigma_sweep_resolution;
   std::size_t resolution = 1025, texture_size = 128;
   double envmap_scale = 1;
-  int render_width = PredictOptions{}.render_width, spp = PredictOptions{}.render_spp;
+  int render_width = predict_defaults().render_width, spp = predict_defaults().render_spp;
   int threads = 0;
   std::uint64_t seed = 1;
   bool kirchhoff = false, no_render = false, json = false, quiet = false;
-  std::string dk_integration = "midpoint";
+  KirchhoffFlags dk;
 };
 
 void run(const PredictArgs& a) {
@@ -58,11 +66,7 @@ void run(const PredictArgs& a) {
   o.wavelength_m = parse_length(a.wavelength);
   o.ndf_resolution = a.resolution;
   o.kirchhoff = a.kirchhoff;
-  (void)parse_kirchhoff_integration(a.dk_integration);  // a bad name fails before the run
-  o.kirchhoff_integration = a.dk_integration;
-  const LengthPair patch = parse_length_pair(a.patch);
-  o.kirchhoff_patch_x_m = patch.x;
-  o.kirchhoff_patch_y_m = patch.y;
+  o.kirchhoff_options = kirchhoff_options(a.dk, a.wavelength);  // bad values fail before the run
   o.slice_theta_i_rad.clear();
   std::stringstream ss(a.theta_i);
   for (std::string item; std::getline(ss, item, ',');)
@@ -162,13 +166,7 @@ void register_predict(CLI::App& app) {
   c->add_flag("--kirchhoff", a->kirchhoff, "Also compute the Kirchhoff D_K (wave optics)");
   c->add_option("--wavelength", a->wavelength, "lambda_q of D_K and the wavelength of the slices")
       ->capture_default_str();
-  c->add_option("--patch", a->patch, "D_K tile size (coherence area)")->capture_default_str();
-  c->add_option(
-       "--dk-integration", a->dk_integration,
-       "D_K: midpoint (one point per sample; default: 20-60x faster, about 1% off on brushed "
-       "steel, more on steep or coarse scans) | exact (over the triangles of the "
-       "piecewise-linear surface: the accurate reference)")
-      ->capture_default_str();
+  add_kirchhoff_flags(c, a->dk, "D_K (--kirchhoff, --filter-sigma auto): ");
   c->add_option("--theta-i", a->theta_i, "Angles of incidence of the BRDF slices, comma-separated")
       ->capture_default_str();
   c->add_option("--envmap", a->envmap, "Equirectangular EXR/HDR environment map for the renders");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cli_common.hpp"
+#include "kirchhoff_flags.hpp"
 #include "microbrdf/filter_sigma_auto.hpp"
 #include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/ndf_scanset.hpp"
@@ -24,13 +25,8 @@ struct NdfArgs {
   bool zoom = false;
   bool json = false;
   std::string wavelength = "555nm";  // Kirchhoff options from here on
-  std::string patch = "70x53um";
-  std::string window = "none";
-  double accuracy = KirchhoffOptions{}.accuracy;
+  KirchhoffFlags dk;
   bool direct = false;
-  bool keep_aliases = false;
-  std::string dk_integration = "midpoint";
-  std::string dk_supersample = "auto";
   std::size_t sweep_resolution = FilterSigmaAutoOptions{}.resolution;  // --filter-sigma auto
 };
 

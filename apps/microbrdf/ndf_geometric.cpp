@@ -22,20 +22,10 @@ FilterSigmaAuto auto_filter_sigma(const NdfArgs& a, const std::vector<std::strin
   FilterSigmaAutoOptions fo;
   fo.resolution = a.sweep_resolution;
   fo.min_support = a.min_support;
-  KirchhoffOptions& k = fo.kirchhoff;
-  k.wavelength_q = parse_length(a.wavelength);
-  if (!(k.wavelength_q > 0)) throw InputError("--wavelength must be > 0");
-  if (a.patch == "none" || a.patch == "whole" || a.patch == "0") {
-    k.patch_x = k.patch_y = 0;
-  } else {
-    const LengthPair lp = parse_length_pair(a.patch);
-    k.patch_x = lp.x;
-    k.patch_y = lp.y;
-  }
-  k.window = parse_kirchhoff_window(a.window);
-  k.accuracy = a.accuracy;
-  if (!(k.accuracy > 0 && k.accuracy < 1)) throw InputError("--accuracy must be in (0, 1)");
-  k.nyquist_mask = !a.keep_aliases;
+  // The sweep's D_K takes the midpoint rule whatever --dk-integration says (the sweep compares
+  // shapes; docs/guide.md).
+  fo.kirchhoff = kirchhoff_options(a.dk, a.wavelength);
+  fo.kirchhoff.integration = KirchhoffIntegration::Midpoint;
   if (!a.json)
     fo.log = [](const std::string& line) {
       std::fprintf(stderr, "microbrdf ndf: %s\n", line.c_str());

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "microbrdf/io.hpp"
+#include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/level.hpp"
 #include "microbrdf/material_spec.hpp"
 
@@ -56,10 +57,13 @@ struct PredictOptions {
   std::size_t ndf_resolution = 1025;
   bool kirchhoff = false;        ///< also compute D_K (slow: ~20 s per 2 M samples)
   double wavelength_m = 555e-9;  ///< lambda_q of D_K and the wavelength of the BRDF slices, m
-  double kirchhoff_patch_x_m = 70e-6, kirchhoff_patch_y_m = 53e-6;  ///< coherence area (App. A)
-  /// D_K: "midpoint" (default: fast, approximate) or "exact" (triangles of the piecewise-linear
-  /// surface, 20-60x slower); kirchhoff.hpp KirchhoffIntegration.
-  std::string kirchhoff_integration = "midpoint";
+  /// D_K's tiles (coherence area, Dong App. A; default 70 x 53 um), window, accuracy, Nyquist
+  /// mask, integration rule (midpoint by default: fast, approximate; exact: the triangles of
+  /// the piecewise-linear surface, 20-60x slower) and node supersampling (kirchhoff.hpp).
+  /// Its wavelength_q and resolution are ignored: D_K is taken at wavelength_m on the
+  /// ndf_resolution table. The --filter-sigma auto sweep uses these settings with the midpoint
+  /// rule at its own resolution.
+  KirchhoffOptions kirchhoff_options;
   std::vector<double> slice_theta_i_rad = {0.3490658503988659, 0.7853981633974483,
                                            1.2217304763960306};  ///< 20, 45, 70 deg
   /// Angles per slice, spread over the range where some model exceeds 1e-5 of the highest peak

@@ -134,8 +134,8 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
   o.kirchhoff = kirchhoff;
   o.wavelength_m = wavelength;
   if (auto p = length_pair(patch, "patch")) {
-    o.kirchhoff_patch_x_m = p->first;
-    o.kirchhoff_patch_y_m = p->second;
+    o.kirchhoff_options.patch_x = p->first;
+    o.kirchhoff_options.patch_y = p->second;
   }
   if (!theta_i.empty()) o.slice_theta_i_rad = theta_i;
   if (!envmap.is_none()) o.envmap_path = fspath(envmap);

@@ -138,8 +138,12 @@ nlohmann::json settings_json(const PredictOptions& o, const OpticalConstants& m)
           {"ndf_resolution", o.ndf_resolution},
           {"kirchhoff", o.kirchhoff},
           {"wavelength_m", o.wavelength_m},
-          {"kirchhoff_patch_m", {o.kirchhoff_patch_x_m, o.kirchhoff_patch_y_m}},
-          {"kirchhoff_integration", o.kirchhoff_integration},
+          {"kirchhoff_patch_m", {o.kirchhoff_options.patch_x, o.kirchhoff_options.patch_y}},
+          {"kirchhoff_integration", to_string(o.kirchhoff_options.integration)},
+          {"kirchhoff_window", to_string(o.kirchhoff_options.window)},
+          {"kirchhoff_supersample", o.kirchhoff_options.supersample == 0
+                                        ? std::string("auto")
+                                        : std::to_string(o.kirchhoff_options.supersample)},
           {"slice_theta_i_rad", ti},
           {"instrument_fwhm_rad", o.instrument_fwhm_rad},
           {"instrument", o.instrument_path.empty() ? "none" : o.instrument_path},

@@ -157,13 +157,10 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
   fo.filter_sigma_m = o.filter_sigma_m;
   NdfAccumulator naive(no), filtered(fo);
   std::unique_ptr<KirchhoffAccumulator> kirchhoff;
-  KirchhoffOptions ko;
+  KirchhoffOptions ko = o.kirchhoff_options;
   if (o.kirchhoff) {
     ko.wavelength_q = o.wavelength_m;
     ko.resolution = o.ndf_resolution;
-    ko.patch_x = o.kirchhoff_patch_x_m;
-    ko.patch_y = o.kirchhoff_patch_y_m;
-    ko.integration = parse_kirchhoff_integration(o.kirchhoff_integration);
     kirchhoff = std::make_unique<KirchhoffAccumulator>(ko);
   }
   // D_K is the slowest step (tens of seconds on a 2048 x 1024 scan): report it in 10 % steps,
@@ -299,6 +296,7 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
     ndfs.kirchhoff_raw_integral = kirchhoff->raw_integral();
     ndfs.kirchhoff_aliased_fraction = kirchhoff->aliased_fraction();
     ndfs.kirchhoff_patches = kirchhoff->patches();
+    ndfs.kirchhoff_supersample = kirchhoff->supersample();
   }
   return inputs;
 }
@@ -440,8 +438,10 @@ nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs) {
       j["raw_integral"] = ndfs.kirchhoff_raw_integral;
       j["aliased_fraction"] = ndfs.kirchhoff_aliased_fraction;
       j["patches"] = ndfs.kirchhoff_patches;
-      j["patch_m"] = {c.opt.kirchhoff_patch_x_m, c.opt.kirchhoff_patch_y_m};
-      j["integration"] = c.opt.kirchhoff_integration;
+      j["patch_m"] = {c.opt.kirchhoff_options.patch_x, c.opt.kirchhoff_options.patch_y};
+      j["integration"] = to_string(c.opt.kirchhoff_options.integration);
+      j["window"] = to_string(c.opt.kirchhoff_options.window);
+      j["supersample"] = ndfs.kirchhoff_supersample;
       const double raw = ndfs.kirchhoff_raw_integral;
       if (std::abs(raw - 1) > kRawIntegralWarn) {
         char b[96];

@@ -32,9 +32,12 @@ std::optional<FilterSigmaAuto> filter_sigma_sweep(
   if (!o.filter_sigma_auto) return std::nullopt;
   FilterSigmaAutoOptions fo;
   fo.resolution = o.filter_sigma_sweep_resolution;
+  // The sweep compares shapes with a midpoint-rule D_K whatever the report's D_K uses
+  // (docs/guide.md).
+  fo.kirchhoff = o.kirchhoff_options;
   fo.kirchhoff.wavelength_q = o.wavelength_m;
-  fo.kirchhoff.patch_x = o.kirchhoff_patch_x_m;
-  fo.kirchhoff.patch_y = o.kirchhoff_patch_y_m;
+  fo.kirchhoff.integration = KirchhoffIntegration::Midpoint;
+  fo.kirchhoff.progress = nullptr;
   fo.log = log;
   return choose_filter_sigma(paths, o.read, o.leveling, fo);
 }

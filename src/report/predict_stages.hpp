@@ -46,6 +46,7 @@ struct NdfSet {
   std::unique_ptr<TabulatedNdf> naive_zoom, filtered_zoom;
   double kirchhoff_raw_integral = 0, kirchhoff_aliased_fraction = 0;
   std::size_t kirchhoff_patches = 0;
+  std::size_t kirchhoff_supersample = 1;  ///< S of the node cell averages (1: point samples)
   /// The table of the "measured" BRDF (PredictOptions::render_ndf): naive, filtered or kirchhoff.
   std::string render = "filtered";
   const TabulatedNdf& for_render() const {

@@ -1,0 +1,68 @@
+// The D_K flags of `ndf` and `predict` (kirchhoff_flags.hpp).
+#include "kirchhoff_flags.hpp"
+
+#include <cstdlib>
+
+#include "microbrdf/error.hpp"
+#include "microbrdf/units.hpp"
+
+namespace microbrdf::cli {
+
+void add_kirchhoff_flags(CLI::App* cmd, KirchhoffFlags& f, const std::string& prefix) {
+  cmd->add_option("--patch", f.patch,
+                  prefix +
+                      "tile size (coherence area, Dong App. A), e.g. 70x53um; 'whole' = one tile "
+                      "per scan")
+      ->capture_default_str();
+  cmd->add_option("--window", f.window, prefix + "apodisation of each tile: none | hann | gauss")
+      ->capture_default_str();
+  cmd->add_option("--accuracy", f.accuracy,
+                  prefix + "tail bound of the fast method (smaller = more terms)")
+      ->capture_default_str();
+  cmd->add_flag(
+      "--keep-aliases", f.keep_aliases,
+      prefix + "keep nodes beyond the scan's Nyquist band (|q_x| > pi/dx, |q_y| > pi/dy)");
+  cmd->add_option("--dk-integration", f.integration,
+                  prefix +
+                      "midpoint (one point per sample with central-difference slopes; default: "
+                      "20-60x faster, about 1% off on brushed steel, more on steep or coarse "
+                      "scans) | exact (the surface integral over each triangle of the "
+                      "piecewise-linear surface, in closed form: the reference)")
+      ->capture_default_str();
+  cmd->add_option("--dk-supersample", f.supersample,
+                  prefix +
+                      "node values as averages of S x S sub-nodes (odd S), or auto (S from the "
+                      "tile size so that the table resolves the speckle; 1 = point samples)")
+      ->capture_default_str();
+}
+
+KirchhoffOptions kirchhoff_options(const KirchhoffFlags& f, const std::string& wavelength) {
+  KirchhoffOptions o;
+  o.wavelength_q = parse_length(wavelength);
+  if (!(o.wavelength_q > 0)) throw InputError("--wavelength must be > 0");
+  if (f.patch == "none" || f.patch == "whole" || f.patch == "0") {
+    o.patch_x = o.patch_y = 0;
+  } else {
+    const LengthPair lp = parse_length_pair(f.patch);
+    o.patch_x = lp.x;
+    o.patch_y = lp.y;
+  }
+  o.window = parse_kirchhoff_window(f.window);
+  o.accuracy = f.accuracy;
+  if (!(o.accuracy > 0 && o.accuracy < 1)) throw InputError("--accuracy must be in (0, 1)");
+  o.nyquist_mask = !f.keep_aliases;
+  o.integration = parse_kirchhoff_integration(f.integration);
+  if (f.supersample == "auto") {
+    o.supersample = 0;
+  } else {
+    char* end = nullptr;
+    const long v = std::strtol(f.supersample.c_str(), &end, 10);
+    if (end == f.supersample.c_str() || *end != 0 || v < 1 || v > 15 || v % 2 == 0)
+      throw InputError("--dk-supersample must be auto or an odd number 1..15, not '" +
+                       f.supersample + "'");
+    o.supersample = static_cast<std::size_t>(v);
+  }
+  return o;
+}
+
+}  // namespace microbrdf::cli
