@@ -290,6 +290,7 @@ MicroScene::MicroScene(MicroSceneDesc desc) : desc_(std::move(desc)) {
   }
 
   if (!std::isfinite(zmin_)) throw InputError("micro-scene: no geometry");
+  if (desc_.heightfields.size() == 1 && capsules_.empty()) build_escape_bound();
   // A little room above and below so rays start and end clear of the geometry.
   const double span = std::max({W, H, zmax_ - zmin_});
   eps_ = 1e-5 * span;  // ~40 float ulps of the coordinates
@@ -314,6 +315,107 @@ MicroScene::MicroScene(MicroSceneDesc desc) : desc_(std::move(desc)) {
     throw InputError("micro-scene: Embree could not build the scene");
 }
 
+// Per-block bounds of the one height field for clears_upward(), from the float vertices Embree
+// traces (x, y as placed in the vertex buffer, z rounded to float).
+void MicroScene::build_escape_bound() {
+  const Surface& s = desc_.heightfields[0].surface;
+  const std::size_t nx = s.nx, ny = s.ny;
+  constexpr std::size_t kCells = 8;
+  esc_nbx_ = static_cast<int>((nx + kCells - 1) / kCells);
+  esc_nby_ = static_cast<int>((ny + kCells - 1) / kCells);
+  esc_bw_ = kCells * s.dx;
+  esc_bh_ = kCells * s.dy;
+  esc_hmax_.assign(std::size_t(esc_nbx_) * esc_nby_, -std::numeric_limits<double>::infinity());
+  esc_grad_.assign(esc_hmax_.size(), 0.0);
+  const double W = desc_.width, H = desc_.height;
+  auto xf = [&](std::size_t i) { return double(float(i == nx ? W : double(i) * s.dx)); };
+  auto yf = [&](std::size_t j) { return double(float(j == ny ? H : double(j) * s.dy)); };
+  auto zf = [&](std::size_t i, std::size_t j) {
+    return double(float(s.z[(j % ny) * nx + i % nx]));
+  };
+  for (std::size_t j = 0; j < ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i) {
+      const double hx = xf(i + 1) - xf(i), hy = yf(j + 1) - yf(j);
+      const double z00 = zf(i, j), z10 = zf(i + 1, j), z01 = zf(i, j + 1), z11 = zf(i + 1, j + 1);
+      // The four triangles of the cell's two possible diagonals.
+      const double gx0 = (z10 - z00) / hx, gx1 = (z11 - z01) / hx;
+      const double gy0 = (z01 - z00) / hy, gy1 = (z11 - z10) / hy;
+      const double g = std::sqrt(std::max({gx0 * gx0 + gy1 * gy1, gx1 * gx1 + gy0 * gy0,
+                                           gx0 * gx0 + gy0 * gy0, gx1 * gx1 + gy1 * gy1}));
+      const std::size_t b = (j / kCells) * esc_nbx_ + i / kCells;
+      esc_hmax_[b] = std::max({esc_hmax_[b], z00, z10, z01, z11});
+      esc_grad_[b] = std::max(esc_grad_[b], g * (1 + 1e-6) + 1e-9);
+    }
+  esc_top_ = *std::max_element(esc_hmax_.begin(), esc_hmax_.end());
+}
+
+bool MicroScene::clears_upward(const Vec& p, const Vec& n, const Vec& d) const {
+  if (esc_hmax_.empty() || !(d.z() > 0)) return false;
+  const double margin = 0.25 * eps_;
+  const Vec o = p + eps_ * n;
+  if (o.z() >= esc_top_ + margin) return true;
+  const double W = desc_.width, H = desc_.height;
+  // Start block: the one holding p; both p and the origin must lie in it.
+  const int bi = std::min(int(p.x() / esc_bw_), esc_nbx_ - 1);
+  const int bj = std::min(int(p.y() / esc_bh_), esc_nby_ - 1);
+  if (bi < 0 || bj < 0) return false;
+  double x0 = bi * esc_bw_, x1 = bi == esc_nbx_ - 1 ? W : x0 + esc_bw_;
+  double y0 = bj * esc_bh_, y1 = bj == esc_nby_ - 1 ? H : y0 + esc_bh_;
+  if (o.x() < x0 || o.x() > x1 || o.y() < y0 || o.y() > y1) return false;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  // Ray parameter where it leaves the current block through an x or a y wall.
+  auto exit_x = [&] {
+    return d.x() > 0 ? (x1 - o.x()) / d.x() : d.x() < 0 ? (x0 - o.x()) / d.x() : inf;
+  };
+  auto exit_y = [&] {
+    return d.y() > 0 ? (y1 - o.y()) / d.y() : d.y() < 0 ? (y0 - o.y()) / d.y() : inf;
+  };
+  // In the start block the surface lies below p.z + G r (r: horizontal distance from p, G the
+  // block's largest slope; the mesh is continuous and the block convex), so the ray clears it by
+  // at least A + B t; above the block's highest vertex it clears it anyway.
+  const std::size_t b0 = std::size_t(bj) * esc_nbx_ + bi;
+  const double G = esc_grad_[b0], hmax0 = esc_hmax_[b0];
+  const double A = eps_ * (n.z() - G * std::hypot(n.x(), n.y()));
+  const double B = d.z() - G * std::hypot(d.x(), d.y());
+  double t = std::min(exit_x(), exit_y());
+  const double t_high = std::max(0.0, (hmax0 + margin - o.z()) / d.z());
+  const double t_lip = A < margin ? -1.0 : B >= 0 ? inf : (A - margin) / -B;
+  if (!(t_lip >= t || (t_lip >= 0 && t_high <= t_lip) || t_high == 0)) return false;
+  // Further blocks: the ray rises, so it clears a block when it enters above its highest vertex.
+  int ci = bi, cj = bj;
+  for (int step = 0; step < 16; ++step) {
+    const double z = o.z() + t * d.z();
+    if (z >= esc_top_ + margin) return true;
+    const double tx = exit_x(), ty = exit_y();
+    if (tx <= ty) {
+      if (d.x() > 0) {
+        ci = ci + 1 == esc_nbx_ ? 0 : ci + 1;
+        x0 = x1;
+        x1 = x0 + (ci == esc_nbx_ - 1 ? W - ci * esc_bw_ : esc_bw_);
+      } else {
+        ci = ci == 0 ? esc_nbx_ - 1 : ci - 1;
+        x1 = x0;
+        x0 = x1 - (ci == esc_nbx_ - 1 ? W - ci * esc_bw_ : esc_bw_);
+      }
+    }
+    if (ty <= tx) {
+      if (d.y() > 0) {
+        cj = cj + 1 == esc_nby_ ? 0 : cj + 1;
+        y0 = y1;
+        y1 = y0 + (cj == esc_nby_ - 1 ? H - cj * esc_bh_ : esc_bh_);
+      } else {
+        cj = cj == 0 ? esc_nby_ - 1 : cj - 1;
+        y1 = y0;
+        y0 = y1 - (cj == esc_nby_ - 1 ? H - cj * esc_bh_ : esc_bh_);
+      }
+    }
+    t = std::min(tx, ty);
+    if (o.z() + t * d.z() < esc_hmax_[std::size_t(cj) * esc_nbx_ + ci] + margin) return false;
+    t = std::min(exit_x(), exit_y());
+  }
+  return false;
+}
+
 MicroScene::~MicroScene() {
   if (scene_) rtcReleaseScene(static_cast<RTCScene>(scene_));
   if (device_) rtcReleaseDevice(static_cast<RTCDevice>(device_));
@@ -328,7 +430,7 @@ Eigen::Vector3d MicroScene::to_brdf(const Eigen::Vector3d& w) const {
 }
 
 TraceEnd MicroScene::trace(Eigen::Vector3d o, const Eigen::Vector3d& d, MicroHit& hit,
-                           std::size_t* segments) const {
+                           std::size_t* segments, std::vector<MicroRay>* log, int kind) const {
   const double W = desc_.width, H = desc_.height;
   auto* scene = static_cast<RTCScene>(scene_);
   RTCIntersectContext ctx;
@@ -354,6 +456,11 @@ TraceEnd MicroScene::trace(Eigen::Vector3d o, const Eigen::Vector3d& d, MicroHit
     RTCRayHit rh;
     // Slightly past the wall so hits exactly on it are not missed (the wrap re-tests them).
     detail::fill_rayhit(rh, o, d, 0, float(std::min(t_far * (1 + 1e-6) + eps_, 1e30)));
+    if (log)
+      log->push_back(MicroRay{{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z},
+                              {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z},
+                              rh.ray.tfar,
+                              seg == 0 ? kind : 2});
     rtcIntersect1(scene, &ctx, &rh);
     if (segments) ++*segments;
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {

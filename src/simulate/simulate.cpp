@@ -23,13 +23,14 @@ namespace {
 // variance from the incident side than independent draws); a round is traced as 4 blocks.
 constexpr std::uint64_t kRound = 1024, kGrid = 32, kBlock = 256, kBlocksPerRound = kRound / kBlock;
 
-constexpr std::size_t kCounters = 8;
+constexpr std::size_t kCounters = 9;
 
 void pack_counters(const TraceCounters& c, std::vector<double>& v) {
   // Counts below 2^53 travel exactly as doubles.
-  v.insert(v.end(), {static_cast<double>(c.incident_rays), static_cast<double>(c.exits),
-                     static_cast<double>(c.segments), static_cast<double>(c.capped), c.energy_out,
-                     c.energy_down, c.energy_capped, c.energy_lost});
+  v.insert(v.end(),
+           {static_cast<double>(c.incident_rays), static_cast<double>(c.exits),
+            static_cast<double>(c.segments), static_cast<double>(c.capped), c.energy_out,
+            c.energy_down, c.energy_capped, c.energy_lost, static_cast<double>(c.escapes_bounded)});
 }
 
 TraceCounters unpack_counters(const double* v) {
@@ -42,6 +43,7 @@ TraceCounters unpack_counters(const double* v) {
   c.energy_down = v[5];
   c.energy_capped = v[6];
   c.energy_lost = v[7];
+  c.escapes_bounded = static_cast<std::uint64_t>(v[8]);
   return c;
 }
 
@@ -98,6 +100,7 @@ nlohmann::json SimulateStats::to_json() const {
           {"incident_rays", counters.incident_rays},
           {"exit_rays", counters.exits},
           {"embree_queries", counters.segments},
+          {"exits_without_query", counters.escapes_bounded},
           {"seconds", seconds},
           {"threads", threads},
           {"exit_rays_per_second", exit_rays_per_second()},
