@@ -2,7 +2,9 @@
 // and the odd-completion basis (docs/theory.md §6.2). See include/microbrdf/sh_basis.hpp.
 #include "microbrdf/sh_basis.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -103,6 +105,71 @@ void eval_core(int lmax, const Vec3& w, double* out) {
   }
 }
 
+// Four lanes of doubles (GCC/Clang vector extension: one AVX2 register, two SSE2 ones).
+typedef double V4 __attribute__((vector_size(32)));
+
+// The inner loop is written for the vectoriser; on x86-64 GCC also builds an AVX2 version chosen
+// at run time. AVX2 without FMA: products and sums round as in the baseline build, so both give
+// the same bits.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define MICROBRDF_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define MICROBRDF_SIMD_CLONES
+#endif
+
+// acc[sh_odd_index(l, m)] += weight * Y_lm over four directions (x, y, z lanes), l + m odd.
+MICROBRDF_SIMD_CLONES
+void odd_sum4(int lmax, const double* xs, const double* ys, const double* zs, const double* ws,
+              V4* acc) {
+  const Tables& t = tables();
+  V4 wx, wy, wz, wt;
+  for (int k = 0; k < 4; ++k) {
+    wx[k] = xs[k];
+    wy[k] = ys[k];
+    wz[k] = zs[k];
+    wt[k] = ws[k];
+  }
+  const V4 rho2 = wx * wx + wy * wy;
+  V4 x, s, cphi, sphi;
+  for (int k = 0; k < 4; ++k) {  // (sqrt and the pole cases lane by lane)
+    const double rho = std::sqrt(rho2[k]), r = std::sqrt(rho2[k] + wz[k] * wz[k]);
+    x[k] = r > 0 ? wz[k] / r : 1.0;
+    s[k] = r > 0 ? rho / r : 0.0;
+    cphi[k] = rho > 0 ? wx[k] / rho : 1.0;
+    sphi[k] = rho > 0 ? wy[k] / rho : 0.0;
+  }
+  constexpr double kSqrt2 = 1.41421356237309504880;
+  const double y00 = 1 / std::sqrt(4 * kPi);
+  V4 pmm = {y00, y00, y00, y00};
+  V4 cm = {1, 1, 1, 1}, sm = {0, 0, 0, 0};
+  for (int m = 0; m <= lmax; ++m) {
+    if (m > 0) {
+      pmm = pmm * (t.diag[m] * s);
+      const V4 c = cm * cphi - sm * sphi;
+      sm = sm * cphi + cm * sphi;
+      cm = c;
+    }
+    const V4 fc = m == 0 ? wt : wt * (kSqrt2 * cm), fs = wt * (kSqrt2 * sm);
+    // l = m (odd only when m is odd: l + m = 2m is even), then l = m + 1, ...
+    if (m + 1 > lmax) break;
+    V4 p0 = pmm, p1 = t.sub[m] * x * pmm;
+    // l = m + 1: l + m odd.
+    acc[sh_odd_index(m + 1, m)] += p1 * fc;
+    if (m > 0) acc[sh_odd_index(m + 1, -m)] += p1 * fs;
+    for (int l = m + 2; l <= lmax; ++l) {
+      const int i = l * (l + 1) / 2 + m;
+      const V4 p = t.a[i] * (x * p1 - t.b[i] * p0);
+      if ((l + m) & 1) {
+        acc[sh_odd_index(l, m)] += p * fc;
+        if (m > 0) acc[sh_odd_index(l, -m)] += p * fs;
+      }
+      p0 = p1;
+      p1 = p;
+    }
+  }
+}
+
 }  // namespace
 
 void sh_eval(int lmax, const Vec3& w, double* out) {
@@ -133,5 +200,36 @@ ShOddBasis::ShOddBasis(int lmax) : lmax_(lmax) {
 }
 
 void ShOddBasis::eval(const Vec3& w, double* out) const { eval_core<true>(lmax_, w, out); }
+
+void ShOddBasis::eval_sum(std::size_t n, const Vec3* w, const double* weight, double* out) const {
+  const int J = size();
+  // Accumulators per thread, 32-byte aligned (alignof(V4) is 16 where AVX is off, 32 in the AVX2
+  // clone).
+  struct Buffer {
+    V4* p = nullptr;
+    std::size_t n = 0;
+    ~Buffer() { ::operator delete(p, std::align_val_t(32)); }
+  };
+  thread_local Buffer buf;
+  if (buf.n < static_cast<std::size_t>(J)) {
+    ::operator delete(buf.p, std::align_val_t(32));
+    buf.p = nullptr;
+    buf.p = static_cast<V4*>(::operator new(J * sizeof(V4), std::align_val_t(32)));
+    buf.n = static_cast<std::size_t>(J);
+  }
+  V4* acc = buf.p;
+  for (int j = 0; j < J; ++j) acc[j] = V4{0, 0, 0, 0};
+  for (std::size_t k0 = 0; k0 < n; k0 += 4) {
+    double xs[4] = {0, 0, 0, 0}, ys[4] = {0, 0, 0, 0}, zs[4] = {1, 1, 1, 1}, ws[4] = {0, 0, 0, 0};
+    for (std::size_t k = k0; k < std::min(n, k0 + 4); ++k) {
+      xs[k - k0] = w[k].x();
+      ys[k - k0] = w[k].y();
+      zs[k - k0] = w[k].z();
+      ws[k - k0] = weight[k];
+    }
+    odd_sum4(lmax_, xs, ys, zs, ws, acc);
+  }
+  for (int j = 0; j < J; ++j) out[j] = (acc[j][0] + acc[j][1]) + (acc[j][2] + acc[j][3]);
+}
 
 }  // namespace microbrdf

@@ -57,7 +57,8 @@ WorkResult trace_block(const MicroScene& scene, const SimulateOptions& o, std::u
   const ShOddBasis& basis = est.basis();
   const int J = basis.size();
   const double pdf_u = 1 / (2 * M_PI);
-  std::vector<double> y(J), sum(J);
+  std::vector<double> sum(J), weights;
+  std::vector<Vec3> exits;
   for (std::uint64_t idx = first; idx < first + count; ++idx) {
     SimRng rng(o.seed, idx);
     double u1 = rng.uniform(), u2 = rng.uniform();
@@ -68,18 +69,21 @@ WorkResult trace_block(const MicroScene& scene, const SimulateOptions& o, std::u
       u2 = (double(k / kGrid) + u2) / double(kGrid);
     }
     const Eigen::Vector3d u = uniform_hemisphere(u1, u2);
-    std::fill(sum.begin(), sum.end(), 0.0);
     double energy = 0;
-    // Amortised update (W92 eq. 25): R Y(V) summed over all exits of this direction, one outer
-    // product per direction inside the estimator.
+    // Amortised update (W92 eq. 25): R Y(V) summed over all exits of this direction (the exits
+    // gathered and projected four at a time), one outer product per direction inside the
+    // estimator.
+    exits.clear();
+    weights.clear();
     tracer.trace(
         u, o.points, rng,
         [&](const Eigen::Vector3d& v, double r) {
-          basis.eval(v, y.data());
-          for (int j = 0; j < J; ++j) sum[j] += r * y[j];
+          exits.push_back(v);
+          weights.push_back(r);
           energy += r;
         },
         cnt);
+    basis.eval_sum(exits.size(), exits.data(), weights.data(), sum.data());
     est.add_incident(u, pdf_u, sum.data(), static_cast<std::size_t>(o.points), energy);
   }
   WorkResult r;
