@@ -88,11 +88,11 @@ class ShEstimator {
   void flush() const;  // folds the pending batch into sum_ (one matrix product)
   ShOddBasis basis_;
   // sum over incident directions of w(U) Y(U) exit_sum^T / rays; the last < kPending outer
-  // products wait in pend_u_/pend_v_ so that they are added as one GEMM (2.5x faster than
-  // rank-1 updates at lmax 30).
+  // products wait in pend_u_/pend_v_ so that they are added as one rank-kPending update (a
+  // register-tiled product on the calling thread, AVX2 where the CPU has it).
   mutable Eigen::MatrixXd sum_, pend_u_, pend_v_;
   mutable int n_pend_ = 0;
-  static constexpr int kPending = 32;
+  static constexpr int kPending = 64;
   std::size_t n_incident_ = 0, n_rays_ = 0;
   double energy_sum_ = 0;
 };

@@ -375,8 +375,8 @@ bool MicroScene::clears_upward(const Vec& p, const Vec& n, const Vec& d) const {
   // at least A + B t; above the block's highest vertex it clears it anyway.
   const std::size_t b0 = std::size_t(bj) * esc_nbx_ + bi;
   const double G = esc_grad_[b0], hmax0 = esc_hmax_[b0];
-  const double A = eps_ * (n.z() - G * std::hypot(n.x(), n.y()));
-  const double B = d.z() - G * std::hypot(d.x(), d.y());
+  const double A = eps_ * (n.z() - G * std::sqrt(n.x() * n.x() + n.y() * n.y()));
+  const double B = d.z() - G * std::sqrt(d.x() * d.x() + d.y() * d.y());
   double t = std::min(exit_x(), exit_y());
   const double t_high = std::max(0.0, (hmax0 + margin - o.z()) / d.z());
   const double t_lip = A < margin ? -1.0 : B >= 0 ? inf : (A - margin) / -B;
