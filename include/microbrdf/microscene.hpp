@@ -231,9 +231,10 @@ class MicroScene {
   std::size_t triangles_ = 0;
   unsigned user_geom_ = ~0u;
   int hf_geom_ = -1;
-  // clears_upward(): blocks of esc_cells_ x esc_cells_ cells (the last ones in a row or column
-  // may be narrower), per block the highest vertex and the largest slope |grad h| of any
-  // triangle over it (both diagonals of every cell); esc_top_ the highest vertex of all.
+  // clears_upward(): blocks of 8 x 8 cells (the last ones in a row or column may be narrower),
+  // per block the highest vertex and the ranges of the gradient components (min, max of
+  // dh/dx, then of dh/dy) of the triangles over it (both diagonals of every cell); esc_top_ the
+  // highest vertex of all.
   int esc_nbx_ = 0, esc_nby_ = 0;
   double esc_bw_ = 0, esc_bh_ = 0, esc_top_ = 0;
   std::vector<double> esc_hmax_, esc_grad_;
