@@ -106,7 +106,10 @@ void eval_core(int lmax, const Vec3& w, double* out) {
 }
 
 // Four lanes of doubles (GCC/Clang vector extension: one AVX2 register, two SSE2 ones).
-typedef double V4 __attribute__((vector_size(32)));
+typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
+// Directions per call: two groups of four, so two independent recurrences are in flight (the l
+// recurrence is a chain of dependent products; one alone leaves the units idle).
+constexpr int kGroups = 2, kLanes = 4 * kGroups;
 
 // The inner loop is written for the vectoriser; on x86-64 GCC also builds an AVX2 version chosen
 // at run time. AVX2 without FMA: products and sums round as in the baseline build, so both give
@@ -118,54 +121,68 @@ typedef double V4 __attribute__((vector_size(32)));
 #define MICROBRDF_SIMD_CLONES
 #endif
 
-// acc[sh_odd_index(l, m)] += weight * Y_lm over four directions (x, y, z lanes), l + m odd.
+// acc[kGroups * sh_odd_index(l, m) + g] += weight * Y_lm over kLanes directions (x, y, z, weight
+// lanes; group g holds lanes 4g..4g+3), l + m odd.
 MICROBRDF_SIMD_CLONES
-void odd_sum4(int lmax, const double* xs, const double* ys, const double* zs, const double* ws,
+void odd_sum8(int lmax, const double* xs, const double* ys, const double* zs, const double* ws,
               V4* acc) {
   const Tables& t = tables();
-  V4 wx, wy, wz, wt;
-  for (int k = 0; k < 4; ++k) {
-    wx[k] = xs[k];
-    wy[k] = ys[k];
-    wz[k] = zs[k];
-    wt[k] = ws[k];
-  }
-  const V4 rho2 = wx * wx + wy * wy;
-  V4 x, s, cphi, sphi;
-  for (int k = 0; k < 4; ++k) {  // (sqrt and the pole cases lane by lane)
-    const double rho = std::sqrt(rho2[k]), r = std::sqrt(rho2[k] + wz[k] * wz[k]);
-    x[k] = r > 0 ? wz[k] / r : 1.0;
-    s[k] = r > 0 ? rho / r : 0.0;
-    cphi[k] = rho > 0 ? wx[k] / rho : 1.0;
-    sphi[k] = rho > 0 ? wy[k] / rho : 0.0;
+  V4 x[kGroups], s[kGroups], cphi[kGroups], sphi[kGroups], wt[kGroups];
+  for (int k = 0; k < kLanes; ++k) {  // (sqrt and the pole cases lane by lane)
+    const int g = k / 4, e = k % 4;
+    const double rho = std::sqrt(xs[k] * xs[k] + ys[k] * ys[k]);
+    const double r = std::sqrt(rho * rho + zs[k] * zs[k]);
+    x[g][e] = r > 0 ? zs[k] / r : 1.0;
+    s[g][e] = r > 0 ? rho / r : 0.0;
+    cphi[g][e] = rho > 0 ? xs[k] / rho : 1.0;
+    sphi[g][e] = rho > 0 ? ys[k] / rho : 0.0;
+    wt[g][e] = ws[k];
   }
   constexpr double kSqrt2 = 1.41421356237309504880;
   const double y00 = 1 / std::sqrt(4 * kPi);
-  V4 pmm = {y00, y00, y00, y00};
-  V4 cm = {1, 1, 1, 1}, sm = {0, 0, 0, 0};
+  V4 pmm[kGroups], cm[kGroups], sm[kGroups];
+  for (int g = 0; g < kGroups; ++g) {
+    pmm[g] = V4{y00, y00, y00, y00};
+    cm[g] = V4{1, 1, 1, 1};
+    sm[g] = V4{0, 0, 0, 0};
+  }
   for (int m = 0; m <= lmax; ++m) {
-    if (m > 0) {
-      pmm = pmm * (t.diag[m] * s);
-      const V4 c = cm * cphi - sm * sphi;
-      sm = sm * cphi + cm * sphi;
-      cm = c;
+    V4 fc[kGroups], fs[kGroups], p0[kGroups], p1[kGroups];
+    for (int g = 0; g < kGroups; ++g) {
+      if (m > 0) {
+        pmm[g] = pmm[g] * (t.diag[m] * s[g]);
+        const V4 c = cm[g] * cphi[g] - sm[g] * sphi[g];
+        sm[g] = sm[g] * cphi[g] + cm[g] * sphi[g];
+        cm[g] = c;
+      }
+      fc[g] = m == 0 ? wt[g] : wt[g] * (kSqrt2 * cm[g]);
+      fs[g] = wt[g] * (kSqrt2 * sm[g]);
     }
-    const V4 fc = m == 0 ? wt : wt * (kSqrt2 * cm), fs = wt * (kSqrt2 * sm);
-    // l = m (odd only when m is odd: l + m = 2m is even), then l = m + 1, ...
+    // l = m has l + m even (dropped); l = m + 1 is kept.
     if (m + 1 > lmax) break;
-    V4 p0 = pmm, p1 = t.sub[m] * x * pmm;
-    // l = m + 1: l + m odd.
-    acc[sh_odd_index(m + 1, m)] += p1 * fc;
-    if (m > 0) acc[sh_odd_index(m + 1, -m)] += p1 * fs;
+    V4* a = acc + kGroups * sh_odd_index(m + 1, m);
+    V4* b = acc + kGroups * sh_odd_index(m + 1, -m);
+    for (int g = 0; g < kGroups; ++g) {
+      p0[g] = pmm[g];
+      p1[g] = t.sub[m] * x[g] * pmm[g];
+      a[g] += p1[g] * fc[g];
+      if (m > 0) b[g] += p1[g] * fs[g];
+    }
     for (int l = m + 2; l <= lmax; ++l) {
       const int i = l * (l + 1) / 2 + m;
-      const V4 p = t.a[i] * (x * p1 - t.b[i] * p0);
-      if ((l + m) & 1) {
-        acc[sh_odd_index(l, m)] += p * fc;
-        if (m > 0) acc[sh_odd_index(l, -m)] += p * fs;
+      const double ai = t.a[i], bi = t.b[i];
+      const bool keep = (l + m) & 1;
+      V4* al = acc + kGroups * sh_odd_index(l, m);
+      V4* bl = acc + kGroups * sh_odd_index(l, -m);
+      for (int g = 0; g < kGroups; ++g) {
+        const V4 p = ai * (x[g] * p1[g] - bi * p0[g]);
+        if (keep) {
+          al[g] += p * fc[g];
+          if (m > 0) bl[g] += p * fs[g];
+        }
+        p0[g] = p1[g];
+        p1[g] = p;
       }
-      p0 = p1;
-      p1 = p;
     }
   }
 }
@@ -203,33 +220,37 @@ void ShOddBasis::eval(const Vec3& w, double* out) const { eval_core<true>(lmax_,
 
 void ShOddBasis::eval_sum(std::size_t n, const Vec3* w, const double* weight, double* out) const {
   const int J = size();
-  // Accumulators per thread, 32-byte aligned (alignof(V4) is 16 where AVX is off, 32 in the AVX2
-  // clone).
+  // Accumulators per thread, kGroups per function, 32-byte aligned (alignof(V4) is only 16
+  // where AVX is off; the AVX2 clone expects 32).
   struct Buffer {
     V4* p = nullptr;
     std::size_t n = 0;
     ~Buffer() { ::operator delete(p, std::align_val_t(32)); }
   };
   thread_local Buffer buf;
-  if (buf.n < static_cast<std::size_t>(J)) {
+  const std::size_t need = static_cast<std::size_t>(kGroups) * J;
+  if (buf.n < need) {
     ::operator delete(buf.p, std::align_val_t(32));
     buf.p = nullptr;
-    buf.p = static_cast<V4*>(::operator new(J * sizeof(V4), std::align_val_t(32)));
-    buf.n = static_cast<std::size_t>(J);
+    buf.p = static_cast<V4*>(::operator new(need * sizeof(V4), std::align_val_t(32)));
+    buf.n = need;
   }
   V4* acc = buf.p;
-  for (int j = 0; j < J; ++j) acc[j] = V4{0, 0, 0, 0};
-  for (std::size_t k0 = 0; k0 < n; k0 += 4) {
-    double xs[4] = {0, 0, 0, 0}, ys[4] = {0, 0, 0, 0}, zs[4] = {1, 1, 1, 1}, ws[4] = {0, 0, 0, 0};
-    for (std::size_t k = k0; k < std::min(n, k0 + 4); ++k) {
+  for (std::size_t j = 0; j < need; ++j) acc[j] = V4{0, 0, 0, 0};
+  for (std::size_t k0 = 0; k0 < n; k0 += kLanes) {
+    double xs[kLanes] = {}, ys[kLanes] = {}, zs[kLanes] = {}, ws[kLanes] = {};
+    for (std::size_t k = k0; k < std::min(n, k0 + kLanes); ++k) {
       xs[k - k0] = w[k].x();
       ys[k - k0] = w[k].y();
       zs[k - k0] = w[k].z();
       ws[k - k0] = weight[k];
     }
-    odd_sum4(lmax_, xs, ys, zs, ws, acc);
+    odd_sum8(lmax_, xs, ys, zs, ws, acc);
   }
-  for (int j = 0; j < J; ++j) out[j] = (acc[j][0] + acc[j][1]) + (acc[j][2] + acc[j][3]);
+  for (int j = 0; j < J; ++j) {
+    const V4 a = acc[kGroups * j], b = acc[kGroups * j + 1];
+    out[j] = ((a[0] + a[1]) + (a[2] + a[3])) + ((b[0] + b[1]) + (b[2] + b[3]));
+  }
 }
 
 }  // namespace microbrdf
