@@ -371,12 +371,9 @@ bool MicroScene::clears_upward(const Vec& p, const Vec& n, const Vec& d) const {
   if (o.x() < x0 || o.x() > x1 || o.y() < y0 || o.y() > y1) return false;
   constexpr double inf = std::numeric_limits<double>::infinity();
   // Ray parameter where it leaves the current block through an x or a y wall.
-  auto exit_x = [&] {
-    return d.x() > 0 ? (x1 - o.x()) / d.x() : d.x() < 0 ? (x0 - o.x()) / d.x() : inf;
-  };
-  auto exit_y = [&] {
-    return d.y() > 0 ? (y1 - o.y()) / d.y() : d.y() < 0 ? (y0 - o.y()) / d.y() : inf;
-  };
+  const double ix = d.x() != 0 ? 1 / d.x() : 0, iy = d.y() != 0 ? 1 / d.y() : 0;
+  auto exit_x = [&] { return d.x() > 0 ? (x1 - o.x()) * ix : d.x() < 0 ? (x0 - o.x()) * ix : inf; };
+  auto exit_y = [&] { return d.y() > 0 ? (y1 - o.y()) * iy : d.y() < 0 ? (y0 - o.y()) * iy : inf; };
   // Over a block the mesh is continuous and the block convex, so along a horizontal path of
   // length r in direction e the height rises by at most S(e) r, S(e) the largest slope along e of
   // any triangle over the block (from the ranges of the gradients' components, with a relative
@@ -395,7 +392,7 @@ bool MicroScene::clears_upward(const Vec& p, const Vec& n, const Vec& d) const {
   for (int step = 0; step < 32; ++step) {
     const std::size_t b = std::size_t(cj) * esc_nbx_ + ci;
     const double hmax = esc_hmax_[b], S = rise(b, d.x(), d.y());
-    const double t_out = std::min(exit_x(), exit_y());
+    const double tx = exit_x(), ty = exit_y(), t_out = std::min(tx, ty);
     if (o.z() + t_in * d.z() < hmax + margin) {
       // Clearance over the Lipschitz bound, linear in t: checked at t_in and where the ray
       // passes hmax (or leaves the block first).
@@ -407,7 +404,6 @@ bool MicroScene::clears_upward(const Vec& p, const Vec& n, const Vec& d) const {
     H = std::min(H + S * (t_out - t_in), hmax);
     t_in = t_out;
     // Into the next block (across the tile edge: the periodic copy).
-    const double tx = exit_x(), ty = exit_y();
     if (tx <= ty) {
       if (d.x() > 0) {
         ci = ci + 1 == esc_nbx_ ? 0 : ci + 1;
