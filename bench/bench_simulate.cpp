@@ -242,7 +242,7 @@ void BM_SimulateEstimator(benchmark::State& state) {
   state.counters["exits_per_cpu_s"] = double(total.counters.exits) / cpu;
   state.SetLabel("lmax " + std::to_string(o.lmax) + ", 16 points per direction, process CPU");
 }
-BENCHMARK(BM_SimulateEstimator)->Arg(15)->Arg(8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SimulateEstimator)->Arg(15)->Arg(8)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // One run, interleaved, 1 and 2 threads, each timed `reps` times on the same 8192 directions of
 // seed 1 (lmax 15, 16 points): the replay of all rays of those paths (the yardstick), the tracer
@@ -250,19 +250,23 @@ BENCHMARK(BM_SimulateEstimator)->Arg(15)->Arg(8)->Unit(benchmark::kMillisecond);
 // threads: what the work costs, independent of how much of the machine the process got).
 //   ratio_cpu = estimator exits per CPU s / exits per CPU s of the bare replay of the same paths
 //             = (bare Embree CPU for the rays of the paths) / (estimator CPU for the paths)
+// pooled over the repetitions; ratio_cpu_min / _max: the spread of the ratio of each
+// repetition's back-to-back pair (the machine's load moves the rates by 10-20 % within a run).
 void BM_SimulateSummary(benchmark::State& state) {
   const double load0 = microbrdf::bench::load_average();
   const MicroScene& sc = scene(false);
   const Recording& rec = recorded(sc);
   const std::int64_t batch = 1 << 17;
-  const int reps = 3;
+  const int reps = 5;
   struct Rate {
     double cpu = 0, best_wall = 1e30, work = 0, rays = 0;
+    std::vector<double> per_rep;  // work per CPU second of each repetition
     void add(double c, double w, double done, double r = 0) {
       cpu += c;
       best_wall = std::min(best_wall, w);
       work += done;
       rays += r;
+      per_rep.push_back(done / c);
     }
   };
   Rate replayed[2], random[2], est[2], tracer[2];
@@ -277,12 +281,12 @@ void BM_SimulateSummary(benchmark::State& state) {
         replayed[nt - 1].add(process_cpu() - c0, wall() - w0, double(rec.counters.exits), n);
         c0 = process_cpu();
         w0 = wall();
-        benchmark::DoNotOptimize(bare_rays(sc, batch, ++round));
-        random[nt - 1].add(process_cpu() - c0, wall() - w0, double(batch), double(batch));
-        c0 = process_cpu();
-        w0 = wall();
         const TraceCounters tc = trace_only(sc, 8192, 1);
         tracer[nt - 1].add(process_cpu() - c0, wall() - w0, double(tc.exits));
+        c0 = process_cpu();
+        w0 = wall();
+        benchmark::DoNotOptimize(bare_rays(sc, batch, ++round));
+        random[nt - 1].add(process_cpu() - c0, wall() - w0, double(batch), double(batch));
         omp_set_num_threads(before);
         SimulateOptions o;
         o.lmax = 15;
@@ -306,6 +310,14 @@ void BM_SimulateSummary(benchmark::State& state) {
     state.counters["bare_exits_per_cpu_s" + t] = bare_exits;
     state.counters["exits_per_cpu_s" + t] = exits;
     state.counters["ratio_cpu" + t] = exits / bare_exits;
+    double lo = 1e30, hi = 0;
+    for (std::size_t r = 0; r < est[i].per_rep.size(); ++r) {
+      const double q = est[i].per_rep[r] / replayed[i].per_rep[r];
+      lo = std::min(lo, q);
+      hi = std::max(hi, q);
+    }
+    state.counters["ratio_cpu_min" + t] = lo;
+    state.counters["ratio_cpu_max" + t] = hi;
     state.counters["ratio_wall" + t] = replayed[i].best_wall / est[i].best_wall;
     // The tracer alone (no spherical harmonics): the ceiling of ratio_cpu.
     state.counters["tracer_ratio_cpu" + t] = (tracer[i].work / tracer[i].cpu) / bare_exits;
@@ -314,6 +326,7 @@ void BM_SimulateSummary(benchmark::State& state) {
     state.counters["exits_per_random_ray" + t] = exits / (random[i].rays / random[i].cpu);
   }
   state.counters["rays_per_exit"] = double(rec.rays.size()) / double(rec.counters.exits);
+  state.counters["queries_per_exit"] = double(rec.counters.segments) / double(rec.counters.exits);
   state.counters["exits_without_query"] =
       double(rec.counters.escapes_bounded) / double(rec.counters.exits);
   // CPU for the same estimator run with one thread over two (the goal: never above 1).
