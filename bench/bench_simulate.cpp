@@ -252,6 +252,7 @@ BENCHMARK(BM_SimulateEstimator)->Arg(15)->Arg(8)->Arg(1)->Unit(benchmark::kMilli
 //             = (bare Embree CPU for the rays of the paths) / (estimator CPU for the paths)
 // pooled over the repetitions; ratio_cpu_min / _max: the spread of the ratio of each
 // repetition's back-to-back pair (the machine's load moves the rates by 10-20 % within a run).
+// ratio_cpu_queried: the same against a replay of only the queries the tracer still sends.
 void BM_SimulateSummary(benchmark::State& state) {
   const double load0 = microbrdf::bench::load_average();
   const MicroScene& sc = scene(false);
@@ -269,7 +270,7 @@ void BM_SimulateSummary(benchmark::State& state) {
       per_rep.push_back(done / c);
     }
   };
-  Rate replayed[2], random[2], est[2], tracer[2];
+  Rate replayed[2], queried[2], random[2], est[2], tracer[2];
   std::uint64_t round = 0;
   for (auto _ : state) {
     for (int rep = 0; rep < reps; ++rep)
@@ -279,6 +280,10 @@ void BM_SimulateSummary(benchmark::State& state) {
         double c0 = process_cpu(), w0 = wall();
         const double n = double(replay(sc, rec.rays, 15));
         replayed[nt - 1].add(process_cpu() - c0, wall() - w0, double(rec.counters.exits), n);
+        c0 = process_cpu();
+        w0 = wall();
+        const double q = double(replay(sc, rec.rays, 7));
+        queried[nt - 1].add(process_cpu() - c0, wall() - w0, double(rec.counters.exits), q);
         c0 = process_cpu();
         w0 = wall();
         const TraceCounters tc = trace_only(sc, 8192, 1);
@@ -321,6 +326,9 @@ void BM_SimulateSummary(benchmark::State& state) {
     state.counters["ratio_wall" + t] = replayed[i].best_wall / est[i].best_wall;
     // The tracer alone (no spherical harmonics): the ceiling of ratio_cpu.
     state.counters["tracer_ratio_cpu" + t] = (tracer[i].work / tracer[i].cpu) / bare_exits;
+    // Against the replay of only the queries the tracer still makes (the escape rays it decides
+    // without Embree left out): the estimator's time over its own Embree time, all overheads.
+    state.counters["ratio_cpu_queried" + t] = exits / (queried[i].work / queried[i].cpu);
     // Exits per bare ray of the replay, and per random ray of the older loop.
     state.counters["exits_per_bare_ray" + t] = exits / bare_rays;
     state.counters["exits_per_random_ray" + t] = exits / (random[i].rays / random[i].cpu);
