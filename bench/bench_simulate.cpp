@@ -1,15 +1,18 @@
 // Westin 1992 simulation throughput on the W92 Fig. 6 surface at W92's polygon count (512^2
 // samples, 524 288 triangles, Gaussian sigma = 10 um, tau = 65 um, mirror facets):
-//  - BareEmbree: rtcIntersect1 of random rays (uniform points of the tile, uniform downward
-//    directions) against the same Embree scene, nothing else -- the reference;
+//  - Replay: the yardstick. Every ray of the simulation's own paths (incident rays, bounces,
+//    tile continuations and the escape rays, including those the tracer decides without Embree),
+//    recorded once with their clipped tfar and replayed with bare rtcIntersect1 in the order the
+//    tracer made them, nothing else;
+//  - BareEmbree: the older yardstick, rtcIntersect1 of random rays (uniform points of the tile,
+//    uniform downward directions, tfar = infinity) against the same scene;
 //  - Tracer: the micro-scene tracer alone (tile wrap, scattering, bookkeeping), exits dropped;
-//  - Simulate: the full estimator at l_max = 15 (exits projected on the SH basis, one outer
-//    product per incident direction).
-// Counters: Embree queries and exit rays per second of CPU time of the calling thread: run with
-// OMP_NUM_THREADS=1 for per-core rates that a loaded machine does not distort (docs/benchmarks.md).
-// The estimator runs its blocks on worker threads, so its rates (and BM_SimulateSummary's) are per
-// second of CPU time of the whole process (getrusage, all threads); BM_SimulateSummary measures the
-// bare loop and the estimator at 1 and 2 threads in one go and reports the ratios and the load.
+//  - Estimator: the full estimator (exits projected on the SH basis, one outer product per
+//    incident direction).
+// BM_SimulateSummary is the acceptance figure: in one run, interleaved, with 1 and 2 threads, the
+// replay of the rays of exactly the estimator's paths, the tracer on the same paths and the
+// estimator itself (lmax 15, 16 points), rates per second of CPU time of the whole process
+// (getrusage, all threads), the load average before and after.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 #include <omp.h>
@@ -18,6 +21,7 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <vector>
 
 #include "bench_load.hpp"
 #include "core/embree_ray.hpp"
@@ -48,6 +52,103 @@ const MicroScene& scene(bool grid) {
   }
   return *s[grid];
 }
+
+constexpr int kPoints = 16;
+
+// Incident direction `idx` of simulate() with `seed` (default options: stratified rounds of
+// 1024 on a 32 x 32 grid); `rng` is left where simulate() hands it to the tracer.
+Eigen::Vector3d direction(std::uint64_t seed, std::uint64_t idx, SimRng& rng) {
+  rng = SimRng(seed, idx);
+  double u1 = rng.uniform(), u2 = rng.uniform();
+  const std::uint64_t k = idx % 1024;
+  u1 = (double(k % 32) + u1) / 32.0;
+  u2 = (double(k / 32) + u2) / 32.0;
+  return uniform_hemisphere(u1, u2);
+}
+
+// The rays of the estimator's paths for `dirs` directions (a multiple of 1024) and `seed`, in
+// the order the tracer makes them, each Embree query with its clipped tfar and the escape rays
+// the tracer decides without a query as the queries they replace; `c` gets the counters.
+std::vector<MicroRay> record_rays(const MicroScene& sc, std::int64_t dirs, std::uint64_t seed,
+                                  TraceCounters& c) {
+  std::vector<MicroRay> log;
+  MicroTracer t(sc, TraceOptions{});
+  t.log_rays(&log);
+  for (std::int64_t k = 0; k < dirs; ++k) {
+    SimRng rng(0);
+    const Eigen::Vector3d u = direction(seed, std::uint64_t(k), rng);
+    t.trace(
+        u, kPoints, rng, [](const Eigen::Vector3d&, double) {}, c);
+  }
+  return log;
+}
+
+// rtcIntersect1 of the recorded rays whose kind is in the bit mask `kinds`, in order, nothing
+// else; returns the number traced.
+std::uint64_t replay(const MicroScene& sc, const std::vector<MicroRay>& rays, unsigned kinds) {
+  auto* rs = static_cast<RTCScene>(sc.embree_scene());
+  std::uint64_t n = 0;
+  const auto size = static_cast<std::int64_t>(rays.size());
+#pragma omp parallel for schedule(static, 4096) reduction(+ : n)
+  for (std::int64_t i = 0; i < size; ++i) {
+    const MicroRay& r = rays[i];
+    if (!((kinds >> r.kind) & 1u)) continue;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray.org_x = r.o[0];
+    rh.ray.org_y = r.o[1];
+    rh.ray.org_z = r.o[2];
+    rh.ray.dir_x = r.d[0];
+    rh.ray.dir_y = r.d[1];
+    rh.ray.dir_z = r.d[2];
+    rh.ray.tnear = 0;
+    rh.ray.tfar = r.tfar;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.flags = 0;
+    rh.ray.time = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(rs, &ctx, &rh);
+    benchmark::DoNotOptimize(rh.hit.geomID);
+    ++n;
+  }
+  return n;
+}
+
+struct Recording {
+  std::vector<MicroRay> rays;
+  TraceCounters counters;
+};
+
+// The rays of 8192 directions (seed 1), recorded once.
+const Recording& recorded(const MicroScene& sc) {
+  static Recording r;
+  if (r.rays.empty()) r.rays = record_rays(sc, 8192, 1, r.counters);
+  return r;
+}
+
+void BM_SimulateReplay(benchmark::State& state) {
+  const MicroScene& sc = scene(false);
+  const auto kinds = static_cast<unsigned>(state.range(0));
+  const Recording& rec = recorded(sc);
+  std::uint64_t n = 0;
+  for (auto _ : state) n = replay(sc, rec.rays, kinds);
+  state.counters["queries/s"] =
+      benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
+  if (kinds == 15) {
+    state.counters["rays_per_exit"] = double(n) / double(rec.counters.exits);
+    state.counters["exits/s"] = benchmark::Counter(double(rec.counters.exits),
+                                                   benchmark::Counter::kIsIterationInvariantRate);
+  }
+  state.SetLabel(kinds == 15  ? "all rays of the paths"
+                 : kinds == 1 ? "first query of each incident ray"
+                 : kinds == 6 ? "after a bounce, tile continuations"
+                              : "escape rays decided without Embree");
+}
+// Kinds: 1 = incident rays' first queries, 6 = bounce rays and tile continuations, 8 = escape
+// rays the tracer decides without a query, 15 = all (in their order: the yardstick).
+BENCHMARK(BM_SimulateReplay)->Arg(15)->Arg(1)->Arg(6)->Arg(8)->Unit(benchmark::kMillisecond);
 
 // `batch` bare rtcIntersect1 queries of random rays (round = seed); returns the hits.
 std::uint64_t bare_rays(const MicroScene& sc, std::int64_t batch, std::uint64_t round) {
@@ -85,9 +186,8 @@ void BM_SimulateBareEmbree(benchmark::State& state) {
 }
 BENCHMARK(BM_SimulateBareEmbree)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
-// The tracer alone (exits dropped): `dirs` incident directions of 16 points, seed `round`.
-TraceCounters trace_only(const MicroScene& sc, std::int64_t dirs, std::uint64_t round) {
-  const int points = 16;
+// The tracer alone (exits dropped) on the estimator's paths: `dirs` directions of `seed`.
+TraceCounters trace_only(const MicroScene& sc, std::int64_t dirs, std::uint64_t seed) {
   std::vector<TraceCounters> cnt(omp_get_max_threads());
 #pragma omp parallel
   {
@@ -95,10 +195,10 @@ TraceCounters trace_only(const MicroScene& sc, std::int64_t dirs, std::uint64_t 
     auto& c = cnt[omp_get_thread_num()];
 #pragma omp for schedule(static, 16)
     for (std::int64_t k = 0; k < dirs; ++k) {
-      SimRng rng(round, static_cast<std::uint64_t>(k));
-      const Eigen::Vector3d u = uniform_hemisphere(rng.uniform(), rng.uniform());
+      SimRng rng(0);
+      const Eigen::Vector3d u = direction(seed, std::uint64_t(k), rng);
       t.trace(
-          u, points, rng, [](const Eigen::Vector3d&, double) {}, c);
+          u, kPoints, rng, [](const Eigen::Vector3d&, double) {}, c);
     }
   }
   TraceCounters total;
@@ -110,12 +210,13 @@ void BM_SimulateTracer(benchmark::State& state) {
   const MicroScene& sc = scene(state.range(0) != 0);
   TraceCounters total;
   std::uint64_t round = 0;
-  for (auto _ : state) total.merge(trace_only(sc, 4096, round++));
+  for (auto _ : state) total.merge(trace_only(sc, 4096, ++round));
   state.counters["queries/s"] = benchmark::Counter(double(total.segments) / double(round),
                                                    benchmark::Counter::kIsIterationInvariantRate);
   state.counters["exits/s"] = benchmark::Counter(double(total.exits) / double(round),
                                                  benchmark::Counter::kIsIterationInvariantRate);
   state.counters["queries_per_ray"] = double(total.segments) / double(total.incident_rays);
+  state.counters["exits_without_query"] = double(total.escapes_bounded) / double(total.exits);
   state.SetLabel(state.range(0) ? "grid" : "triangles");
 }
 BENCHMARK(BM_SimulateTracer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
@@ -125,7 +226,7 @@ void BM_SimulateEstimator(benchmark::State& state) {
   SimulateOptions o;
   o.lmax = static_cast<int>(state.range(0));
   o.incident_directions = 8192;
-  o.points = 16;
+  o.points = kPoints;
   SimulateStats total;
   std::uint64_t round = 0;
   double cpu = 0;
@@ -141,68 +242,101 @@ void BM_SimulateEstimator(benchmark::State& state) {
   state.counters["exits_per_cpu_s"] = double(total.counters.exits) / cpu;
   state.SetLabel("lmax " + std::to_string(o.lmax) + ", 16 points per direction, process CPU");
 }
-BENCHMARK(BM_SimulateEstimator)->Arg(15)->Arg(8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SimulateEstimator)->Arg(15)->Arg(8)->Arg(1)->Unit(benchmark::kMillisecond);
 
-// One run, interleaved: the bare loop and the estimator (lmax 15, 16 points) with 1 and 2 threads,
-// each timed `reps` times. Rates per second of process CPU (all threads: what the work costs,
-// independent of how much of the machine the process got) and per second of the best wall time.
+// One run, interleaved, 1 and 2 threads, each timed `reps` times on the same 8192 directions of
+// seed 1 (lmax 15, 16 points): the replay of all rays of those paths (the yardstick), the tracer
+// alone and the estimator, plus the older random-ray loop. Rates per second of process CPU (all
+// threads: what the work costs, independent of how much of the machine the process got).
+//   ratio_cpu = estimator exits per CPU s / exits per CPU s of the bare replay of the same paths
+//             = (bare Embree CPU for the rays of the paths) / (estimator CPU for the paths)
+// pooled over the repetitions; ratio_cpu_min / _max: the spread of the ratio of each
+// repetition's back-to-back pair (the machine's load moves the rates by 10-20 % within a run).
+// ratio_cpu_queried: the same against a replay of only the queries the tracer still sends.
 void BM_SimulateSummary(benchmark::State& state) {
   const double load0 = microbrdf::bench::load_average();
   const MicroScene& sc = scene(false);
+  const Recording& rec = recorded(sc);
   const std::int64_t batch = 1 << 17;
-  const int reps = 3;
+  const int reps = 5;
   struct Rate {
-    double cpu = 0, best_wall = 1e30, work = 0;
+    double cpu = 0, best_wall = 1e30, work = 0, rays = 0;
+    std::vector<double> per_rep;  // work per CPU second of each repetition
+    void add(double c, double w, double done, double r = 0) {
+      cpu += c;
+      best_wall = std::min(best_wall, w);
+      work += done;
+      rays += r;
+      per_rep.push_back(done / c);
+    }
   };
-  Rate bare[2], est[2], tracer[2];
-  std::uint64_t seed = 0;
+  Rate replayed[2], queried[2], random[2], est[2], tracer[2];
+  std::uint64_t round = 0;
   for (auto _ : state) {
     for (int rep = 0; rep < reps; ++rep)
       for (int nt : {1, 2}) {
         const int before = omp_get_max_threads();
         omp_set_num_threads(nt);
         double c0 = process_cpu(), w0 = wall();
-        benchmark::DoNotOptimize(bare_rays(sc, batch, ++seed));
-        Rate& b = bare[nt - 1];
-        b.cpu += process_cpu() - c0;
-        b.best_wall = std::min(b.best_wall, wall() - w0);
-        b.work += double(batch);
+        const double n = double(replay(sc, rec.rays, 15));
+        replayed[nt - 1].add(process_cpu() - c0, wall() - w0, double(rec.counters.exits), n);
         c0 = process_cpu();
         w0 = wall();
-        const TraceCounters tc = trace_only(sc, 4096, ++seed);
-        Rate& tr = tracer[nt - 1];
-        tr.cpu += process_cpu() - c0;
-        tr.best_wall = std::min(tr.best_wall, wall() - w0);
-        tr.work += double(tc.exits);
+        const double q = double(replay(sc, rec.rays, 7));
+        queried[nt - 1].add(process_cpu() - c0, wall() - w0, double(rec.counters.exits), q);
+        c0 = process_cpu();
+        w0 = wall();
+        const TraceCounters tc = trace_only(sc, 8192, 1);
+        tracer[nt - 1].add(process_cpu() - c0, wall() - w0, double(tc.exits));
+        c0 = process_cpu();
+        w0 = wall();
+        benchmark::DoNotOptimize(bare_rays(sc, batch, ++round));
+        random[nt - 1].add(process_cpu() - c0, wall() - w0, double(batch), double(batch));
         omp_set_num_threads(before);
         SimulateOptions o;
         o.lmax = 15;
-        o.points = 16;
+        o.points = kPoints;
         o.incident_directions = 8192;
         o.threads = nt;
-        o.seed = ++seed;
+        o.seed = 1;
         SimulateStats st;
         c0 = process_cpu();
         w0 = wall();
         benchmark::DoNotOptimize(simulate(sc, o, &st));
-        Rate& e = est[nt - 1];
-        e.cpu += process_cpu() - c0;
-        e.best_wall = std::min(e.best_wall, wall() - w0);
-        e.work += double(st.counters.exits);
+        est[nt - 1].add(process_cpu() - c0, wall() - w0, double(st.counters.exits));
       }
   }
-  const double iters = double(state.iterations()) * reps;
   for (int i = 0; i < 2; ++i) {
-    const std::string t = std::to_string(i + 1) + "t";
-    state.counters["bare_rays_per_cpu_s_" + t] = bare[i].work / bare[i].cpu;
-    state.counters["exits_per_cpu_s_" + t] = est[i].work / est[i].cpu;
-    state.counters["ratio_cpu_" + t] = (est[i].work / est[i].cpu) / (bare[i].work / bare[i].cpu);
-    state.counters["ratio_wall_" + t] =
-        (est[i].work / iters / est[i].best_wall) / (bare[i].work / iters / bare[i].best_wall);
+    const std::string t = i == 0 ? "_1t" : "_2t";
+    const double bare_exits = replayed[i].work / replayed[i].cpu;
+    const double bare_rays = replayed[i].rays / replayed[i].cpu;
+    const double exits = est[i].work / est[i].cpu;
+    state.counters["bare_rays_per_cpu_s" + t] = bare_rays;
+    state.counters["bare_exits_per_cpu_s" + t] = bare_exits;
+    state.counters["exits_per_cpu_s" + t] = exits;
+    state.counters["ratio_cpu" + t] = exits / bare_exits;
+    double lo = 1e30, hi = 0;
+    for (std::size_t r = 0; r < est[i].per_rep.size(); ++r) {
+      const double q = est[i].per_rep[r] / replayed[i].per_rep[r];
+      lo = std::min(lo, q);
+      hi = std::max(hi, q);
+    }
+    state.counters["ratio_cpu_min" + t] = lo;
+    state.counters["ratio_cpu_max" + t] = hi;
+    state.counters["ratio_wall" + t] = replayed[i].best_wall / est[i].best_wall;
     // The tracer alone (no spherical harmonics): the ceiling of ratio_cpu.
-    state.counters["tracer_ratio_cpu_" + t] =
-        (tracer[i].work / tracer[i].cpu) / (bare[i].work / bare[i].cpu);
+    state.counters["tracer_ratio_cpu" + t] = (tracer[i].work / tracer[i].cpu) / bare_exits;
+    // Against the replay of only the queries the tracer still makes (the escape rays it decides
+    // without Embree left out): the estimator's time over its own Embree time, all overheads.
+    state.counters["ratio_cpu_queried" + t] = exits / (queried[i].work / queried[i].cpu);
+    // Exits per bare ray of the replay, and per random ray of the older loop.
+    state.counters["exits_per_bare_ray" + t] = exits / bare_rays;
+    state.counters["exits_per_random_ray" + t] = exits / (random[i].rays / random[i].cpu);
   }
+  state.counters["rays_per_exit"] = double(rec.rays.size()) / double(rec.counters.exits);
+  state.counters["queries_per_exit"] = double(rec.counters.segments) / double(rec.counters.exits);
+  state.counters["exits_without_query"] =
+      double(rec.counters.escapes_bounded) / double(rec.counters.exits);
   // CPU for the same estimator run with one thread over two (the goal: never above 1).
   state.counters["est_cpu_1t_over_2t"] = est[0].cpu / est[1].cpu;
   state.counters["load_before"] = load0;

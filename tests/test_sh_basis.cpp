@@ -180,3 +180,30 @@ TEST(sh_basis, OddCompletionKillsEveryCoefficientWithLPlusMEven) {
   EXPECT_GT(nonzero_odd, 20);
   EXPECT_GT(nonzero_even_upper, 10);  // without the completion they would not vanish
 }
+
+// The batched weighted sum (four directions at a time) equals the sum of single evaluations,
+// for counts that are not multiples of four, the pole, a zero vector and non-unit vectors.
+TEST(sh_basis, WeightedSumOfManyDirectionsMatchesSingleEvaluations) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int L : {1, 2, 15, 30}) {
+    const ShOddBasis b(L);
+    for (std::size_t n : {0, 1, 3, 4, 7, 17}) {
+      std::vector<Vec3> w(n);
+      std::vector<double> r(n);
+      for (std::size_t k = 0; k < n; ++k) {
+        w[k] = Vec3(u(rng), u(rng), std::abs(u(rng)));
+        r[k] = 0.5 + 0.5 * u(rng);
+      }
+      if (n > 2) w[1] = Vec3(0, 0, 2.5), w[2] = Vec3(0, 0, 0);
+      std::vector<double> sum(b.size(), -7.0), y(b.size()), ref(b.size(), 0.0);
+      for (std::size_t k = 0; k < n; ++k) {
+        b.eval(w[k], y.data());
+        for (int j = 0; j < b.size(); ++j) ref[j] += r[k] * y[j];
+      }
+      b.eval_sum(n, w.data(), r.data(), sum.data());
+      for (int j = 0; j < b.size(); ++j)
+        ASSERT_NEAR(sum[j], ref[j], 1e-12 * (1 + std::abs(ref[j]))) << L << " " << n << " " << j;
+    }
+  }
+}

@@ -153,6 +153,15 @@ enum class TraceEnd {
   Lost          ///< ran along the tile without end (a ray exactly parallel to the plane)
 };
 
+/// One ray of a trace as Embree sees it (float origin, direction, [0, tfar]), for benchmarks that
+/// replay the very rays a simulation traces. `kind`: 0 the first query of an incident ray, 1 a
+/// query after a scattering event, 2 a continuation across a tile wall, 3 an escape ray that
+/// MicroScene::clears_upward() answered without Embree (recorded as the query it replaces).
+struct MicroRay {
+  float o[3], d[3], tfar;
+  int kind;
+};
+
 /// A built scene; thread-safe for tracing. Holds an Embree device and scene.
 class MicroScene {
  public:
@@ -174,8 +183,22 @@ class MicroScene {
   /// Follows the ray from `origin` (inside the tile) along unit `dir` across tiles until it hits
   /// something, leaves the top or the bottom. On return `origin` holds the last tile-wrapped
   /// origin; `segments` (if given) is incremented by the Embree queries made.
+  /// `log` (if given) receives every query, the first one tagged `kind` (0 or 1), the tile
+  /// continuations 2.
   TraceEnd trace(Eigen::Vector3d origin, const Eigen::Vector3d& dir, MicroHit& hit,
-                 std::size_t* segments = nullptr) const;
+                 std::size_t* segments = nullptr, std::vector<MicroRay>* log = nullptr,
+                 int kind = 0) const;
+
+  /// For a scene made of one height field alone: true when the ray from `p + epsilon() n` along
+  /// unit `dir` (dir.z > 0), where `p` is a point of the height field found by trace() and `n`
+  /// its upward unit normal, provably leaves the top of the scene without meeting the surface
+  /// (clearing it by at least epsilon() / 4, far above Embree's round-off), decided from
+  /// per-block maximum heights and slopes of the mesh without an Embree query. False when the
+  /// bound cannot decide (the caller traces the ray) and always for other scenes.
+  bool clears_upward(const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                     const Eigen::Vector3d& dir) const;
+  /// Whether clears_upward() can answer at all (a scene of one height field alone).
+  bool has_escape_bound() const { return !esc_hmax_.empty(); }
 
   /// Scene frame <-> BRDF frame (rotation about z).
   Eigen::Vector3d to_scene(const Eigen::Vector3d& w) const;
@@ -195,6 +218,7 @@ class MicroScene {
   };
 
  private:
+  void build_escape_bound();
   MicroSceneDesc desc_;
   void* device_ = nullptr;  // RTCDevice
   void* scene_ = nullptr;   // RTCScene
@@ -207,6 +231,13 @@ class MicroScene {
   std::size_t triangles_ = 0;
   unsigned user_geom_ = ~0u;
   int hf_geom_ = -1;
+  // clears_upward(): blocks of 8 x 8 cells (the last ones in a row or column may be narrower),
+  // per block the highest vertex and the ranges of the gradient components (min, max of
+  // dh/dx, then of dh/dy) of the triangles over it (both diagonals of every cell); esc_top_ the
+  // highest vertex of all.
+  int esc_nbx_ = 0, esc_nby_ = 0;
+  double esc_bw_ = 0, esc_bh_ = 0, esc_top_ = 0;
+  std::vector<double> esc_hmax_, esc_grad_;
 };
 
 }  // namespace microbrdf

@@ -53,14 +53,15 @@ struct TraceOptions {
 
 /// Per-thread counters of what happened to the energy.
 struct TraceCounters {
-  std::uint64_t incident_rays = 0;  ///< rays started (N_i N_p)
-  std::uint64_t exits = 0;          ///< exit rays (escaped upwards)
-  std::uint64_t segments = 0;       ///< Embree queries
-  std::uint64_t capped = 0;         ///< paths cut at max_depth
-  double energy_out = 0;            ///< sum of exit R
-  double energy_down = 0;           ///< sum of R that left through the bottom
-  double energy_capped = 0;         ///< sum of R cut at max_depth
-  double energy_lost = 0;           ///< rays running parallel to the plane
+  std::uint64_t incident_rays = 0;    ///< rays started (N_i N_p)
+  std::uint64_t exits = 0;            ///< exit rays (escaped upwards)
+  std::uint64_t segments = 0;         ///< Embree queries
+  std::uint64_t escapes_bounded = 0;  ///< exits decided by MicroScene::clears_upward (no query)
+  std::uint64_t capped = 0;           ///< paths cut at max_depth
+  double energy_out = 0;              ///< sum of exit R
+  double energy_down = 0;             ///< sum of R that left through the bottom
+  double energy_capped = 0;           ///< sum of R cut at max_depth
+  double energy_lost = 0;             ///< rays running parallel to the plane
   void merge(const TraceCounters& o);
 };
 
@@ -73,6 +74,9 @@ class MicroTracer {
   /// BRDF frame, r its energy fraction of one incident ray).
   template <class Exit>
   void trace(const Eigen::Vector3d& u, int points, SimRng& rng, Exit&& exit, TraceCounters& c);
+  /// Benchmarks: append every ray of the paths to `log` as MicroScene::trace issues it (escape
+  /// rays decided without Embree as the queries they replace, kind 3); nullptr stops logging.
+  void log_rays(std::vector<MicroRay>* log) { log_ = log; }
 
  private:
   struct Path {
@@ -87,6 +91,7 @@ class MicroTracer {
   const MicroScene& scene_;
   TraceOptions opt_;
   std::vector<Path> stack_;
+  std::vector<MicroRay>* log_ = nullptr;
 };
 
 template <class Exit>

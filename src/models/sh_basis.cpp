@@ -2,7 +2,9 @@
 // and the odd-completion basis (docs/theory.md §6.2). See include/microbrdf/sh_basis.hpp.
 #include "microbrdf/sh_basis.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -103,6 +105,88 @@ void eval_core(int lmax, const Vec3& w, double* out) {
   }
 }
 
+// Four lanes of doubles (GCC/Clang vector extension: one AVX2 register, two SSE2 ones).
+typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
+// Directions per call: two groups of four, so two independent recurrences are in flight (the l
+// recurrence is a chain of dependent products; one alone leaves the units idle).
+constexpr int kGroups = 2, kLanes = 4 * kGroups;
+
+// The inner loop is written for the vectoriser; on x86-64 GCC also builds an AVX2 version chosen
+// at run time. AVX2 without FMA: products and sums round as in the baseline build, so both give
+// the same bits.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define MICROBRDF_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define MICROBRDF_SIMD_CLONES
+#endif
+
+// acc[kGroups * sh_odd_index(l, m) + g] += weight * Y_lm over kLanes directions (x, y, z, weight
+// lanes; group g holds lanes 4g..4g+3), l + m odd.
+MICROBRDF_SIMD_CLONES
+void odd_sum8(int lmax, const double* xs, const double* ys, const double* zs, const double* ws,
+              V4* acc) {
+  const Tables& t = tables();
+  V4 x[kGroups], s[kGroups], cphi[kGroups], sphi[kGroups], wt[kGroups];
+  for (int k = 0; k < kLanes; ++k) {  // (sqrt and the pole cases lane by lane)
+    const int g = k / 4, e = k % 4;
+    const double rho = std::sqrt(xs[k] * xs[k] + ys[k] * ys[k]);
+    const double r = std::sqrt(rho * rho + zs[k] * zs[k]);
+    x[g][e] = r > 0 ? zs[k] / r : 1.0;
+    s[g][e] = r > 0 ? rho / r : 0.0;
+    cphi[g][e] = rho > 0 ? xs[k] / rho : 1.0;
+    sphi[g][e] = rho > 0 ? ys[k] / rho : 0.0;
+    wt[g][e] = ws[k];
+  }
+  constexpr double kSqrt2 = 1.41421356237309504880;
+  const double y00 = 1 / std::sqrt(4 * kPi);
+  V4 pmm[kGroups], cm[kGroups], sm[kGroups];
+  for (int g = 0; g < kGroups; ++g) {
+    pmm[g] = V4{y00, y00, y00, y00};
+    cm[g] = V4{1, 1, 1, 1};
+    sm[g] = V4{0, 0, 0, 0};
+  }
+  for (int m = 0; m <= lmax; ++m) {
+    V4 fc[kGroups], fs[kGroups], p0[kGroups], p1[kGroups];
+    for (int g = 0; g < kGroups; ++g) {
+      if (m > 0) {
+        pmm[g] = pmm[g] * (t.diag[m] * s[g]);
+        const V4 c = cm[g] * cphi[g] - sm[g] * sphi[g];
+        sm[g] = sm[g] * cphi[g] + cm[g] * sphi[g];
+        cm[g] = c;
+      }
+      fc[g] = m == 0 ? wt[g] : wt[g] * (kSqrt2 * cm[g]);
+      fs[g] = wt[g] * (kSqrt2 * sm[g]);
+    }
+    // l = m has l + m even (dropped); l = m + 1 is kept.
+    if (m + 1 > lmax) break;
+    V4* a = acc + kGroups * sh_odd_index(m + 1, m);
+    V4* b = acc + kGroups * sh_odd_index(m + 1, -m);
+    for (int g = 0; g < kGroups; ++g) {
+      p0[g] = pmm[g];
+      p1[g] = t.sub[m] * x[g] * pmm[g];
+      a[g] += p1[g] * fc[g];
+      if (m > 0) b[g] += p1[g] * fs[g];
+    }
+    for (int l = m + 2; l <= lmax; ++l) {
+      const int i = l * (l + 1) / 2 + m;
+      const double ai = t.a[i], bi = t.b[i];
+      const bool keep = (l + m) & 1;
+      V4* al = acc + kGroups * sh_odd_index(l, m);
+      V4* bl = acc + kGroups * sh_odd_index(l, -m);
+      for (int g = 0; g < kGroups; ++g) {
+        const V4 p = ai * (x[g] * p1[g] - bi * p0[g]);
+        if (keep) {
+          al[g] += p * fc[g];
+          if (m > 0) bl[g] += p * fs[g];
+        }
+        p0[g] = p1[g];
+        p1[g] = p;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void sh_eval(int lmax, const Vec3& w, double* out) {
@@ -133,5 +217,40 @@ ShOddBasis::ShOddBasis(int lmax) : lmax_(lmax) {
 }
 
 void ShOddBasis::eval(const Vec3& w, double* out) const { eval_core<true>(lmax_, w, out); }
+
+void ShOddBasis::eval_sum(std::size_t n, const Vec3* w, const double* weight, double* out) const {
+  const int J = size();
+  // Accumulators per thread, kGroups per function, 32-byte aligned (alignof(V4) is only 16
+  // where AVX is off; the AVX2 clone expects 32).
+  struct Buffer {
+    V4* p = nullptr;
+    std::size_t n = 0;
+    ~Buffer() { ::operator delete(p, std::align_val_t(32)); }
+  };
+  thread_local Buffer buf;
+  const std::size_t need = static_cast<std::size_t>(kGroups) * J;
+  if (buf.n < need) {
+    ::operator delete(buf.p, std::align_val_t(32));
+    buf.p = nullptr;
+    buf.p = static_cast<V4*>(::operator new(need * sizeof(V4), std::align_val_t(32)));
+    buf.n = need;
+  }
+  V4* acc = buf.p;
+  for (std::size_t j = 0; j < need; ++j) acc[j] = V4{0, 0, 0, 0};
+  for (std::size_t k0 = 0; k0 < n; k0 += kLanes) {
+    double xs[kLanes] = {}, ys[kLanes] = {}, zs[kLanes] = {}, ws[kLanes] = {};
+    for (std::size_t k = k0; k < std::min(n, k0 + kLanes); ++k) {
+      xs[k - k0] = w[k].x();
+      ys[k - k0] = w[k].y();
+      zs[k - k0] = w[k].z();
+      ws[k - k0] = weight[k];
+    }
+    odd_sum8(lmax_, xs, ys, zs, ws, acc);
+  }
+  for (int j = 0; j < J; ++j) {
+    const V4 a = acc[kGroups * j], b = acc[kGroups * j + 1];
+    out[j] = ((a[0] + a[1]) + (a[2] + a[3])) + ((b[0] + b[1]) + (b[2] + b[3]));
+  }
+}
 
 }  // namespace microbrdf

@@ -290,6 +290,7 @@ MicroScene::MicroScene(MicroSceneDesc desc) : desc_(std::move(desc)) {
   }
 
   if (!std::isfinite(zmin_)) throw InputError("micro-scene: no geometry");
+  if (desc_.heightfields.size() == 1 && capsules_.empty()) build_escape_bound();
   // A little room above and below so rays start and end clear of the geometry.
   const double span = std::max({W, H, zmax_ - zmin_});
   eps_ = 1e-5 * span;  // ~40 float ulps of the coordinates
@@ -314,6 +315,121 @@ MicroScene::MicroScene(MicroSceneDesc desc) : desc_(std::move(desc)) {
     throw InputError("micro-scene: Embree could not build the scene");
 }
 
+// Per-block bounds of the one height field for clears_upward(), from the float vertices Embree
+// traces (x, y as placed in the vertex buffer, z rounded to float).
+void MicroScene::build_escape_bound() {
+  const Surface& s = desc_.heightfields[0].surface;
+  const std::size_t nx = s.nx, ny = s.ny;
+  constexpr std::size_t kCells = 8;
+  esc_nbx_ = static_cast<int>((nx + kCells - 1) / kCells);
+  esc_nby_ = static_cast<int>((ny + kCells - 1) / kCells);
+  esc_bw_ = kCells * s.dx;
+  esc_bh_ = kCells * s.dy;
+  esc_hmax_.assign(std::size_t(esc_nbx_) * esc_nby_, -std::numeric_limits<double>::infinity());
+  esc_grad_.resize(4 * esc_hmax_.size());
+  for (std::size_t b = 0; b < esc_hmax_.size(); ++b) {
+    esc_grad_[4 * b] = esc_grad_[4 * b + 2] = std::numeric_limits<double>::infinity();
+    esc_grad_[4 * b + 1] = esc_grad_[4 * b + 3] = -std::numeric_limits<double>::infinity();
+  }
+  const double W = desc_.width, H = desc_.height;
+  auto xf = [&](std::size_t i) { return double(float(i == nx ? W : double(i) * s.dx)); };
+  auto yf = [&](std::size_t j) { return double(float(j == ny ? H : double(j) * s.dy)); };
+  auto zf = [&](std::size_t i, std::size_t j) {
+    return double(float(s.z[(j % ny) * nx + i % nx]));
+  };
+  for (std::size_t j = 0; j < ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i) {
+      const double hx = xf(i + 1) - xf(i), hy = yf(j + 1) - yf(j);
+      const double z00 = zf(i, j), z10 = zf(i + 1, j), z01 = zf(i, j + 1), z11 = zf(i + 1, j + 1);
+      // The four triangles of the cell's two possible diagonals.
+      // (gx, gy) of each is one of (gx0 or gx1, gy0 or gy1).
+      const double gx0 = (z10 - z00) / hx, gx1 = (z11 - z01) / hx;
+      const double gy0 = (z01 - z00) / hy, gy1 = (z11 - z10) / hy;
+      const std::size_t b = (j / kCells) * esc_nbx_ + i / kCells;
+      esc_hmax_[b] = std::max({esc_hmax_[b], z00, z10, z01, z11});
+      double* g = &esc_grad_[4 * b];  // min gx, max gx, min gy, max gy
+      g[0] = std::min({g[0], gx0, gx1});
+      g[1] = std::max({g[1], gx0, gx1});
+      g[2] = std::min({g[2], gy0, gy1});
+      g[3] = std::max({g[3], gy0, gy1});
+    }
+  esc_top_ = *std::max_element(esc_hmax_.begin(), esc_hmax_.end());
+}
+
+bool MicroScene::clears_upward(const Vec& p, const Vec& n, const Vec& d) const {
+  if (esc_hmax_.empty() || !(d.z() > 0)) return false;
+  const double margin = 0.25 * eps_;
+  const Vec o = p + eps_ * n;
+  if (o.z() >= esc_top_ + margin) return true;
+  const double W = desc_.width, H_tile = desc_.height;
+  // Start block: the one holding p; both p and the origin must lie in it.
+  const int bi = std::min(int(p.x() / esc_bw_), esc_nbx_ - 1);
+  const int bj = std::min(int(p.y() / esc_bh_), esc_nby_ - 1);
+  if (bi < 0 || bj < 0) return false;
+  double x0 = bi * esc_bw_, x1 = bi == esc_nbx_ - 1 ? W : x0 + esc_bw_;
+  double y0 = bj * esc_bh_, y1 = bj == esc_nby_ - 1 ? H_tile : y0 + esc_bh_;
+  if (o.x() < x0 || o.x() > x1 || o.y() < y0 || o.y() > y1) return false;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  // Ray parameter where it leaves the current block through an x or a y wall.
+  const double ix = d.x() != 0 ? 1 / d.x() : 0, iy = d.y() != 0 ? 1 / d.y() : 0;
+  auto exit_x = [&] { return d.x() > 0 ? (x1 - o.x()) * ix : d.x() < 0 ? (x0 - o.x()) * ix : inf; };
+  auto exit_y = [&] { return d.y() > 0 ? (y1 - o.y()) * iy : d.y() < 0 ? (y0 - o.y()) * iy : inf; };
+  // Over a block the mesh is continuous and the block convex, so along a horizontal path of
+  // length r in direction e the height rises by at most S(e) r, S(e) the largest slope along e of
+  // any triangle over the block (from the ranges of the gradients' components, with a relative
+  // margin), and it never exceeds the block's highest vertex. H bounds the height of the surface
+  // under the ray where it enters a block (first, under the origin: from p across the horizontal
+  // offset eps n_xy); over the block the surface then stays below min(H + S t, hmax) while the
+  // ray rises linearly: both bounds are checked where they matter (the ends of the stretch below
+  // hmax). The walk ends when the ray is above the highest vertex of the tile.
+  auto rise = [this](std::size_t b, double ex, double ey) {
+    const double* g = &esc_grad_[4 * b];
+    const double r = std::max(g[0] * ex, g[1] * ex) + std::max(g[2] * ey, g[3] * ey);
+    return r + 1e-6 * std::abs(r) + 1e-9 * (std::abs(ex) + std::abs(ey));
+  };
+  int ci = bi, cj = bj;
+  double t_in = 0, H = p.z() + eps_ * rise(std::size_t(bj) * esc_nbx_ + bi, n.x(), n.y());
+  for (int step = 0; step < 32; ++step) {
+    const std::size_t b = std::size_t(cj) * esc_nbx_ + ci;
+    const double hmax = esc_hmax_[b], S = rise(b, d.x(), d.y());
+    const double tx = exit_x(), ty = exit_y(), t_out = std::min(tx, ty);
+    if (o.z() + t_in * d.z() < hmax + margin) {
+      // Clearance over the Lipschitz bound, linear in t: checked at t_in and where the ray
+      // passes hmax (or leaves the block first).
+      auto clear = [&](double tt) { return o.z() + tt * d.z() - (H + S * (tt - t_in)) >= margin; };
+      const double t_high = (hmax + margin - o.z()) / d.z();
+      if (!clear(t_in) || !clear(std::min(t_high, t_out))) return false;
+    }
+    if (o.z() + t_out * d.z() >= esc_top_ + margin) return true;
+    H = std::min(H + S * (t_out - t_in), hmax);
+    t_in = t_out;
+    // Into the next block (across the tile edge: the periodic copy).
+    if (tx <= ty) {
+      if (d.x() > 0) {
+        ci = ci + 1 == esc_nbx_ ? 0 : ci + 1;
+        x0 = x1;
+        x1 = x0 + (ci == esc_nbx_ - 1 ? W - ci * esc_bw_ : esc_bw_);
+      } else {
+        ci = ci == 0 ? esc_nbx_ - 1 : ci - 1;
+        x1 = x0;
+        x0 = x1 - (ci == esc_nbx_ - 1 ? W - ci * esc_bw_ : esc_bw_);
+      }
+    }
+    if (ty <= tx) {
+      if (d.y() > 0) {
+        cj = cj + 1 == esc_nby_ ? 0 : cj + 1;
+        y0 = y1;
+        y1 = y0 + (cj == esc_nby_ - 1 ? H_tile - cj * esc_bh_ : esc_bh_);
+      } else {
+        cj = cj == 0 ? esc_nby_ - 1 : cj - 1;
+        y1 = y0;
+        y0 = y1 - (cj == esc_nby_ - 1 ? H_tile - cj * esc_bh_ : esc_bh_);
+      }
+    }
+  }
+  return false;
+}
+
 MicroScene::~MicroScene() {
   if (scene_) rtcReleaseScene(static_cast<RTCScene>(scene_));
   if (device_) rtcReleaseDevice(static_cast<RTCDevice>(device_));
@@ -328,7 +444,7 @@ Eigen::Vector3d MicroScene::to_brdf(const Eigen::Vector3d& w) const {
 }
 
 TraceEnd MicroScene::trace(Eigen::Vector3d o, const Eigen::Vector3d& d, MicroHit& hit,
-                           std::size_t* segments) const {
+                           std::size_t* segments, std::vector<MicroRay>* log, int kind) const {
   const double W = desc_.width, H = desc_.height;
   auto* scene = static_cast<RTCScene>(scene_);
   RTCIntersectContext ctx;
@@ -354,6 +470,11 @@ TraceEnd MicroScene::trace(Eigen::Vector3d o, const Eigen::Vector3d& d, MicroHit
     RTCRayHit rh;
     // Slightly past the wall so hits exactly on it are not missed (the wrap re-tests them).
     detail::fill_rayhit(rh, o, d, 0, float(std::min(t_far * (1 + 1e-6) + eps_, 1e30)));
+    if (log)
+      log->push_back(MicroRay{{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z},
+                              {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z},
+                              rh.ray.tfar,
+                              seg == 0 ? kind : 2});
     rtcIntersect1(scene, &ctx, &rh);
     if (segments) ++*segments;
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {

@@ -23,13 +23,14 @@ namespace {
 // variance from the incident side than independent draws); a round is traced as 4 blocks.
 constexpr std::uint64_t kRound = 1024, kGrid = 32, kBlock = 256, kBlocksPerRound = kRound / kBlock;
 
-constexpr std::size_t kCounters = 8;
+constexpr std::size_t kCounters = 9;
 
 void pack_counters(const TraceCounters& c, std::vector<double>& v) {
   // Counts below 2^53 travel exactly as doubles.
-  v.insert(v.end(), {static_cast<double>(c.incident_rays), static_cast<double>(c.exits),
-                     static_cast<double>(c.segments), static_cast<double>(c.capped), c.energy_out,
-                     c.energy_down, c.energy_capped, c.energy_lost});
+  v.insert(v.end(),
+           {static_cast<double>(c.incident_rays), static_cast<double>(c.exits),
+            static_cast<double>(c.segments), static_cast<double>(c.capped), c.energy_out,
+            c.energy_down, c.energy_capped, c.energy_lost, static_cast<double>(c.escapes_bounded)});
 }
 
 TraceCounters unpack_counters(const double* v) {
@@ -42,6 +43,7 @@ TraceCounters unpack_counters(const double* v) {
   c.energy_down = v[5];
   c.energy_capped = v[6];
   c.energy_lost = v[7];
+  c.escapes_bounded = static_cast<std::uint64_t>(v[8]);
   return c;
 }
 
@@ -55,7 +57,8 @@ WorkResult trace_block(const MicroScene& scene, const SimulateOptions& o, std::u
   const ShOddBasis& basis = est.basis();
   const int J = basis.size();
   const double pdf_u = 1 / (2 * M_PI);
-  std::vector<double> y(J), sum(J);
+  std::vector<double> sum(J), weights;
+  std::vector<Vec3> exits;
   for (std::uint64_t idx = first; idx < first + count; ++idx) {
     SimRng rng(o.seed, idx);
     double u1 = rng.uniform(), u2 = rng.uniform();
@@ -66,18 +69,21 @@ WorkResult trace_block(const MicroScene& scene, const SimulateOptions& o, std::u
       u2 = (double(k / kGrid) + u2) / double(kGrid);
     }
     const Eigen::Vector3d u = uniform_hemisphere(u1, u2);
-    std::fill(sum.begin(), sum.end(), 0.0);
     double energy = 0;
-    // Amortised update (W92 eq. 25): R Y(V) summed over all exits of this direction, one outer
-    // product per direction inside the estimator.
+    // Amortised update (W92 eq. 25): R Y(V) summed over all exits of this direction (the exits
+    // gathered and projected four at a time), one outer product per direction inside the
+    // estimator.
+    exits.clear();
+    weights.clear();
     tracer.trace(
         u, o.points, rng,
         [&](const Eigen::Vector3d& v, double r) {
-          basis.eval(v, y.data());
-          for (int j = 0; j < J; ++j) sum[j] += r * y[j];
+          exits.push_back(v);
+          weights.push_back(r);
           energy += r;
         },
         cnt);
+    basis.eval_sum(exits.size(), exits.data(), weights.data(), sum.data());
     est.add_incident(u, pdf_u, sum.data(), static_cast<std::size_t>(o.points), energy);
   }
   WorkResult r;
@@ -98,6 +104,7 @@ nlohmann::json SimulateStats::to_json() const {
           {"incident_rays", counters.incident_rays},
           {"exit_rays", counters.exits},
           {"embree_queries", counters.segments},
+          {"exits_without_query", counters.escapes_bounded},
           {"seconds", seconds},
           {"threads", threads},
           {"exit_rays_per_second", exit_rays_per_second()},

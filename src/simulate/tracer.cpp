@@ -33,6 +33,7 @@ void TraceCounters::merge(const TraceCounters& o) {
   incident_rays += o.incident_rays;
   exits += o.exits;
   segments += o.segments;
+  escapes_bounded += o.escapes_bounded;
   capped += o.capped;
   energy_out += o.energy_out;
   energy_down += o.energy_down;
@@ -59,10 +60,26 @@ bool MicroTracer::follow(Path& path, SimRng& rng, TraceCounters& c, Vec& v) {
   const auto& materials = scene_.desc().materials;
   const double lambda = scene_.desc().wavelength_m;
   const double eps = scene_.epsilon();
+  // After a scattering event on the upper side of a height field (a scene of one height field):
+  // the point and normal, so that an upward ray can be shown to escape without a query.
+  bool above = false;
+  Vec above_p, above_n;
   for (;;) {
+    if (above && scene_.clears_upward(above_p, above_n, path.d)) {
+      ++c.escapes_bounded;
+      if (log_) {  // the queries this replaces, for benchmarks
+        MicroHit h;
+        const std::size_t first = log_->size();
+        scene_.trace(path.o, path.d, h, nullptr, log_, 3);
+        for (std::size_t k = first; k < log_->size(); ++k) (*log_)[k].kind = 3;
+      }
+      v = path.d;
+      return true;
+    }
+    above = false;
     MicroHit h;
     std::size_t segments = 0;
-    const TraceEnd end = scene_.trace(path.o, path.d, h, &segments);
+    const TraceEnd end = scene_.trace(path.o, path.d, h, &segments, log_, path.depth == 0 ? 0 : 1);
     c.segments += segments;
     if (end == TraceEnd::EscapedUp) {
       v = path.d;
@@ -96,6 +113,7 @@ bool MicroTracer::follow(Path& path, SimRng& rng, TraceCounters& c, Vec& v) {
         if (m.fresnel) path.w *= m.fresnel->eval(ci, lambda);
         path.d = (d + 2 * ci * n).normalized();
         path.o = h.p + eps * n;
+        above = cos_out < 0;
         break;
       }
       case MicroMaterial::Kind::Dielectric: {
@@ -107,6 +125,7 @@ bool MicroTracer::follow(Path& path, SimRng& rng, TraceCounters& c, Vec& v) {
         if (rng.uniform() < F) {
           path.d = (d + 2 * ci * n).normalized();
           path.o = h.p + eps * n;
+          above = !inside;
         } else {
           const double sin2t = (1 - ci * ci) / (eta * eta);
           const double ct = std::sqrt(std::max(0.0, 1 - sin2t));
@@ -160,8 +179,14 @@ bool MicroTracer::follow(Path& path, SimRng& rng, TraceCounters& c, Vec& v) {
         path.d = dir;
         path.w *= weight;
         path.o = h.p + eps * n;
+        above = cos_out < 0;
         break;
       }
+    }
+    if (above) {
+      above_p = h.p;
+      above_n = h.n;
+      above = scene_.has_escape_bound();
     }
     if (!(path.w > 0)) return false;
     if (path.depth >= opt_.rr_depth) {
