@@ -9,16 +9,56 @@
 // has a guide table (the cutpoint method: entry j holds the bin of the point j / m of the total,
 // so a search starts next to its answer and walks about two steps on average, the entries being
 // equally probable, instead of a binary search's log2(m) scattered reads; the bin found is
-// exactly the binary search's), and a row's running sum, guide entry, density and an optional
-// payload (the map's radiance) share one 32-byte record per cell, so that a draw reads one or
-// two cache lines of the row instead of four separate tables.
+// exactly the binary search's). The guide tables are 16-bit and kept apart (2 bytes per cell:
+// 1 MB for a 1024 x 512 map, which stays in the caches), while a row's running sum, density and
+// an optional payload (the map's radiance) share one 32-byte record per cell, so that a draw
+// reads the guide and then one or two cache lines of the row's records, which also hold the
+// chosen cell's radiance.
+
+#include <sys/mman.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
+#include <stdexcept>
 #include <vector>
 
 namespace microbrdf::pt {
+
+/// Allocates blocks of 1 MB and more on 2 MB boundaries and asks the kernel for transparent huge
+/// pages there: a map's tables are read at random, and with 4 KB pages nearly every read also
+/// misses the TLB (16 MB of records span 4096 pages). Smaller blocks: plain new.
+template <class T>
+struct HugePageAllocator {
+  using value_type = T;
+  HugePageAllocator() = default;
+  template <class U>
+  HugePageAllocator(const HugePageAllocator<U>&) {}
+  static constexpr std::size_t kHuge = std::size_t(2) << 20;
+  T* allocate(std::size_t n) {
+    const std::size_t bytes = n * sizeof(T);
+    if (bytes < (std::size_t(1) << 20)) return static_cast<T*>(::operator new(bytes));
+    const std::size_t rounded = (bytes + kHuge - 1) / kHuge * kHuge;
+    void* p = std::aligned_alloc(kHuge, rounded);
+    if (!p) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+    madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure leaves 4 KB pages
+#endif
+    return static_cast<T*>(p);
+  }
+  void deallocate(T* p, std::size_t n) {
+    if (n * sizeof(T) < (std::size_t(1) << 20))
+      ::operator delete(p);
+    else
+      std::free(p);
+  }
+  template <class U>
+  bool operator==(const HugePageAllocator<U>&) const {
+    return true;
+  }
+};
 
 class PiecewiseConstant2D {
  public:
@@ -27,7 +67,13 @@ class PiecewiseConstant2D {
   /// `payload`, when given, holds 3 floats per cell (row-major like f), returned by payload().
   PiecewiseConstant2D(const std::vector<double>& f, std::size_t nu, std::size_t nv,
                       const float* payload = nullptr)
-      : nu_(nu), nv_(nv), row_cdf_(nv + 1), row_guide_(nv + 1), cells_((nu + 1) * nv) {
+      : nu_(nu),
+        nv_(nv),
+        row_cdf_(nv + 1),
+        row_guide_(nv + 1),
+        col_guide_((nu + 1) * nv),
+        cells_((nu + 1) * nv) {
+    if (nu > 65535) throw std::invalid_argument("PiecewiseConstant2D: at most 65535 columns");
     const std::size_t n = nu * nv;
     std::vector<double> w(n);
     double sum = 0;
@@ -50,7 +96,7 @@ class PiecewiseConstant2D {
       Cell* rc = &cells_[r * (nu + 1)];
       for (std::size_t k = 0; k <= nu; ++k) {
         rc[k].cdf = c[k];
-        rc[k].guide = g[k];
+        col_guide_[r * (nu + 1) + k] = std::uint16_t(g[k]);
         if (k == nu) continue;
         // Density per unit area of [0,1)^2 is w_i n / sum (mean 1).
         rc[k].density = float(w[r * nu + k] * double(n) / sum);
@@ -68,11 +114,21 @@ class PiecewiseConstant2D {
     const std::size_t row = invert_rows(u2, fv);
     double fu;
     const Cell* rc = &cells_[row * (nu_ + 1)];
-    const std::size_t col = invert_cols(rc, u1, fu);
+    const std::size_t col = invert_cols(rc, &col_guide_[row * (nu_ + 1)], u1, fu);
     u = (double(col) + fu) / double(nu_);
     v = (double(row) + fv) / double(nv_);
     pdf = rc[col].density;
     return row * nu_ + col;
+  }
+  /// The same as (col + fu, row + fv) in cells, fu and fv in [0, 1); returns the cell's
+  /// payload (read from the record the search ends on).
+  const float* sample_cell(double u1, double u2, std::size_t& col, double& fu, std::size_t& row,
+                           double& fv, double& pdf) const {
+    row = invert_rows(u2, fv);
+    const Cell* rc = &cells_[row * (nu_ + 1)];
+    col = invert_cols(rc, &col_guide_[row * (nu_ + 1)], u1, fu);
+    pdf = rc[col].density;
+    return rc[col].payload;
   }
   /// Density per unit area in cell (col, row).
   double pdf(std::size_t col, std::size_t row) const {
@@ -88,11 +144,10 @@ class PiecewiseConstant2D {
 
  private:
   struct Cell {
-    double cdf = 0;           // running sum of the row's weights before this cell
-    float density = 0;        // per unit area of [0,1)^2
-    std::uint32_t guide = 0;  // guide entry of the row's CDF (index = this cell's)
+    double cdf = 0;     // running sum of the row's weights before this cell
+    float density = 0;  // per unit area of [0,1)^2
     float payload[3] = {0, 0, 0};
-    float pad = 0;
+    float pad[2] = {0, 0};
   };
   static_assert(sizeof(Cell) == 32, "two cells per cache line");
 
@@ -120,9 +175,10 @@ class PiecewiseConstant2D {
     return invert([this](std::size_t k) { return row_cdf_[k]; },
                   [this](std::size_t j) { return std::size_t(row_guide_[j]); }, nv_, x, frac);
   }
-  std::size_t invert_cols(const Cell* rc, double x, double& frac) const {
+  std::size_t invert_cols(const Cell* rc, const std::uint16_t* guide, double x,
+                          double& frac) const {
     return invert([rc](std::size_t k) { return rc[k].cdf; },
-                  [rc](std::size_t j) { return std::size_t(rc[j].guide); }, nu_, x, frac);
+                  [guide](std::size_t j) { return std::size_t(guide[j]); }, nu_, x, frac);
   }
   // guide[j], j = 0..m: the last k with c[k] <= (j / m) c[m] (where invert's walk starts).
   static void build_guide(const double* c, std::size_t m, std::uint32_t* guide) {
@@ -136,7 +192,8 @@ class PiecewiseConstant2D {
   std::size_t nu_ = 0, nv_ = 0;
   std::vector<double> row_cdf_;           // nv + 1 running sums of row weights
   std::vector<std::uint32_t> row_guide_;  // guide table of row_cdf_
-  std::vector<Cell> cells_;               // per row, nu + 1 records (the last: the row's total)
+  std::vector<std::uint16_t, HugePageAllocator<std::uint16_t>> col_guide_;  // per row, nu + 1
+  std::vector<Cell, HugePageAllocator<Cell>> cells_;  // per row, nu + 1 records (last: the total)
 };
 
 }  // namespace microbrdf::pt
