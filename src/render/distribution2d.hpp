@@ -130,6 +130,19 @@ class PiecewiseConstant2D {
     pdf = rc[col].density;
     return rc[col].payload;
   }
+  /// Starts loading what sample(u1, u2, ...) reads first from memory (the guide entry of the
+  /// row that u2 picks), so that the draw, made later, finds it in the cache.
+  void prefetch_sample(double u1, double u2) const {
+    double fv;
+    const std::size_t row = invert_rows(u2, fv);
+    const double gx = u1 * double(nu_);
+    const std::size_t j = gx > 0 ? std::min(std::size_t(gx), nu_) : 0;
+    __builtin_prefetch(&col_guide_[row * (nu_ + 1) + j]);
+  }
+  /// Starts loading the record of cell (col, row).
+  void prefetch_cell(std::size_t col, std::size_t row) const {
+    __builtin_prefetch(&cells_[row * (nu_ + 1) + col]);
+  }
   /// Density per unit area in cell (col, row).
   double pdf(std::size_t col, std::size_t row) const {
     return cells_[row * (nu_ + 1) + col].density;

@@ -54,6 +54,17 @@ class EnvironmentMap {
   /// direction (saves a lookup).
   Eigen::Vector3d sample(double u1, double u2, double& pdf, Eigen::Vector3d* rgb = nullptr) const;
   double pdf(const Eigen::Vector3d& d) const;
+  /// Memory prefetches (no effect on results): of what rgb_and_pdf(d) reads, and of what
+  /// sample(u1, u2, ...) reads first.
+  void prefetch_lookup(const Eigen::Vector3d& d) const {
+    if (uniform_) return;
+    int c, r;
+    pixel_of(d, c, r);
+    dist_.prefetch_cell(std::size_t(c), std::size_t(r));
+  }
+  void prefetch_sample(double u1, double u2) const {
+    if (!uniform_) dist_.prefetch_sample(u1, u2);
+  }
   /// rgb(d) and pdf(d) with one pixel look-up.
   Eigen::Vector3d rgb_and_pdf(const Eigen::Vector3d& d, double& pdf) const;
 

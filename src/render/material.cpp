@@ -7,14 +7,31 @@
 
 namespace microbrdf::pt {
 
+FastSpectrum::FastSpectrum(const Spectrum& s) : l_(s.wavelengths()), v_(s.values()) {
+  if (l_.size() < 2) return;
+  const std::size_t cells = 4 * l_.size();
+  inv_step_ = double(cells) / (l_.back() - l_.front());
+  start_.resize(cells);
+  for (std::size_t c = 0; c < cells; ++c) {
+    const double left = l_.front() + double(c) / inv_step_;
+    // One below upper_bound of the cell's left end (rounding of the cell index may put a
+    // wavelength just left of its cell): never past the answer, which is >= 1 inside the range.
+    const std::size_t i = std::size_t(std::upper_bound(l_.begin(), l_.end(), left) - l_.begin());
+    start_[c] = std::uint32_t(std::max<std::size_t>(i, 2) - 1);
+  }
+}
+
 SpectralMaterial::SpectralMaterial(std::shared_ptr<const Svbrdf> m) : m_(std::move(m)) {
   const auto* u = dynamic_cast<const UniformSvbrdf*>(m_.get());
   mf_ = u ? dynamic_cast<const MicrofacetBrdf*>(&u->brdf()) : nullptr;
   if (!mf_) return;
   d_ = &mf_->distribution();
   separable_ = mf_->describe().find("separable Smith") != std::string::npos;
-  if (const auto* c = dynamic_cast<const ConductorFresnel*>(&mf_->fresnel()))
-    conductor_ = &c->constants();
+  if (const auto* c = dynamic_cast<const ConductorFresnel*>(&mf_->fresnel())) {
+    conductor_ = true;
+    n_ = FastSpectrum(c->constants().n);
+    k_ = FastSpectrum(c->constants().k);
+  }
   // The analytic models sample their visible normals exactly: sampling_pdf = pdf_visible.
   visible_exact_ = dynamic_cast<const BeckmannDistribution*>(d_) ||
                    dynamic_cast<const GgxDistribution*>(d_) ||
@@ -22,7 +39,7 @@ SpectralMaterial::SpectralMaterial(std::shared_ptr<const Svbrdf> m) : m_(std::mo
   if (!self_check()) {
     mf_ = nullptr;
     d_ = nullptr;
-    conductor_ = nullptr;
+    conductor_ = false;
   }
 }
 
@@ -61,8 +78,9 @@ void SpectralMaterial::prepare(const double* lambda_m, int n, Wavelengths& w) co
   for (int k = 0; k < n; ++k) {
     w.lambda_m[k] = lambda_m[k];
     if (conductor_) {
-      w.eta[k] = conductor_->n(lambda_m[k]);
-      w.kappa[k] = conductor_->k(lambda_m[k]);
+      const double eta = n_(lambda_m[k]), kappa = k_(lambda_m[k]);
+      w.e[k] = eta * eta - kappa * kappa;
+      w.f4[k] = 4 * eta * eta * kappa * kappa;
     }
   }
 }
@@ -78,9 +96,19 @@ SpectralMaterial::View SpectralMaterial::view(const Vec3& wv) const {
   return v;
 }
 
-double SpectralMaterial::fresnel(double c, const Wavelengths& w, int k) const {
-  return conductor_ ? fresnel_conductor_siegel(c, w.eta[k], w.kappa[k])
-                    : mf_->fresnel().eval(c, w.lambda_m[k]);
+double SpectralMaterial::fresnel(double cos_i, const Wavelengths& w, int k) const {
+  if (!conductor_) return mf_->fresnel().eval(cos_i, w.lambda_m[k]);
+  // fresnel_conductor_siegel with eta^2 - kappa^2 and 4 eta^2 kappa^2 from prepare() (the
+  // same operations in the same order).
+  const double c = std::min(std::abs(cos_i), 1.0);
+  const double c2 = c * c, s2 = std::max(0.0, 1.0 - c2);
+  const double t = w.e[k] - s2;
+  const double a2b2 = std::sqrt(t * t + w.f4[k]);
+  const double a = std::sqrt(std::max(0.0, 0.5 * (a2b2 + t)));
+  const double rs = (a2b2 - 2 * a * c + c2) / (a2b2 + 2 * a * c + c2);
+  const double rp =
+      rs * (a2b2 * c2 - 2 * a * c * s2 + s2 * s2) / (a2b2 * c2 + 2 * a * c * s2 + s2 * s2);
+  return 0.5 * (rs + rp);
 }
 
 // MicrofacetDistribution::G2(wl, wv, h) with G1(wv) from the view.

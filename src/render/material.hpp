@@ -20,13 +20,40 @@
 // construction and dropped if they differ. Any other Svbrdf is evaluated wavelength by
 // wavelength through its interface.
 
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/svbrdf.hpp"
 #include "render/spectral.hpp"
 
 namespace microbrdf::pt {
+
+/// A Spectrum's piecewise-linear interpolation (Spectrum::operator()) with the segment found
+/// from a uniform grid of start indices instead of a binary search: the same segment and the same
+/// arithmetic, so the same value.
+class FastSpectrum {
+ public:
+  FastSpectrum() = default;
+  explicit FastSpectrum(const Spectrum& s);
+  double operator()(double wavelength_m) const {
+    const std::size_t n = v_.size();
+    if (n == 0) return 0;
+    if (n == 1 || wavelength_m <= l_.front()) return v_.front();
+    if (wavelength_m >= l_.back()) return v_.back();
+    const double x = (wavelength_m - l_.front()) * inv_step_;
+    std::size_t i = start_[std::min(std::size_t(x), start_.size() - 1)];
+    while (l_[i] <= wavelength_m) ++i;  // the first node above: upper_bound's answer
+    const double t = (wavelength_m - l_[i - 1]) / (l_[i] - l_[i - 1]);
+    return v_[i - 1] + t * (v_[i] - v_[i - 1]);
+  }
+
+ private:
+  std::vector<double> l_, v_;
+  std::vector<std::uint32_t> start_;  // per grid cell: upper_bound of its left end
+  double inv_step_ = 0;
+};
 
 class SpectralMaterial {
  public:
@@ -35,7 +62,8 @@ class SpectralMaterial {
     int n = 0;
     // (left uninitialised: a path fills the first n; zeroing them per path costs measurably)
     double lambda_m[kMaxWavelengths];
-    double eta[kMaxWavelengths], kappa[kMaxWavelengths];  // conductor fast path
+    // conductor fast path: the constants of fresnel_conductor_siegel per wavelength
+    double e[kMaxWavelengths], f4[kMaxWavelengths];  // eta^2 - kappa^2, 4 eta^2 kappa^2
   };
   /// What the viewer direction at a shading point fixes (view()).
   struct View {
@@ -79,7 +107,8 @@ class SpectralMaterial {
   std::shared_ptr<const Svbrdf> m_;
   const MicrofacetBrdf* mf_ = nullptr;
   const MicrofacetDistribution* d_ = nullptr;
-  const OpticalConstants* conductor_ = nullptr;  // ConductorFresnel's constants, or null
+  bool conductor_ = false;  // ConductorFresnel: n and k below
+  FastSpectrum n_, k_;
   bool separable_ = false;
   bool visible_exact_ = false;  // sampling_pdf = the visible-normal density (analytic models)
 };

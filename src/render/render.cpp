@@ -88,6 +88,16 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
   };
 
   for (int depth = 0;; ++depth) {
+    // The light sample's numbers are drawn before the ray is traced (the same request order):
+    // the environment map's tables and the radiance this ray meets if it escapes are then
+    // loaded from memory while Embree works.
+    double nee_u1 = 0, nee_u2 = 0;
+    const bool nee = use_nee && c.lights.count() > 0;
+    if (nee) {
+      rng.get2d(nee_u1, nee_u2);
+      c.lights.prefetch_sample(nee_u1, nee_u2);
+    }
+    c.lights.prefetch_env(d);
     pt::ShadingPoint sp;
     ++rays;
     const double t = c.geo.intersect(o, d, 1e30, sp);
@@ -118,10 +128,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     const V3 origin = sp.p + eps * sp.ng;
 
     // Next-event estimation.
-    if (use_nee && c.lights.count() > 0) {
-      double u1, u2;
-      rng.get2d(u1, u2);
-      if (auto ls = c.lights.sample(origin, u1, u2)) {
+    if (nee) {
+      if (auto ls = c.lights.sample(origin, nee_u1, nee_u2)) {
         const V3 wl = sp.to_local(ls->dir);
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
           // f and the BRDF density before the shadow ray: no ray for a light sample the BRDF
