@@ -22,6 +22,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -207,7 +208,11 @@ RenderImage render(const RenderScene& scene,
   for (const auto& m : materials)
     if (!m) throw InputError("render: null material");
   const auto t0 = std::chrono::steady_clock::now();
-  const pt::PreviewGeometry geo(scene);
+  pt::PreviewGeometry geo(scene);
+  // Uniform materials ignore the texture coordinates.
+  geo.set_texture_coordinates(!std::all_of(materials.begin(), materials.end(), [](const auto& m) {
+    return dynamic_cast<const UniformSvbrdf*>(m.get()) != nullptr;
+  }));
   if (materials.size() != 1 && int(materials.size()) != geo.object_count())
     throw InputError("render: scene '" + preview_scene_name(scene.kind) + "' has " +
                      std::to_string(geo.object_count()) + " objects; give 1 or " +
