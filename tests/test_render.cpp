@@ -668,3 +668,36 @@ TEST(Render, HalfImagesSplitTheSamples) {
   one_spp.half_images = true;
   EXPECT_THROW(render(sc, mats, l, one_spp), InputError);
 }
+
+TEST(Render, SpectralMaterialFresnelEqualsTheConductorFormula) {
+  // The per-path constants and the two-wavelengths-at-a-time evaluation give the conductor
+  // Fresnel term of the metal's n and k exactly as one wavelength at a time does, for every
+  // wavelength count.
+  auto b = std::make_shared<MicrofacetBrdf>(std::make_shared<GgxDistribution>(0.2),
+                                            std::make_shared<ConductorFresnel>(metal("Cu")));
+  const pt::SpectralMaterial m(std::make_shared<UniformSvbrdf>(b));
+  ASSERT_TRUE(m.fast());
+  for (int n : {1, 2, 3, 4, 7, 8, 16}) {
+    double lambda[16];
+    for (int k = 0; k < n; ++k) lambda[k] = (360 + 470.0 * (k + 0.3) / n) * 1e-9;
+    pt::SpectralMaterial::Wavelengths w;
+    m.prepare(lambda, n, w);
+    const pt::SpectralMaterial::View view = m.view(Vec3(0.3, -0.2, std::sqrt(1 - 0.13)));
+    for (double t : {0.0, 0.4, 1.1, 1.5}) {
+      const Vec3 wl(std::sin(t), 0.1 * std::sin(t), std::cos(t));
+      double f[16];
+      if (!m.eval(0, 0, view, wl.normalized(), w, f, nullptr)) continue;
+      for (int k = 0; k < n; ++k) {
+        // Against the BRDF (products in another order: to rounding), and exactly against the
+        // one-wavelength (scalar) evaluation.
+        const double ref = b->eval(wl.normalized(), view.wv, lambda[k]);
+        EXPECT_NEAR(f[k], ref, 1e-14 * ref) << n << " " << k;
+        pt::SpectralMaterial::Wavelengths w1;
+        m.prepare(&lambda[k], 1, w1);
+        double f1;
+        m.eval(0, 0, view, wl.normalized(), w1, &f1, nullptr);
+        EXPECT_EQ(f[k], f1) << n << " " << k;
+      }
+    }
+  }
+}

@@ -5,6 +5,10 @@
 #include <cmath>
 #include <string>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 namespace microbrdf::pt {
 
 FastSpectrum::FastSpectrum(const Spectrum& s) : l_(s.wavelengths()), v_(s.values()) {
@@ -120,6 +124,39 @@ double SpectralMaterial::g2(const View& vw, const Vec3& wl, const Vec3& h) const
   return 1.0 / (1.0 / gi + 1.0 / go - 1.0);
 }
 
+void SpectralMaterial::fresnel_all(double cos_i, const Wavelengths& w, double scale,
+                                   double* out) const {
+  const int n = w.n;
+  if (!conductor_) {
+    for (int k = 0; k < n; ++k) out[k] = mf_->fresnel().eval(cos_i, w.lambda_m[k]) * scale;
+    return;
+  }
+  const double c = std::min(std::abs(cos_i), 1.0);
+  const double c2 = c * c, s2 = std::max(0.0, 1.0 - c2);
+  int k = 0;
+#ifdef __SSE2__
+  // Two wavelengths at a time: the same IEEE operations in the same order as fresnel(), so the
+  // same values.
+  const __m128d vc = _mm_set1_pd(c), vc2 = _mm_set1_pd(c2), vs2 = _mm_set1_pd(s2),
+                two = _mm_set1_pd(2.0), half = _mm_set1_pd(0.5), zero = _mm_setzero_pd(),
+                vscale = _mm_set1_pd(scale), s4 = _mm_set1_pd(s2 * s2);
+  for (; k + 1 < n; k += 2) {
+    const __m128d t = _mm_sub_pd(_mm_loadu_pd(&w.e[k]), vs2);
+    const __m128d a2b2 = _mm_sqrt_pd(_mm_add_pd(_mm_mul_pd(t, t), _mm_loadu_pd(&w.f4[k])));
+    // (max(x, 0) gives 0 for a NaN x, as std::max(0.0, x) does)
+    const __m128d a = _mm_sqrt_pd(_mm_max_pd(_mm_mul_pd(half, _mm_add_pd(a2b2, t)), zero));
+    const __m128d ac2 = _mm_mul_pd(_mm_mul_pd(two, a), vc);  // 2 a c
+    const __m128d rs =
+        _mm_div_pd(_mm_add_pd(_mm_sub_pd(a2b2, ac2), vc2), _mm_add_pd(_mm_add_pd(a2b2, ac2), vc2));
+    const __m128d p1 = _mm_mul_pd(a2b2, vc2), p2 = _mm_mul_pd(ac2, vs2);
+    const __m128d rp = _mm_div_pd(_mm_mul_pd(rs, _mm_add_pd(_mm_sub_pd(p1, p2), s4)),
+                                  _mm_add_pd(_mm_add_pd(p1, p2), s4));
+    _mm_storeu_pd(&out[k], _mm_mul_pd(_mm_mul_pd(half, _mm_add_pd(rs, rp)), vscale));
+  }
+#endif
+  for (; k < n; ++k) out[k] = fresnel(cos_i, w, k) * scale;
+}
+
 bool SpectralMaterial::eval(double u, double v, const View& vw, const Vec3& wl,
                             const Wavelengths& w, double* f, double* pdf) const {
   const int n = w.n;
@@ -149,8 +186,7 @@ bool SpectralMaterial::eval(double u, double v, const View& vw, const Vec3& wl,
   if (g == 0) return false;
   const double geo = dh * g / (4 * wl.z() * wv.z());
   if (geo == 0) return false;
-  const double c = wl.dot(h);
-  for (int k = 0; k < n; ++k) f[k] = fresnel(c, w, k) * geo;
+  fresnel_all(wl.dot(h), w, geo, f);
   return true;
 }
 
@@ -197,7 +233,7 @@ bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, dou
   s.wo = wo;
   s.pdf = pdf;
   s.delta = false;
-  for (int k = 0; k < n; ++k) s.weight[k] = fresnel(im, w, k) * geo;
+  fresnel_all(im, w, geo, s.weight);
   return true;
 }
 

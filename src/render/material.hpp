@@ -101,6 +101,8 @@ class SpectralMaterial {
 
  private:
   double fresnel(double c, const Wavelengths& w, int k) const;
+  /// out[k] = fresnel(c, w, k) * scale for the path's wavelengths (two at a time with SSE2).
+  void fresnel_all(double c, const Wavelengths& w, double scale, double* out) const;
   double g2(const View& vw, const Vec3& wl, const Vec3& h) const;
   bool self_check() const;
 
