@@ -223,6 +223,16 @@ Eigen::Vector3d EnvironmentMap::rgb_and_pdf(const Eigen::Vector3d& d, double& pd
   }
   int c, r;
   pixel_of(d, c, r);
+  return rgb_and_pdf_at(d, {c, r}, pdf);
+}
+
+Eigen::Vector3d EnvironmentMap::rgb_and_pdf_at(const Eigen::Vector3d& d, std::pair<int, int> pixel,
+                                               double& pdf) const {
+  if (uniform_) {
+    pdf = 1 / (4 * M_PI);
+    return uniform_rgb_;
+  }
+  const auto [c, r] = pixel;
   const double st = std::sqrt((d.x() * d.x() + d.z() * d.z()) / d.squaredNorm());  // sin theta
   pdf = st > 0 ? dist_.pdf(c, r) / (2 * M_PI * M_PI * st) : 0;
   const float* p = dist_.payload(c, r);

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "render/distribution2d.hpp"
@@ -56,17 +57,22 @@ class EnvironmentMap {
   double pdf(const Eigen::Vector3d& d) const;
   /// Memory prefetches (no effect on results): of what rgb_and_pdf(d) reads, and of what
   /// sample(u1, u2, ...) reads first.
-  void prefetch_lookup(const Eigen::Vector3d& d) const {
-    if (uniform_) return;
+  /// Returns the pixel (col, row) of d for rgb_and_pdf_at (-1, -1 for a uniform map).
+  std::pair<int, int> prefetch_lookup(const Eigen::Vector3d& d) const {
+    if (uniform_) return {-1, -1};
     int c, r;
     pixel_of(d, c, r);
     dist_.prefetch_cell(std::size_t(c), std::size_t(r));
+    return {c, r};
   }
   void prefetch_sample(double u1, double u2) const {
     if (!uniform_) dist_.prefetch_sample(u1, u2);
   }
   /// rgb(d) and pdf(d) with one pixel look-up.
   Eigen::Vector3d rgb_and_pdf(const Eigen::Vector3d& d, double& pdf) const;
+  /// The same with the pixel of d given (from prefetch_lookup(d)).
+  Eigen::Vector3d rgb_and_pdf_at(const Eigen::Vector3d& d, std::pair<int, int> pixel,
+                                 double& pdf) const;
 
   int width() const { return img_.width; }
   int height() const { return img_.height; }

@@ -47,11 +47,14 @@ class LightSet {
     const int i = std::min(int(u1 * count_), count_ - 1);
     if (i == 0) env_->prefetch_sample(std::min(u1 * count_, std::nextafter(1.0, 0.0)), u2);
   }
-  void prefetch_env(const Eigen::Vector3d& d) const {
-    if (env_) env_->prefetch_lookup(d);
+  /// Returns what env_rgb needs besides d (the map pixel).
+  std::pair<int, int> prefetch_env(const Eigen::Vector3d& d) const {
+    return env_ ? env_->prefetch_lookup(d) : std::pair<int, int>{-1, -1};
   }
   /// Environment radiance and its light-sampling pdf (incl. choice) for an escaping ray.
   Eigen::Vector3d env_rgb(const Eigen::Vector3d& d, double& pdf) const;
+  /// The same with the pixel from prefetch_env(d).
+  Eigen::Vector3d env_rgb(const Eigen::Vector3d& d, std::pair<int, int> pixel, double& pdf) const;
 
  private:
   RenderLights l_;

@@ -98,7 +98,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       rng.get2d(nee_u1, nee_u2);
       c.lights.prefetch_sample(nee_u1, nee_u2);
     }
-    c.lights.prefetch_env(d);
+    const auto env_pixel = c.lights.prefetch_env(d);
     pt::ShadingPoint sp;
     ++rays;
     const double t = c.geo.intersect(o, d, 1e30, sp);
@@ -109,7 +109,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     }
     if (t < 0) {
       double pdf;
-      const V3 rgb = c.lights.env_rgb(d, pdf);
+      const V3 rgb = c.lights.env_rgb(d, env_pixel, pdf);
       if (c.lights.env()) add_emission(rgb, pdf);
       return rays;
     }
