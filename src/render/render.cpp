@@ -254,7 +254,8 @@ RenderImage render(const RenderScene& scene,
         rng.get2d(jx, jy);
         double lambda[pt::kMaxWavelengths], L[pt::kMaxWavelengths];
         for (int k = 0; k < n; ++k) L[k] = 0;
-        pt::hero_wavelengths(rng.get1d(), n, lambda);
+        double lweight[pt::kMaxWavelengths];
+        pt::visible_hero_wavelengths(rng.get1d(), n, lambda, lweight);
         PathSpectrum ps;
         ps.n = n;
         for (int k = 0; k < n; ++k) {
@@ -265,7 +266,7 @@ RenderImage render(const RenderScene& scene,
         rays += trace_path(ctx, cam.position, d, ps, rng, L);
         Eigen::Vector3d sx = Eigen::Vector3d::Zero();
         for (int k = 0; k < n; ++k)
-          if (L[k] != 0) sx += L[k] * spec.xyz_weight(lambda[k]);
+          if (L[k] != 0) sx += (L[k] * lweight[k]) * spec.xyz_weight(lambda[k]);
         if (sx.allFinite()) xyz[s < first_half ? 0 : 1] += sx / n;
       }
       const Eigen::Vector3d rgb = to_rgb * ((xyz[0] + xyz[1]) / opt.spp);

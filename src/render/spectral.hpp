@@ -13,7 +13,9 @@
 // smooth reflectance spectra (spectrum.hpp) of three in-gamut colours and a linear change of basis.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace microbrdf::pt {
@@ -47,13 +49,41 @@ class SpectralTables {
   std::vector<Eigen::Vector3d> xyz_, basis_;
 };
 
-/// The hero wavelengths (nm) of one path.
+/// The hero wavelengths (nm) of one path, uniform on [360, 830) nm (each l_k uniform).
 inline void hero_wavelengths(double u, int n, double* out) {
   const double l0 = kLambdaRangeNm * u;
   for (int k = 0; k < n; ++k) {
     double l = l0 + k * kLambdaRangeNm / n;
     if (l >= kLambdaRangeNm) l -= kLambdaRangeNm;
     out[k] = kLambdaMinNm + l;
+  }
+}
+
+/// Importance sampling of visible wavelengths (the density of the pbrt-v4 book, section 4.6.5,
+/// roughly the shape of the colour matching functions times D65): l(u) = 538 - A atanh(B - C u)
+/// with density p(l) = sech^2((l - 538) / A) / (A C) per nm, which is exactly that of the map
+/// (dl/du = A C / (1 - (B - C u)^2)). l(0) = 360 nm, l(1) = 830.04 nm.
+struct VisibleWavelengths {
+  static constexpr double kA = 138.888889, kB = 0.85691062, kC = 1.82750197;
+  static double sample(double u) { return 538 - kA * std::atanh(kB - kC * u); }
+  static double pdf(double l_nm) {
+    const double c = std::cosh((l_nm - 538) / kA);
+    return 1 / (kA * kC * c * c);
+  }
+};
+
+/// The hero wavelengths (nm) of one path drawn by VisibleWavelengths: l_k = l((u + k / n) mod 1),
+/// each with density p(l_k); `weight[k]` = 1 / (470 nm p(l_k)) inside [360, 830] nm, else 0 (the
+/// factor that turns the uniform estimator's XYZ weight into this one's).
+inline void visible_hero_wavelengths(double u, int n, double* out, double* weight) {
+  for (int k = 0; k < n; ++k) {
+    double uk = u + double(k) / n;
+    if (uk >= 1) uk -= 1;
+    const double l = VisibleWavelengths::sample(uk);
+    out[k] = std::clamp(l, kLambdaMinNm, kLambdaMaxNm);
+    weight[k] = l >= kLambdaMinNm && l <= kLambdaMaxNm
+                    ? 1 / (kLambdaRangeNm * VisibleWavelengths::pdf(l))
+                    : 0.0;
   }
 }
 
