@@ -15,50 +15,15 @@
 // reads the guide and then one or two cache lines of the row's records, which also hold the
 // chosen cell's radiance.
 
-#include <sys/mman.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
-#include <new>
 #include <stdexcept>
 #include <vector>
 
-namespace microbrdf::pt {
+#include "core/huge_page_allocator.hpp"
 
-/// Allocates blocks of 1 MB and more on 2 MB boundaries and asks the kernel for transparent huge
-/// pages there: a map's tables are read at random, and with 4 KB pages nearly every read also
-/// misses the TLB (16 MB of records span 4096 pages). Smaller blocks: plain new.
-template <class T>
-struct HugePageAllocator {
-  using value_type = T;
-  HugePageAllocator() = default;
-  template <class U>
-  HugePageAllocator(const HugePageAllocator<U>&) {}
-  static constexpr std::size_t kHuge = std::size_t(2) << 20;
-  T* allocate(std::size_t n) {
-    const std::size_t bytes = n * sizeof(T);
-    if (bytes < (std::size_t(1) << 20)) return static_cast<T*>(::operator new(bytes));
-    const std::size_t rounded = (bytes + kHuge - 1) / kHuge * kHuge;
-    void* p = std::aligned_alloc(kHuge, rounded);
-    if (!p) throw std::bad_alloc();
-#ifdef MADV_HUGEPAGE
-    madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure leaves 4 KB pages
-#endif
-    return static_cast<T*>(p);
-  }
-  void deallocate(T* p, std::size_t n) {
-    if (n * sizeof(T) < (std::size_t(1) << 20))
-      ::operator delete(p);
-    else
-      std::free(p);
-  }
-  template <class U>
-  bool operator==(const HugePageAllocator<U>&) const {
-    return true;
-  }
-};
+namespace microbrdf::pt {
 
 class PiecewiseConstant2D {
  public:
@@ -211,8 +176,10 @@ class PiecewiseConstant2D {
   std::size_t nu_ = 0, nv_ = 0, gu_ = 1;  // gu_: column guide intervals per row
   std::vector<double> row_cdf_;           // nv + 1 running sums of row weights
   std::vector<std::uint32_t> row_guide_;  // guide table of row_cdf_
-  std::vector<std::uint16_t, HugePageAllocator<std::uint16_t>> col_guide_;  // per row, gu + 1
-  std::vector<Cell, HugePageAllocator<Cell>> cells_;  // per row, nu + 1 records (last: the total)
+  std::vector<std::uint16_t, microbrdf::detail::HugePageAllocator<std::uint16_t>>
+      col_guide_;  // per row, gu + 1
+  std::vector<Cell, microbrdf::detail::HugePageAllocator<Cell>>
+      cells_;  // per row, nu + 1 records (last: the total)
 };
 
 }  // namespace microbrdf::pt

@@ -76,13 +76,16 @@ struct VisibleWavelengths {
 /// each with density p(l_k); `weight[k]` = 1 / (470 nm p(l_k)) inside [360, 830] nm, else 0 (the
 /// factor that turns the uniform estimator's XYZ weight into this one's).
 inline void visible_hero_wavelengths(double u, int n, double* out, double* weight) {
+  using V = VisibleWavelengths;
   for (int k = 0; k < n; ++k) {
     double uk = u + double(k) / n;
     if (uk >= 1) uk -= 1;
-    const double l = VisibleWavelengths::sample(uk);
+    const double x = V::kB - V::kC * uk;
+    const double l = 538 - V::kA * std::atanh(x);
     out[k] = std::clamp(l, kLambdaMinNm, kLambdaMaxNm);
+    // p(l) = sech^2(atanh x) / (A C) = (1 - x^2) / (A C): the map's own derivative.
     weight[k] = l >= kLambdaMinNm && l <= kLambdaMaxNm
-                    ? 1 / (kLambdaRangeNm * VisibleWavelengths::pdf(l))
+                    ? V::kA * V::kC / (kLambdaRangeNm * (1 - x * x))
                     : 0.0;
   }
 }
