@@ -701,3 +701,33 @@ TEST(Render, SpectralMaterialFresnelEqualsTheConductorFormula) {
     }
   }
 }
+
+TEST(Render, VisibleWavelengthSamplingIsExact) {
+  // The hero wavelengths drawn by the visible-wavelength density: each weight is 1 / (470 nm p)
+  // with p the density of the map (checked against the sech^2 form and against a histogram), so
+  // the weights of uniformly spread u average to 1 (the estimator of the integral over 360..830
+  // nm is unbiased); the wavelengths of one path are the map of u + k / n.
+  double sum = 0;
+  const int m = 200000;
+  std::vector<int> hist(47, 0);
+  for (int i = 0; i < m; ++i) {
+    double l[1], w[1];
+    pt::visible_hero_wavelengths((i + 0.5) / m, 1, l, w);
+    sum += w[0];
+    ASSERT_NEAR(w[0], 1 / (470 * pt::VisibleWavelengths::pdf(l[0])), 1e-9 * w[0]);
+    ++hist[std::min(46, int((l[0] - 360) / 10))];
+  }
+  EXPECT_NEAR(sum / m, 1.0, 1e-4);
+  for (int b = 0; b < 47; ++b) {  // the fraction of draws in each 10 nm band against the density
+    double p = 0;
+    for (int j = 0; j < 100; ++j) p += pt::VisibleWavelengths::pdf(360 + 10 * b + 0.1 * (j + 0.5));
+    EXPECT_NEAR(double(hist[b]) / m, p * 0.1, 2e-4) << b;
+  }
+  double l4[4], w4[4];
+  pt::visible_hero_wavelengths(0.3, 4, l4, w4);
+  for (int k = 0; k < 4; ++k) {
+    double l1[1], w1[1];
+    pt::visible_hero_wavelengths(std::fmod(0.3 + k / 4.0, 1.0), 1, l1, w1);
+    EXPECT_NEAR(l4[k], l1[0], 1e-9);
+  }
+}

@@ -65,7 +65,10 @@ inline void hero_wavelengths(double u, int n, double* out) {
 /// (dl/du = A C / (1 - (B - C u)^2)). l(0) = 360 nm, l(1) = 830.04 nm.
 struct VisibleWavelengths {
   static constexpr double kA = 138.888889, kB = 0.85691062, kC = 1.82750197;
-  static double sample(double u) { return 538 - kA * std::atanh(kB - kC * u); }
+  static double sample(double u) {
+    const double x = kB - kC * u;
+    return 538 - kA * 0.5 * std::log((1 + x) / (1 - x));  // atanh(x)
+  }
   static double pdf(double l_nm) {
     const double c = std::cosh((l_nm - 538) / kA);
     return 1 / (kA * kC * c * c);
@@ -81,7 +84,7 @@ inline void visible_hero_wavelengths(double u, int n, double* out, double* weigh
     double uk = u + double(k) / n;
     if (uk >= 1) uk -= 1;
     const double x = V::kB - V::kC * uk;
-    const double l = 538 - V::kA * std::atanh(x);
+    const double l = 538 - V::kA * 0.5 * std::log((1 + x) / (1 - x));  // atanh(x)
     out[k] = std::clamp(l, kLambdaMinNm, kLambdaMaxNm);
     // p(l) = sech^2(atanh x) / (A C) = (1 - x^2) / (A C): the map's own derivative.
     weight[k] = l >= kLambdaMinNm && l <= kLambdaMaxNm
