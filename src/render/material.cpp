@@ -60,10 +60,10 @@ bool SpectralMaterial::self_check() const {
     prepare(lambda, 2, w);
     const View vw = view(wo);
     double f[2], pdf = 0;
-    eval(0, 0, vw, wi, w, f, &pdf);
+    const bool nonzero = eval(0, 0, vw, wi, w, f, &pdf);
     for (int k = 0; k < 2; ++k)
       if (!close(f[k], mf_->eval(wi, wo, lambda[k]))) return false;
-    if (!close(pdf, mf_->pdf(wo, wi))) return false;
+    if (nonzero && !close(pdf, mf_->pdf(wo, wi))) return false;
     Sample s;
     const double u1 = (i + 0.5) / 16, u2 = std::fmod(0.618 * i + 0.1, 1.0);
     const bool got = sample(0, 0, vw, u1, u2, w, s);
@@ -174,7 +174,14 @@ bool SpectralMaterial::eval(double u, double v, const View& vw, const Vec3& wl,
   const double len = hs.norm();
   if (len == 0) return false;
   const Vec3 h = hs / len;
+  // f = 0 (no NDF mass at h, or shadowed): nothing more is needed, the caller drops the sample
+  // (tabulated NDFs are 0 over much of the disk, and their sampling density is the costly part).
   const double dh = d_->D(h);
+  if (dh == 0) return false;
+  const double g = g2(vw, wl, h);
+  if (g == 0) return false;
+  const double geo = dh * g / (4 * wl.z() * wv.z());
+  if (geo == 0) return false;
   if (pdf) {
     // MicrofacetBrdf::pdf(wv, wl) = sampling_pdf(wv, h) / (4 wv.h).
     const double vh = wv.dot(h);
@@ -182,10 +189,6 @@ bool SpectralMaterial::eval(double u, double v, const View& vw, const Vec3& wl,
       *pdf = visible_exact_ ? (vw.pa > 0 ? dh / (4 * vw.pa) : 0.0)
                             : d_->sampling_pdf(wv, h) / (4 * vh);
   }
-  const double g = g2(vw, wl, h);
-  if (g == 0) return false;
-  const double geo = dh * g / (4 * wl.z() * wv.z());
-  if (geo == 0) return false;
   fresnel_all(wl.dot(h), w, geo, f);
   return true;
 }

@@ -83,7 +83,8 @@ class SpectralMaterial {
   void prepare(const double* lambda_m, int n, Wavelengths& w) const;
   View view(const Vec3& wv) const;
   /// f(wl, wv) at the path's wavelengths into f (wl = light, local frame); with `pdf`, also
-  /// the BRDF sampler's density of wl (Svbrdf::pdf(u, v, wv, wl)). False when f = 0 everywhere.
+  /// the BRDF sampler's density of wl (Svbrdf::pdf(u, v, wv, wl)). False when f = 0 everywhere
+  /// (the fast path then leaves *pdf at 0 without computing it).
   bool eval(double u, double v, const View& vw, const Vec3& wl, const Wavelengths& w, double* f,
             double* pdf) const;
   /// A BRDF sample driven by the viewer direction; false when the sample is refused or carries
