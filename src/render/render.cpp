@@ -118,8 +118,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     const pt::SpectralMaterial& mat = c.mats[c.mats.size() == 1 ? 0 : sp.object];
     const V3 wv = sp.to_local(-d);  // towards the viewer
     if (!(wv.z() > 0)) return rays;
-    // The material's wavelength constants, once per path (the cylinder pair has two materials;
-    // more objects than two never share a path's cache slot with another material).
+    // The material's wavelength constants, once per path and material (the cylinder pair may
+    // have two materials; with more than two, every bounce prepares its own).
     pt::SpectralMaterial::Wavelengths* wl_consts = &ps.mat[slot];
     if (!ps.prepared[slot] || c.mats.size() > 2) {
       mat.prepare(ps.lambda_m, n, *wl_consts);
