@@ -75,21 +75,32 @@ struct VisibleWavelengths {
   }
 };
 
-/// The hero wavelengths (nm) of one path drawn by VisibleWavelengths: l_k = l((u + k / n) mod 1),
-/// each with density p(l_k); `weight[k]` = 1 / (470 nm p(l_k)) inside [360, 830] nm, else 0 (the
-/// factor that turns the uniform estimator's XYZ weight into this one's).
+/// l(i / 1024), i = 0..1024: the map tabulated; the renderer draws from the piecewise-linear map
+/// through these nodes, whose density is exactly 1 / (1024 (l_{i+1} - l_i)) on segment i (within
+/// 3% of p(l); no log per wavelength).
+inline const std::array<double, 1025>& visible_wavelength_nodes() {
+  static const std::array<double, 1025> t = [] {
+    std::array<double, 1025> a{};
+    for (std::size_t i = 0; i < a.size(); ++i) a[i] = VisibleWavelengths::sample(double(i) / 1024);
+    return a;
+  }();
+  return t;
+}
+
+/// The hero wavelengths (nm) of one path: l_k = m((u + k / n) mod 1) with m the piecewise-linear
+/// map through visible_wavelength_nodes(), each with density q(l_k) (that of the map);
+/// `weight[k]` = 1 / (470 nm q(l_k)) inside [360, 830] nm, else 0 (the factor that turns the
+/// uniform estimator's XYZ weight into this one's).
 inline void visible_hero_wavelengths(double u, int n, double* out, double* weight) {
-  using V = VisibleWavelengths;
+  const auto& t = visible_wavelength_nodes();
   for (int k = 0; k < n; ++k) {
     double uk = u + double(k) / n;
     if (uk >= 1) uk -= 1;
-    const double x = V::kB - V::kC * uk;
-    const double l = 538 - V::kA * 0.5 * std::log((1 + x) / (1 - x));  // atanh(x)
+    const double x = uk * 1024;
+    const std::size_t i = std::min(std::size_t(x), std::size_t(1023));
+    const double width = t[i + 1] - t[i], l = t[i] + (x - double(i)) * width;
     out[k] = std::clamp(l, kLambdaMinNm, kLambdaMaxNm);
-    // p(l) = sech^2(atanh x) / (A C) = (1 - x^2) / (A C): the map's own derivative.
-    weight[k] = l >= kLambdaMinNm && l <= kLambdaMaxNm
-                    ? V::kA * V::kC / (kLambdaRangeNm * (1 - x * x))
-                    : 0.0;
+    weight[k] = l >= kLambdaMinNm && l <= kLambdaMaxNm ? 1024 * width / kLambdaRangeNm : 0.0;
   }
 }
 
