@@ -1,29 +1,49 @@
 #!/usr/bin/python3
-"""Render noise of the Sobol' and the independent path samplers (docs/benchmarks.md, "Render noise").
+"""Render noise at equal spp and at equal CPU time (docs/benchmarks.md, "Render noise").
 
-    PYTHONPATH=build/python /usr/bin/python3 bench/render_noise.py [--size 64] [--figure out.png]
+    PYTHONPATH=build/python /usr/bin/python3 bench/render_noise.py [--size 64] [--spp 64]
+        [--wavelengths 4,8] [--baseline OLD/build/python] [--figure out.png]
 
-For each case (white sky / courtyard map; cylinder pair / plate), renders a reference with many
-samples per pixel (Sobol', 16 hero wavelengths, seed 999), then images at 4..256 spp with each
-sampler (seeds 1 and 2) and prints the RMS over pixels of the per-pixel relative RGB error (and of
-the luminance), with the process CPU time of each render. References are cached in --cache.
+For each case (white sky / courtyard map; cylinder pair / plate; GGX (0.08, 0.3) copper), renders a
+reference with many samples per pixel (Sobol', 16 hero wavelengths, seed 999; cached in --cache),
+then images at --spp with seeds 1..--seeds with: the independent sampler at 4 hero wavelengths,
+and the Sobol' sampler at each of --wavelengths. With --baseline, the same images are also
+rendered by an older build's Python module (a separate process with that PYTHONPATH; its own
+default sampler), so that its error and its CPU time are measured in the same run. Prints, per
+configuration, the RMS over pixels of the per-pixel relative RGB error |I - R| / |R| (and of the
+luminance), over the pixels brighter than 2% of the reference's 99th luminance percentile,
+the process CPU time per image (time.process_time, all threads), and the error ratio at equal
+time against the first configuration (the baseline when given):
+e_ref sqrt(t_ref) / (e sqrt(t)).
 """
 import argparse
+import json
 import os
 import pathlib
+import subprocess
+import sys
 import time
 
 import numpy as np
 
-import microbrdf as mb
-
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 LUMA = np.array([0.2126, 0.7152, 0.0722])
+CASES = [("white", "cylinders", 4096), ("courtyard", "cylinders", 2048),
+         ("courtyard", "plate", 2048)]
+BRDF = dict(model="ggx", alpha_x=0.08, alpha_y=0.3, metal="Cu")
 
 
-def render(brdf, kw, spp, sampler, seed, wavelengths=4):
+def case_kwargs(lights, scene, size, threads):
+    kw = dict(scene=scene, size=size, threads=threads)
+    if lights != "white":
+        kw["envmap"] = str(ROOT / "data" / "envmaps" / f"blender_{lights}.exr")
+    return kw
+
+
+def render(mb, kw, spp, seed, sampler=None, wavelengths=4):
+    extra = {} if sampler is None else {"sampler": sampler}
     t = time.process_time()
-    img = mb.render(brdf, spp=spp, sampler=sampler, seed=seed, wavelengths=wavelengths, **kw)
+    img = mb.render(mb.brdf(**BRDF), spp=spp, seed=seed, wavelengths=wavelengths, **extra, **kw)
     return np.array(img, dtype=np.float64), time.process_time() - t
 
 
@@ -33,52 +53,93 @@ def errors(img, ref, mask):
     return rgb, lum
 
 
+def worker(args):
+    """--worker JSON: renders with whatever `microbrdf` is on sys.path (no sampler argument:
+    an older build's default), writes the images and CPU times to an .npz."""
+    import microbrdf as mb
+
+    job = json.loads(args)
+    imgs, cpu = [], []
+    for seed in job["seeds"]:
+        img, t = render(mb, job["kw"], job["spp"], seed)
+        imgs.append(img)
+        cpu.append(t)
+    np.savez(job["out"], imgs=np.array(imgs), cpu=np.array(cpu))
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--worker":
+        return worker(sys.argv[2])
+    import microbrdf as mb
+
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--size", type=int, default=64, help="image side, pixels")
+    ap.add_argument("--spp", type=int, default=64, help="samples per pixel of the compared images")
+    ap.add_argument("--seeds", type=int, default=4, help="images per configuration (seeds 1..N)")
+    ap.add_argument("--threads", type=int, default=1, help="render threads (CPU time counts all)")
+    ap.add_argument("--wavelengths", default="4,8", help="hero wavelengths of the Sobol' images")
+    ap.add_argument("--baseline", help="PYTHONPATH of an older build's module, rendered alike")
+    ap.add_argument("--cases", default="0,1,2", help="which of the three cases (indices)")
     ap.add_argument("--cache", default="/tmp/microbrdf-render-noise", help="reference cache")
     ap.add_argument("--figure", help="PNG of the error against spp (matplotlib, Agg)")
     a = ap.parse_args()
     os.makedirs(a.cache, exist_ok=True)
-    brdf = mb.brdf(model="ggx", alpha_x=0.08, alpha_y=0.3, metal="Cu")
-    cases = [("white", "cylinders", 4096), ("courtyard", "cylinders", 2048),
-             ("courtyard", "plate", 2048)]
-    spps = [4, 16, 64, 256]
+    seeds = list(range(1, a.seeds + 1))
     curves = []
-    for lights, scene, ref_spp in cases:
-        kw = dict(scene=scene, size=a.size, threads=2)
-        if lights != "white":
-            kw["envmap"] = str(ROOT / "data" / "envmaps" / f"blender_{lights}.exr")
+    for ci in [int(c) for c in a.cases.split(",")]:
+        lights, scene, ref_spp = CASES[ci]
+        kw = case_kwargs(lights, scene, a.size, a.threads)
         path = f"{a.cache}/{lights}_{scene}_{a.size}_{ref_spp}.npy"
         if os.path.exists(path):
             ref = np.load(path)
         else:
-            ref, _ = render(brdf, kw, ref_spp, "sobol", 999, wavelengths=16)
+            ref, _ = render(mb, {**kw, "threads": 0}, ref_spp, 999, "sobol", 16)
             np.save(path, ref)
         mask = ref @ LUMA > 0.02 * np.percentile(ref @ LUMA, 99)
-        print(f"{lights} / {scene}, {a.size}^2, reference {ref_spp} spp, {mask.sum()} pixels")
-        for sampler in ("independent", "sobol"):
-            errs, cpu = [], []
-            for spp in spps:
-                runs = [render(brdf, kw, spp, sampler, seed) for seed in (1, 2)]
-                e = np.mean([errors(img, ref, mask) for img, _ in runs], axis=0)
-                errs.append(e)
-                cpu.append(np.mean([t for _, t in runs]))
-            slope = np.polyfit(np.log(spps), np.log([e[0] for e in errs]), 1)[0]
-            for spp, e, t in zip(spps, errs, cpu):
-                print(f"  {sampler:11s} {spp:4d} spp: RGB {100 * e[0]:6.2f}%  luminance "
-                      f"{100 * e[1]:6.2f}%  CPU {t:.3f} s")
-            print(f"  {sampler:11s} slope of log error vs log spp: {slope:.2f}")
-            curves.append((lights, scene, sampler, [e[0] for e in errs], slope))
+        print(f"{lights} / {scene}, {a.size}^2, {a.spp} spp, {len(seeds)} seeds, "
+              f"{a.threads} thread(s); reference {ref_spp} spp, {mask.sum()} pixels", flush=True)
+        rows = []
+        if a.baseline:
+            out = f"{a.cache}/baseline_{os.getpid()}.npz"
+            job = dict(kw=kw, spp=a.spp, seeds=seeds, out=out)
+            env = {**os.environ, "PYTHONPATH": a.baseline}
+            subprocess.run([sys.executable, __file__, "--worker", json.dumps(job)], env=env,
+                           check=True)
+            d = np.load(out)
+            os.remove(out)
+            e = np.mean([errors(img, ref, mask) for img in d["imgs"]], axis=0)
+            rows.append(("baseline build", e, float(np.mean(d["cpu"]))))
+        configs = [("independent", 4)] + [("sobol", int(w)) for w in a.wavelengths.split(",")]
+        for sampler, wl in configs:
+            runs = [render(mb, kw, a.spp, seed, sampler, wl) for seed in seeds]
+            e = np.mean([errors(img, ref, mask) for img, _ in runs], axis=0)
+            rows.append((f"{sampler}, {wl} wavelengths", e, float(np.mean([t for _, t in runs]))))
+        e0, t0 = rows[0][1][0], rows[0][2]
+        for name, e, t in rows:
+            ratio = e0 * np.sqrt(t0) / (e[0] * np.sqrt(t))
+            print(f"  {name:26s} RGB {100 * e[0]:6.2f}%  luminance {100 * e[1]:6.2f}%  "
+                  f"CPU {t:.3f} s/image  equal-time ratio vs first {ratio:.2f}", flush=True)
+        if a.figure:
+            spps = [4, 16, 64, 256]
+            for sampler in ("independent", "sobol"):
+                errs = []
+                for spp in spps:
+                    runs = [render(mb, kw, spp, seed, sampler) for seed in (1, 2)]
+                    errs.append(np.mean([errors(img, ref, mask)[0] for img, _ in runs]))
+                slope = np.polyfit(np.log(spps), np.log(errs), 1)[0]
+                print(f"  {sampler:11s} " + "  ".join(
+                    f"{s} spp {100 * e:.2f}%" for s, e in zip(spps, errs)) + f"  slope {slope:.2f}")
+                curves.append((lights, scene, sampler, spps, errs, slope))
     if a.figure:
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        fig, axs = plt.subplots(1, len(cases), figsize=(4 * len(cases), 3.6))
-        for ax, (lights, scene, _) in zip(axs, cases):
-            for l, s, sampler, errs, slope in curves:
+        keys = sorted({(l, s) for l, s, *_ in curves}, key=lambda k: [c[:2] for c in CASES].index(k))
+        fig, axs = plt.subplots(1, len(keys), figsize=(4 * len(keys), 3.6), squeeze=False)
+        for ax, (lights, scene) in zip(axs[0], keys):
+            for l, s, sampler, spps, errs, slope in curves:
                 if (l, s) == (lights, scene):
                     ax.loglog(spps, 100 * np.array(errs), "s-" if sampler == "sobol" else "o--",
                               label=f"{sampler} (slope {slope:.2f})")

@@ -259,3 +259,15 @@ TEST(PathSampler, EnvironmentInversionMatchesBinarySearch) {
     EXPECT_GT(w[cell], 0);
   }
 }
+
+TEST(PathSampler, SobolDimensionOneTablesMatchTheLoop) {
+  // The byte tables give the direction-number XOR of the plain loop for every index.
+  std::uint64_t s = 5;
+  for (int k = 0; k < 100000; ++k) {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    const auto i = std::uint32_t(s >> 32) >> (k % 32);
+    ASSERT_EQ(PathSampler::sobol_dim1(i), PathSampler::sobol_dim1_loop(i)) << i;
+  }
+  for (std::uint32_t i = 0; i < 70000; ++i)
+    ASSERT_EQ(PathSampler::sobol_dim1(i), PathSampler::sobol_dim1_loop(i)) << i;
+}

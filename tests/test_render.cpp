@@ -506,3 +506,229 @@ TEST(Render, NormalizingExposureTakesTheBrightestPixelsToWhite) {
   std::fill(img.rgb.begin(), img.rgb.end(), 0.0f);
   EXPECT_EQ(normalizing_exposure(img), 0.0);
 }
+
+TEST(Render, FastPixelLookupEqualsTheDefinition) {
+  // pixel_of (polynomial guess, exact tests against the pixel edges) against pixel_of_exact
+  // (acos, atan2) for random directions, directions on and next to the pixel edges, the poles
+  // and the seam, with and without a rotation; and direction_in_pixel against direction().
+  for (double rot : {0.0, 0.7, -2.1}) {
+    const pt::EnvironmentMap map(pt::read_envmap_image(kEnvmaps + "/blender_courtyard.exr"), 1.0,
+                                 rot);
+    const int w = map.width(), h = map.height();
+    std::uint64_t s = 99;
+    auto uni = [&] {
+      s = s * 6364136223846793005ull + 1442695040888963407ull;
+      return double(s >> 11) * 0x1.0p-53;
+    };
+    auto check = [&](const Eigen::Vector3d& d) {
+      int c0, r0, c1, r1;
+      map.pixel_of(d, c0, r0);
+      map.pixel_of_exact(d, c1, r1);
+      return c0 == c1 && r0 == r1;
+    };
+    int bad = 0;
+    for (int k = 0; k < 200000; ++k) {
+      const double z = 2 * uni() - 1, phi = 2 * M_PI * uni(), r = std::sqrt(1 - z * z);
+      bad += !check(Eigen::Vector3d(r * std::cos(phi), z, r * std::sin(phi)));
+    }
+    EXPECT_EQ(bad, 0);
+    // Centres and points 1e-9 of a pixel inside each edge of a grid of pixels (the two lookups
+    // may differ only by rounding exactly on an edge).
+    bad = 0;
+    for (int r = 0; r < h; r += 7)
+      for (int c = 0; c < w; c += 5)
+        for (double fu : {1e-9, 0.5, 1 - 1e-9})
+          for (double fv : {1e-9, 0.5, 1 - 1e-9}) {
+            double st;
+            const Eigen::Vector3d d = map.direction_in_pixel(c, fu, r, fv, st);
+            const Eigen::Vector3d ref = map.direction((c + fu) / w, (r + fv) / h);
+            ASSERT_LT((d - ref).norm(), 1e-14);
+            ASSERT_NEAR(st, std::sin(M_PI * (r + fv) / h), 1e-14);
+            int c0, r0;
+            map.pixel_of(d, c0, r0);
+            bad += c0 != c || r0 != r;
+            bad += !check(d);
+          }
+    EXPECT_EQ(bad, 0);
+    // The poles, and directions exactly on a pixel edge (there either side is right: both
+    // lookups round, and a sampled direction never lies on an edge).
+    for (const Eigen::Vector3d& d :
+         {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(1e-300, 1, 0),
+          Eigen::Vector3d(0, 0.6, 0.8), Eigen::Vector3d(0, 0.6, -0.8),
+          Eigen::Vector3d(-0.8, 0.6, 0)}) {
+      int c0, r0, c1, r1;
+      map.pixel_of(d, c0, r0);
+      map.pixel_of_exact(d, c1, r1);
+      const int dc = std::abs(c0 - c1);
+      EXPECT_TRUE(dc <= 1 || dc == w - 1) << d.transpose();
+      EXPECT_LE(std::abs(r0 - r1), 1) << d.transpose();
+    }
+  }
+}
+
+TEST(Render, FastSpectrumEqualsSpectrum) {
+  for (const char* name : {"Cu", "Au", "SS-austenitic", "Al"}) {
+    const OpticalConstants c = metal(name);
+    for (const Spectrum* sp : {&c.n, &c.k}) {
+      const pt::FastSpectrum f(*sp);
+      for (int i = 0; i <= 20000; ++i) {
+        const double l = 300e-9 + 600e-9 * i / 20000;
+        ASSERT_EQ(f(l), (*sp)(l)) << name << " " << l;
+      }
+      for (double l : sp->wavelengths()) {  // the nodes themselves and their neighbours
+        ASSERT_EQ(f(l), (*sp)(l));
+        ASSERT_EQ(f(std::nextafter(l, 0.0)), (*sp)(std::nextafter(l, 0.0)));
+        ASSERT_EQ(f(std::nextafter(l, 1.0)), (*sp)(std::nextafter(l, 1.0)));
+      }
+    }
+  }
+}
+
+TEST(Render, SpectralMaterialSamplesLikeTheBrdf) {
+  // The fast path's BRDF sample (direction, density, weight per wavelength), the light sample's
+  // f and MIS density against MicrofacetBrdf::sample / eval / pdf, for analytic and tabulated
+  // distributions (GGX, Beckmann, a 257^2 table), conductors and a Schlick Fresnel term.
+  auto cu = std::make_shared<ConductorFresnel>(metal("Cu"));
+  auto schlick = std::make_shared<SchlickFresnel>(Spectrum::constant(0.5));
+  std::vector<std::shared_ptr<MicrofacetBrdf>> brdfs = {
+      std::make_shared<MicrofacetBrdf>(std::make_shared<GgxDistribution>(0.08, 0.3, 0.2), cu),
+      std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(0.2, 0.05), schlick,
+                                       true),
+      std::make_shared<MicrofacetBrdf>(std::make_shared<TabulatedDistribution>(tabulate(
+                                           BeckmannDistribution(0.3, 0.15), "beckmann", 257)),
+                                       cu)};
+  const double lambda[4] = {380e-9, 480e-9, 600e-9, 790e-9};
+  for (const auto& b : brdfs) {
+    const pt::SpectralMaterial m(std::make_shared<UniformSvbrdf>(b));
+    ASSERT_TRUE(m.fast()) << b->describe();
+    pt::SpectralMaterial::Wavelengths w;
+    m.prepare(lambda, 4, w);
+    int sampled = 0;
+    for (int i = 0; i < 400; ++i) {
+      const double tv = 1.5 * (i % 20) / 20, pv = 0.31 * i;
+      const Vec3 wv(std::sin(tv) * std::cos(pv), std::sin(tv) * std::sin(pv), std::cos(tv));
+      const auto view = m.view(wv);
+      const double u1 = (i + 0.5) / 400, u2 = std::fmod(0.618034 * i, 1.0);
+      pt::SpectralMaterial::Sample s;
+      const bool got = m.sample(0, 0, view, u1, u2, w, s);
+      const auto ref = b->sample(wv, u1, u2, lambda[0]);
+      ASSERT_EQ(got, ref && ref->weight > 0 && ref->wo.z() > 0) << i;
+      if (!got) continue;
+      ++sampled;
+      EXPECT_LT((s.wo - ref->wo).norm(), 1e-12);
+      EXPECT_NEAR(s.pdf, ref->pdf, 1e-10 * ref->pdf);
+      for (int k = 0; k < 4; ++k) {
+        const double f = b->eval(s.wo, wv, lambda[k]);
+        EXPECT_NEAR(s.weight[k], f * s.wo.z() / ref->pdf, 1e-9 * s.weight[k]) << k;
+      }
+      // The sampled direction as a light sample: f and the MIS density.
+      double f[4], pdf = 0;
+      m.eval(0, 0, view, s.wo, w, f, &pdf);
+      EXPECT_NEAR(pdf, b->pdf(wv, s.wo), 1e-9 * pdf);
+      for (int k = 0; k < 4; ++k) EXPECT_NEAR(f[k], b->eval(s.wo, wv, lambda[k]), 1e-12 * f[k]);
+    }
+    EXPECT_GT(sampled, 300);
+  }
+}
+
+TEST(Render, HalfImagesSplitTheSamples) {
+  // The two half images are the means of samples [0, spp/2) and [spp/2, spp): the full image
+  // is their count-weighted mean, they differ from each other (disjoint samples), the full
+  // image is the same as without halves, and everything is independent of the thread count.
+  RenderScene sc;
+  RenderLights l;
+  l.envmap_path = smooth_envmap();
+  auto mats =
+      one(std::make_shared<MicrofacetBrdf>(std::make_shared<GgxDistribution>(0.1, 0.2),
+                                           std::make_shared<ConductorFresnel>(metal("Au"))));
+  for (int spp : {8, 7}) {
+    RenderOptions o = small(24, spp);
+    const RenderImage plain = render(sc, mats, l, o);
+    o.half_images = true;
+    const RenderImage a = render(sc, mats, l, o);
+    o.threads = 1;
+    const RenderImage b = render(sc, mats, l, o);
+    ASSERT_EQ(a.half_rgb[0].size(), a.rgb.size());
+    ASSERT_EQ(a.half_rgb[1].size(), a.rgb.size());
+    EXPECT_EQ(a.rgb, plain.rgb);
+    EXPECT_EQ(a.rgb, b.rgb);
+    EXPECT_EQ(a.half_rgb[0], b.half_rgb[0]);
+    EXPECT_EQ(a.half_rgb[1], b.half_rgb[1]);
+    const double n0 = spp / 2, n1 = spp - spp / 2;
+    double diff = 0, mean = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+      EXPECT_NEAR(a.rgb[i], (n0 * a.half_rgb[0][i] + n1 * a.half_rgb[1][i]) / spp,
+                  1e-5 * std::abs(a.rgb[i]) + 1e-7);
+      diff += std::abs(a.half_rgb[0][i] - a.half_rgb[1][i]);
+      mean += a.rgb[i];
+    }
+    EXPECT_GT(diff, 1e-3 * mean);
+  }
+  RenderOptions one_spp = small(8, 1);
+  one_spp.half_images = true;
+  EXPECT_THROW(render(sc, mats, l, one_spp), InputError);
+}
+
+TEST(Render, SpectralMaterialFresnelEqualsTheConductorFormula) {
+  // The per-path constants and the two-wavelengths-at-a-time evaluation give the conductor
+  // Fresnel term of the metal's n and k exactly as one wavelength at a time does, for every
+  // wavelength count.
+  auto b = std::make_shared<MicrofacetBrdf>(std::make_shared<GgxDistribution>(0.2),
+                                            std::make_shared<ConductorFresnel>(metal("Cu")));
+  const pt::SpectralMaterial m(std::make_shared<UniformSvbrdf>(b));
+  ASSERT_TRUE(m.fast());
+  for (int n : {1, 2, 3, 4, 7, 8, 16}) {
+    double lambda[16];
+    for (int k = 0; k < n; ++k) lambda[k] = (360 + 470.0 * (k + 0.3) / n) * 1e-9;
+    pt::SpectralMaterial::Wavelengths w;
+    m.prepare(lambda, n, w);
+    const pt::SpectralMaterial::View view = m.view(Vec3(0.3, -0.2, std::sqrt(1 - 0.13)));
+    for (double t : {0.0, 0.4, 1.1, 1.5}) {
+      const Vec3 wl(std::sin(t), 0.1 * std::sin(t), std::cos(t));
+      double f[16];
+      if (!m.eval(0, 0, view, wl.normalized(), w, f, nullptr)) continue;
+      for (int k = 0; k < n; ++k) {
+        // Against the BRDF (products in another order: to rounding), and exactly against the
+        // one-wavelength (scalar) evaluation.
+        const double ref = b->eval(wl.normalized(), view.wv, lambda[k]);
+        EXPECT_NEAR(f[k], ref, 1e-14 * ref) << n << " " << k;
+        pt::SpectralMaterial::Wavelengths w1;
+        m.prepare(&lambda[k], 1, w1);
+        double f1;
+        m.eval(0, 0, view, wl.normalized(), w1, &f1, nullptr);
+        EXPECT_EQ(f[k], f1) << n << " " << k;
+      }
+    }
+  }
+}
+
+TEST(Render, VisibleWavelengthSamplingIsExact) {
+  // The hero wavelengths drawn by the visible-wavelength density: each weight is 1 / (470 nm q)
+  // with q the density of the tabulated map (within 5% of the sech^2 form; against a
+  // histogram), so
+  // the weights of uniformly spread u average to 1 (the estimator of the integral over 360..830
+  // nm is unbiased); the wavelengths of one path are the map of u + k / n.
+  double sum = 0;
+  const int m = 200000;
+  std::vector<int> hist(47, 0);
+  for (int i = 0; i < m; ++i) {
+    double l[1], w[1];
+    pt::visible_hero_wavelengths((i + 0.5) / m, 1, l, w);
+    sum += w[0];
+    ASSERT_NEAR(w[0], 1 / (470 * pt::VisibleWavelengths::pdf(l[0])), 5e-2 * w[0]);
+    ++hist[std::min(46, int((l[0] - 360) / 10))];
+  }
+  EXPECT_NEAR(sum / m, 1.0, 1e-4);
+  for (int b = 0; b < 47; ++b) {  // the fraction of draws in each 10 nm band against the density
+    double p = 0;
+    for (int j = 0; j < 100; ++j) p += pt::VisibleWavelengths::pdf(360 + 10 * b + 0.1 * (j + 0.5));
+    EXPECT_NEAR(double(hist[b]) / m, p * 0.1, 2e-4) << b;
+  }
+  double l4[4], w4[4];
+  pt::visible_hero_wavelengths(0.3, 4, l4, w4);
+  for (int k = 0; k < 4; ++k) {
+    double l1[1], w1[1];
+    pt::visible_hero_wavelengths(std::fmod(0.3 + k / 4.0, 1.0), 1, l1, w1);
+    EXPECT_NEAR(l4[k], l1[0], 1e-9);
+  }
+}

@@ -8,6 +8,7 @@
 // pixels are linear sRGB radiance (EXR) and tone-mapped sRGB (PNG). Deterministic for a seed
 // whatever the thread count.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -92,6 +93,9 @@ struct RenderOptions {
   RenderSampler sampler = RenderSampler::Sobol;
   double exposure = 0;                            ///< stops, for the PNG only
   std::function<void(double fraction)> progress;  ///< called from one thread, fraction in [0, 1]
+  /// Also return the images of the first and the second half of each pixel's samples
+  /// (RenderImage::half_rgb; needs spp >= 2).
+  bool half_images = false;
 };
 
 struct RenderImage {
@@ -101,6 +105,11 @@ struct RenderImage {
   double samples_per_second = 0;
   std::uint64_t rays = 0;
   std::string settings;  ///< one line: scene, materials, lights, spp, seed (EXR header, JSON)
+  /// With RenderOptions::half_images: the images of sample indices [0, spp/2) and
+  /// [spp/2, spp), each the mean of its own samples (rgb is their mean weighted by the counts).
+  /// Two estimates of the same image from disjoint samples: their difference measures the noise
+  /// (see docs/render.md, "Half images"). Empty otherwise.
+  std::array<std::vector<float>, 2> half_rgb;
 };
 
 /// `materials` holds one entry (applied to every object) or one per object of the scene (the

@@ -173,6 +173,26 @@ std::size_t VisibleNormalTables::memory_bytes() const {
 }
 
 VisibleNormalTables::Mix VisibleNormalTables::mix(const Vec3& v) const {
+  // A path tracer asks for the sample and the densities of one view direction several times in
+  // a row (light sample, BRDF sample): the last view of each thread is remembered (a pure
+  // function of v and the tables, so the result is the same).
+  struct Memo {
+    std::uint64_t owner = 0;  // id_ (not the address: another object may reuse it)
+    double x = 0, y = 0, z = 0;
+    Mix mix{};
+  };
+  thread_local Memo memo;
+  if (memo.owner == id_ && memo.x == v.x() && memo.y == v.y() && memo.z == v.z()) return memo.mix;
+  const Mix x = mix_uncached(v);
+  memo.owner = id_;
+  memo.x = v.x();
+  memo.y = v.y();
+  memo.z = v.z();
+  memo.mix = x;
+  return x;
+}
+
+VisibleNormalTables::Mix VisibleNormalTables::mix_uncached(const Vec3& v) const {
   // theta in [0, 90] deg (v below the horizon: treated as grazing), phi periodic.
   const double st = std::hypot(v.x(), v.y());
   double ft = std::atan2(st, std::max(0.0, v.z())) * (static_cast<double>(nt_) / (0.5 * kPi));

@@ -24,6 +24,7 @@
 // stratification of (u1, u2) in two dimensions. The pdf uses the very CDF differences that the
 // sampler's searches see, so the two agree to rounding.
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -51,10 +52,16 @@ class VisibleNormalTables {
     std::size_t table[4];
     double w[4];  // (1 - eps) w_k; component 4 is the defensive Q with weight eps
   };
-  Mix mix(const Vec3& v) const;
+  Mix mix(const Vec3& v) const;  // with a per-thread memo of the last v
+  Mix mix_uncached(const Vec3& v) const;
   double coarse_probability(const Mix& x, std::size_t c) const;
 
   const TabulatedNdf* t_;
+  std::uint64_t id_ = next_id();  // never 0, unique per object (the mix memo's key)
+  static std::uint64_t next_id() {
+    static std::atomic<std::uint64_t> n{0};
+    return ++n;
+  }
   std::size_t cells_ = 0, nc_ = 0, nt_ = 0, np_ = 0;
   double eps_ = 0.05, total_ = 0;
   std::vector<double> fine_cdf_;        // per coarse cell, inclusive, normalised to 1

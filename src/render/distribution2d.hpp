@@ -9,14 +9,19 @@
 // has a guide table (the cutpoint method: entry j holds the bin of the point j / m of the total,
 // so a search starts next to its answer and walks about two steps on average, the entries being
 // equally probable, instead of a binary search's log2(m) scattered reads; the bin found is
-// exactly the binary search's), and a row's running sum, guide entry, density and an optional
-// payload (the map's radiance) share one 32-byte record per cell, so that a draw reads one or
-// two cache lines of the row instead of four separate tables.
+// exactly the binary search's). The guide tables are 16-bit and kept apart (2 bytes per cell:
+// 1 MB for a 1024 x 512 map, which stays in the caches), while a row's running sum, density and
+// an optional payload (the map's radiance) share one 32-byte record per cell, so that a draw
+// reads the guide and then one or two cache lines of the row's records, which also hold the
+// chosen cell's radiance.
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
+
+#include "core/huge_page_allocator.hpp"
 
 namespace microbrdf::pt {
 
@@ -27,7 +32,14 @@ class PiecewiseConstant2D {
   /// `payload`, when given, holds 3 floats per cell (row-major like f), returned by payload().
   PiecewiseConstant2D(const std::vector<double>& f, std::size_t nu, std::size_t nv,
                       const float* payload = nullptr)
-      : nu_(nu), nv_(nv), row_cdf_(nv + 1), row_guide_(nv + 1), cells_((nu + 1) * nv) {
+      : nu_(nu),
+        nv_(nv),
+        gu_(std::max<std::size_t>(1, nu / kColGuideStride)),
+        row_cdf_(nv + 1),
+        row_guide_(nv + 1),
+        col_guide_((gu_ + 1) * nv),
+        cells_((nu + 1) * nv) {
+    if (nu > 65535) throw std::invalid_argument("PiecewiseConstant2D: at most 65535 columns");
     const std::size_t n = nu * nv;
     std::vector<double> w(n);
     double sum = 0;
@@ -46,11 +58,11 @@ class PiecewiseConstant2D {
       c[0] = 0;
       for (std::size_t k = 0; k < nu; ++k) c[k + 1] = c[k] + w[r * nu + k];
       row_cdf_[r + 1] = row_cdf_[r] + c[nu];
-      build_guide(c.data(), nu, g.data());
+      build_guide(c.data(), nu, gu_, g.data());
+      for (std::size_t j = 0; j <= gu_; ++j) col_guide_[r * (gu_ + 1) + j] = std::uint16_t(g[j]);
       Cell* rc = &cells_[r * (nu + 1)];
       for (std::size_t k = 0; k <= nu; ++k) {
         rc[k].cdf = c[k];
-        rc[k].guide = g[k];
         if (k == nu) continue;
         // Density per unit area of [0,1)^2 is w_i n / sum (mean 1).
         rc[k].density = float(w[r * nu + k] * double(n) / sum);
@@ -58,7 +70,7 @@ class PiecewiseConstant2D {
           for (int ch = 0; ch < 3; ++ch) rc[k].payload[ch] = payload[(r * nu + k) * 3 + ch];
       }
     }
-    build_guide(row_cdf_.data(), nv, row_guide_.data());
+    build_guide(row_cdf_.data(), nv, nv, row_guide_.data());
   }
 
   /// (u, v) in [0,1)^2 from two uniforms (u1 -> column within the row, u2 -> row), with its
@@ -68,11 +80,34 @@ class PiecewiseConstant2D {
     const std::size_t row = invert_rows(u2, fv);
     double fu;
     const Cell* rc = &cells_[row * (nu_ + 1)];
-    const std::size_t col = invert_cols(rc, u1, fu);
+    const std::size_t col = invert_cols(rc, &col_guide_[row * (gu_ + 1)], u1, fu);
     u = (double(col) + fu) / double(nu_);
     v = (double(row) + fv) / double(nv_);
     pdf = rc[col].density;
     return row * nu_ + col;
+  }
+  /// The same as (col + fu, row + fv) in cells, fu and fv in [0, 1); returns the cell's
+  /// payload (read from the record the search ends on).
+  const float* sample_cell(double u1, double u2, std::size_t& col, double& fu, std::size_t& row,
+                           double& fv, double& pdf) const {
+    row = invert_rows(u2, fv);
+    const Cell* rc = &cells_[row * (nu_ + 1)];
+    col = invert_cols(rc, &col_guide_[row * (gu_ + 1)], u1, fu);
+    pdf = rc[col].density;
+    return rc[col].payload;
+  }
+  /// Starts loading what sample(u1, u2, ...) reads first from memory (the guide entry of the
+  /// row that u2 picks), so that the draw, made later, finds it in the cache.
+  void prefetch_sample(double u1, double u2) const {
+    double fv;
+    const std::size_t row = invert_rows(u2, fv);
+    const double gx = u1 * double(gu_);
+    const std::size_t j = gx > 0 ? std::min(std::size_t(gx), gu_) : 0;
+    __builtin_prefetch(&col_guide_[row * (gu_ + 1) + j]);
+  }
+  /// Starts loading the record of cell (col, row).
+  void prefetch_cell(std::size_t col, std::size_t row) const {
+    __builtin_prefetch(&cells_[row * (nu_ + 1) + col]);
   }
   /// Density per unit area in cell (col, row).
   double pdf(std::size_t col, std::size_t row) const {
@@ -88,23 +123,23 @@ class PiecewiseConstant2D {
 
  private:
   struct Cell {
-    double cdf = 0;           // running sum of the row's weights before this cell
-    float density = 0;        // per unit area of [0,1)^2
-    std::uint32_t guide = 0;  // guide entry of the row's CDF (index = this cell's)
+    double cdf = 0;     // running sum of the row's weights before this cell
+    float density = 0;  // per unit area of [0,1)^2
     float payload[3] = {0, 0, 0};
-    float pad = 0;
+    float pad[2] = {0, 0};
   };
   static_assert(sizeof(Cell) == 32, "two cells per cache line");
 
   // The bin k of a CDF c[0..m] (c[0] = 0) with c[k] <= x c[m] < c[k+1], skipping empty bins,
   // and the position within it in [0,1). C(k) reads c[k], G(j) the guide (build_guide).
   template <class C, class G>
-  static std::size_t invert(const C& c, const G& guide, std::size_t m, double x, double& frac) {
+  static std::size_t invert(const C& c, const G& guide, std::size_t m, std::size_t gm, double x,
+                            double& frac) {
     const double cm = c(m), t = x * cm;
     // The last k with c[k] <= t (c[0] = 0 <= t), found by walking from the guide's entry; the
     // same k as std::upper_bound(c, c + m + 1, t) - c - 1 whatever the guide says.
-    const double gx = x * double(m);
-    std::size_t k = guide(gx > 0 ? std::min(std::size_t(gx), m) : 0);
+    const double gx = x * double(gm);
+    std::size_t k = guide(gx > 0 ? std::min(std::size_t(gx), gm) : 0);
     while (k < m && c(k + 1) <= t) ++k;
     while (k > 0 && c(k) > t) --k;
     k = std::min(k, m - 1);
@@ -118,25 +153,33 @@ class PiecewiseConstant2D {
   }
   std::size_t invert_rows(double x, double& frac) const {
     return invert([this](std::size_t k) { return row_cdf_[k]; },
-                  [this](std::size_t j) { return std::size_t(row_guide_[j]); }, nv_, x, frac);
+                  [this](std::size_t j) { return std::size_t(row_guide_[j]); }, nv_, nv_, x, frac);
   }
-  std::size_t invert_cols(const Cell* rc, double x, double& frac) const {
+  std::size_t invert_cols(const Cell* rc, const std::uint16_t* guide, double x,
+                          double& frac) const {
     return invert([rc](std::size_t k) { return rc[k].cdf; },
-                  [rc](std::size_t j) { return std::size_t(rc[j].guide); }, nu_, x, frac);
+                  [guide](std::size_t j) { return std::size_t(guide[j]); }, nu_, gu_, x, frac);
   }
-  // guide[j], j = 0..m: the last k with c[k] <= (j / m) c[m] (where invert's walk starts).
-  static void build_guide(const double* c, std::size_t m, std::uint32_t* guide) {
+  // guide[j], j = 0..gm: the last k with c[k] <= (j / gm) c[m] (where invert's walk starts).
+  static void build_guide(const double* c, std::size_t m, std::size_t gm, std::uint32_t* guide) {
     std::size_t k = 0;
-    for (std::size_t j = 0; j <= m; ++j) {
-      const double t = double(j) / double(m) * c[m];
+    for (std::size_t j = 0; j <= gm; ++j) {
+      const double t = double(j) / double(gm) * c[m];
       while (k < m && c[k + 1] <= t) ++k;
       guide[j] = std::uint32_t(k);
     }
   }
-  std::size_t nu_ = 0, nv_ = 0;
+  // Column guides have one entry per kColGuideStride cells: 128 KB for a 1024 x 512 map, which
+  // stays in the caches, and the walk from an entry reads a few consecutive records (about
+  // kColGuideStride / 2 on average over a row of equal cells), which the hardware streams.
+  static constexpr std::size_t kColGuideStride = 8;
+  std::size_t nu_ = 0, nv_ = 0, gu_ = 1;  // gu_: column guide intervals per row
   std::vector<double> row_cdf_;           // nv + 1 running sums of row weights
   std::vector<std::uint32_t> row_guide_;  // guide table of row_cdf_
-  std::vector<Cell> cells_;               // per row, nu + 1 records (the last: the row's total)
+  std::vector<std::uint16_t, microbrdf::detail::HugePageAllocator<std::uint16_t>>
+      col_guide_;  // per row, gu + 1
+  std::vector<Cell, microbrdf::detail::HugePageAllocator<Cell>>
+      cells_;  // per row, nu + 1 records (last: the total)
 };
 
 }  // namespace microbrdf::pt

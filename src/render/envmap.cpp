@@ -52,6 +52,25 @@ EnvironmentMap::EnvironmentMap(RgbFloatImage img, double scale, double rotation_
   // every look-up reads it from there, and the image itself is not kept.
   dist_ = PiecewiseConstant2D(f, w, h, img_.rgb.data());
   std::vector<float>().swap(img_.rgb);
+  // Edge tables (pixel_of, direction_in_pixel); the series inside a pixel need small pixels.
+  tables_ = w >= 64 && h >= 32;
+  row_cos_.resize(h + 1);
+  row_sin_.resize(h + 1);
+  for (std::size_t r = 0; r <= h; ++r) {
+    const double t = M_PI * double(r) / double(h);
+    row_cos_[r] = std::cos(t);
+    row_sin_[r] = std::sin(t);
+  }
+  row_cos_[0] = 1;
+  row_cos_[h] = -1;
+  row_sin_[0] = row_sin_[h] = 0;
+  col_sin_.resize(w + 1);
+  col_cos_.resize(w + 1);
+  for (std::size_t c = 0; c <= w; ++c) {
+    const double phi = 2 * M_PI * (double(c) / double(w) - 0.5 - rotation_u_);
+    col_sin_[c] = std::sin(phi);
+    col_cos_[c] = std::cos(phi);
+  }
 }
 
 EnvironmentMap EnvironmentMap::uniform(const Eigen::Vector3d& rgb) {
@@ -61,7 +80,75 @@ EnvironmentMap EnvironmentMap::uniform(const Eigen::Vector3d& rgb) {
   return m;
 }
 
+namespace {
+
+// acos to ~7e-5 rad (Abramowitz & Stegun 4.4.45): a first guess of the row only.
+inline double acos_guess(double x) {
+  const double a = std::abs(x);
+  const double r = std::sqrt(std::max(0.0, 1 - a)) *
+                   (1.5707288 + a * (-0.2121144 + a * (0.0742610 - 0.0187293 * a)));
+  return x >= 0 ? r : M_PI - r;
+}
+
+// atan2(y, x) to ~1e-5 rad (A&S 4.4.49 on [0, 1] with octant reduction): a first guess only.
+inline double atan2_guess(double y, double x) {
+  const double ax = std::abs(x), ay = std::abs(y);
+  const double mx = std::max(ax, ay), mn = std::min(ax, ay);
+  if (!(mx > 0)) return 0;
+  const double t = mn / mx, t2 = t * t;
+  double a =
+      t * (0.9998660 + t2 * (-0.3302995 + t2 * (0.1801410 + t2 * (-0.0851330 + t2 * 0.0208351))));
+  if (ay > ax) a = M_PI_2 - a;
+  if (x < 0) a = M_PI - a;
+  return y < 0 ? -a : a;
+}
+
+// sin and cos of a small angle a (|a| <= 0.1) to ~1e-16 by their series.
+inline void small_sincos(double a, double& s, double& c) {
+  const double a2 = a * a;
+  s = a * (1 - a2 / 6 * (1 - a2 / 20 * (1 - a2 / 42 * (1 - a2 / 72))));
+  c = 1 - a2 / 2 * (1 - a2 / 12 * (1 - a2 / 30 * (1 - a2 / 56 * (1 - a2 / 90))));
+}
+
+}  // namespace
+
 void EnvironmentMap::pixel_of(const Eigen::Vector3d& d, int& col, int& row) const {
+  if (!tables_) return pixel_of_exact(d, col, row);
+  const int w = img_.width, h = img_.height;
+  // Row: theta >= pi r / h  <=>  y <= cos(pi r / h).
+  const double y = std::clamp(d.y(), -1.0, 1.0);
+  int r = std::clamp(int(acos_guess(y) * (h / M_PI)), 0, h - 1);
+  while (r > 0 && y > row_cos_[r]) --r;
+  while (r + 1 < h && y <= row_cos_[r + 1]) ++r;
+  // Column: the azimuth of p = (x, -z) lies at or past the left edge of column c when
+  // sin(phi - phi_c) >= 0, i.e. p.x cos(phi_c) - p.z sin(phi_c) >= 0 (edges less than a half
+  // turn apart: w >= 64).
+  const double px = d.x(), pz = -d.z();
+  double u = 0.5 + atan2_guess(px, pz) * (0.5 / M_PI) + rotation_u_;
+  u -= std::floor(u);
+  int c = std::min(int(u * w), w - 1);
+  auto past = [&](int k) {  // p at or past the left edge of column k (mod w)
+    const int kk = k == w ? 0 : k;
+    return px * col_cos_[kk] - pz * col_sin_[kk] >= 0;
+  };
+  for (int step = 0; step < 3; ++step) {
+    const bool a = past(c), b = past(c + 1);
+    if (a && !b) {
+      col = c;
+      row = r;
+      return;
+    }
+    if (!a)
+      c = c == 0 ? w - 1 : c - 1;
+    else
+      c = c + 1 == w ? 0 : c + 1;
+  }
+  int rr;
+  pixel_of_exact(d, col, rr);  // undecided (p = 0 at the poles): the definition
+  row = r;
+}
+
+void EnvironmentMap::pixel_of_exact(const Eigen::Vector3d& d, int& col, int& row) const {
   const double theta = std::acos(std::clamp(d.y(), -1.0, 1.0));
   double u = 0.5 + std::atan2(d.x(), -d.z()) / (2 * M_PI) + rotation_u_;
   u -= std::floor(u);
@@ -73,6 +160,25 @@ Eigen::Vector3d EnvironmentMap::direction(double u, double v) const {
   const double phi = 2 * M_PI * (u - 0.5 - rotation_u_), theta = M_PI * v;
   const double st = std::sin(theta);
   return {st * std::sin(phi), std::cos(theta), -st * std::cos(phi)};
+}
+
+Eigen::Vector3d EnvironmentMap::direction_in_pixel(std::size_t col, double fu, std::size_t row,
+                                                   double fv, double& sin_theta) const {
+  const double w = img_.width, h = img_.height;
+  if (!tables_) {
+    const double v = (double(row) + fv) / h;
+    sin_theta = std::sin(M_PI * v);
+    return direction((double(col) + fu) / w, v);
+  }
+  double sa, ca, sb, cb;
+  small_sincos(2 * M_PI * fu / w, sa, ca);
+  small_sincos(M_PI * fv / h, sb, cb);
+  const double sp = col_sin_[col] * ca + col_cos_[col] * sa;
+  const double cp = col_cos_[col] * ca - col_sin_[col] * sa;
+  const double st = row_sin_[row] * cb + row_cos_[row] * sb;
+  const double ct = row_cos_[row] * cb - row_sin_[row] * sb;
+  sin_theta = st;
+  return {st * sp, ct, -st * cp};
 }
 
 Eigen::Vector3d EnvironmentMap::rgb(const Eigen::Vector3d& d) const {
@@ -91,23 +197,22 @@ Eigen::Vector3d EnvironmentMap::sample(double u1, double u2, double& pdf,
     if (rgb) *rgb = uniform_rgb_;
     return {r * std::cos(phi), z, r * std::sin(phi)};
   }
-  double u, v, p;
-  const std::size_t cell = dist_.sample(u1, u2, u, v, p);
-  if (rgb) {
-    // Cells index the stored image (the rotation acts in direction()).
-    const float* q = dist_.payload(cell);
-    *rgb = Eigen::Vector3d(q[0], q[1], q[2]);
-  }
-  const double st = std::sin(M_PI * v);
+  std::size_t col, row;
+  double fu, fv, p;
+  const float* q = dist_.sample_cell(u1, u2, col, fu, row, fv, p);
+  // Cells index the stored image (the rotation acts in the direction).
+  if (rgb) *rgb = Eigen::Vector3d(q[0], q[1], q[2]);
+  double st;
+  const Eigen::Vector3d d = direction_in_pixel(col, fu, row, fv, st);
   pdf = st > 0 ? p / (2 * M_PI * M_PI * st) : 0;
-  return direction(u, v);
+  return d;
 }
 
 double EnvironmentMap::pdf(const Eigen::Vector3d& d) const {
   if (uniform_) return 1 / (4 * M_PI);
   int c, r;
   pixel_of(d, c, r);
-  const double st = std::hypot(d.x(), d.z()) / d.norm();  // sin theta, exact near the poles
+  const double st = std::sqrt((d.x() * d.x() + d.z() * d.z()) / d.squaredNorm());  // sin theta
   return st > 0 ? dist_.pdf(c, r) / (2 * M_PI * M_PI * st) : 0;
 }
 
@@ -118,7 +223,17 @@ Eigen::Vector3d EnvironmentMap::rgb_and_pdf(const Eigen::Vector3d& d, double& pd
   }
   int c, r;
   pixel_of(d, c, r);
-  const double st = std::hypot(d.x(), d.z()) / d.norm();  // sin theta, exact near the poles
+  return rgb_and_pdf_at(d, {c, r}, pdf);
+}
+
+Eigen::Vector3d EnvironmentMap::rgb_and_pdf_at(const Eigen::Vector3d& d, std::pair<int, int> pixel,
+                                               double& pdf) const {
+  if (uniform_) {
+    pdf = 1 / (4 * M_PI);
+    return uniform_rgb_;
+  }
+  const auto [c, r] = pixel;
+  const double st = std::sqrt((d.x() * d.x() + d.z() * d.z()) / d.squaredNorm());  // sin theta
   pdf = st > 0 ? dist_.pdf(c, r) / (2 * M_PI * M_PI * st) : 0;
   const float* p = dist_.payload(c, r);
   return {p[0], p[1], p[2]};

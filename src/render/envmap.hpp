@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "render/distribution2d.hpp"
@@ -54,16 +55,41 @@ class EnvironmentMap {
   /// direction (saves a lookup).
   Eigen::Vector3d sample(double u1, double u2, double& pdf, Eigen::Vector3d* rgb = nullptr) const;
   double pdf(const Eigen::Vector3d& d) const;
+  /// Memory prefetches (no effect on results): of what rgb_and_pdf(d) reads, and of what
+  /// sample(u1, u2, ...) reads first.
+  /// Returns the pixel (col, row) of d for rgb_and_pdf_at (-1, -1 for a uniform map).
+  std::pair<int, int> prefetch_lookup(const Eigen::Vector3d& d) const {
+    if (uniform_) return {-1, -1};
+    int c, r;
+    pixel_of(d, c, r);
+    dist_.prefetch_cell(std::size_t(c), std::size_t(r));
+    return {c, r};
+  }
+  void prefetch_sample(double u1, double u2) const {
+    if (!uniform_) dist_.prefetch_sample(u1, u2);
+  }
   /// rgb(d) and pdf(d) with one pixel look-up.
   Eigen::Vector3d rgb_and_pdf(const Eigen::Vector3d& d, double& pdf) const;
+  /// The same with the pixel of d given (from prefetch_lookup(d)).
+  Eigen::Vector3d rgb_and_pdf_at(const Eigen::Vector3d& d, std::pair<int, int> pixel,
+                                 double& pdf) const;
 
   int width() const { return img_.width; }
   int height() const { return img_.height; }
   bool is_uniform() const { return uniform_; }
-  /// Pixel (column, row) that direction d falls into.
+  /// Pixel (column, row) that direction d falls into: a polynomial guess of the angles, then
+  /// exact tests against the pixel boundaries (tables of the boundaries' cosines and azimuth
+  /// vectors), falling back to pixel_of_exact() where the tests are undecided (the poles).
   void pixel_of(const Eigen::Vector3d& d, int& col, int& row) const;
+  /// The same from acos and atan2 (the definition; the tests compare the two).
+  void pixel_of_exact(const Eigen::Vector3d& d, int& col, int& row) const;
   /// Unit direction through the centre of (u, v) in [0,1]^2 of the map.
   Eigen::Vector3d direction(double u, double v) const;
+  /// Direction at (col + fu, row + fv) pixels with fu, fv in [0, 1): from the tables of the
+  /// pixels' edge angles and short series for the small angles inside a pixel (no sin/cos
+  /// calls); also returns sin(theta). Equal to direction() to ~1e-15.
+  Eigen::Vector3d direction_in_pixel(std::size_t col, double fu, std::size_t row, double fv,
+                                     double& sin_theta) const;
 
  private:
   EnvironmentMap() = default;
@@ -72,6 +98,9 @@ class EnvironmentMap {
   Eigen::Vector3d uniform_rgb_ = Eigen::Vector3d::Zero();
   double rotation_u_ = 0;  // rotation / (2 pi)
   PiecewiseConstant2D dist_;
+  bool tables_ = false;  // the edge tables below are in use (maps of >= 64 x 32 pixels)
+  std::vector<double> row_cos_, row_sin_;  // cos, sin of theta at the top edge of row r (h + 1)
+  std::vector<double> col_sin_, col_cos_;  // sin, cos of phi at the left edge of column c (w + 1)
 };
 
 }  // namespace microbrdf::pt

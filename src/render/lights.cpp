@@ -165,4 +165,14 @@ V3 LightSet::env_rgb(const V3& d, double& pdf) const {
   return rgb;
 }
 
+V3 LightSet::env_rgb(const V3& d, std::pair<int, int> pixel, double& pdf) const {
+  if (!env_) {
+    pdf = 0;
+    return V3::Zero();
+  }
+  const V3 rgb = env_->rgb_and_pdf_at(d, pixel, pdf);
+  pdf /= count_;
+  return rgb;
+}
+
 }  // namespace microbrdf::pt

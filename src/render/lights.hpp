@@ -6,6 +6,8 @@
 // light (they are not in the Embree scene; rays hit them analytically).
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <optional>
 
@@ -39,8 +41,20 @@ class LightSet {
   std::optional<LightSample> sample(const Eigen::Vector3d& x, double u1, double u2) const;
   /// The nearest area light along x + t d, t in (0, tmax).
   LightHit hit_area(const Eigen::Vector3d& x, const Eigen::Vector3d& d, double tmax) const;
+  /// Memory prefetches for a later sample(x, u1, u2) and env_rgb(d) (no effect on results).
+  void prefetch_sample(double u1, double u2) const {
+    if (!env_ || !(count_ > 0)) return;
+    const int i = std::min(int(u1 * count_), count_ - 1);
+    if (i == 0) env_->prefetch_sample(std::min(u1 * count_, std::nextafter(1.0, 0.0)), u2);
+  }
+  /// Returns what env_rgb needs besides d (the map pixel).
+  std::pair<int, int> prefetch_env(const Eigen::Vector3d& d) const {
+    return env_ ? env_->prefetch_lookup(d) : std::pair<int, int>{-1, -1};
+  }
   /// Environment radiance and its light-sampling pdf (incl. choice) for an escaping ray.
   Eigen::Vector3d env_rgb(const Eigen::Vector3d& d, double& pdf) const;
+  /// The same with the pixel from prefetch_env(d).
+  Eigen::Vector3d env_rgb(const Eigen::Vector3d& d, std::pair<int, int> pixel, double& pdf) const;
 
  private:
   RenderLights l_;

@@ -1,47 +1,250 @@
-// Spectral evaluation of materials (see material.hpp).
+// Spectral evaluation and sampling of materials (see material.hpp).
 #include "render/material.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 namespace microbrdf::pt {
+
+FastSpectrum::FastSpectrum(const Spectrum& s) : l_(s.wavelengths()), v_(s.values()) {
+  if (l_.size() < 2) return;
+  const std::size_t cells = 4 * l_.size();
+  inv_step_ = double(cells) / (l_.back() - l_.front());
+  start_.resize(cells);
+  for (std::size_t c = 0; c < cells; ++c) {
+    const double left = l_.front() + double(c) / inv_step_;
+    // One below upper_bound of the cell's left end (rounding of the cell index may put a
+    // wavelength just left of its cell): never past the answer, which is >= 1 inside the range.
+    const std::size_t i = std::size_t(std::upper_bound(l_.begin(), l_.end(), left) - l_.begin());
+    start_[c] = std::uint32_t(std::max<std::size_t>(i, 2) - 1);
+  }
+}
 
 SpectralMaterial::SpectralMaterial(std::shared_ptr<const Svbrdf> m) : m_(std::move(m)) {
   const auto* u = dynamic_cast<const UniformSvbrdf*>(m_.get());
   mf_ = u ? dynamic_cast<const MicrofacetBrdf*>(&u->brdf()) : nullptr;
   if (!mf_) return;
+  d_ = &mf_->distribution();
   separable_ = mf_->describe().find("separable Smith") != std::string::npos;
-  // Self-check against the BRDF's own eval (light and view on a small spiral of directions).
-  for (int i = 0; i < 16 && mf_; ++i) {
+  if (const auto* c = dynamic_cast<const ConductorFresnel*>(&mf_->fresnel())) {
+    conductor_ = true;
+    n_ = FastSpectrum(c->constants().n);
+    k_ = FastSpectrum(c->constants().k);
+  }
+  // The analytic models sample their visible normals exactly: sampling_pdf = pdf_visible.
+  visible_exact_ = dynamic_cast<const BeckmannDistribution*>(d_) ||
+                   dynamic_cast<const GgxDistribution*>(d_) ||
+                   dynamic_cast<const EllipsoidDistribution*>(d_);
+  if (!self_check()) {
+    mf_ = nullptr;
+    d_ = nullptr;
+    conductor_ = false;
+  }
+}
+
+bool SpectralMaterial::self_check() const {
+  // Light and view on a small spiral of directions, at two wavelengths: f, the MIS density and
+  // the samples against the BRDF's own eval(), pdf() and sample().
+  auto close = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::abs(b) + 1e-300; };
+  for (int i = 0; i < 16; ++i) {
     const double ti = 0.1 + 0.09 * i, pi = 0.7 * i, to = 1.4 - 0.08 * i, po = 2.9 + 0.3 * i;
     const Vec3 wi(std::sin(ti) * std::cos(pi), std::sin(ti) * std::sin(pi), std::cos(ti));
     const Vec3 wo(std::sin(to) * std::cos(po), std::sin(to) * std::sin(po), std::cos(to));
-    const double lambda = 555e-9;
-    double fast;
-    eval(0, 0, wi, wo, &lambda, 1, &fast);
-    const double ref = mf_->eval(wi, wo, lambda);
-    if (!(std::abs(fast - ref) <= 1e-12 * std::abs(ref) + 1e-300)) mf_ = nullptr;
+    const double lambda[2] = {555e-9, 432e-9};
+    Wavelengths w;
+    prepare(lambda, 2, w);
+    const View vw = view(wo);
+    double f[2], pdf = 0;
+    const bool nonzero = eval(0, 0, vw, wi, w, f, &pdf);
+    for (int k = 0; k < 2; ++k)
+      if (!close(f[k], mf_->eval(wi, wo, lambda[k]))) return false;
+    if (nonzero && !close(pdf, mf_->pdf(wo, wi))) return false;
+    Sample s;
+    const double u1 = (i + 0.5) / 16, u2 = std::fmod(0.618 * i + 0.1, 1.0);
+    const bool got = sample(0, 0, vw, u1, u2, w, s);
+    const auto ref = mf_->sample(wo, u1, u2, lambda[0]);
+    const bool has_ref = ref && ref->weight > 0 && ref->wo.z() > 0;
+    if (got != has_ref) return false;
+    if (got && (!close(s.pdf, ref->pdf) || !close(s.weight[0], ref->weight) ||
+                (s.wo - ref->wo).norm() > 1e-12))
+      return false;
   }
+  return true;
+}
+
+void SpectralMaterial::prepare(const double* lambda_m, int n, Wavelengths& w) const {
+  w.n = n;
+  for (int k = 0; k < n; ++k) {
+    w.lambda_m[k] = lambda_m[k];
+    if (conductor_) {
+      const double eta = n_(lambda_m[k]), kappa = k_(lambda_m[k]);
+      w.e[k] = eta * eta - kappa * kappa;
+      w.f4[k] = 4 * eta * eta * kappa * kappa;
+    }
+  }
+}
+
+SpectralMaterial::View SpectralMaterial::view(const Vec3& wv) const {
+  View v;
+  v.wv = wv;
+  if (mf_ && wv.z() > 0) {
+    const double lam = d_->lambda(wv);
+    v.g1 = std::min(1.0, 1.0 / (1.0 + lam));  // MicrofacetDistribution::G1
+    v.pa = wv.z() * (1.0 + lam);              // projected_area
+  }
+  return v;
+}
+
+double SpectralMaterial::fresnel(double cos_i, const Wavelengths& w, int k) const {
+  if (!conductor_) return mf_->fresnel().eval(cos_i, w.lambda_m[k]);
+  // fresnel_conductor_siegel with eta^2 - kappa^2 and 4 eta^2 kappa^2 from prepare() (the
+  // same operations in the same order).
+  const double c = std::min(std::abs(cos_i), 1.0);
+  const double c2 = c * c, s2 = std::max(0.0, 1.0 - c2);
+  const double t = w.e[k] - s2;
+  const double a2b2 = std::sqrt(t * t + w.f4[k]);
+  const double a = std::sqrt(std::max(0.0, 0.5 * (a2b2 + t)));
+  const double rs = (a2b2 - 2 * a * c + c2) / (a2b2 + 2 * a * c + c2);
+  const double rp =
+      rs * (a2b2 * c2 - 2 * a * c * s2 + s2 * s2) / (a2b2 * c2 + 2 * a * c * s2 + s2 * s2);
+  return 0.5 * (rs + rp);
+}
+
+// MicrofacetDistribution::G2(wl, wv, h) with G1(wv) from the view.
+double SpectralMaterial::g2(const View& vw, const Vec3& wl, const Vec3& h) const {
+  const Vec3& wv = vw.wv;
+  if (wl.dot(h) * wl.z() <= 0 || wv.dot(h) * wv.z() <= 0 || wl.z() <= 0 || wv.z() <= 0) return 0;
+  const double gi = std::min(1.0, 1.0 / (1.0 + d_->lambda(wl))), go = vw.g1;
+  if (separable_) return gi * go;
+  return 1.0 / (1.0 / gi + 1.0 / go - 1.0);
+}
+
+void SpectralMaterial::fresnel_all(double cos_i, const Wavelengths& w, double scale,
+                                   double* out) const {
+  const int n = w.n;
+  if (!conductor_) {
+    for (int k = 0; k < n; ++k) out[k] = mf_->fresnel().eval(cos_i, w.lambda_m[k]) * scale;
+    return;
+  }
+  const double c = std::min(std::abs(cos_i), 1.0);
+  const double c2 = c * c, s2 = std::max(0.0, 1.0 - c2);
+  int k = 0;
+#ifdef __SSE2__
+  // Two wavelengths at a time: the same IEEE operations in the same order as fresnel(), so the
+  // same values.
+  const __m128d vc = _mm_set1_pd(c), vc2 = _mm_set1_pd(c2), vs2 = _mm_set1_pd(s2),
+                two = _mm_set1_pd(2.0), half = _mm_set1_pd(0.5), zero = _mm_setzero_pd(),
+                vscale = _mm_set1_pd(scale), s4 = _mm_set1_pd(s2 * s2);
+  for (; k + 1 < n; k += 2) {
+    const __m128d t = _mm_sub_pd(_mm_loadu_pd(&w.e[k]), vs2);
+    const __m128d a2b2 = _mm_sqrt_pd(_mm_add_pd(_mm_mul_pd(t, t), _mm_loadu_pd(&w.f4[k])));
+    // (max(x, 0) gives 0 for a NaN x, as std::max(0.0, x) does)
+    const __m128d a = _mm_sqrt_pd(_mm_max_pd(_mm_mul_pd(half, _mm_add_pd(a2b2, t)), zero));
+    const __m128d ac2 = _mm_mul_pd(_mm_mul_pd(two, a), vc);  // 2 a c
+    const __m128d rs =
+        _mm_div_pd(_mm_add_pd(_mm_sub_pd(a2b2, ac2), vc2), _mm_add_pd(_mm_add_pd(a2b2, ac2), vc2));
+    const __m128d p1 = _mm_mul_pd(a2b2, vc2), p2 = _mm_mul_pd(ac2, vs2);
+    const __m128d rp = _mm_div_pd(_mm_mul_pd(rs, _mm_add_pd(_mm_sub_pd(p1, p2), s4)),
+                                  _mm_add_pd(_mm_add_pd(p1, p2), s4));
+    _mm_storeu_pd(&out[k], _mm_mul_pd(_mm_mul_pd(half, _mm_add_pd(rs, rp)), vscale));
+  }
+#endif
+  for (; k < n; ++k) out[k] = fresnel(cos_i, w, k) * scale;
+}
+
+bool SpectralMaterial::eval(double u, double v, const View& vw, const Vec3& wl,
+                            const Wavelengths& w, double* f, double* pdf) const {
+  const int n = w.n;
+  if (!mf_) {
+    bool any = false;
+    for (int k = 0; k < n; ++k) any |= (f[k] = m_->eval(u, v, wl, vw.wv, w.lambda_m[k])) != 0;
+    if (pdf) *pdf = m_->pdf(u, v, vw.wv, wl);
+    return any;
+  }
+  for (int k = 0; k < n; ++k) f[k] = 0;
+  if (pdf) *pdf = 0;
+  const Vec3& wv = vw.wv;
+  if (wl.z() <= 0 || wv.z() <= 0) return false;
+  const Vec3 hs = wl + wv;
+  const double len = hs.norm();
+  if (len == 0) return false;
+  const Vec3 h = hs / len;
+  // f = 0 (no NDF mass at h, or shadowed): nothing more is needed, the caller drops the sample
+  // (tabulated NDFs are 0 over much of the disk, and their sampling density is the costly part).
+  const double dh = d_->D(h);
+  if (dh == 0) return false;
+  const double g = g2(vw, wl, h);
+  if (g == 0) return false;
+  const double geo = dh * g / (4 * wl.z() * wv.z());
+  if (geo == 0) return false;
+  if (pdf) {
+    // MicrofacetBrdf::pdf(wv, wl) = sampling_pdf(wv, h) / (4 wv.h).
+    const double vh = wv.dot(h);
+    if (vh > 0)
+      *pdf = visible_exact_ ? (vw.pa > 0 ? dh / (4 * vw.pa) : 0.0)
+                            : d_->sampling_pdf(wv, h) / (4 * vh);
+  }
+  fresnel_all(wl.dot(h), w, geo, f);
+  return true;
+}
+
+bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, double u2,
+                              const Wavelengths& w, Sample& s) const {
+  const int n = w.n;
+  const Vec3& wv = vw.wv;
+  if (!mf_) {
+    const auto b = m_->sample(u, v, wv, u1, u2, w.lambda_m[0]);
+    if (!b || !(b->weight > 0) || !(b->wo.z() > 0)) return false;
+    s.wo = b->wo;
+    s.delta = b->delta;
+    if (!b->delta) {
+      if (!(b->pdf > 0 && std::isfinite(b->pdf))) return false;
+      s.pdf = b->pdf;
+      double f[kMaxWavelengths];
+      for (int k = 0; k < n; ++k) f[k] = m_->eval(u, v, s.wo, wv, w.lambda_m[k]);
+      for (int k = 0; k < n; ++k) s.weight[k] = f[k] * s.wo.z() / s.pdf;
+    } else {
+      s.pdf = 0;
+      s.weight[0] = b->weight;
+      for (int k = 1; k < n; ++k) {
+        const auto bk = m_->sample(u, v, wv, u1, u2, w.lambda_m[k]);
+        s.weight[k] = bk && (bk->wo - s.wo).squaredNorm() < 1e-12 ? bk->weight : 0.0;
+      }
+    }
+    return true;
+  }
+  // MicrofacetBrdf::sample with D and G2 evaluated once for all wavelengths.
+  if (wv.z() <= 0) return false;
+  const Vec3 m = d_->sample_visible(wv, u1, u2);
+  const double im = wv.dot(m);
+  if (im <= 0) return false;
+  const Vec3 wo = 2 * im * m - wv;
+  if (wo.z() <= 0) return false;
+  const double dm = d_->D(m);
+  const double q = visible_exact_ ? (vw.pa > 0 ? im * dm / vw.pa : 0.0) : d_->sampling_pdf(wv, m);
+  const double pdf = q / (4 * im);
+  if (!(pdf > 0 && std::isfinite(pdf))) return false;
+  const double g = g2(vw, wo, m);
+  // f cos / pdf = F D G2 / (4 wv.z) / pdf.
+  const double geo = dm * g / (4 * wv.z() * pdf);
+  if (!(geo > 0)) return false;
+  s.wo = wo;
+  s.pdf = pdf;
+  s.delta = false;
+  fresnel_all(im, w, geo, s.weight);
+  return true;
 }
 
 void SpectralMaterial::eval(double u, double v, const Vec3& wi, const Vec3& wo,
                             const double* lambda_m, int n, double* f) const {
-  if (!mf_) {
-    for (int k = 0; k < n; ++k) f[k] = m_->eval(u, v, wi, wo, lambda_m[k]);
-    return;
-  }
-  for (int k = 0; k < n; ++k) f[k] = 0;
-  if (wi.z() <= 0 || wo.z() <= 0) return;
-  const Vec3 hs = wi + wo;
-  const double len = hs.norm();
-  if (len == 0) return;
-  const Vec3 h = hs / len;
-  const double g = mf_->distribution().G2(wi, wo, h, separable_);
-  if (g == 0) return;
-  const double geo = mf_->distribution().D(h) * g / (4 * wi.z() * wo.z());
-  if (geo == 0) return;
-  const double c = wi.dot(h);
-  for (int k = 0; k < n; ++k) f[k] = mf_->fresnel().eval(c, lambda_m[k]) * geo;
+  Wavelengths w;
+  prepare(lambda_m, n, w);
+  eval(u, v, view(wo), wi, w, f, nullptr);
 }
 
 }  // namespace microbrdf::pt

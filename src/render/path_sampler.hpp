@@ -20,11 +20,29 @@
 // uniform scramble is any bijection whose bit k depends only on bits 0..k (a "T-function": sums,
 // products by odd numbers, x ^ (x times an even number)); the index shuffle is a T-function on
 // the index itself, which permutes every range [0, 2^m).
+#include <array>
 #include <cstdint>
 
 #include "core/splitmix64.hpp"
 
 namespace microbrdf::pt {
+
+namespace detail {
+// Second Sobol' dimension by its definition (see PathSampler::sobol_dim1) and its byte tables.
+constexpr std::uint32_t sobol_dim1_loop(std::uint32_t index) {
+  std::uint32_t v = 0x80000000u, r = 0;
+  for (; index; index >>= 1, v ^= v >> 1)
+    if (index & 1) r ^= v;
+  return r;
+}
+constexpr std::array<std::array<std::uint32_t, 256>, 4> sobol_dim1_tables() {
+  std::array<std::array<std::uint32_t, 256>, 4> t{};
+  for (int b = 0; b < 4; ++b)
+    for (std::uint32_t x = 0; x < 256; ++x) t[b][x] = sobol_dim1_loop(x << (8 * b));
+  return t;
+}
+inline constexpr auto kSobolDim1Tables = sobol_dim1_tables();
+}  // namespace detail
 
 enum class PathSamplerKind { Sobol, Independent };
 
@@ -72,11 +90,15 @@ class PathSampler {
   /// Second Sobol' dimension (primitive polynomial x + 1): direction numbers
   /// v_0 = 2^31, v_k = v_{k-1} ^ (v_{k-1} >> 1); the value is the XOR of v_k over the set bits k
   /// of the index (Bratley & Fox's construction, generator matrix = Pascal's triangle mod 2).
+  static constexpr std::uint32_t sobol_dim1_loop(std::uint32_t index) {
+    return detail::sobol_dim1_loop(index);
+  }
+  /// The same from four tables of 256 entries, one per index byte (the value is linear in the
+  /// index bits over GF(2)): no loop with a branch per index bit.
   static std::uint32_t sobol_dim1(std::uint32_t index) {
-    std::uint32_t v = 0x80000000u, r = 0;
-    for (; index; index >>= 1, v ^= v >> 1)
-      if (index & 1) r ^= v;
-    return r;
+    const auto& t = detail::kSobolDim1Tables;
+    return t[0][index & 255u] ^ t[1][(index >> 8) & 255u] ^ t[2][(index >> 16) & 255u] ^
+           t[3][index >> 24];
   }
   /// Nested uniform scramble of a 32-bit binary fraction (most significant bit first).
   static std::uint32_t owen(std::uint32_t x, std::uint32_t seed) {
@@ -111,7 +133,7 @@ class PathSampler {
     x ^= x * 0x51ED270Au;
     return x;
   }
-  static std::uint64_t mix(std::uint64_t z) { return detail::splitmix64(z); }
+  static std::uint64_t mix(std::uint64_t z) { return microbrdf::detail::splitmix64(z); }
   static double to_unit(std::uint32_t x) { return double(x) * 0x1.0p-32; }
   // m for the smallest 2^m >= spp: the shuffled indices stay inside the first block of 2^m
   // points, which is a (0,m,2)-net (an index bit k moves the leading output bits of the second

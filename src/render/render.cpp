@@ -22,6 +22,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -54,12 +55,23 @@ struct PathContext {
   const pt::SpectralTables& spec;
 };
 
+/// What a path's hero wavelengths fix: the upsampling basis at each (RGB lights -> spectrum)
+/// and, per material, its optical constants (SpectralMaterial::prepare, done on first use).
+struct PathSpectrum {
+  int n = 0;
+  double lambda_m[pt::kMaxWavelengths];
+  Eigen::Matrix<double, 3, pt::kMaxWavelengths> basis;  // (uninitialised: the first n are set)
+  pt::SpectralMaterial::Wavelengths mat[2];
+  bool prepared[2] = {false, false};
+  double upsample(const V3& rgb, int k) const { return rgb.dot(basis.col(k)); }
+};
+
 /// Radiance (relative to D65) at the n hero wavelengths along one camera path, added to L.
-std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_nm, int n,
-                         pt::PathSampler& rng, double* L) {
+std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt::PathSampler& rng,
+                         double* L) {
+  const int n = ps.n;
   double T[pt::kMaxWavelengths];
-  double lm[pt::kMaxWavelengths];
-  for (int k = 0; k < n; ++k) T[k] = 1, lm[k] = lambda_nm[k] * 1e-9;
+  for (int k = 0; k < n; ++k) T[k] = 1;
   std::uint64_t rays = 0;
   bool specular = true;  // camera ray or a delta bounce: emission counts fully
   double prev_pdf = 0;   // BRDF-sampling density of the current ray direction
@@ -73,10 +85,20 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
       if (use_nee) w = power_heuristic(prev_pdf, light_pdf);
     }
     if (!(w > 0)) return;
-    for (int k = 0; k < n; ++k) L[k] += T[k] * w * c.spec.upsample(rgb, lambda_nm[k]);
+    for (int k = 0; k < n; ++k) L[k] += T[k] * w * ps.upsample(rgb, k);
   };
 
   for (int depth = 0;; ++depth) {
+    // The light sample's numbers are drawn before the ray is traced (the same request order):
+    // the environment map's tables and the radiance this ray meets if it escapes are then
+    // loaded from memory while Embree works.
+    double nee_u1 = 0, nee_u2 = 0;
+    const bool nee = use_nee && c.lights.count() > 0;
+    if (nee) {
+      rng.get2d(nee_u1, nee_u2);
+      c.lights.prefetch_sample(nee_u1, nee_u2);
+    }
+    const auto env_pixel = c.lights.prefetch_env(d);
     pt::ShadingPoint sp;
     ++rays;
     const double t = c.geo.intersect(o, d, 1e30, sp);
@@ -87,38 +109,46 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
     }
     if (t < 0) {
       double pdf;
-      const V3 rgb = c.lights.env_rgb(d, pdf);
+      const V3 rgb = c.lights.env_rgb(d, env_pixel, pdf);
       if (c.lights.env()) add_emission(rgb, pdf);
       return rays;
     }
     if (depth >= c.opt.max_depth) return rays;
+    const int slot = c.mats.size() == 1 ? 0 : std::min(sp.object, 1);
     const pt::SpectralMaterial& mat = c.mats[c.mats.size() == 1 ? 0 : sp.object];
-    const Svbrdf& m = mat.svbrdf();
     const V3 wv = sp.to_local(-d);  // towards the viewer
     if (!(wv.z() > 0)) return rays;
+    // The material's wavelength constants, once per path and material (the cylinder pair may
+    // have two materials; with more than two, every bounce prepares its own).
+    pt::SpectralMaterial::Wavelengths* wl_consts = &ps.mat[slot];
+    if (!ps.prepared[slot] || c.mats.size() > 2) {
+      mat.prepare(ps.lambda_m, n, *wl_consts);
+      ps.prepared[slot] = c.mats.size() <= 2;
+    }
+    const pt::SpectralMaterial::View view = mat.view(wv);
     const V3 origin = sp.p + eps * sp.ng;
 
     // Next-event estimation.
-    if (use_nee && c.lights.count() > 0) {
-      double u1, u2;
-      rng.get2d(u1, u2);
-      if (auto ls = c.lights.sample(origin, u1, u2)) {
+    if (nee) {
+      if (auto ls = c.lights.sample(origin, nee_u1, nee_u2)) {
         const V3 wl = sp.to_local(ls->dir);
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
-          ++rays;
-          // Blocked by geometry, or by another area light in front (the same rule as for
-          // BRDF-sampled rays, which see the nearest emitter only).
-          const double tmax = std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6);
-          if (!c.geo.occluded(origin, ls->dir, tmax) &&
-              !(c.lights.hit_area(origin, ls->dir, tmax).t > 0)) {
-            double w = 1;
-            if (!ls->delta && c.opt.mis == MisMode::Mis)
-              w = power_heuristic(ls->pdf, m.pdf(sp.u, sp.v, wv, wl));
-            const double scale = w * wl.z() / ls->pdf;
-            double f[pt::kMaxWavelengths];
-            mat.eval(sp.u, sp.v, wl, wv, lm, n, f);
-            for (int k = 0; k < n; ++k)
-              if (f[k] != 0) L[k] += T[k] * f[k] * scale * c.spec.upsample(ls->rgb, lambda_nm[k]);
+          // f and the BRDF density before the shadow ray: no ray for a light sample the BRDF
+          // does not reflect.
+          double f[pt::kMaxWavelengths], brdf_pdf = 0;
+          const bool mis = !ls->delta && c.opt.mis == MisMode::Mis;
+          if (mat.eval(sp.u, sp.v, view, wl, *wl_consts, f, mis ? &brdf_pdf : nullptr)) {
+            ++rays;
+            // Blocked by geometry, or by another area light in front (the same rule as for
+            // BRDF-sampled rays, which see the nearest emitter only).
+            const double tmax = std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6);
+            if (!c.geo.occluded(origin, ls->dir, tmax) &&
+                !(c.lights.hit_area(origin, ls->dir, tmax).t > 0)) {
+              const double w = mis ? power_heuristic(ls->pdf, brdf_pdf) : 1.0;
+              const double scale = w * wl.z() / ls->pdf;
+              for (int k = 0; k < n; ++k)
+                if (f[k] != 0) L[k] += T[k] * f[k] * scale * ps.upsample(ls->rgb, k);
+            }
           }
         }
       }
@@ -127,25 +157,12 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, const double* lambda_
     // BRDF sampling (the viewer direction plays wi; see the header comment).
     double u1, u2;
     rng.get2d(u1, u2);
-    const auto s = m.sample(sp.u, sp.v, wv, u1, u2, lm[0]);
-    if (!s || !(s->weight > 0) || !(s->wo.z() > 0)) return rays;
-    const V3 wl = s->wo;
-    if (!s->delta) {
-      if (!(s->pdf > 0 && std::isfinite(s->pdf))) return rays;
-      double f[pt::kMaxWavelengths];
-      mat.eval(sp.u, sp.v, wl, wv, lm, n, f);
-      for (int k = 0; k < n; ++k) T[k] *= f[k] * wl.z() / s->pdf;
-      specular = false;
-      prev_pdf = s->pdf;
-    } else {
-      T[0] *= s->weight;
-      for (int k = 1; k < n; ++k) {
-        const auto sk = m.sample(sp.u, sp.v, wv, u1, u2, lm[k]);
-        T[k] *= sk && (sk->wo - wl).squaredNorm() < 1e-12 ? sk->weight : 0.0;
-      }
-      specular = true;
-      prev_pdf = 0;
-    }
+    pt::SpectralMaterial::Sample s;
+    if (!mat.sample(sp.u, sp.v, view, u1, u2, *wl_consts, s)) return rays;
+    const V3 wl = s.wo;
+    for (int k = 0; k < n; ++k) T[k] *= s.weight[k];
+    specular = s.delta;
+    prev_pdf = s.pdf;
     d = sp.to_world(wl).normalized();
     if (d.dot(sp.ng) <= 0) return rays;  // below the geometric surface
     o = origin;
@@ -182,6 +199,8 @@ RenderImage render(const RenderScene& scene,
   if (opt.width <= 0 || opt.height <= 0 || opt.width > 16384 || opt.height > 16384)
     throw InputError("render: image size must be 1..16384 pixels a side");
   if (opt.spp <= 0) throw InputError("render: samples per pixel must be > 0");
+  if (opt.half_images && opt.spp < 2)
+    throw InputError("render: half images need at least 2 samples per pixel");
   if (opt.max_depth < 1) throw InputError("render: max depth must be >= 1");
   if (opt.wavelengths < 1 || opt.wavelengths > pt::kMaxWavelengths)
     throw InputError("render: wavelengths per path must be 1..16");
@@ -189,7 +208,11 @@ RenderImage render(const RenderScene& scene,
   for (const auto& m : materials)
     if (!m) throw InputError("render: null material");
   const auto t0 = std::chrono::steady_clock::now();
-  const pt::PreviewGeometry geo(scene);
+  pt::PreviewGeometry geo(scene);
+  // Uniform materials ignore the texture coordinates.
+  geo.set_texture_coordinates(!std::all_of(materials.begin(), materials.end(), [](const auto& m) {
+    return dynamic_cast<const UniformSvbrdf*>(m.get()) != nullptr;
+  }));
   if (materials.size() != 1 && int(materials.size()) != geo.object_count())
     throw InputError("render: scene '" + preview_scene_name(scene.kind) + "' has " +
                      std::to_string(geo.object_count()) + " objects; give 1 or " +
@@ -214,25 +237,46 @@ RenderImage render(const RenderScene& scene,
   const int threads = resolve_thread_count(opt.threads);
   const auto kind = opt.sampler == RenderSampler::Sobol ? pt::PathSamplerKind::Sobol
                                                         : pt::PathSamplerKind::Independent;
+  const bool halves = opt.half_images;
+  if (halves) {
+    img.half_rgb[0].assign(img.rgb.size(), 0.0f);
+    img.half_rgb[1].assign(img.rgb.size(), 0.0f);
+  }
+  const int first_half = opt.spp / 2;  // samples [0, spp/2) and [spp/2, spp)
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : rays)
   for (int y = 0; y < opt.height; ++y) {
     for (int x = 0; x < opt.width; ++x) {
       const std::uint64_t pixel = std::uint64_t(y) * opt.width + x;
-      Eigen::Vector3d xyz = Eigen::Vector3d::Zero();
+      Eigen::Vector3d xyz[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
       for (int s = 0; s < opt.spp; ++s) {
         pt::PathSampler rng(kind, opt.seed, pixel, std::uint32_t(s), std::uint32_t(opt.spp));
         double jx, jy;
         rng.get2d(jx, jy);
-        double lambda[pt::kMaxWavelengths], L[pt::kMaxWavelengths] = {};
-        pt::hero_wavelengths(rng.get1d(), n, lambda);
+        double lambda[pt::kMaxWavelengths], L[pt::kMaxWavelengths];
+        for (int k = 0; k < n; ++k) L[k] = 0;
+        double lweight[pt::kMaxWavelengths];
+        pt::visible_hero_wavelengths(rng.get1d(), n, lambda, lweight);
+        PathSpectrum ps;
+        ps.n = n;
+        for (int k = 0; k < n; ++k) {
+          ps.lambda_m[k] = lambda[k] * 1e-9;
+          ps.basis.col(k) = spec.basis(lambda[k]);
+        }
         const V3 d = cam.direction(x + jx, y + jy, opt.width, opt.height);
-        rays += trace_path(ctx, cam.position, d, lambda, n, rng, L);
+        rays += trace_path(ctx, cam.position, d, ps, rng, L);
         Eigen::Vector3d sx = Eigen::Vector3d::Zero();
-        for (int k = 0; k < n; ++k) sx += L[k] * spec.xyz_weight(lambda[k]);
-        if (sx.allFinite()) xyz += sx / n;
+        for (int k = 0; k < n; ++k)
+          if (L[k] != 0) sx += (L[k] * lweight[k]) * spec.xyz_weight(lambda[k]);
+        if (sx.allFinite()) xyz[s < first_half ? 0 : 1] += sx / n;
       }
-      const Eigen::Vector3d rgb = to_rgb * (xyz / opt.spp);
+      const Eigen::Vector3d rgb = to_rgb * ((xyz[0] + xyz[1]) / opt.spp);
       for (int ch = 0; ch < 3; ++ch) img.rgb[pixel * 3 + ch] = float(rgb[ch]);
+      if (halves)
+        for (int h = 0; h < 2; ++h) {
+          const int count = h == 0 ? first_half : opt.spp - first_half;
+          const Eigen::Vector3d hr = to_rgb * (xyz[h] / count);
+          for (int ch = 0; ch < 3; ++ch) img.half_rgb[h][pixel * 3 + ch] = float(hr[ch]);
+        }
     }
     const int done = ++rows_done;
     if (opt.progress && omp_get_thread_num() == 0) opt.progress(double(done) / opt.height);

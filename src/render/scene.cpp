@@ -89,6 +89,11 @@ PreviewGeometry::PreviewGeometry(const RenderScene& scene) : scene_(scene) {
         break;
     }
     rtcCommitScene(rtc_);
+    for (Object& o : objects_) {  // the turn of the brushing direction, per object
+      const double turn = scene_.brush_angle_rad + o.tangent_turn;
+      o.cos_turn = std::cos(turn);
+      o.sin_turn = std::sin(turn);
+    }
   } catch (...) {
     // The destructor does not run for a constructor that throws (an unreadable OBJ).
     if (rtc_) rtcReleaseScene(rtc_);
@@ -310,7 +315,7 @@ void PreviewGeometry::shade(unsigned geom, unsigned prim, float bu, float bv, co
     case Shape::Sphere: {
       n = (p - o.centre).normalized();
       ng = n;
-      u0 = std::atan2(n.x(), n.z()) * o.radius;
+      if (uv_) u0 = std::atan2(n.x(), n.z()) * o.radius;
       v0 = p.y() - o.centre.y();
       break;
     }
@@ -318,7 +323,7 @@ void PreviewGeometry::shade(unsigned geom, unsigned prim, float bu, float bv, co
       V3 r = p - o.centre;
       r -= r.dot(o.axis) * o.axis;
       n = r.normalized();
-      u0 = std::atan2(n.x(), n.z()) * o.radius;
+      if (uv_) u0 = std::atan2(n.x(), n.z()) * o.radius;
       v0 = (p - o.centre).dot(o.axis);
       break;
     }
@@ -357,12 +362,15 @@ void PreviewGeometry::shade(unsigned geom, unsigned prim, float bu, float bv, co
   }
   t0 -= t0.dot(n) * n;
   t0 = t0.norm() > 1e-9 ? t0.normalized() : any_perpendicular(n);
-  const double turn = scene_.brush_angle_rad + o.tangent_turn;
+  const double c = o.cos_turn, s = o.sin_turn;
   const V3 nt = n.cross(t0);
-  sp.t = std::cos(turn) * t0 + std::sin(turn) * nt;
+  sp.t = c * t0 + s * nt;
   sp.b = n.cross(sp.t);
   // Texture coordinates follow the tangent: u along t, v along b.
-  const double c = std::cos(turn), s = std::sin(turn);
+  if (!uv_) {
+    sp.u = sp.v = 0;
+    return;
+  }
   sp.u = (c * u0 + s * v0) * scene_.uv_scale;
   sp.v = (-s * u0 + c * v0) * scene_.uv_scale;
 }

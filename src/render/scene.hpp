@@ -59,6 +59,9 @@ class PreviewGeometry {
   double intersect_bare(const V3& o, const V3& d) const;
 
   int object_count() const { return int(objects_.size()); }
+  /// Leaves the texture coordinates of shading points at 0 (for materials that ignore them:
+  /// saves an atan2 per hit on spheres and cylinders).
+  void set_texture_coordinates(bool on) { uv_ = on; }
   const Camera& camera() const { return camera_; }
   /// A length for ray offsets (1e-4 of the scene size).
   double epsilon() const { return 1e-4 * extent_; }
@@ -69,7 +72,8 @@ class PreviewGeometry {
     Shape shape;
     V3 centre = V3::Zero(), axis = V3(0, 1, 0);
     double radius = 1;
-    double tangent_turn = 0;  // extra rotation of the brushing direction about n, rad
+    double tangent_turn = 0;            // extra rotation of the brushing direction about n, rad
+    double cos_turn = 1, sin_turn = 0;  // of the whole turn (with the scene's brush angle)
     // triangle meshes: per-vertex normals and texture coordinates
     std::vector<float> normals, uvs;
     std::vector<unsigned> indices;
@@ -91,6 +95,7 @@ class PreviewGeometry {
   std::vector<Object> objects_;  // index = Embree geometry id
   Camera camera_;
   double extent_ = 2;
+  bool uv_ = true;
 };
 
 }  // namespace microbrdf::pt
