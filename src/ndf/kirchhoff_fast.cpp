@@ -16,9 +16,12 @@
 #include <complex>
 #include <memory>
 #include <stdexcept>
-#include <type_traits>
+#include <mutex>
+#include <omp.h>
 
 #include "core/fft.hpp"
+#include "core/helper_pool.hpp"
+#include "ndf/kirchhoff_transform.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
 
@@ -64,32 +67,6 @@ class BesselTable {
 
 namespace {
 
-// Gauss-Legendre nodes and weights on [0, 1] (Newton on P_n from the Chebyshev guesses).
-void gauss_legendre01(std::size_t n, std::vector<double>& x, std::vector<double>& w) {
-  x.assign(n, 0.0);
-  w.assign(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    double t = std::cos(M_PI * (static_cast<double>(i) + 0.75) / (static_cast<double>(n) + 0.5));
-    double dp = 1;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1, p1 = t;  // P_0, P_1
-      for (std::size_t k = 2; k <= n; ++k) {
-        const double p2 =
-            ((2.0 * static_cast<double>(k) - 1) * t * p1 - (static_cast<double>(k) - 1) * p0) /
-            static_cast<double>(k);
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = static_cast<double>(n) * (t * p1 - p0) / (t * t - 1);
-      const double dt = p1 / dp;
-      t -= dt;
-      if (std::fabs(dt) < 1e-16) break;
-    }
-    x[i] = 0.5 * (1 - t);
-    w[i] = 1.0 / ((1 - t * t) * dp * dp);  // 2 / ((1 - t^2) P_n'^2), halved for [0, 1]
-  }
-}
-
 // One position of the triangle rule: cell coordinates (a, b) in [0, 1]^2 of a point of the
 // lower (family 0: b <= a) or upper (family 1: a <= b) triangle of every cell, and its weight
 // (the weights of one family sum to 1/2, the triangle's area in cell units).
@@ -101,8 +78,8 @@ struct RulePoint {
 // grouped by b (points of one group share their y offset, hence one y-pass).
 std::vector<std::vector<RulePoint>> triangle_rule(int family, std::size_t pu, std::size_t pv) {
   std::vector<double> xu, wu, xv, wv;
-  gauss_legendre01(pu, xu, wu);
-  gauss_legendre01(pv, xv, wv);
+  detail::gauss_legendre01(pu, xu, wu);
+  detail::gauss_legendre01(pv, xv, wv);
   std::vector<std::vector<RulePoint>> groups(pv);
   for (std::size_t j = 0; j < pv; ++j)
     for (std::size_t i = 0; i < pu; ++i) {
@@ -125,9 +102,124 @@ double gauss_error(std::size_t p, double span) {
   return std::exp(lg);
 }
 
-template <class Transform>
+
+using detail::AlignedArray;
+using detail::KirchhoffAxis;
+
+constexpr std::size_t kRows = 2;         // sample rows per x-block
+constexpr std::size_t kVx = 3 * kRows;   // x-vectors per block: A, B, C of each row
+constexpr std::size_t kCols = 2;         // node columns per y-block
+constexpr std::size_t kVy = 2 * kCols;   // y-vectors per block: A - q_x B and C of each column
+
+// The nodes of an N x N table inside the unit disk, packed column by column: column k holds the
+// rows [lo, hi), from offset off; t = 2 m_z - 1 per packed node (q_z = q_c + r t).
+struct NodeLayout {
+  std::size_t n = 0, count = 0;
+  std::vector<std::size_t> lo, hi, off;
+  std::vector<double> t;
+};
+
+std::shared_ptr<const NodeLayout> node_layout(std::size_t n) {
+  static std::mutex m;
+  static std::shared_ptr<const NodeLayout> last;
+  std::lock_guard<std::mutex> lock(m);
+  if (last && last->n == n) return last;
+  auto l = std::make_shared<NodeLayout>();
+  l->n = n;
+  l->lo.assign(n, 0);
+  l->hi.assign(n, 0);
+  l->off.assign(n, 0);
+  const double d = 2.0 / static_cast<double>(n - 1);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double mx = -1.0 + d * static_cast<double>(k);
+    l->off[k] = l->t.size();
+    bool in = false;
+    for (std::size_t r = 0; r < n; ++r) {
+      const double my = -1.0 + d * static_cast<double>(r), rr = mx * mx + my * my;
+      if (!(rr < 1)) continue;  // the same test as kirchhoff_node_q
+      if (!in) l->lo[k] = r;
+      in = true;
+      l->hi[k] = r + 1;
+      l->t.push_back(2 * std::sqrt(1 - rr) - 1);
+    }
+    if (in && l->t.size() - l->off[k] != l->hi[k] - l->lo[k])
+      throw std::logic_error("Kirchhoff: the disk is not convex along a column");
+  }
+  l->count = l->t.size();
+  last = l;
+  return last;
+}
+
+// The large arrays of one table, kept between calls (no fresh pages per table).
+struct Workspace {
+  AlignedArray<cd> xo;     // x-pass output: (k * ny + y) * 2 + {0: A - q_x B, 1: C}
+  AlignedArray<cd> state;  // Clenshaw b_{n+1}, b_{n+2} per packed node
+  AlignedArray<cd> it;     // exact: sum over the rule groups of the term, per packed node
+  AlignedArray<cd> pre;    // midpoint: w dA (axis factors) exp(-i q_c h') per sample
+  AlignedArray<double> ring;  // midpoint: J_k(r h') of the last three orders, k mod 3
+};
+
+struct WorkspaceSlot {
+  std::mutex m;
+  std::unique_ptr<Workspace> ws;
+};
+
+WorkspaceSlot& workspace_slot() {
+  static auto* s = new WorkspaceSlot;  // never destroyed
+  return *s;
+}
+
+std::unique_ptr<Workspace> take_workspace() {
+  auto& s = workspace_slot();
+  std::lock_guard<std::mutex> lock(s.m);
+  if (s.ws) return std::move(s.ws);
+  return std::make_unique<Workspace>();
+}
+
+void give_workspace(std::unique_ptr<Workspace> w) {
+  auto& s = workspace_slot();
+  std::lock_guard<std::mutex> lock(s.m);
+  if (!s.ws) s.ws = std::move(w);
+}
+
+// x (-i)^n
+inline cd rotate(cd z, std::size_t n) {
+  switch (n & 3) {
+    case 0:
+      return z;
+    case 1:
+      return {z.imag(), -z.real()};
+    case 2:
+      return -z;
+    default:
+      return {-z.imag(), z.real()};
+  }
+}
+
+// acc[v] = sum_t w[t] bins[t * V + v]: the K-tap sums of V interleaved vectors.
+template <std::size_t V>
+inline void tap_sums(const double* w, std::size_t taps, const cd* bins, double* acc) {
+  const double* b = reinterpret_cast<const double*>(bins);
+  for (std::size_t v = 0; v < 2 * V; ++v) acc[v] = 0;
+  for (std::size_t t = 0; t < taps; ++t) {
+    const double wt = w[t];
+    const double* bt = b + t * 2 * V;
+    for (std::size_t v = 0; v < 2 * V; ++v) acc[v] += wt * bt[v];
+  }
+}
+
+struct ThreadScratch {
+  KirchhoffAxis::Scratch x, y;
+  AlignedArray<cd> xacc;  // exact: sums over the rule points of a group, N x kVx
+};
+
+ThreadScratch& thread_scratch() {
+  thread_local ThreadScratch s;
+  return s;
+}
+
 std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::size_t resolution,
-                               double accuracy, KirchhoffFastInfo* info,
+                               double accuracy, KirchhoffFastInfo* info, bool chirp_z,
                                KirchhoffIntegration method, double band_x, double band_y) {
   if (!(lambda_q > 0)) throw InputError("Kirchhoff: lambda_q must be > 0");
   if (resolution < 3) throw InputError("Kirchhoff: resolution must be >= 3");
@@ -139,6 +231,7 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   if (!(area > 0)) return out;
   // The transforms run over the samples (midpoint) or the cells (exact: one rule point each).
   const std::size_t nx = exact ? p.nx - 1 : p.nx, ny = exact ? p.ny - 1 : p.ny;
+  if (nx == 0 || ny == 0) return out;
 
   const double qmag = 4 * M_PI / lambda_q, delta = 2.0 / static_cast<double>(N - 1);
   const double qc = 0.5 * qmag, r = 0.5 * qmag;
@@ -166,11 +259,14 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   }
   // The q_z factor makes the A series one degree longer (q_z T_{terms-1} has a T_terms part).
   ++terms;
-  BesselTable bt(terms, zmax);
+  const BesselTable bt(terms, zmax);
+  auto bessel = [&bt](std::size_t k, double z) {  // J_k(z), any sign of z
+    const double j = bt(k, std::fabs(z));
+    return z < 0 && (k & 1) ? -j : j;
+  };
 
-  // Per-family cell data of the triangles (exact) or the samples themselves (midpoint): height
-  // relative to h_c at the cell origin, height steps along a and b (slope x spacing), slopes and
-  // the window weight (0 = no triangle).
+  // Per-family cell data of the triangles (exact): height relative to h_c at the cell origin,
+  // height steps along a and b (slope x spacing), slopes and the window weight (0 = no triangle).
   const std::size_t ns = nx * ny;
   struct Family {
     std::vector<double> h0, sa, sb, gx, gy, w;
@@ -178,25 +274,15 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   std::vector<Family> fam(exact ? 2 : 1);
   double longest = 0;  // largest phase span of a valid triangle's edge, rad
   const double bx = std::min(qmag, band_x), by = std::min(qmag, band_y);
-  for (auto& f : fam) {
-    f.h0.assign(ns, 0.0);
-    f.gx.assign(ns, 0.0);
-    f.gy.assign(ns, 0.0);
-    f.w.assign(ns, 0.0);
-    if (exact) {
+  if (exact) {
+    for (auto& f : fam) {
+      f.h0.assign(ns, 0.0);
+      f.gx.assign(ns, 0.0);
+      f.gy.assign(ns, 0.0);
+      f.w.assign(ns, 0.0);
       f.sa.assign(ns, 0.0);
       f.sb.assign(ns, 0.0);
     }
-  }
-  if (!exact) {
-    for (std::size_t i = 0; i < ns; ++i)
-      if (p.w[i] != 0) {
-        fam[0].h0[i] = p.h[i] - hc;
-        fam[0].gx[i] = p.gx[i];
-        fam[0].gy[i] = p.gy[i];
-        fam[0].w[i] = p.w[i];
-      }
-  } else {
     for (std::size_t y = 0; y < ny; ++y)
       for (std::size_t x = 0; x < nx; ++x) {
         const std::size_t c = y * nx + x, i00 = y * p.nx + x, i10 = i00 + 1, i01 = i00 + p.nx,
@@ -246,120 +332,232 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
     info->phase_span = span;
   }
 
-  const bool big = ns + N * N > (1u << 17);  // threads only pay off on large problems
-  // Node tables: t(q_z) per node (NaN outside the disk), q_x per column, q_y per row.
-  std::vector<double> tnode(N * N, NAN), qx(N), qy(N);
-  for (std::size_t k = 0; k < N; ++k)
-    qx[k] = qy[k] = qmag * (-1.0 + delta * static_cast<double>(k));
-  for (std::size_t iy = 0; iy < N; ++iy)
-    for (std::size_t ix = 0; ix < N; ++ix) {
-      double mx = qx[ix] / qmag, my = qy[iy] / qmag, rr = mx * mx + my * my;
-      if (rr < 1) tnode[ix * N + iy] = (qmag * std::sqrt(1 - rr) - qc) / r;
+  // Transforms (cached): exact chirp-z, or the NUFFT with taps for accuracy / 100 relative to
+  // sum |x|. The node frequencies are q_x = q_y = |q| (-1 + delta k).
+  const auto kind = chirp_z ? KirchhoffAxis::Kind::ChirpZ : KirchhoffAxis::Kind::Nufft;
+  const int taps = detail::ZoomNufft::taps_for(accuracy * 1e-2);
+  const auto axp = KirchhoffAxis::get(kind, nx, N, -qmag * p.dx, qmag * delta * p.dx, taps, kVx);
+  const auto ayp = KirchhoffAxis::get(kind, ny, N, -qmag * p.dy, qmag * delta * p.dy, taps, kVy);
+  const KirchhoffAxis& ax = *axp;
+  const KirchhoffAxis& ay = *ayp;
+  const auto layp = node_layout(N);
+  const NodeLayout& lay = *layp;
+  std::vector<double> qx(N);
+  for (std::size_t k = 0; k < N; ++k) qx[k] = qmag * (-1.0 + delta * static_cast<double>(k));
+  const std::vector<double>& qy = qx;
+
+  // Shifts of the rule points (exact): a phase per q_x of each point, per q_y of each group.
+  std::vector<std::vector<std::vector<cd>>> xshift(fam.size()), yshift(fam.size());
+  if (exact)
+    for (std::size_t f = 0; f < fam.size(); ++f) {
+      xshift[f].resize(rules[f].size());
+      yshift[f].resize(rules[f].size());
+      for (std::size_t g = 0; g < rules[f].size(); ++g) {
+        const double oy = rules[f][g].front().b * p.dy;
+        yshift[f][g].resize(N);
+        for (std::size_t l = 0; l < N; ++l) yshift[f][g][l] = std::polar(1.0, -qy[l] * oy);
+        xshift[f][g].resize(rules[f][g].size() * N);
+        for (std::size_t pt = 0; pt < rules[f][g].size(); ++pt) {
+          const double ox = rules[f][g][pt].a * p.dx;
+          for (std::size_t k = 0; k < N; ++k)
+            xshift[f][g][pt * N + k] = std::polar(1.0, -qx[k] * ox);
+        }
+      }
     }
 
-  // Transforms: exact chirp-z, or the NUFFT with taps for accuracy / 100 relative to sum |x|.
-  auto make = [&](std::size_t n, double d, std::size_t batch) {
-    if constexpr (std::is_same_v<Transform, detail::ChirpZ>)
-      return std::make_unique<Transform>(n, N, -qmag * d, qmag * delta * d, batch);
-    else
-      return std::make_unique<Transform>(n, N, -qmag * d, qmag * delta * d, batch,
-                                         Transform::taps_for(accuracy * 1e-2));
-  };
-  auto czx_p = make(nx, p.dx, 3 * ny);
-  auto czy_p = make(ny, p.dy, N);
-  Transform& czx = *czx_p;
-  Transform& czy = *czy_p;
-  const std::size_t bt3 = 3 * ny;
-  std::vector<cd> in(3 * ns), xo(bt3 * N), ym(N * N), yc(N * N), b1(N * N), b2(N * N);
-  std::vector<cd> xacc, it;  // exact: sums over the rule points
-  if (exact) {
-    xacc.resize(bt3 * N);
-    it.resize(N * N);
+  std::unique_ptr<Workspace> wsp = take_workspace();
+  Workspace& ws = *wsp;
+  ws.xo.resize(N * ny * 2);
+  ws.state.resize(2 * lay.count);
+  if (exact) ws.it.resize(lay.count);
+  if (!exact) {
+    ws.pre.resize(ns);
+    ws.ring.resize(3 * ns);
   }
-  const cd mi[4] = {cd(1, 0), cd(0, -1), cd(-1, 0), cd(0, 1)};  // (-i)^n
-  const double dA = p.dx * p.dy;
+  const bool big = ns + N * N > (1u << 17);  // threads only pay off on large problems
+  const int threads = big ? std::max(1, omp_get_max_threads()) : 1;
+  const double dA = p.dx * p.dy, norm = 1.0 / (4 * M_PI * M_PI * area);
+  const std::size_t xblocks = (ny + kRows - 1) / kRows, yblocks = (N + kCols - 1) / kCols;
+  std::size_t groups = 0;
+  for (const auto& r : rules) groups += r.size();
 
-  for (std::size_t nn = terms; nn-- > 0;) {
-    const std::size_t n = nn;
-    if (exact) std::fill(it.begin(), it.end(), cd(0));
-    for (std::size_t f = 0; f < fam.size(); ++f) {
-      const Family& F = fam[f];
-      for (const auto& group : rules[f]) {
-        cd* xsum = exact ? xacc.data() : xo.data();
-        if (exact) std::fill(xacc.begin(), xacc.end(), cd(0));
-        for (const RulePoint& rp : group) {
-          // Sample arrays of term n at this rule point.
-#pragma omp parallel for schedule(static) if (big)
-          for (std::size_t i = 0; i < ns; ++i) {
-            if (F.w[i] == 0) {
-              in[i] = in[ns + i] = in[2 * ns + i] = 0.0;
+  // Per term n (from the highest): the sample arrays A, B, C of every rule point, through the
+  // x-transform (combined per node column into A - q_x B and C, summed over a group's points),
+  // through the y-transform (combined into I_n = Y[A - q_x B] - q_y Y[C], summed over the
+  // groups) and into the Clenshaw recurrence b_n = I_n + 2 t b_{n+1} - b_{n+2} per node.
+  // Every block of rows or columns is computed the same way by whichever thread takes it.
+  std::size_t n = 0, f = 0, g = 0, gi = 0;
+  bool first = true;
+  const std::function<void(std::size_t)> xblock = [&](std::size_t b) {
+    ThreadScratch& sc = thread_scratch();
+    ax.prepare(sc.x);
+    cd* in = sc.x.in.data();
+    const cd* bins = sc.x.out.data();
+    const std::size_t y0 = b * kRows, K = ax.taps();
+    const auto& group = rules[f][g];
+    if (exact) sc.xacc.resize(N * kVx);
+    double acc[2 * kVx];
+    for (std::size_t pt = 0; pt < group.size(); ++pt) {
+      const RulePoint& rp = group[pt];
+      for (std::size_t rr = 0; rr < kRows; ++rr) {
+        const std::size_t y = y0 + rr;
+        if (y >= ny) {
+          for (std::size_t x = 0; x < nx; ++x) {
+            cd* d = in + ax.position(x) * kVx + 3 * rr;
+            d[0] = d[1] = d[2] = 0.0;
+          }
+          continue;
+        }
+        const cd fy = ay.factor(y);
+        for (std::size_t x = 0; x < nx; ++x) {
+          const std::size_t i = y * nx + x;
+          cd* d = in + ax.position(x) * kVx + 3 * rr;
+          double jm, jn, jp, gx, gy;
+          cd pre;
+          if (!exact) {
+            if (p.w[i] == 0) {
+              d[0] = d[1] = d[2] = 0.0;
               continue;
             }
-            const double hp = exact ? F.h0[i] + rp.a * F.sa[i] + rp.b * F.sb[i] : F.h0[i];
-            const double z = r * hp, a = std::fabs(z);
-            auto cj = [&](std::size_t k) {  // c_k(z) = (k ? 2 : 1) (-i)^k J_k(z)
-              double j = bt(k, a);
-              if (z < 0 && (k & 1)) j = -j;
-              return (k ? 2.0 : 1.0) * j * mi[k & 3];
-            };
-            cd cn = cj(n), cp = cj(n + 1);
-            cd s = n == 0 ? 0.5 * cp : (n == 1 ? cj(0) + 0.5 * cp : 0.5 * (cj(n - 1) + cp));
-            const cd b = std::polar(F.w[i] * rp.weight * dA, -qc * hp);
-            in[i] = b * (qc * cn + r * s);
-            in[ns + i] = b * (F.gx[i] * cn);
-            in[2 * ns + i] = b * (F.gy[i] * cn);
-          }
-          // x-pass, written transposed: xo[k * 3ny + (component * ny + y)], k = q_x index.
-          czx.execute(in.data(), nx, 1, xo.data(), 1, bt3);
-          if (exact) {  // shift by the rule point's x offset: a phase per q_x
-            const double ox = rp.a * p.dx;
-#pragma omp parallel for schedule(static) if (big)
-            for (std::size_t k = 0; k < N; ++k) {
-              const cd ph = std::polar(1.0, -qx[k] * ox);
-              cd* dst = xacc.data() + k * bt3;
-              const cd* src = xo.data() + k * bt3;
-              for (std::size_t j = 0; j < bt3; ++j) dst[j] += ph * src[j];
+            const double hp = p.h[i] - hc, z = r * hp;
+            double* ring = ws.ring.data();
+            if (first) {
+              pre = p.w[i] * dA * ax.factor(x) * fy * std::polar(1.0, -qc * hp);
+              ws.pre[i] = pre;
+              ring[((n + 1) % 3) * ns + i] = bessel(n + 1, z);
+              ring[(n % 3) * ns + i] = bessel(n, z);
+            } else {
+              pre = ws.pre[i];
             }
-          }
-        }
-#pragma omp parallel for schedule(static) if (big)
-        for (std::size_t k = 0; k < N; ++k) {
-          cd* col = xsum + k * bt3;
-          for (std::size_t y = 0; y < ny; ++y) col[y] -= qx[k] * col[ny + y];
-        }
-        czy.execute(xsum, bt3, 1, ym.data());  // column k -> ym[k * N + l], l = q_y index
-        czy.execute(xsum + 2 * ny, bt3, 1, yc.data());
-        if (exact) {  // shift by the group's y offset, sum the q_y part in
-          const double oy = group.front().b * p.dy;
-#pragma omp parallel for schedule(static) if (big)
-          for (std::size_t l = 0; l < N; ++l) {
-            const cd ph = std::polar(1.0, -qy[l] * oy);
-            for (std::size_t k = 0; k < N; ++k) {
-              const std::size_t j = k * N + l;
-              it[j] += ph * (ym[j] - qy[l] * yc[j]);
+            jp = ring[((n + 1) % 3) * ns + i];
+            jn = ring[(n % 3) * ns + i];
+            jm = 0;
+            if (n >= 1) {
+              jm = bessel(n - 1, z);
+              ring[((n - 1) % 3) * ns + i] = jm;
             }
+            gx = p.gx[i];
+            gy = p.gy[i];
+          } else {
+            const Family& F = fam[f];
+            if (F.w[i] == 0) {
+              d[0] = d[1] = d[2] = 0.0;
+              continue;
+            }
+            const double hp = F.h0[i] + rp.a * F.sa[i] + rp.b * F.sb[i], z = r * hp;
+            pre = F.w[i] * rp.weight * dA * ax.factor(x) * fy * std::polar(1.0, -qc * hp);
+            jp = bessel(n + 1, z);
+            jn = bessel(n, z);
+            jm = n >= 1 ? bessel(n - 1, z) : 0.0;
+            gx = F.gx[i];
+            gy = F.gy[i];
+          }
+          // With the factor (-i)^n taken out (applied after the y-transform): c_n = alpha J_n,
+          // the q_z part q_c c_n + r s_n with s_n = i (J_{n-1} - J_{n+1}).
+          const double u = (n ? 2.0 : 1.0) * jn;
+          d[0] = pre * cd(qc * u, r * (jm - jp));
+          d[1] = pre * (gx * u);
+          d[2] = pre * (gy * u);
+        }
+      }
+      ax.run(sc.x);
+      for (std::size_t k = 0; k < N; ++k) {
+        tap_sums<kVx>(ax.weight(k), K, bins + ax.start(k) * kVx, acc);
+        if (!exact) {
+          for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
+            const cd a(acc[6 * rr], acc[6 * rr + 1]), bb(acc[6 * rr + 2], acc[6 * rr + 3]),
+                c(acc[6 * rr + 4], acc[6 * rr + 5]);
+            cd* o = ws.xo.data() + (k * ny + y0 + rr) * 2;
+            o[0] = a - qx[k] * bb;
+            o[1] = c;
+          }
+        } else {
+          const cd ph = xshift[f][g][pt * N + k];
+          cd* xa = sc.xacc.data() + k * kVx;
+          for (std::size_t v = 0; v < kVx; ++v) {
+            const cd z = ph * cd(acc[2 * v], acc[2 * v + 1]);
+            xa[v] = pt == 0 ? z : xa[v] + z;
           }
         }
       }
     }
-    // Clenshaw step: b_n = I_n + 2 t b_{n+1} - b_{n+2}; at n = 0: f = I_0 + t b_1 - b_2.
-    const double two = n == 0 ? 1.0 : 2.0;
-#pragma omp parallel for schedule(static) if (big)
-    for (std::size_t k = 0; k < N; ++k)
-      for (std::size_t l = 0; l < N; ++l) {
-        const std::size_t j = k * N + l;
-        double t = tnode[j];
-        if (std::isnan(t)) continue;
-        cd in_n = exact ? it[j] : ym[j] - qy[l] * yc[j];
-        cd bn = in_n + two * t * b1[j] - b2[j];
-        b2[j] = b1[j];
-        b1[j] = bn;
+    if (exact)
+      for (std::size_t k = 0; k < N; ++k) {
+        const cd* xa = sc.xacc.data() + k * kVx;
+        for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
+          cd* o = ws.xo.data() + (k * ny + y0 + rr) * 2;
+          o[0] = xa[3 * rr] - qx[k] * xa[3 * rr + 1];
+          o[1] = xa[3 * rr + 2];
+        }
       }
+  };
+
+  const std::function<void(std::size_t)> yblock = [&](std::size_t b) {
+    ThreadScratch& sc = thread_scratch();
+    ay.prepare(sc.y);
+    cd* in = sc.y.in.data();
+    const cd* bins = sc.y.out.data();
+    const std::size_t k0 = b * kCols, K = ay.taps();
+    std::size_t lmin = N, lmax = 0;
+    for (std::size_t c = 0; c < kCols; ++c) {
+      const std::size_t k = k0 + c;
+      const bool live = k < N && lay.hi[k] > lay.lo[k];
+      const cd* src = live ? ws.xo.data() + k * ny * 2 : nullptr;
+      for (std::size_t y = 0; y < ny; ++y) {
+        cd* d = in + ay.position(y) * kVy + 2 * c;
+        d[0] = live ? src[2 * y] : 0.0;
+        d[1] = live ? src[2 * y + 1] : 0.0;
+      }
+      if (live) {
+        lmin = std::min(lmin, lay.lo[k]);
+        lmax = std::max(lmax, lay.hi[k]);
+      }
+    }
+    if (lmin >= lmax) return;
+    ay.run(sc.y);
+    const bool last_group = gi + 1 == groups;
+    const std::vector<cd>* ysh = exact ? &yshift[f][g] : nullptr;
+    double acc[2 * kVy];
+    for (std::size_t l = lmin; l < lmax; ++l) {
+      tap_sums<kVy>(ay.weight(l), K, bins + ay.start(l) * kVy, acc);
+      for (std::size_t c = 0; c < kCols; ++c) {
+        const std::size_t k = k0 + c;
+        if (k >= N || l < lay.lo[k] || l >= lay.hi[k]) continue;
+        cd I = cd(acc[4 * c], acc[4 * c + 1]) - qy[l] * cd(acc[4 * c + 2], acc[4 * c + 3]);
+        if (ysh) I *= (*ysh)[l];
+        I = rotate(I, n);
+        const std::size_t j = lay.off[k] + (l - lay.lo[k]);
+        if (groups > 1) {
+          if (!last_group) {
+            ws.it[j] = gi == 0 ? I : ws.it[j] + I;
+            continue;
+          }
+          I += ws.it[j];
+        }
+        const cd b1 = first ? cd(0) : ws.state[2 * j], b2 = first ? cd(0) : ws.state[2 * j + 1];
+        const double t = lay.t[j];
+        if (n > 0) {
+          ws.state[2 * j] = I + 2 * t * b1 - b2;
+          ws.state[2 * j + 1] = b1;
+        } else {
+          out[l * N + k] = std::norm(I + t * b1 - b2) * norm;
+        }
+      }
+    }
+  };
+
+  auto& pool = detail::HelperPool::instance();
+  for (std::size_t nn = terms; nn-- > 0;) {
+    n = nn;
+    gi = 0;
+    for (f = 0; f < fam.size(); ++f)
+      for (g = 0; g < rules[f].size(); ++g, ++gi) {
+        pool.run(xblocks, threads, xblock);
+        pool.run(yblocks, threads, yblock);
+      }
+    first = false;
   }
-  const double norm = 1.0 / (4 * M_PI * M_PI * area);
-  for (std::size_t k = 0; k < N; ++k)
-    for (std::size_t l = 0; l < N; ++l)
-      if (!std::isnan(tnode[k * N + l])) out[l * N + k] = std::norm(b1[k * N + l]) * norm;
+  give_workspace(std::move(wsp));
   return out;
 }
 
@@ -369,10 +567,7 @@ std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_
                                          std::size_t resolution, double accuracy,
                                          KirchhoffFastInfo* info, bool chirp_z,
                                          KirchhoffIntegration m, double band_x, double band_y) {
-  return chirp_z ? table_fast<detail::ChirpZ>(p, lambda_q, resolution, accuracy, info, m, band_x,
-                                              band_y)
-                 : table_fast<detail::ZoomNufft>(p, lambda_q, resolution, accuracy, info, m, band_x,
-                                                 band_y);
+  return table_fast(p, lambda_q, resolution, accuracy, info, chirp_z, m, band_x, band_y);
 }
 
 }  // namespace microbrdf
