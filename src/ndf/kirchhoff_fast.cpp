@@ -11,19 +11,21 @@
 // go through a chirp-z transform along x (exact q_x of the nodes), A_n - q_x B_n and C_n' through
 // one along y, and I_n = Y[A_n - q_x B_n] - q_y Y[C_n']; I(q) = sum_n I_n T_n(t(q)) by Clenshaw.
 // The global phase exp(-i q_z h_c) and the patch origin are dropped (|I| is unchanged).
+#include <omp.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <complex>
 #include <memory>
-#include <stdexcept>
 #include <mutex>
-#include <omp.h>
+#include <stdexcept>
 
 #include "core/fft.hpp"
 #include "core/helper_pool.hpp"
-#include "ndf/kirchhoff_transform.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "ndf/kirchhoff_transform.hpp"
 
 namespace microbrdf {
 namespace {
@@ -34,33 +36,31 @@ using cd = std::complex<double>;
 // 1/32, derivatives from J_n' = (J_{n-1} - J_{n+1})/2): error < 3e-9.
 class BesselTable {
  public:
-  BesselTable(std::size_t nmax, double zmax) : nmax_(nmax), step_(1.0 / 32) {
-    npts_ = static_cast<std::size_t>(std::ceil(zmax / step_)) + 2;
-    val_.assign((nmax + 1) * npts_, 0.0);
-    der_.assign((nmax + 1) * npts_, 0.0);
+  BesselTable(std::size_t nmax, double zmax) {
+    npts_ = static_cast<std::size_t>(std::ceil(zmax * kInvStep)) + 2;
+    tab_.assign((nmax + 1) * npts_ * 2, 0.0);
     for (std::size_t i = 0; i < npts_; ++i) {
-      auto j = bessel_j_all(nmax + 1, step_ * static_cast<double>(i));
+      auto j = bessel_j_all(nmax + 1, static_cast<double>(i) / kInvStep);
       for (std::size_t n = 0; n <= nmax; ++n) {
-        val_[n * npts_ + i] = j[n];
-        der_[n * npts_ + i] = n == 0 ? -j[1] : 0.5 * (j[n - 1] - j[n + 1]);
+        tab_[2 * (n * npts_ + i)] = j[n];
+        tab_[2 * (n * npts_ + i) + 1] = (n == 0 ? -j[1] : 0.5 * (j[n - 1] - j[n + 1])) / kInvStep;
       }
     }
   }
   double operator()(std::size_t n, double z) const {  // z >= 0
-    double f = z / step_;
-    auto i = std::min(static_cast<std::size_t>(f), npts_ - 2);
-    double u = f - static_cast<double>(i);
-    const double* v = &val_[n * npts_ + i];
-    const double* d = &der_[n * npts_ + i];
-    double u2 = u * u, u3 = u2 * u;
-    return (2 * u3 - 3 * u2 + 1) * v[0] + (u3 - 2 * u2 + u) * step_ * d[0] +
-           (-2 * u3 + 3 * u2) * v[1] + (u3 - u2) * step_ * d[1];
+    const double f = z * kInvStep;
+    const auto i = std::min(static_cast<std::size_t>(f), npts_ - 2);
+    const double u = f - static_cast<double>(i);
+    const double* v = &tab_[2 * (n * npts_ + i)];  // J, step J' at i; then at i + 1
+    const double u2 = u * u, u3 = u2 * u;
+    return (2 * u3 - 3 * u2 + 1) * v[0] + (u3 - 2 * u2 + u) * v[1] + (-2 * u3 + 3 * u2) * v[2] +
+           (u3 - u2) * v[3];
   }
 
  private:
-  std::size_t nmax_, npts_ = 0;
-  double step_;
-  std::vector<double> val_, der_;
+  static constexpr double kInvStep = 32;  // table spacing 1/32
+  std::size_t npts_ = 0;
+  std::vector<double> tab_;  // per order and point: J_n, step J_n'
 };
 
 }  // namespace
@@ -102,14 +102,81 @@ double gauss_error(std::size_t p, double span) {
   return std::exp(lg);
 }
 
-
 using detail::AlignedArray;
 using detail::KirchhoffAxis;
 
-constexpr std::size_t kRows = 2;         // sample rows per x-block
-constexpr std::size_t kVx = 3 * kRows;   // x-vectors per block: A, B, C of each row
-constexpr std::size_t kCols = 2;         // node columns per y-block
-constexpr std::size_t kVy = 2 * kCols;   // y-vectors per block: A - q_x B and C of each column
+// The tap sums are written for the compiler's vectoriser; on x86-64 GCC also builds an AVX2
+// version chosen at run time (AVX2 without FMA: the same products and sums, the same bits).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define MICROBRDF_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define MICROBRDF_SIMD_CLONES
+#endif
+
+typedef double V4 __attribute__((vector_size(32), may_alias));
+
+constexpr std::size_t kRows = 2;        // sample rows per x-block
+constexpr std::size_t kVx = 3 * kRows;  // x-vectors per block: A, B, C of each row
+constexpr std::size_t kCols = 2;        // node columns per y-block
+constexpr std::size_t kVy = 2 * kCols;  // y-vectors per block: A - q_x B and C of each column
+constexpr std::size_t kMaxBatch = 3;    // terms per pass over the Clenshaw state
+
+// out[(k - k0) V + v] = sum_t w[k K + t] bins[(start[k] + t) V + v] for k in [k0, k1): the K-tap
+// sums of V interleaved complex vectors (V even, buffers 32-byte aligned).
+template <std::size_t V>
+[[gnu::always_inline]] inline void tap_sums_body(const double* __restrict w,
+                                                 const std::size_t* __restrict start, std::size_t K,
+                                                 std::size_t k0, std::size_t k1, const cd* bins,
+                                                 cd* out) {
+  static_assert(V % 2 == 0);
+  constexpr std::size_t J = V / 2;  // four doubles (two complex) per V4
+  const double* bd = reinterpret_cast<const double*>(bins);
+  double* od = reinterpret_cast<double*>(out);
+  for (std::size_t k = k0; k < k1; ++k) {
+    const double* wk = w + k * K;
+    const V4* b = reinterpret_cast<const V4*>(bd + start[k] * 2 * V);
+    V4 acc[J];
+    for (std::size_t j = 0; j < J; ++j) acc[j] = V4{0, 0, 0, 0};
+    for (std::size_t t = 0; t < K; ++t) {
+      const V4 wt = {wk[t], wk[t], wk[t], wk[t]};
+      for (std::size_t j = 0; j < J; ++j) acc[j] += wt * b[t * J + j];
+    }
+    V4* o = reinterpret_cast<V4*>(od + (k - k0) * 2 * V);
+    for (std::size_t j = 0; j < J; ++j) o[j] = acc[j];
+  }
+}
+
+MICROBRDF_SIMD_CLONES
+void tap_sums_x(const double* w, const std::size_t* start, std::size_t K, std::size_t k0,
+                std::size_t k1, const cd* bins, cd* out) {
+  tap_sums_body<kVx>(w, start, K, k0, k1, bins, out);
+}
+
+MICROBRDF_SIMD_CLONES
+void tap_sums_y(const double* w, const std::size_t* start, std::size_t K, std::size_t k0,
+                std::size_t k1, const cd* bins, cd* out) {
+  tap_sums_body<kVy>(w, start, K, k0, k1, bins, out);
+}
+
+// a b, written out (std::complex's operator* checks for NaN and Inf per product).
+inline cd mul(cd a, cd b) {
+  return {a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real()};
+}
+
+// z (-i)^n
+inline cd rotate(cd z, std::size_t n) {
+  switch (n & 3) {
+    case 0:
+      return z;
+    case 1:
+      return {z.imag(), -z.real()};
+    case 2:
+      return -z;
+    default:
+      return {-z.imag(), z.real()};
+  }
+}
 
 // The nodes of an N x N table inside the unit disk, packed column by column: column k holds the
 // rows [lo, hi), from offset off; t = 2 m_z - 1 per packed node (q_z = q_c + r t).
@@ -152,11 +219,13 @@ std::shared_ptr<const NodeLayout> node_layout(std::size_t n) {
 
 // The large arrays of one table, kept between calls (no fresh pages per table).
 struct Workspace {
-  AlignedArray<cd> xo;     // x-pass output: (k * ny + y) * 2 + {0: A - q_x B, 1: C}
-  AlignedArray<cd> state;  // Clenshaw b_{n+1}, b_{n+2} per packed node
-  AlignedArray<cd> it;     // exact: sum over the rule groups of the term, per packed node
-  AlignedArray<cd> pre;    // midpoint: w dA (axis factors) exp(-i q_c h') per sample
-  AlignedArray<double> ring;  // midpoint: J_k(r h') of the last three orders, k mod 3
+  AlignedArray<cd> xo;        // x-pass output per batch slot: (k ny + y) 2 + {0: A - q_x B, 1: C}
+  AlignedArray<cd> state;     // Clenshaw b_{n+1}, b_{n+2} per packed node
+  AlignedArray<cd> it;        // exact: sum over the rule groups of the term, per packed node
+  AlignedArray<cd> pre;       // midpoint: w dA (axis factors) exp(-i q_c h') per sample
+  AlignedArray<double> g;     // midpoint: g_x, g_y per sample (0 where invalid)
+  AlignedArray<double> z;     // midpoint: r h' per sample (0 where invalid)
+  AlignedArray<double> ring;  // midpoint: J_k(r h') of the last three orders, slot k mod 3
 };
 
 struct WorkspaceSlot {
@@ -182,40 +251,38 @@ void give_workspace(std::unique_ptr<Workspace> w) {
   if (!s.ws) s.ws = std::move(w);
 }
 
-// x (-i)^n
-inline cd rotate(cd z, std::size_t n) {
-  switch (n & 3) {
-    case 0:
-      return z;
-    case 1:
-      return {z.imag(), -z.real()};
-    case 2:
-      return -z;
-    default:
-      return {-z.imag(), z.real()};
-  }
-}
-
-// acc[v] = sum_t w[t] bins[t * V + v]: the K-tap sums of V interleaved vectors.
-template <std::size_t V>
-inline void tap_sums(const double* w, std::size_t taps, const cd* bins, double* acc) {
-  const double* b = reinterpret_cast<const double*>(bins);
-  for (std::size_t v = 0; v < 2 * V; ++v) acc[v] = 0;
-  for (std::size_t t = 0; t < taps; ++t) {
-    const double wt = w[t];
-    const double* bt = b + t * 2 * V;
-    for (std::size_t v = 0; v < 2 * V; ++v) acc[v] += wt * bt[v];
-  }
-}
-
 struct ThreadScratch {
   KirchhoffAxis::Scratch x, y;
+  AlignedArray<cd> sums;  // tap sums of one block (x: N x kVx; y: batch x N x kVy)
   AlignedArray<cd> xacc;  // exact: sums over the rule points of a group, N x kVx
 };
 
 ThreadScratch& thread_scratch() {
   thread_local ThreadScratch s;
   return s;
+}
+
+// One sample row of the midpoint rule's term n into the x-block input (element x at
+// in[pos[x] kVx]): A = pre (q_c c + i r (J_{n-1} - J_{n+1})), B = pre g_x c, C = pre g_y c with
+// c = (n ? 2 : 1) J_n, the factor (-i)^n left out. Stores J_{n-1} in jm (n >= 1).
+void fill_row_midpoint(std::size_t nx, std::size_t n, const BesselTable& bt, const cd* pre,
+                       const double* g, const double* z, const double* jp, const double* jn,
+                       double* jm, double qc, double r, const std::size_t* pos, cd* in) {
+  const double alpha = n ? 2.0 : 1.0;
+  for (std::size_t x = 0; x < nx; ++x) {
+    double m = 0;
+    if (n >= 1) {
+      const double zz = z[x], j = bt(n - 1, std::fabs(zz));
+      m = zz < 0 && ((n - 1) & 1) ? -j : j;
+      jm[x] = m;
+    }
+    const double u = alpha * jn[x], d = r * (m - jp[x]);
+    const cd P = pre[x];
+    cd* o = in + pos[x] * kVx;
+    o[0] = cd(P.real() * qc * u - P.imag() * d, P.imag() * qc * u + P.real() * d);
+    o[1] = P * (g[2 * x] * u);
+    o[2] = P * (g[2 * x + 1] * u);
+  }
 }
 
 std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::size_t resolution,
@@ -365,13 +432,21 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
       }
     }
 
+  // Terms per pass over the Clenshaw state (midpoint; the exact rule sums its groups per term
+  // first): as many as kMaxBatch copies of the x-output within 64 MiB allow.
+  const std::size_t slot = N * ny * 2;
+  std::size_t batch = 1;
+  if (!exact)
+    batch = std::clamp<std::size_t>((std::size_t{64} << 20) / (slot * sizeof(cd)), 1, kMaxBatch);
   std::unique_ptr<Workspace> wsp = take_workspace();
   Workspace& ws = *wsp;
-  ws.xo.resize(N * ny * 2);
+  ws.xo.resize(batch * slot);
   ws.state.resize(2 * lay.count);
   if (exact) ws.it.resize(lay.count);
   if (!exact) {
     ws.pre.resize(ns);
+    ws.g.resize(2 * ns);
+    ws.z.resize(ns);
     ws.ring.resize(3 * ns);
   }
   const bool big = ns + N * N > (1u << 17);  // threads only pay off on large problems
@@ -379,24 +454,52 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   const double dA = p.dx * p.dy, norm = 1.0 / (4 * M_PI * M_PI * area);
   const std::size_t xblocks = (ny + kRows - 1) / kRows, yblocks = (N + kCols - 1) / kCols;
   std::size_t groups = 0;
-  for (const auto& r : rules) groups += r.size();
+  for (const auto& rl : rules) groups += rl.size();
+  auto& pool = detail::HelperPool::instance();
+
+  // Midpoint: per sample the factor pre = w dA (axis factors) exp(-i q_c h'), z = r h', the
+  // slopes, and J of the two highest orders (the others follow one order per term).
+  if (!exact) {
+    const std::function<void(std::size_t)> prepare_rows = [&](std::size_t y) {
+      const cd fy = ay.factor(y);
+      for (std::size_t x = 0; x < nx; ++x) {
+        const std::size_t i = y * nx + x;
+        double* ring = ws.ring.data();
+        if (p.w[i] == 0) {
+          ws.pre[i] = 0.0;
+          ws.z[i] = ws.g[2 * i] = ws.g[2 * i + 1] = 0;
+          ring[(terms % 3) * ns + i] = ring[((terms - 1) % 3) * ns + i] = 0;
+          continue;
+        }
+        const double hp = p.h[i] - hc, z = r * hp;
+        ws.pre[i] = mul(p.w[i] * dA * ax.factor(x), fy) * std::polar(1.0, -qc * hp);
+        ws.z[i] = z;
+        ws.g[2 * i] = p.gx[i];
+        ws.g[2 * i + 1] = p.gy[i];
+        ring[(terms % 3) * ns + i] = bessel(terms, z);
+        ring[((terms - 1) % 3) * ns + i] = bessel(terms - 1, z);
+      }
+    };
+    pool.run(ny, threads, prepare_rows);
+  }
 
   // Per term n (from the highest): the sample arrays A, B, C of every rule point, through the
   // x-transform (combined per node column into A - q_x B and C, summed over a group's points),
   // through the y-transform (combined into I_n = Y[A - q_x B] - q_y Y[C], summed over the
   // groups) and into the Clenshaw recurrence b_n = I_n + 2 t b_{n+1} - b_{n+2} per node.
   // Every block of rows or columns is computed the same way by whichever thread takes it.
-  std::size_t n = 0, f = 0, g = 0, gi = 0;
+  std::size_t n = 0, f = 0, g = 0, gi = 0, bslot = 0;
+  std::size_t n_hi = 0, nb = 1;  // the batch: terms n_hi, n_hi - 1, ..., n_hi - nb + 1
   bool first = true;
   const std::function<void(std::size_t)> xblock = [&](std::size_t b) {
     ThreadScratch& sc = thread_scratch();
     ax.prepare(sc.x);
+    sc.sums.resize(N * std::max(kVx, batch * kVy));
+    if (exact) sc.xacc.resize(N * kVx);
     cd* in = sc.x.in.data();
-    const cd* bins = sc.x.out.data();
     const std::size_t y0 = b * kRows, K = ax.taps();
     const auto& group = rules[f][g];
-    if (exact) sc.xacc.resize(N * kVx);
-    double acc[2 * kVx];
+    cd* xo = ws.xo.data() + bslot * slot;
     for (std::size_t pt = 0; pt < group.size(); ++pt) {
       const RulePoint& rp = group[pt];
       for (std::size_t rr = 0; rr < kRows; ++rr) {
@@ -408,86 +511,66 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
           }
           continue;
         }
+        if (!exact) {
+          const std::size_t i = y * nx;
+          double* ring = ws.ring.data();
+          fill_row_midpoint(nx, n, bt, ws.pre.data() + i, ws.g.data() + 2 * i, ws.z.data() + i,
+                            ring + ((n + 1) % 3) * ns + i, ring + (n % 3) * ns + i,
+                            n >= 1 ? ring + ((n - 1) % 3) * ns + i : nullptr, qc, r, ax.positions(),
+                            in + 3 * rr);
+          continue;
+        }
         const cd fy = ay.factor(y);
+        const Family& F = fam[f];
         for (std::size_t x = 0; x < nx; ++x) {
           const std::size_t i = y * nx + x;
           cd* d = in + ax.position(x) * kVx + 3 * rr;
-          double jm, jn, jp, gx, gy;
-          cd pre;
-          if (!exact) {
-            if (p.w[i] == 0) {
-              d[0] = d[1] = d[2] = 0.0;
-              continue;
-            }
-            const double hp = p.h[i] - hc, z = r * hp;
-            double* ring = ws.ring.data();
-            if (first) {
-              pre = p.w[i] * dA * ax.factor(x) * fy * std::polar(1.0, -qc * hp);
-              ws.pre[i] = pre;
-              ring[((n + 1) % 3) * ns + i] = bessel(n + 1, z);
-              ring[(n % 3) * ns + i] = bessel(n, z);
-            } else {
-              pre = ws.pre[i];
-            }
-            jp = ring[((n + 1) % 3) * ns + i];
-            jn = ring[(n % 3) * ns + i];
-            jm = 0;
-            if (n >= 1) {
-              jm = bessel(n - 1, z);
-              ring[((n - 1) % 3) * ns + i] = jm;
-            }
-            gx = p.gx[i];
-            gy = p.gy[i];
-          } else {
-            const Family& F = fam[f];
-            if (F.w[i] == 0) {
-              d[0] = d[1] = d[2] = 0.0;
-              continue;
-            }
-            const double hp = F.h0[i] + rp.a * F.sa[i] + rp.b * F.sb[i], z = r * hp;
-            pre = F.w[i] * rp.weight * dA * ax.factor(x) * fy * std::polar(1.0, -qc * hp);
-            jp = bessel(n + 1, z);
-            jn = bessel(n, z);
-            jm = n >= 1 ? bessel(n - 1, z) : 0.0;
-            gx = F.gx[i];
-            gy = F.gy[i];
+          if (F.w[i] == 0) {
+            d[0] = d[1] = d[2] = 0.0;
+            continue;
           }
+          const double hp = F.h0[i] + rp.a * F.sa[i] + rp.b * F.sb[i], z = r * hp;
+          const cd pre =
+              mul(mul(F.w[i] * rp.weight * dA * ax.factor(x), fy), std::polar(1.0, -qc * hp));
+          const double jp = bessel(n + 1, z), jn = bessel(n, z),
+                       jm = n >= 1 ? bessel(n - 1, z) : 0.0;
           // With the factor (-i)^n taken out (applied after the y-transform): c_n = alpha J_n,
           // the q_z part q_c c_n + r s_n with s_n = i (J_{n-1} - J_{n+1}).
           const double u = (n ? 2.0 : 1.0) * jn;
-          d[0] = pre * cd(qc * u, r * (jm - jp));
-          d[1] = pre * (gx * u);
-          d[2] = pre * (gy * u);
+          d[0] = mul(pre, cd(qc * u, r * (jm - jp)));
+          d[1] = pre * (F.gx[i] * u);
+          d[2] = pre * (F.gy[i] * u);
         }
       }
       ax.run(sc.x);
-      for (std::size_t k = 0; k < N; ++k) {
-        tap_sums<kVx>(ax.weight(k), K, bins + ax.start(k) * kVx, acc);
-        if (!exact) {
+      cd* sums = sc.sums.data();
+      tap_sums_x(ax.weights(), ax.starts(), K, 0, N, sc.x.out.data(), sums);
+      if (!exact) {
+        for (std::size_t k = 0; k < N; ++k) {
+          const cd* a = sums + k * kVx;
+          cd* o = xo + (k * ny + y0) * 2;
           for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
-            const cd a(acc[6 * rr], acc[6 * rr + 1]), bb(acc[6 * rr + 2], acc[6 * rr + 3]),
-                c(acc[6 * rr + 4], acc[6 * rr + 5]);
-            cd* o = ws.xo.data() + (k * ny + y0 + rr) * 2;
-            o[0] = a - qx[k] * bb;
-            o[1] = c;
+            o[2 * rr] = a[3 * rr] - qx[k] * a[3 * rr + 1];
+            o[2 * rr + 1] = a[3 * rr + 2];
           }
-        } else {
+        }
+      } else {
+        for (std::size_t k = 0; k < N; ++k) {
           const cd ph = xshift[f][g][pt * N + k];
+          const cd* a = sums + k * kVx;
           cd* xa = sc.xacc.data() + k * kVx;
-          for (std::size_t v = 0; v < kVx; ++v) {
-            const cd z = ph * cd(acc[2 * v], acc[2 * v + 1]);
-            xa[v] = pt == 0 ? z : xa[v] + z;
-          }
+          for (std::size_t v = 0; v < kVx; ++v)
+            xa[v] = pt == 0 ? mul(ph, a[v]) : xa[v] + mul(ph, a[v]);
         }
       }
     }
     if (exact)
       for (std::size_t k = 0; k < N; ++k) {
         const cd* xa = sc.xacc.data() + k * kVx;
+        cd* o = xo + (k * ny + y0) * 2;
         for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
-          cd* o = ws.xo.data() + (k * ny + y0 + rr) * 2;
-          o[0] = xa[3 * rr] - qx[k] * xa[3 * rr + 1];
-          o[1] = xa[3 * rr + 2];
+          o[2 * rr] = xa[3 * rr] - qx[k] * xa[3 * rr + 1];
+          o[2 * rr + 1] = xa[3 * rr + 2];
         }
       }
   };
@@ -495,67 +578,91 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   const std::function<void(std::size_t)> yblock = [&](std::size_t b) {
     ThreadScratch& sc = thread_scratch();
     ay.prepare(sc.y);
+    sc.sums.resize(N * std::max(kVx, batch * kVy));
     cd* in = sc.y.in.data();
-    const cd* bins = sc.y.out.data();
     const std::size_t k0 = b * kCols, K = ay.taps();
     std::size_t lmin = N, lmax = 0;
     for (std::size_t c = 0; c < kCols; ++c) {
       const std::size_t k = k0 + c;
-      const bool live = k < N && lay.hi[k] > lay.lo[k];
-      const cd* src = live ? ws.xo.data() + k * ny * 2 : nullptr;
-      for (std::size_t y = 0; y < ny; ++y) {
-        cd* d = in + ay.position(y) * kVy + 2 * c;
-        d[0] = live ? src[2 * y] : 0.0;
-        d[1] = live ? src[2 * y + 1] : 0.0;
-      }
-      if (live) {
+      if (k < N && lay.hi[k] > lay.lo[k]) {
         lmin = std::min(lmin, lay.lo[k]);
         lmax = std::max(lmax, lay.hi[k]);
       }
     }
     if (lmin >= lmax) return;
-    ay.run(sc.y);
-    const bool last_group = gi + 1 == groups;
-    const std::vector<cd>* ysh = exact ? &yshift[f][g] : nullptr;
-    double acc[2 * kVy];
-    for (std::size_t l = lmin; l < lmax; ++l) {
-      tap_sums<kVy>(ay.weight(l), K, bins + ay.start(l) * kVy, acc);
+    const std::size_t span_l = lmax - lmin;
+    for (std::size_t s = 0; s < nb; ++s) {
       for (std::size_t c = 0; c < kCols; ++c) {
         const std::size_t k = k0 + c;
-        if (k >= N || l < lay.lo[k] || l >= lay.hi[k]) continue;
-        cd I = cd(acc[4 * c], acc[4 * c + 1]) - qy[l] * cd(acc[4 * c + 2], acc[4 * c + 3]);
-        if (ysh) I *= (*ysh)[l];
-        I = rotate(I, n);
-        const std::size_t j = lay.off[k] + (l - lay.lo[k]);
-        if (groups > 1) {
-          if (!last_group) {
-            ws.it[j] = gi == 0 ? I : ws.it[j] + I;
-            continue;
-          }
-          I += ws.it[j];
+        const bool live = k < N && lay.hi[k] > lay.lo[k];
+        const cd* src = live ? ws.xo.data() + s * slot + k * ny * 2 : nullptr;
+        const std::size_t* pos = ay.positions();
+        for (std::size_t y = 0; y < ny; ++y) {
+          cd* d = in + pos[y] * kVy + 2 * c;
+          d[0] = live ? src[2 * y] : 0.0;
+          d[1] = live ? src[2 * y + 1] : 0.0;
         }
-        const cd b1 = first ? cd(0) : ws.state[2 * j], b2 = first ? cd(0) : ws.state[2 * j + 1];
+      }
+      ay.run(sc.y);
+      tap_sums_y(ay.weights(), ay.starts(), K, lmin, lmax, sc.y.out.data(),
+                 sc.sums.data() + s * span_l * kVy);
+    }
+    const bool last_group = gi + 1 == groups;
+    const std::vector<cd>* ysh = exact ? &yshift[f][g] : nullptr;
+    for (std::size_t c = 0; c < kCols; ++c) {
+      const std::size_t k = k0 + c;
+      if (k >= N || lay.hi[k] <= lay.lo[k]) continue;
+      for (std::size_t l = lay.lo[k]; l < lay.hi[k]; ++l) {
+        const std::size_t j = lay.off[k] + (l - lay.lo[k]);
         const double t = lay.t[j];
-        if (n > 0) {
-          ws.state[2 * j] = I + 2 * t * b1 - b2;
-          ws.state[2 * j + 1] = b1;
-        } else {
-          out[l * N + k] = std::norm(I + t * b1 - b2) * norm;
+        cd b1 = first ? cd(0) : ws.state[2 * j], b2 = first ? cd(0) : ws.state[2 * j + 1];
+        for (std::size_t s = 0; s < nb; ++s) {
+          const std::size_t nn = n_hi - s;
+          const cd* a = sc.sums.data() + (s * span_l + (l - lmin)) * kVy + 2 * c;
+          cd I = a[0] - qy[l] * a[1];
+          if (ysh) I = mul(I, (*ysh)[l]);
+          I = rotate(I, nn);
+          if (groups > 1) {
+            if (!last_group) {
+              ws.it[j] = gi == 0 ? I : ws.it[j] + I;
+              continue;
+            }
+            I += ws.it[j];
+          }
+          if (nn > 0) {
+            const cd bn = I + 2 * t * b1 - b2;
+            b2 = b1;
+            b1 = bn;
+          } else {
+            out[l * N + k] = std::norm(I + t * b1 - b2) * norm;
+          }
+        }
+        if (!(groups > 1 && !last_group)) {
+          ws.state[2 * j] = b1;
+          ws.state[2 * j + 1] = b2;
         }
       }
     }
   };
 
-  auto& pool = detail::HelperPool::instance();
-  for (std::size_t nn = terms; nn-- > 0;) {
-    n = nn;
-    gi = 0;
-    for (f = 0; f < fam.size(); ++f)
-      for (g = 0; g < rules[f].size(); ++g, ++gi) {
-        pool.run(xblocks, threads, xblock);
-        pool.run(yblocks, threads, yblock);
-      }
+  for (n_hi = terms - 1;; n_hi -= nb) {
+    nb = std::min(batch, n_hi + 1);
+    for (std::size_t s = 0; s < nb; ++s) {
+      n = n_hi - s;
+      bslot = s;
+      gi = 0;
+      for (f = 0; f < fam.size(); ++f)
+        for (g = 0; g < rules[f].size(); ++g, ++gi) {
+          pool.run(xblocks, threads, xblock);
+          if (exact) pool.run(yblocks, threads, yblock);  // batch == 1
+        }
+    }
+    if (!exact) {
+      f = g = gi = 0;
+      pool.run(yblocks, threads, yblock);
+    }
     first = false;
+    if (n_hi + 1 == nb) break;
   }
   give_workspace(std::move(wsp));
   return out;

@@ -77,8 +77,8 @@ std::shared_ptr<const KirchhoffAxis> KirchhoffAxis::get(Kind kind, std::size_t n
   std::lock_guard<std::mutex> lock(c.m);
   for (std::size_t i = 0; i < c.axes.size(); ++i) {
     const auto& a = *c.axes[i];
-    if (a.kind_ == key.kind && a.n_ == key.n && a.m_ == key.m && a.v_ == key.v &&
-        a.w0_ == key.w0 && a.dw_ == key.dw && static_cast<int>(a.k_) == key.taps) {
+    if (a.kind_ == key.kind && a.n_ == key.n && a.m_ == key.m && a.v_ == key.v && a.w0_ == key.w0 &&
+        a.dw_ == key.dw && static_cast<int>(a.k_) == key.taps) {
       auto hit = c.axes[i];
       c.axes.erase(c.axes.begin() + static_cast<std::ptrdiff_t>(i));
       c.axes.push_back(hit);
@@ -163,8 +163,8 @@ std::shared_ptr<const KirchhoffAxis> KirchhoffAxis::get(Kind kind, std::size_t n
     a->fwd_ = fftw_plan_many_dft(1, &len, v, ip, nullptr, v, 1, op, nullptr, v, 1, FFTW_FORWARD,
                                  FFTW_ESTIMATE);
     if (kind == Kind::ChirpZ)
-      a->inv_ = fftw_plan_many_dft(1, &len, v, op, nullptr, v, 1, op, nullptr, v, 1,
-                                   FFTW_BACKWARD, FFTW_ESTIMATE);
+      a->inv_ = fftw_plan_many_dft(1, &len, v, op, nullptr, v, 1, op, nullptr, v, 1, FFTW_BACKWARD,
+                                   FFTW_ESTIMATE);
     if (!a->fwd_ || (kind == Kind::ChirpZ && !a->inv_))
       throw std::runtime_error("FFTW could not plan a transform");
   }
@@ -201,8 +201,8 @@ void KirchhoffAxis::run(Scratch& s) const {
     cd* row = o + r * v_;
     for (std::size_t v = 0; v < v_; ++v) {
       const cd z = row[v];
-      row[v] = cd(z.real() * k.real() - z.imag() * k.imag(),
-                  z.real() * k.imag() + z.imag() * k.real());
+      row[v] =
+          cd(z.real() * k.real() - z.imag() * k.imag(), z.real() * k.imag() + z.imag() * k.real());
     }
   }
   fftw_execute_dft(static_cast<fftw_plan>(inv_), op, op);

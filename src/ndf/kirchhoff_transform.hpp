@@ -92,6 +92,9 @@ class KirchhoffAxis {
   std::size_t position(std::size_t j) const { return pos_[j]; }
   std::size_t start(std::size_t k) const { return start_[k]; }
   const double* weight(std::size_t k) const { return &weight_[k * k_]; }
+  const std::size_t* positions() const { return pos_.data(); }
+  const std::size_t* starts() const { return start_.data(); }
+  const double* weights() const { return weight_.data(); }  ///< m x K
   std::uint64_t id() const { return id_; }
 
  private:
