@@ -120,43 +120,47 @@ constexpr std::size_t kRows = 2;        // sample rows per x-block
 constexpr std::size_t kVx = 3 * kRows;  // x-vectors per block: A, B, C of each row
 constexpr std::size_t kCols = 2;        // node columns per y-block
 constexpr std::size_t kVy = 2 * kCols;  // y-vectors per block: A - q_x B and C of each column
-constexpr std::size_t kMaxBatch = 3;    // terms per pass over the Clenshaw state
+constexpr std::size_t kMaxBatch = 4;    // terms per pass over the Clenshaw state
 
-// out[(k - k0) V + v] = sum_t w[k K + t] bins[(start[k] + t) V + v] for k in [k0, k1): the K-tap
-// sums of V interleaved complex vectors (V even, buffers 32-byte aligned).
+// out[(k - k0) V + v] = sum_t w[k K + t] bins[v ld + start[k] + t] for k in [k0, k1): the K-tap
+// sums of V complex vectors (K even: the taps are taken in pairs, one pair per V4).
+typedef double V4u __attribute__((vector_size(32), aligned(8), may_alias));
+
 template <std::size_t V>
 [[gnu::always_inline]] inline void tap_sums_body(const double* __restrict w,
                                                  const std::size_t* __restrict start, std::size_t K,
                                                  std::size_t k0, std::size_t k1, const cd* bins,
-                                                 cd* out) {
-  static_assert(V % 2 == 0);
-  constexpr std::size_t J = V / 2;  // four doubles (two complex) per V4
+                                                 std::size_t ld, cd* out) {
   const double* bd = reinterpret_cast<const double*>(bins);
   double* od = reinterpret_cast<double*>(out);
   for (std::size_t k = k0; k < k1; ++k) {
     const double* wk = w + k * K;
-    const V4* b = reinterpret_cast<const V4*>(bd + start[k] * 2 * V);
-    V4 acc[J];
-    for (std::size_t j = 0; j < J; ++j) acc[j] = V4{0, 0, 0, 0};
-    for (std::size_t t = 0; t < K; ++t) {
-      const V4 wt = {wk[t], wk[t], wk[t], wk[t]};
-      for (std::size_t j = 0; j < J; ++j) acc[j] += wt * b[t * J + j];
+    const double* b0 = bd + 2 * start[k];
+    V4 acc[V];
+    for (std::size_t v = 0; v < V; ++v) acc[v] = V4{0, 0, 0, 0};
+    for (std::size_t t = 0; t < K; t += 2) {
+      const V4 wt = {wk[t], wk[t], wk[t + 1], wk[t + 1]};
+      for (std::size_t v = 0; v < V; ++v)
+        acc[v] += wt * *reinterpret_cast<const V4u*>(b0 + 2 * (v * ld + t));
     }
-    V4* o = reinterpret_cast<V4*>(od + (k - k0) * 2 * V);
-    for (std::size_t j = 0; j < J; ++j) o[j] = acc[j];
+    double* o = od + 2 * (k - k0) * V;
+    for (std::size_t v = 0; v < V; ++v) {
+      o[2 * v] = acc[v][0] + acc[v][2];
+      o[2 * v + 1] = acc[v][1] + acc[v][3];
+    }
   }
 }
 
 MICROBRDF_SIMD_CLONES
 void tap_sums_x(const double* w, const std::size_t* start, std::size_t K, std::size_t k0,
-                std::size_t k1, const cd* bins, cd* out) {
-  tap_sums_body<kVx>(w, start, K, k0, k1, bins, out);
+                std::size_t k1, const cd* bins, std::size_t ld, cd* out) {
+  tap_sums_body<kVx>(w, start, K, k0, k1, bins, ld, out);
 }
 
 MICROBRDF_SIMD_CLONES
 void tap_sums_y(const double* w, const std::size_t* start, std::size_t K, std::size_t k0,
-                std::size_t k1, const cd* bins, cd* out) {
-  tap_sums_body<kVy>(w, start, K, k0, k1, bins, out);
+                std::size_t k1, const cd* bins, std::size_t ld, cd* out) {
+  tap_sums_body<kVy>(w, start, K, k0, k1, bins, ld, out);
 }
 
 // a b, written out (std::complex's operator* checks for NaN and Inf per product).
@@ -262,12 +266,14 @@ ThreadScratch& thread_scratch() {
   return s;
 }
 
-// One sample row of the midpoint rule's term n into the x-block input (element x at
-// in[pos[x] kVx]): A = pre (q_c c + i r (J_{n-1} - J_{n+1})), B = pre g_x c, C = pre g_y c with
-// c = (n ? 2 : 1) J_n, the factor (-i)^n left out. Stores J_{n-1} in jm (n >= 1).
+// One sample row of the midpoint rule's term n into the x-block input (element x of the three
+// vectors at oa, ob, oc [pos[x]]): A = pre (q_c c + i r (J_{n-1} - J_{n+1})), B = pre g_x c,
+// C = pre g_y c with c = (n ? 2 : 1) J_n, the factor (-i)^n left out. Stores J_{n-1} in jm
+// (n >= 1).
 void fill_row_midpoint(std::size_t nx, std::size_t n, const BesselTable& bt, const cd* pre,
                        const double* g, const double* z, const double* jp, const double* jn,
-                       double* jm, double qc, double r, const std::size_t* pos, cd* in) {
+                       double* jm, double qc, double r, const std::size_t* pos, cd* oa, cd* ob,
+                       cd* oc) {
   const double alpha = n ? 2.0 : 1.0;
   for (std::size_t x = 0; x < nx; ++x) {
     double m = 0;
@@ -278,10 +284,10 @@ void fill_row_midpoint(std::size_t nx, std::size_t n, const BesselTable& bt, con
     }
     const double u = alpha * jn[x], d = r * (m - jp[x]);
     const cd P = pre[x];
-    cd* o = in + pos[x] * kVx;
-    o[0] = cd(P.real() * qc * u - P.imag() * d, P.imag() * qc * u + P.real() * d);
-    o[1] = P * (g[2 * x] * u);
-    o[2] = P * (g[2 * x + 1] * u);
+    const std::size_t q = pos[x];
+    oa[q] = cd(P.real() * qc * u - P.imag() * d, P.imag() * qc * u + P.real() * d);
+    ob[q] = P * (g[2 * x] * u);
+    oc[q] = P * (g[2 * x + 1] * u);
   }
 }
 
@@ -488,7 +494,7 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   // through the y-transform (combined into I_n = Y[A - q_x B] - q_y Y[C], summed over the
   // groups) and into the Clenshaw recurrence b_n = I_n + 2 t b_{n+1} - b_{n+2} per node.
   // Every block of rows or columns is computed the same way by whichever thread takes it.
-  std::size_t n = 0, f = 0, g = 0, gi = 0, bslot = 0;
+  std::size_t f = 0, g = 0, gi = 0;
   std::size_t n_hi = 0, nb = 1;  // the batch: terms n_hi, n_hi - 1, ..., n_hi - nb + 1
   bool first = true;
   const std::function<void(std::size_t)> xblock = [&](std::size_t b) {
@@ -497,82 +503,88 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
     sc.sums.resize(N * std::max(kVx, batch * kVy));
     if (exact) sc.xacc.resize(N * kVx);
     cd* in = sc.x.in.data();
-    const std::size_t y0 = b * kRows, K = ax.taps();
+    const std::size_t y0 = b * kRows, K = ax.taps(), ldi = ax.in_stride();
     const auto& group = rules[f][g];
-    cd* xo = ws.xo.data() + bslot * slot;
-    for (std::size_t pt = 0; pt < group.size(); ++pt) {
-      const RulePoint& rp = group[pt];
-      for (std::size_t rr = 0; rr < kRows; ++rr) {
-        const std::size_t y = y0 + rr;
-        if (y >= ny) {
-          for (std::size_t x = 0; x < nx; ++x) {
-            cd* d = in + ax.position(x) * kVx + 3 * rr;
-            d[0] = d[1] = d[2] = 0.0;
-          }
-          continue;
-        }
-        if (!exact) {
-          const std::size_t i = y * nx;
-          double* ring = ws.ring.data();
-          fill_row_midpoint(nx, n, bt, ws.pre.data() + i, ws.g.data() + 2 * i, ws.z.data() + i,
-                            ring + ((n + 1) % 3) * ns + i, ring + (n % 3) * ns + i,
-                            n >= 1 ? ring + ((n - 1) % 3) * ns + i : nullptr, qc, r, ax.positions(),
-                            in + 3 * rr);
-          continue;
-        }
-        const cd fy = ay.factor(y);
-        const Family& F = fam[f];
-        for (std::size_t x = 0; x < nx; ++x) {
-          const std::size_t i = y * nx + x;
-          cd* d = in + ax.position(x) * kVx + 3 * rr;
-          if (F.w[i] == 0) {
-            d[0] = d[1] = d[2] = 0.0;
+    // The batch's terms one after the other: the block's samples stay in cache between them.
+    for (std::size_t bs = 0; bs < nb; ++bs) {
+      const std::size_t n = n_hi - bs;
+      cd* xo = ws.xo.data() + bs * slot;
+      for (std::size_t pt = 0; pt < group.size(); ++pt) {
+        const RulePoint& rp = group[pt];
+        for (std::size_t rr = 0; rr < kRows; ++rr) {
+          const std::size_t y = y0 + rr;
+          cd* oa = in + 3 * rr * ldi;
+          cd* ob = oa + ldi;
+          cd* oc = ob + ldi;
+          if (y >= ny) {
+            for (std::size_t x = 0; x < nx; ++x) {
+              const std::size_t q = ax.position(x);
+              oa[q] = ob[q] = oc[q] = 0.0;
+            }
             continue;
           }
-          const double hp = F.h0[i] + rp.a * F.sa[i] + rp.b * F.sb[i], z = r * hp;
-          const cd pre =
-              mul(mul(F.w[i] * rp.weight * dA * ax.factor(x), fy), std::polar(1.0, -qc * hp));
-          const double jp = bessel(n + 1, z), jn = bessel(n, z),
-                       jm = n >= 1 ? bessel(n - 1, z) : 0.0;
-          // With the factor (-i)^n taken out (applied after the y-transform): c_n = alpha J_n,
-          // the q_z part q_c c_n + r s_n with s_n = i (J_{n-1} - J_{n+1}).
-          const double u = (n ? 2.0 : 1.0) * jn;
-          d[0] = mul(pre, cd(qc * u, r * (jm - jp)));
-          d[1] = pre * (F.gx[i] * u);
-          d[2] = pre * (F.gy[i] * u);
-        }
-      }
-      ax.run(sc.x);
-      cd* sums = sc.sums.data();
-      tap_sums_x(ax.weights(), ax.starts(), K, 0, N, sc.x.out.data(), sums);
-      if (!exact) {
-        for (std::size_t k = 0; k < N; ++k) {
-          const cd* a = sums + k * kVx;
-          cd* o = xo + (k * ny + y0) * 2;
-          for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
-            o[2 * rr] = a[3 * rr] - qx[k] * a[3 * rr + 1];
-            o[2 * rr + 1] = a[3 * rr + 2];
+          if (!exact) {
+            const std::size_t i = y * nx;
+            double* ring = ws.ring.data();
+            fill_row_midpoint(nx, n, bt, ws.pre.data() + i, ws.g.data() + 2 * i, ws.z.data() + i,
+                              ring + ((n + 1) % 3) * ns + i, ring + (n % 3) * ns + i,
+                              n >= 1 ? ring + ((n - 1) % 3) * ns + i : nullptr, qc, r,
+                              ax.positions(), oa, ob, oc);
+            continue;
+          }
+          const cd fy = ay.factor(y);
+          const Family& F = fam[f];
+          for (std::size_t x = 0; x < nx; ++x) {
+            const std::size_t i = y * nx + x, q = ax.position(x);
+            if (F.w[i] == 0) {
+              oa[q] = ob[q] = oc[q] = 0.0;
+              continue;
+            }
+            const double hp = F.h0[i] + rp.a * F.sa[i] + rp.b * F.sb[i], z = r * hp;
+            const cd pre =
+                mul(mul(F.w[i] * rp.weight * dA * ax.factor(x), fy), std::polar(1.0, -qc * hp));
+            const double jp = bessel(n + 1, z), jn = bessel(n, z),
+                         jm = n >= 1 ? bessel(n - 1, z) : 0.0;
+            // With the factor (-i)^n taken out (applied after the y-transform): c_n = alpha J_n,
+            // the q_z part q_c c_n + r s_n with s_n = i (J_{n-1} - J_{n+1}).
+            const double u = (n ? 2.0 : 1.0) * jn;
+            oa[q] = mul(pre, cd(qc * u, r * (jm - jp)));
+            ob[q] = pre * (F.gx[i] * u);
+            oc[q] = pre * (F.gy[i] * u);
           }
         }
-      } else {
+        ax.run(sc.x);
+        cd* sums = sc.sums.data();
+        tap_sums_x(ax.weights(), ax.starts(), K, 0, N, sc.x.out.data(), ax.out_stride(), sums);
+        if (!exact) {
+          for (std::size_t k = 0; k < N; ++k) {
+            const cd* a = sums + k * kVx;
+            cd* o = xo + (k * ny + y0) * 2;
+            for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
+              o[2 * rr] = a[3 * rr] - qx[k] * a[3 * rr + 1];
+              o[2 * rr + 1] = a[3 * rr + 2];
+            }
+          }
+        } else {
+          for (std::size_t k = 0; k < N; ++k) {
+            const cd ph = xshift[f][g][pt * N + k];
+            const cd* a = sums + k * kVx;
+            cd* xa = sc.xacc.data() + k * kVx;
+            for (std::size_t v = 0; v < kVx; ++v)
+              xa[v] = pt == 0 ? mul(ph, a[v]) : xa[v] + mul(ph, a[v]);
+          }
+        }
+      }
+      if (exact)
         for (std::size_t k = 0; k < N; ++k) {
-          const cd ph = xshift[f][g][pt * N + k];
-          const cd* a = sums + k * kVx;
-          cd* xa = sc.xacc.data() + k * kVx;
-          for (std::size_t v = 0; v < kVx; ++v)
-            xa[v] = pt == 0 ? mul(ph, a[v]) : xa[v] + mul(ph, a[v]);
+          const cd* xa = sc.xacc.data() + k * kVx;
+          cd* o = xo + (k * ny + y0) * 2;
+          for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
+            o[2 * rr] = xa[3 * rr] - qx[k] * xa[3 * rr + 1];
+            o[2 * rr + 1] = xa[3 * rr + 2];
+          }
         }
-      }
     }
-    if (exact)
-      for (std::size_t k = 0; k < N; ++k) {
-        const cd* xa = sc.xacc.data() + k * kVx;
-        cd* o = xo + (k * ny + y0) * 2;
-        for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
-          o[2 * rr] = xa[3 * rr] - qx[k] * xa[3 * rr + 1];
-          o[2 * rr + 1] = xa[3 * rr + 2];
-        }
-      }
   };
 
   const std::function<void(std::size_t)> yblock = [&](std::size_t b) {
@@ -597,14 +609,18 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
         const bool live = k < N && lay.hi[k] > lay.lo[k];
         const cd* src = live ? ws.xo.data() + s * slot + k * ny * 2 : nullptr;
         const std::size_t* pos = ay.positions();
-        for (std::size_t y = 0; y < ny; ++y) {
-          cd* d = in + pos[y] * kVy + 2 * c;
-          d[0] = live ? src[2 * y] : 0.0;
-          d[1] = live ? src[2 * y + 1] : 0.0;
-        }
+        cd* da = in + 2 * c * ay.in_stride();
+        cd* dc = da + ay.in_stride();
+        if (live)
+          for (std::size_t y = 0; y < ny; ++y) {
+            da[pos[y]] = src[2 * y];
+            dc[pos[y]] = src[2 * y + 1];
+          }
+        else
+          for (std::size_t y = 0; y < ny; ++y) da[pos[y]] = dc[pos[y]] = 0.0;
       }
       ay.run(sc.y);
-      tap_sums_y(ay.weights(), ay.starts(), K, lmin, lmax, sc.y.out.data(),
+      tap_sums_y(ay.weights(), ay.starts(), K, lmin, lmax, sc.y.out.data(), ay.out_stride(),
                  sc.sums.data() + s * span_l * kVy);
     }
     const bool last_group = gi + 1 == groups;
@@ -647,16 +663,12 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
 
   for (n_hi = terms - 1;; n_hi -= nb) {
     nb = std::min(batch, n_hi + 1);
-    for (std::size_t s = 0; s < nb; ++s) {
-      n = n_hi - s;
-      bslot = s;
-      gi = 0;
-      for (f = 0; f < fam.size(); ++f)
-        for (g = 0; g < rules[f].size(); ++g, ++gi) {
-          pool.run(xblocks, threads, xblock);
-          if (exact) pool.run(yblocks, threads, yblock);  // batch == 1
-        }
-    }
+    gi = 0;
+    for (f = 0; f < fam.size(); ++f)
+      for (g = 0; g < rules[f].size(); ++g, ++gi) {
+        pool.run(xblocks, threads, xblock);
+        if (exact) pool.run(yblocks, threads, yblock);  // batch == 1
+      }
     if (!exact) {
       f = g = gi = 0;
       pool.run(yblocks, threads, yblock);

@@ -11,7 +11,20 @@
 
 #include "core/fft.hpp"
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 namespace microbrdf::detail {
+
+void advise_huge_pages(void* p, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  (void)madvise(p, bytes, MADV_HUGEPAGE);  // advice only: without it, ordinary pages
+#else
+  (void)p;
+  (void)bytes;
+#endif
+}
 
 void gauss_legendre01(std::size_t n, std::vector<double>& x, std::vector<double>& w) {
   x.assign(n, 0.0);
@@ -78,7 +91,7 @@ std::shared_ptr<const KirchhoffAxis> KirchhoffAxis::get(Kind kind, std::size_t n
   for (std::size_t i = 0; i < c.axes.size(); ++i) {
     const auto& a = *c.axes[i];
     if (a.kind_ == key.kind && a.n_ == key.n && a.m_ == key.m && a.v_ == key.v && a.w0_ == key.w0 &&
-        a.dw_ == key.dw && static_cast<int>(a.k_) == key.taps) {
+        a.dw_ == key.dw && a.taps_ == key.taps) {
       auto hit = c.axes[i];
       c.axes.erase(c.axes.begin() + static_cast<std::ptrdiff_t>(i));
       c.axes.push_back(hit);
@@ -93,13 +106,14 @@ std::shared_ptr<const KirchhoffAxis> KirchhoffAxis::get(Kind kind, std::size_t n
   a->v_ = vectors;
   a->w0_ = w0;
   a->dw_ = dw;
+  a->taps_ = key.taps;
   a->id_ = g_next_id.fetch_add(1);
   a->factor_.resize(n);
   a->pos_.resize(n);
   a->start_.resize(m);
   if (kind == Kind::Nufft) {
     a->l_ = fft_good_size_235(2 * n);
-    a->k_ = static_cast<std::size_t>(taps);
+    a->k_ = static_cast<std::size_t>(taps + (taps & 1));  // even: pairs of taps in the sums
     const double K = taps, beta = 2.30 * K, M = static_cast<double>(a->l_);
     auto kernel = [&](double u) {  // u in bins
       const double x = 2 * u / K;
@@ -126,27 +140,35 @@ std::shared_ptr<const KirchhoffAxis> KirchhoffAxis::get(Kind kind, std::size_t n
       const double u = (w0 + dw * static_cast<double>(k)) * M / (2 * M_PI);  // in bins
       const auto l0 = static_cast<std::ptrdiff_t>(std::ceil(u - K / 2));
       for (std::size_t t = 0; t < a->k_; ++t)
-        a->weight_[k * a->k_ + t] = kernel(u - static_cast<double>(l0 + static_cast<long>(t)));
+        a->weight_[k * a->k_ + t] = t < static_cast<std::size_t>(taps)
+                                        ? kernel(u - static_cast<double>(l0 + static_cast<long>(t)))
+                                        : 0.0;
       std::ptrdiff_t st = l0 % L;
       if (st < 0) st += L;
       a->start_[k] = static_cast<std::size_t>(st);
     }
   } else {
     a->l_ = fft_good_size_235(n + m - 1);
-    a->k_ = 1;
+    a->k_ = 2;  // the output itself and a zero weight (pairs of taps in the sums)
     for (std::size_t j = 0; j < n; ++j) {
       a->factor_[j] = std::polar(1.0, -w0 * static_cast<double>(j)) * chirp(dw, j);
       a->pos_[j] = j;
     }
     for (std::size_t k = 0; k < m; ++k) a->start_[k] = k;
-    a->weight_.assign(m, 1.0);
+    a->weight_.assign(2 * m, 0.0);
+    for (std::size_t k = 0; k < m; ++k) a->weight_[2 * k] = 1.0;
     a->kernel_.assign(a->l_, cd(0, 0));
     for (std::size_t r = 0; r < m; ++r) a->kernel_[r] = std::conj(chirp(dw, r));
     for (std::size_t r = 1; r < n; ++r) a->kernel_[a->l_ - r] = std::conj(chirp(dw, r));
   }
 
+  // Vector strides: a multiple of four (64-byte aligned vectors) beyond L (+ the K bins copied
+  // from the start for the NUFFT's sums).
+  a->ldi_ = (a->l_ + 3) / 4 * 4 + 4;
+  a->ldo_ = (a->l_ + a->k_ + 3) / 4 * 4 + 4;
   const int len = static_cast<int>(a->l_), v = static_cast<int>(vectors);
-  AlignedArray<cd> in(a->l_ * vectors), out((a->l_ + a->k_) * vectors);
+  const int di = static_cast<int>(a->ldi_), dout = static_cast<int>(a->ldo_);
+  AlignedArray<cd> in(a->ldi_ * vectors), out(a->ldo_ * vectors);
   {
     auto plock = fftw_planner_lock();
     fftw_plan_with_nthreads(1);
@@ -160,11 +182,11 @@ std::shared_ptr<const KirchhoffAxis> KirchhoffAxis::get(Kind kind, std::size_t n
     }
     auto* ip = reinterpret_cast<fftw_complex*>(in.data());
     auto* op = reinterpret_cast<fftw_complex*>(out.data());
-    a->fwd_ = fftw_plan_many_dft(1, &len, v, ip, nullptr, v, 1, op, nullptr, v, 1, FFTW_FORWARD,
+    a->fwd_ = fftw_plan_many_dft(1, &len, v, ip, nullptr, 1, di, op, nullptr, 1, dout, FFTW_FORWARD,
                                  FFTW_ESTIMATE);
     if (kind == Kind::ChirpZ)
-      a->inv_ = fftw_plan_many_dft(1, &len, v, op, nullptr, v, 1, op, nullptr, v, 1, FFTW_BACKWARD,
-                                   FFTW_ESTIMATE);
+      a->inv_ = fftw_plan_many_dft(1, &len, v, op, nullptr, 1, dout, op, nullptr, 1, dout,
+                                   FFTW_BACKWARD, FFTW_ESTIMATE);
     if (!a->fwd_ || (kind == Kind::ChirpZ && !a->inv_))
       throw std::runtime_error("FFTW could not plan a transform");
   }
@@ -181,9 +203,10 @@ KirchhoffAxis::~KirchhoffAxis() {
 
 void KirchhoffAxis::prepare(Scratch& s) const {
   if (s.ready_for == id_) return;
-  s.in.resize(l_ * v_);
-  s.out.resize((l_ + k_) * v_);
-  std::memset(static_cast<void*>(s.in.data()), 0, l_ * v_ * sizeof(cd));
+  s.in.resize(ldi_ * v_);
+  s.out.resize(ldo_ * v_);
+  std::memset(static_cast<void*>(s.in.data()), 0, ldi_ * v_ * sizeof(cd));
+  std::memset(static_cast<void*>(s.out.data()), 0, ldo_ * v_ * sizeof(cd));
   s.ready_for = id_;
 }
 
@@ -191,17 +214,18 @@ void KirchhoffAxis::run(Scratch& s) const {
   auto* ip = reinterpret_cast<fftw_complex*>(s.in.data());
   auto* op = reinterpret_cast<fftw_complex*>(s.out.data());
   fftw_execute_dft(static_cast<fftw_plan>(fwd_), ip, op);
-  cd* o = s.out.data();
   if (kind_ == Kind::Nufft) {  // the first K bins again after the last: no wrap in the sums
-    std::memcpy(static_cast<void*>(o + l_ * v_), o, k_ * v_ * sizeof(cd));
+    for (std::size_t v = 0; v < v_; ++v) {
+      cd* o = s.out.data() + v * ldo_;
+      std::memcpy(static_cast<void*>(o + l_), o, k_ * sizeof(cd));
+    }
     return;
   }
-  for (std::size_t r = 0; r < l_; ++r) {
-    const cd k = kernel_[r];
-    cd* row = o + r * v_;
-    for (std::size_t v = 0; v < v_; ++v) {
-      const cd z = row[v];
-      row[v] =
+  for (std::size_t v = 0; v < v_; ++v) {
+    cd* o = s.out.data() + v * ldo_;
+    for (std::size_t r = 0; r < l_; ++r) {
+      const cd k = kernel_[r], z = o[r];
+      o[r] =
           cd(z.real() * k.real() - z.imag() * k.imag(), z.real() * k.imag() + z.imag() * k.real());
     }
   }

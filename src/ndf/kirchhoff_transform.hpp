@@ -1,7 +1,7 @@
 #pragma once
 // Internal to the fast Kirchhoff table (kirchhoff_fast.cpp): one axis of its separable transform
 //   X_v[k] = sum_{j<n} x_v[j] exp(-i (w0 + k dw) j),  k < m,
-// for V vectors at a time, stored interleaved (element j of vector v at j V + v), by a type-2
+// for V vectors at a time (vector v's inputs at in[v * in_stride() + position(j)]), by a type-2
 // NUFFT (inputs times a factor, one FFT of length L = good(2n), K-tap kernel-weighted sums of the
 // bins) or by a chirp-z transform (inputs times the pre-chirp, FFT of length L >= n + m - 1,
 // product with the chirp's spectrum, inverse FFT). Both are the sums above up to a factor per
@@ -13,18 +13,25 @@
 // thread, so that results depend on nothing but the inputs) is made once per parameter set and
 // shared: axis() returns a cached, read-only object that any number of threads may execute
 // concurrently, each with its own Scratch (FFTW's new-array execute).
+#include <algorithm>
 #include <complex>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
+#include <new>
 #include <vector>
 
 namespace microbrdf::detail {
 
 using cd = std::complex<double>;
 
-/// 64-byte aligned, uninitialised array of trivially copyable T (no page-touching constructor).
+/// Asks the kernel for transparent huge pages on [p, p + bytes) where it offers them on request
+/// (fewer TLB misses on the large arrays that are read in a different order than written).
+void advise_huge_pages(void* p, std::size_t bytes);
+
+/// 64-byte aligned, uninitialised array of trivially copyable T (no page-touching constructor);
+/// arrays of 4 MiB and more are aligned to 2 MiB and advised to use huge pages.
 template <class T>
 class AlignedArray {
  public:
@@ -36,9 +43,14 @@ class AlignedArray {
       n_ = n;
       return;
     }
-    std::size_t bytes = ((n * sizeof(T) + 63) / 64) * 64;
-    p_.reset(static_cast<T*>(std::aligned_alloc(64, bytes > 0 ? bytes : 64)));
+    constexpr std::size_t kHuge = std::size_t{2} << 20;
+    const bool huge = n * sizeof(T) >= 2 * kHuge;
+    const std::size_t align = huge ? kHuge : 64;
+    const std::size_t bytes =
+        std::max<std::size_t>((n * sizeof(T) + align - 1) / align * align, 64);
+    p_.reset(static_cast<T*>(std::aligned_alloc(align, bytes)));
     if (!p_) throw std::bad_alloc();
+    if (huge) advise_huge_pages(p_.get(), bytes);
     cap_ = n_ = n;
   }
   T* data() { return p_.get(); }
@@ -70,8 +82,9 @@ class KirchhoffAxis {
   KirchhoffAxis(const KirchhoffAxis&) = delete;
   KirchhoffAxis& operator=(const KirchhoffAxis&) = delete;
 
-  /// A thread's buffers for this axis: `in` (L x V, zero except where inputs go: fill those
-  /// n x V entries every time) and `out` (the bins after run(), (L + K) x V).
+  /// A thread's buffers for this axis: `in` (V vectors of in_stride(), zero except where inputs
+  /// go: fill those n x V entries every time) and `out` (the bins after run(), V vectors of
+  /// out_stride()).
   struct Scratch {
     AlignedArray<cd> in, out;
     std::uint64_t ready_for = 0;  // id() of the axis the buffers are laid out for
@@ -79,7 +92,8 @@ class KirchhoffAxis {
   /// Lays `s` out for this axis if it is not already (zeroes `in`).
   void prepare(Scratch& s) const;
   /// in -> out: the FFT(s) of all V vectors; afterwards output k of vector v is
-  /// sum_{t<K} weight(k)[t] out[(start(k) + t) V + v].
+  /// sum_{t<K} weight(k)[t] out[v out_stride() + start(k) + t] (K = taps(), even: the last
+  /// weight may be 0).
   void run(Scratch& s) const;
 
   Kind kind() const { return kind_; }
@@ -87,6 +101,8 @@ class KirchhoffAxis {
   std::size_t m() const { return m_; }
   std::size_t vectors() const { return v_; }
   std::size_t taps() const { return k_; }
+  std::size_t in_stride() const { return ldi_; }
+  std::size_t out_stride() const { return ldo_; }
   /// Factor by which input j is multiplied before it is stored at position(j).
   cd factor(std::size_t j) const { return factor_[j]; }
   std::size_t position(std::size_t j) const { return pos_[j]; }
@@ -100,8 +116,9 @@ class KirchhoffAxis {
  private:
   KirchhoffAxis() = default;
   Kind kind_ = Kind::Nufft;
-  std::size_t n_ = 0, m_ = 0, l_ = 0, k_ = 1, v_ = 1;
+  std::size_t n_ = 0, m_ = 0, l_ = 0, k_ = 1, v_ = 1, ldi_ = 0, ldo_ = 0;
   double w0_ = 0, dw_ = 0;
+  int taps_ = 0;  // as asked (the key); k_ is it rounded up to even
   std::vector<cd> factor_;
   std::vector<std::size_t> pos_, start_;
   std::vector<double> weight_;
