@@ -12,6 +12,9 @@
 // one along y, and I_n = Y[A_n - q_x B_n] - q_y Y[C_n']; I(q) = sum_n I_n T_n(t(q)) by Clenshaw.
 // The global phase exp(-i q_z h_c) and the patch origin are dropped (|I| is unchanged).
 #include <omp.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -162,6 +165,18 @@ void tap_sums_y(const double* w, const std::size_t* start, std::size_t K, std::s
                 std::size_t k1, const cd* bins, std::size_t ld, cd* out) {
   tap_sums_body<kVy>(w, start, K, k0, k1, bins, ld, out);
 }
+
+// Stores that bypass the cache (the x-output is read back only after the whole pass, from
+// memory either way: no read for ownership); stream_fence() orders them before the block ends.
+#if defined(__SSE2__)
+inline void stream(cd* d, cd v) {
+  _mm_stream_pd(reinterpret_cast<double*>(d), _mm_set_pd(v.imag(), v.real()));
+}
+inline void stream_fence() { _mm_sfence(); }
+#else
+inline void stream(cd* d, cd v) { *d = v; }
+inline void stream_fence() {}
+#endif
 
 // a b, written out (std::complex's operator* checks for NaN and Inf per product).
 inline cd mul(cd a, cd b) {
@@ -561,8 +576,8 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
             const cd* a = sums + k * kVx;
             cd* o = xo + (k * ny + y0) * 2;
             for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
-              o[2 * rr] = a[3 * rr] - qx[k] * a[3 * rr + 1];
-              o[2 * rr + 1] = a[3 * rr + 2];
+              stream(o + 2 * rr, a[3 * rr] - qx[k] * a[3 * rr + 1]);
+              stream(o + 2 * rr + 1, a[3 * rr + 2]);
             }
           }
         } else {
@@ -580,11 +595,12 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
           const cd* xa = sc.xacc.data() + k * kVx;
           cd* o = xo + (k * ny + y0) * 2;
           for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
-            o[2 * rr] = xa[3 * rr] - qx[k] * xa[3 * rr + 1];
-            o[2 * rr + 1] = xa[3 * rr + 2];
+            stream(o + 2 * rr, xa[3 * rr] - qx[k] * xa[3 * rr + 1]);
+            stream(o + 2 * rr + 1, xa[3 * rr + 2]);
           }
         }
     }
+    stream_fence();
   };
 
   const std::function<void(std::size_t)> yblock = [&](std::size_t b) {
