@@ -41,6 +41,7 @@ class BesselTable {
  public:
   BesselTable(std::size_t nmax, double zmax) {
     npts_ = static_cast<std::size_t>(std::ceil(zmax * kInvStep)) + 2;
+    last_ = static_cast<long>(npts_) - 2;
     tab_.assign((nmax + 1) * npts_ * 2, 0.0);
     for (std::size_t i = 0; i < npts_; ++i) {
       auto j = bessel_j_all(nmax + 1, static_cast<double>(i) / kInvStep);
@@ -52,7 +53,8 @@ class BesselTable {
   }
   double operator()(std::size_t n, double z) const {  // z >= 0
     const double f = z * kInvStep;
-    const auto i = std::min(static_cast<std::size_t>(f), npts_ - 2);
+    // A signed conversion (one instruction; an unsigned one is not on x86-64 before AVX-512).
+    const auto i = static_cast<std::size_t>(std::min(static_cast<long>(f), last_));
     const double u = f - static_cast<double>(i);
     const double* v = &tab_[2 * (n * npts_ + i)];  // J, step J' at i; then at i + 1
     const double u2 = u * u, u3 = u2 * u;
@@ -63,6 +65,7 @@ class BesselTable {
  private:
   static constexpr double kInvStep = 32;  // table spacing 1/32
   std::size_t npts_ = 0;
+  long last_ = 0;            // npts_ - 2, the last interval
   std::vector<double> tab_;  // per order and point: J_n, step J_n'
 };
 
@@ -126,8 +129,10 @@ constexpr std::size_t kVy = 2 * kCols;  // y-vectors per block: A - q_x B and C 
 constexpr std::size_t kMaxBatch = 4;    // terms per pass over the Clenshaw state
 
 // out[(k - k0) V + v] = sum_t w[k K + t] bins[v ld + start[k] + t] for k in [k0, k1): the K-tap
-// sums of V complex vectors (K even: the taps are taken in pairs, one pair per V4).
+// sums of V complex vectors (K even: the taps are taken in pairs, one pair per V4; V even; out
+// 32-byte aligned).
 typedef double V4u __attribute__((vector_size(32), aligned(8), may_alias));
+typedef long long V4i __attribute__((vector_size(32)));
 
 template <std::size_t V>
 [[gnu::always_inline]] inline void tap_sums_body(const double* __restrict w,
@@ -146,10 +151,12 @@ template <std::size_t V>
       for (std::size_t v = 0; v < V; ++v)
         acc[v] += wt * *reinterpret_cast<const V4u*>(b0 + 2 * (v * ld + t));
     }
-    double* o = od + 2 * (k - k0) * V;
-    for (std::size_t v = 0; v < V; ++v) {
-      o[2 * v] = acc[v][0] + acc[v][2];
-      o[2 * v + 1] = acc[v][1] + acc[v][3];
+    // Two vectors' sums per V4: [re, im] of the even taps plus those of the odd taps.
+    V4* o = reinterpret_cast<V4*>(od + 2 * (k - k0) * V);
+    for (std::size_t v = 0; v < V; v += 2) {
+      const V4 lo = __builtin_shuffle(acc[v], acc[v + 1], V4i{0, 1, 4, 5}),
+               hi = __builtin_shuffle(acc[v], acc[v + 1], V4i{2, 3, 6, 7});
+      o[v / 2] = lo + hi;
     }
   }
 }
