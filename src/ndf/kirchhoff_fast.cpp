@@ -245,12 +245,12 @@ std::shared_ptr<const NodeLayout> node_layout(std::size_t n) {
 
 // The large arrays of one table, kept between calls (no fresh pages per table).
 struct Workspace {
-  AlignedArray<cd> xo;        // x-pass output per batch slot: (k ny + y) 2 + {0: A - q_x B, 1: C}
-  AlignedArray<cd> state;     // Clenshaw b_{n+1}, b_{n+2} per packed node
-  AlignedArray<cd> it;        // exact: sum over the rule groups of the term, per packed node
-  AlignedArray<cd> pre;       // midpoint: w dA (axis factors) exp(-i q_c h') per sample
-  AlignedArray<double> g;     // midpoint: g_x, g_y per sample (0 where invalid)
-  AlignedArray<double> z;     // midpoint: r h' per sample (0 where invalid)
+  AlignedArray<cd> xo;     // x-pass output per batch slot: (k ny + y) 2 + {0: A - q_x B, 1: C}
+  AlignedArray<cd> state;  // Clenshaw b_{n+1}, b_{n+2} per packed node
+  AlignedArray<cd> it;     // exact: sums over the rule groups of the batch's terms, per packed node
+  AlignedArray<cd> pre;    // midpoint: w dA (axis factors) exp(-i q_c h') per sample
+  AlignedArray<double> g;  // midpoint: g_x, g_y per sample (0 where invalid)
+  AlignedArray<double> z;  // midpoint: r h' per sample (0 where invalid)
   AlignedArray<double> ring;  // midpoint: J_k(r h') of the last three orders, slot k mod 3
 };
 
@@ -279,8 +279,10 @@ void give_workspace(std::unique_ptr<Workspace> w) {
 
 struct ThreadScratch {
   KirchhoffAxis::Scratch x, y;
-  AlignedArray<cd> sums;  // tap sums of one block (x: N x kVx; y: batch x N x kVy)
-  AlignedArray<cd> xacc;  // exact: sums over the rule points of a group, N x kVx
+  AlignedArray<cd> sums;      // tap sums of one block (x: N x kVx; y: batch x N x kVy)
+  AlignedArray<cd> xacc;      // exact: sums over the rule points of a group, batch x N x kVx
+  AlignedArray<cd> rowpre;    // exact: the rule point's factor per sample of the block's rows
+  AlignedArray<double> rowj;  // exact: its J of the batch's orders per sample of those rows
 };
 
 ThreadScratch& thread_scratch() {
@@ -463,14 +465,13 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   // Terms per pass over the Clenshaw state (midpoint; the exact rule sums its groups per term
   // first): as many as kMaxBatch copies of the x-output within 64 MiB allow.
   const std::size_t slot = N * ny * 2;
-  std::size_t batch = 1;
-  if (!exact)
-    batch = std::clamp<std::size_t>((std::size_t{64} << 20) / (slot * sizeof(cd)), 1, kMaxBatch);
+  const std::size_t batch =
+      std::clamp<std::size_t>((std::size_t{64} << 20) / (slot * sizeof(cd)), 1, kMaxBatch);
   std::unique_ptr<Workspace> wsp = take_workspace();
   Workspace& ws = *wsp;
   ws.xo.resize(batch * slot);
   ws.state.resize(2 * lay.count);
-  if (exact) ws.it.resize(lay.count);
+  if (exact) ws.it.resize(batch * lay.count);
   if (!exact) {
     ws.pre.resize(ns);
     ws.g.resize(2 * ns);
@@ -519,20 +520,87 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   std::size_t f = 0, g = 0, gi = 0;
   std::size_t n_hi = 0, nb = 1;  // the batch: terms n_hi, n_hi - 1, ..., n_hi - nb + 1
   bool first = true;
-  const std::function<void(std::size_t)> xblock = [&](std::size_t b) {
+  const std::function<void(std::size_t)> xblock = [&](std::size_t b) {  // midpoint rule
     ThreadScratch& sc = thread_scratch();
     ax.prepare(sc.x);
     sc.sums.resize(N * std::max(kVx, batch * kVy));
-    if (exact) sc.xacc.resize(N * kVx);
     cd* in = sc.x.in.data();
     const std::size_t y0 = b * kRows, K = ax.taps(), ldi = ax.in_stride();
-    const auto& group = rules[f][g];
     // The batch's terms one after the other: the block's samples stay in cache between them.
     for (std::size_t bs = 0; bs < nb; ++bs) {
       const std::size_t n = n_hi - bs;
       cd* xo = ws.xo.data() + bs * slot;
-      for (std::size_t pt = 0; pt < group.size(); ++pt) {
-        const RulePoint& rp = group[pt];
+      for (std::size_t rr = 0; rr < kRows; ++rr) {
+        const std::size_t y = y0 + rr;
+        cd* oa = in + 3 * rr * ldi;
+        cd* ob = oa + ldi;
+        cd* oc = ob + ldi;
+        if (y >= ny) {
+          for (std::size_t x = 0; x < nx; ++x) {
+            const std::size_t q = ax.position(x);
+            oa[q] = ob[q] = oc[q] = 0.0;
+          }
+          continue;
+        }
+        const std::size_t i = y * nx;
+        double* ring = ws.ring.data();
+        fill_row_midpoint(nx, n, bt, ws.pre.data() + i, ws.g.data() + 2 * i, ws.z.data() + i,
+                          ring + ((n + 1) % 3) * ns + i, ring + (n % 3) * ns + i,
+                          n >= 1 ? ring + ((n - 1) % 3) * ns + i : nullptr, qc, r, ax.positions(),
+                          oa, ob, oc);
+      }
+      ax.run(sc.x);
+      cd* sums = sc.sums.data();
+      tap_sums_x(ax.weights(), ax.starts(), K, 0, N, sc.x.out.data(), ax.out_stride(), sums);
+      for (std::size_t k = 0; k < N; ++k) {
+        const cd* a = sums + k * kVx;
+        cd* o = xo + (k * ny + y0) * 2;
+        for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
+          stream(o + 2 * rr, a[3 * rr] - qx[k] * a[3 * rr + 1]);
+          stream(o + 2 * rr + 1, a[3 * rr + 2]);
+        }
+      }
+    }
+    stream_fence();
+  };
+
+  // Exact rule, one group (f, g): per rule point the factor and the Bessel values of every
+  // sample are computed once for the batch's terms, then each term's arrays go through the
+  // x-transform and are summed over the group's points with the points' x shifts.
+  const std::function<void(std::size_t)> xblock_exact = [&](std::size_t b) {
+    ThreadScratch& sc = thread_scratch();
+    ax.prepare(sc.x);
+    sc.sums.resize(N * std::max(kVx, batch * kVy));
+    sc.xacc.resize(nb * N * kVx);
+    const std::size_t orders = nb + 2;  // J of orders n_hi + 1 down to n_hi - nb
+    sc.rowpre.resize(kRows * nx);
+    sc.rowj.resize(kRows * orders * nx);
+    cd* in = sc.x.in.data();
+    const std::size_t y0 = b * kRows, K = ax.taps(), ldi = ax.in_stride();
+    const auto& group = rules[f][g];
+    const Family& F = fam[f];
+    for (std::size_t pt = 0; pt < group.size(); ++pt) {
+      const RulePoint& rp = group[pt];
+      for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
+        const std::size_t y = y0 + rr;
+        const cd fy = ay.factor(y);
+        cd* pre = sc.rowpre.data() + rr * nx;
+        double* jr = sc.rowj.data() + rr * orders * nx;
+        for (std::size_t x = 0; x < nx; ++x) {
+          const std::size_t i = y * nx + x;
+          if (F.w[i] == 0) {
+            pre[x] = 0.0;
+            for (std::size_t o = 0; o < orders; ++o) jr[o * nx + x] = 0;
+            continue;
+          }
+          const double hp = F.h0[i] + rp.a * F.sa[i] + rp.b * F.sb[i], z = r * hp;
+          pre[x] = mul(mul(F.w[i] * rp.weight * dA * ax.factor(x), fy), std::polar(1.0, -qc * hp));
+          for (std::size_t o = 0; o < orders; ++o)
+            jr[o * nx + x] = o <= n_hi + 1 ? bessel(n_hi + 1 - o, z) : 0.0;
+        }
+      }
+      for (std::size_t bs = 0; bs < nb; ++bs) {
+        const std::size_t n = n_hi - bs;
         for (std::size_t rr = 0; rr < kRows; ++rr) {
           const std::size_t y = y0 + rr;
           cd* oa = in + 3 * rr * ldi;
@@ -545,67 +613,44 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
             }
             continue;
           }
-          if (!exact) {
-            const std::size_t i = y * nx;
-            double* ring = ws.ring.data();
-            fill_row_midpoint(nx, n, bt, ws.pre.data() + i, ws.g.data() + 2 * i, ws.z.data() + i,
-                              ring + ((n + 1) % 3) * ns + i, ring + (n % 3) * ns + i,
-                              n >= 1 ? ring + ((n - 1) % 3) * ns + i : nullptr, qc, r,
-                              ax.positions(), oa, ob, oc);
-            continue;
-          }
-          const cd fy = ay.factor(y);
-          const Family& F = fam[f];
+          const cd* pre = sc.rowpre.data() + rr * nx;
+          const double* jr = sc.rowj.data() + rr * orders * nx;
           for (std::size_t x = 0; x < nx; ++x) {
             const std::size_t i = y * nx + x, q = ax.position(x);
-            if (F.w[i] == 0) {
-              oa[q] = ob[q] = oc[q] = 0.0;
-              continue;
-            }
-            const double hp = F.h0[i] + rp.a * F.sa[i] + rp.b * F.sb[i], z = r * hp;
-            const cd pre =
-                mul(mul(F.w[i] * rp.weight * dA * ax.factor(x), fy), std::polar(1.0, -qc * hp));
-            const double jp = bessel(n + 1, z), jn = bessel(n, z),
-                         jm = n >= 1 ? bessel(n - 1, z) : 0.0;
-            // With the factor (-i)^n taken out (applied after the y-transform): c_n = alpha J_n,
-            // the q_z part q_c c_n + r s_n with s_n = i (J_{n-1} - J_{n+1}).
+            const double jp = jr[bs * nx + x], jn = jr[(bs + 1) * nx + x],
+                         jm = n >= 1 ? jr[(bs + 2) * nx + x] : 0.0;
+            // With the factor (-i)^n taken out (applied after the y-transform): c_n = alpha
+            // J_n, the q_z part q_c c_n + r s_n with s_n = i (J_{n-1} - J_{n+1}).
             const double u = (n ? 2.0 : 1.0) * jn;
-            oa[q] = mul(pre, cd(qc * u, r * (jm - jp)));
-            ob[q] = pre * (F.gx[i] * u);
-            oc[q] = pre * (F.gy[i] * u);
+            oa[q] = mul(pre[x], cd(qc * u, r * (jm - jp)));
+            ob[q] = pre[x] * (F.gx[i] * u);
+            oc[q] = pre[x] * (F.gy[i] * u);
           }
         }
         ax.run(sc.x);
         cd* sums = sc.sums.data();
         tap_sums_x(ax.weights(), ax.starts(), K, 0, N, sc.x.out.data(), ax.out_stride(), sums);
-        if (!exact) {
-          for (std::size_t k = 0; k < N; ++k) {
-            const cd* a = sums + k * kVx;
-            cd* o = xo + (k * ny + y0) * 2;
-            for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
-              stream(o + 2 * rr, a[3 * rr] - qx[k] * a[3 * rr + 1]);
-              stream(o + 2 * rr + 1, a[3 * rr + 2]);
-            }
-          }
-        } else {
-          for (std::size_t k = 0; k < N; ++k) {
-            const cd ph = xshift[f][g][pt * N + k];
-            const cd* a = sums + k * kVx;
-            cd* xa = sc.xacc.data() + k * kVx;
-            for (std::size_t v = 0; v < kVx; ++v)
-              xa[v] = pt == 0 ? mul(ph, a[v]) : xa[v] + mul(ph, a[v]);
-          }
+        cd* xacc = sc.xacc.data() + bs * N * kVx;
+        for (std::size_t k = 0; k < N; ++k) {
+          const cd ph = xshift[f][g][pt * N + k];
+          const cd* a = sums + k * kVx;
+          cd* xa = xacc + k * kVx;
+          for (std::size_t v = 0; v < kVx; ++v)
+            xa[v] = pt == 0 ? mul(ph, a[v]) : xa[v] + mul(ph, a[v]);
         }
       }
-      if (exact)
-        for (std::size_t k = 0; k < N; ++k) {
-          const cd* xa = sc.xacc.data() + k * kVx;
-          cd* o = xo + (k * ny + y0) * 2;
-          for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
-            stream(o + 2 * rr, xa[3 * rr] - qx[k] * xa[3 * rr + 1]);
-            stream(o + 2 * rr + 1, xa[3 * rr + 2]);
-          }
+    }
+    for (std::size_t bs = 0; bs < nb; ++bs) {
+      cd* xo = ws.xo.data() + bs * slot;
+      const cd* xacc = sc.xacc.data() + bs * N * kVx;
+      for (std::size_t k = 0; k < N; ++k) {
+        const cd* xa = xacc + k * kVx;
+        cd* o = xo + (k * ny + y0) * 2;
+        for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
+          stream(o + 2 * rr, xa[3 * rr] - qx[k] * xa[3 * rr + 1]);
+          stream(o + 2 * rr + 1, xa[3 * rr + 2]);
         }
+      }
     }
     stream_fence();
   };
@@ -662,11 +707,12 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
           if (ysh) I = mul(I, (*ysh)[l]);
           I = rotate(I, nn);
           if (groups > 1) {
+            cd& acc = ws.it[s * lay.count + j];
             if (!last_group) {
-              ws.it[j] = gi == 0 ? I : ws.it[j] + I;
+              acc = gi == 0 ? I : acc + I;
               continue;
             }
-            I += ws.it[j];
+            I += acc;
           }
           if (nn > 0) {
             const cd bn = I + 2 * t * b1 - b2;
@@ -686,14 +732,15 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
 
   for (n_hi = terms - 1;; n_hi -= nb) {
     nb = std::min(batch, n_hi + 1);
-    gi = 0;
-    for (f = 0; f < fam.size(); ++f)
-      for (g = 0; g < rules[f].size(); ++g, ++gi) {
-        pool.run(xblocks, threads, xblock);
-        if (exact) pool.run(yblocks, threads, yblock);  // batch == 1
-      }
-    if (!exact) {
-      f = g = gi = 0;
+    f = g = gi = 0;
+    if (exact) {
+      for (f = 0; f < fam.size(); ++f)
+        for (g = 0; g < rules[f].size(); ++g, ++gi) {
+          pool.run(xblocks, threads, xblock_exact);
+          pool.run(yblocks, threads, yblock);
+        }
+    } else {
+      pool.run(xblocks, threads, xblock);
       pool.run(yblocks, threads, yblock);
     }
     first = false;
