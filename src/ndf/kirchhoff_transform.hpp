@@ -2,7 +2,7 @@
 // Internal to the fast Kirchhoff table (kirchhoff_fast.cpp): one axis of its separable transform
 //   X_v[k] = sum_{j<n} x_v[j] exp(-i (w0 + k dw) j),  k < m,
 // for V vectors at a time (vector v's inputs at in[v * in_stride() + position(j)]), by a type-2
-// NUFFT (inputs times a factor, one FFT of length L = good(2n), K-tap kernel-weighted sums of the
+// NUFFT (inputs times a factor, one FFT of length L >= 2n, K-tap kernel-weighted sums of the
 // bins) or by a chirp-z transform (inputs times the pre-chirp, FFT of length L >= n + m - 1,
 // product with the chirp's spectrum, inverse FFT). Both are the sums above up to a factor per
 // output k of modulus 1 (NUFFT: exp(-i w_k c), the shift to the centre sample; chirp-z: the
