@@ -280,7 +280,7 @@ void give_workspace(std::unique_ptr<Workspace> w) {
 struct ThreadScratch {
   KirchhoffAxis::Scratch x, y;
   AlignedArray<cd> sums;      // tap sums of one block (x: N x kVx; y: batch x N x kVy)
-  AlignedArray<cd> xacc;      // exact: sums over the rule points of a group, batch x N x kVx
+  AlignedArray<cd> xacc;      // exact: sums over a group's points, batch x N x 2 per row
   AlignedArray<cd> rowpre;    // exact: the rule point's factor per sample of the block's rows
   AlignedArray<double> rowj;  // exact: its J of the batch's orders per sample of those rows
 };
@@ -571,7 +571,7 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
     ThreadScratch& sc = thread_scratch();
     ax.prepare(sc.x);
     sc.sums.resize(N * std::max(kVx, batch * kVy));
-    sc.xacc.resize(nb * N * kVx);
+    sc.xacc.resize(nb * N * 2 * kRows);
     const std::size_t orders = nb + 2;  // J of orders n_hi + 1 down to n_hi - nb
     sc.rowpre.resize(kRows * nx);
     sc.rowj.resize(kRows * orders * nx);
@@ -630,25 +630,29 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
         ax.run(sc.x);
         cd* sums = sc.sums.data();
         tap_sums_x(ax.weights(), ax.starts(), K, 0, N, sc.x.out.data(), ax.out_stride(), sums);
-        cd* xacc = sc.xacc.data() + bs * N * kVx;
+        // A - q_x B and C of each row, shifted by the point's x offset, summed over the points.
+        cd* xacc = sc.xacc.data() + bs * N * 2 * kRows;
         for (std::size_t k = 0; k < N; ++k) {
           const cd ph = xshift[f][g][pt * N + k];
           const cd* a = sums + k * kVx;
-          cd* xa = xacc + k * kVx;
-          for (std::size_t v = 0; v < kVx; ++v)
-            xa[v] = pt == 0 ? mul(ph, a[v]) : xa[v] + mul(ph, a[v]);
+          cd* xa = xacc + k * 2 * kRows;
+          for (std::size_t rr = 0; rr < kRows; ++rr) {
+            const cd u = mul(ph, a[3 * rr] - qx[k] * a[3 * rr + 1]), v = mul(ph, a[3 * rr + 2]);
+            xa[2 * rr] = pt == 0 ? u : xa[2 * rr] + u;
+            xa[2 * rr + 1] = pt == 0 ? v : xa[2 * rr + 1] + v;
+          }
         }
       }
     }
     for (std::size_t bs = 0; bs < nb; ++bs) {
       cd* xo = ws.xo.data() + bs * slot;
-      const cd* xacc = sc.xacc.data() + bs * N * kVx;
+      const cd* xacc = sc.xacc.data() + bs * N * 2 * kRows;
       for (std::size_t k = 0; k < N; ++k) {
-        const cd* xa = xacc + k * kVx;
+        const cd* xa = xacc + k * 2 * kRows;
         cd* o = xo + (k * ny + y0) * 2;
         for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
-          stream(o + 2 * rr, xa[3 * rr] - qx[k] * xa[3 * rr + 1]);
-          stream(o + 2 * rr + 1, xa[3 * rr + 2]);
+          stream(o + 2 * rr, xa[2 * rr]);
+          stream(o + 2 * rr + 1, xa[2 * rr + 1]);
         }
       }
     }
