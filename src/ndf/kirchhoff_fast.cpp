@@ -8,18 +8,21 @@
 // |J_n(r h')| <= |J_n(r H)| for n >= r H, so the series is cut where 2 sum |J_n(r H)| < accuracy.
 // Per term n the three sample arrays
 //   A_n = w (q_c C_n + r S_n),  B_n = w g_x C_n,  C_n' = w g_y C_n   (times dx dy)
-// go through a chirp-z transform along x (exact q_x of the nodes), A_n - q_x B_n and C_n' through
-// one along y, and I_n = Y[A_n - q_x B_n] - q_y Y[C_n']; I(q) = sum_n I_n T_n(t(q)) by Clenshaw.
-// The global phase exp(-i q_z h_c) and the patch origin are dropped (|I| is unchanged).
+// go through a transform along x at the nodes' q_x (a type-2 NUFFT, or a chirp-z transform),
+// A_n - q_x B_n and C_n' through one along y, and I_n = Y[A_n - q_x B_n] - q_y Y[C_n'];
+// I(q) = sum_n I_n T_n(t(q)) by Clenshaw. The global phase exp(-i q_z h_c) and the patch origin
+// are dropped (|I| is unchanged). The transforms are kirchhoff_transform.hpp; how the work is cut
+// into blocks and threads is said where the passes are (table_fast) and in docs/kirchhoff.md.
 #include <omp.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <complex>
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
