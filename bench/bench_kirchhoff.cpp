@@ -10,8 +10,10 @@
 //    of a zeroed array) is timed next to it, as a second, slower unit.
 // BM_KirchhoffSummary reports the ratios (speed-up, cost in padded FFTs of either unit), the
 // fast method's relative L1 error on those nodes and the load average as counters, for the
-// midpoint rule and for the exact integration over the triangles (the default), each against
+// midpoint rule (the default) and for the exact integration over the triangles, each against
 // the direct sums of the same integral, and the midpoint rule's departure from the exact one.
+// BM_KirchhoffMidpointSummary times the midpoint rule alone against the honest unit in
+// interleaved rounds, in wall and in process CPU time.
 #include <benchmark/benchmark.h>
 #include <fftw3.h>
 #include <omp.h>
