@@ -729,7 +729,7 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
             out[l * N + k] = std::norm(I + t * b1 - b2) * norm;
           }
         }
-        if (!(groups > 1 && !last_group)) {
+        if (n_hi + 1 > nb && !(groups > 1 && !last_group)) {  // not the last batch
           ws.state[2 * j] = b1;
           ws.state[2 * j + 1] = b2;
         }
