@@ -164,7 +164,7 @@ struct KirchhoffOptions {
   KirchhoffWindow window = KirchhoffWindow::None;
   double gauss_fraction = 0.125;  ///< Gauss window std as a fraction of the patch side
   double accuracy = 1e-3;         ///< fast method: Chebyshev tail bound (NUFFT: accuracy/100)
-  /// The midpoint rule per sample (default: 20-60x faster, about 1% relative L1 off on brushed
+  /// The midpoint rule per sample (default: about 50x faster, about 1% relative L1 off on brushed
   /// steel, more on steep or coarse scans) or exact triangles (the accurate reference).
   KirchhoffIntegration integration = KirchhoffIntegration::Midpoint;
   /// Node values as averages over each node's cell of S x S sub-nodes (S odd; the table of

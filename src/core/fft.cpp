@@ -34,6 +34,12 @@ struct Plan {
 
 }  // namespace
 
+std::unique_lock<std::mutex> fftw_planner_lock() {
+  std::unique_lock<std::mutex> lock(g_plan_mutex);
+  init_threads_once();
+  return lock;
+}
+
 std::vector<std::complex<double>> fft2_r2c(std::size_t nx, std::size_t ny,
                                            const std::vector<double>& in) {
   if (in.size() != nx * ny) throw std::invalid_argument("fft2_r2c: size mismatch");

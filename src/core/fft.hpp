@@ -5,9 +5,14 @@
 
 #include <complex>
 #include <cstddef>
+#include <mutex>
 #include <vector>
 
 namespace microbrdf::detail {
+
+/// FFTW's planner is not thread-safe: code outside fft.cpp that makes or destroys FFTW plans does
+/// so while holding this lock (taking it also initialises FFTW's threads, once).
+std::unique_lock<std::mutex> fftw_planner_lock();
 
 /// Forward 2-D real-to-complex FFT of an ny x nx row-major array. Output has ny x (nx/2+1)
 /// complex values (FFTW's half-spectrum layout). Unnormalised.

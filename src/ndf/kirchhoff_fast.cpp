@@ -8,19 +8,30 @@
 // |J_n(r h')| <= |J_n(r H)| for n >= r H, so the series is cut where 2 sum |J_n(r H)| < accuracy.
 // Per term n the three sample arrays
 //   A_n = w (q_c C_n + r S_n),  B_n = w g_x C_n,  C_n' = w g_y C_n   (times dx dy)
-// go through a chirp-z transform along x (exact q_x of the nodes), A_n - q_x B_n and C_n' through
-// one along y, and I_n = Y[A_n - q_x B_n] - q_y Y[C_n']; I(q) = sum_n I_n T_n(t(q)) by Clenshaw.
-// The global phase exp(-i q_z h_c) and the patch origin are dropped (|I| is unchanged).
+// go through a transform along x at the nodes' q_x (a type-2 NUFFT, or a chirp-z transform),
+// A_n - q_x B_n and C_n' through one along y, and I_n = Y[A_n - q_x B_n] - q_y Y[C_n'];
+// I(q) = sum_n I_n T_n(t(q)) by Clenshaw. The global phase exp(-i q_z h_c) and the patch origin
+// are dropped (|I| is unchanged). The transforms are kirchhoff_transform.hpp; how the work is cut
+// into blocks and threads is said where the passes are (table_fast) and in docs/kirchhoff.md.
+#include <omp.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdint>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
-#include <type_traits>
 
 #include "core/fft.hpp"
+#include "core/helper_pool.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "ndf/kirchhoff_transform.hpp"
 
 namespace microbrdf {
 namespace {
@@ -31,64 +42,39 @@ using cd = std::complex<double>;
 // 1/32, derivatives from J_n' = (J_{n-1} - J_{n+1})/2): error < 3e-9.
 class BesselTable {
  public:
-  BesselTable(std::size_t nmax, double zmax) : nmax_(nmax), step_(1.0 / 32) {
-    npts_ = static_cast<std::size_t>(std::ceil(zmax / step_)) + 2;
-    val_.assign((nmax + 1) * npts_, 0.0);
-    der_.assign((nmax + 1) * npts_, 0.0);
+  BesselTable(std::size_t nmax, double zmax) {
+    npts_ = static_cast<std::size_t>(std::ceil(zmax * kInvStep)) + 2;
+    last_ = static_cast<long>(npts_) - 2;
+    tab_.assign((nmax + 1) * npts_ * 2, 0.0);
     for (std::size_t i = 0; i < npts_; ++i) {
-      auto j = bessel_j_all(nmax + 1, step_ * static_cast<double>(i));
+      auto j = bessel_j_all(nmax + 1, static_cast<double>(i) / kInvStep);
       for (std::size_t n = 0; n <= nmax; ++n) {
-        val_[n * npts_ + i] = j[n];
-        der_[n * npts_ + i] = n == 0 ? -j[1] : 0.5 * (j[n - 1] - j[n + 1]);
+        tab_[2 * (n * npts_ + i)] = j[n];
+        tab_[2 * (n * npts_ + i) + 1] = (n == 0 ? -j[1] : 0.5 * (j[n - 1] - j[n + 1])) / kInvStep;
       }
     }
   }
   double operator()(std::size_t n, double z) const {  // z >= 0
-    double f = z / step_;
-    auto i = std::min(static_cast<std::size_t>(f), npts_ - 2);
-    double u = f - static_cast<double>(i);
-    const double* v = &val_[n * npts_ + i];
-    const double* d = &der_[n * npts_ + i];
-    double u2 = u * u, u3 = u2 * u;
-    return (2 * u3 - 3 * u2 + 1) * v[0] + (u3 - 2 * u2 + u) * step_ * d[0] +
-           (-2 * u3 + 3 * u2) * v[1] + (u3 - u2) * step_ * d[1];
+    const double f = z * kInvStep;
+    // A signed conversion (one instruction; an unsigned one is not on x86-64 before AVX-512).
+    const auto i = static_cast<std::size_t>(std::min(static_cast<long>(f), last_));
+    const double u = f - static_cast<double>(i);
+    const double* v = &tab_[2 * (n * npts_ + i)];  // J, step J' at i; then at i + 1
+    const double u2 = u * u, u3 = u2 * u;
+    return (2 * u3 - 3 * u2 + 1) * v[0] + (u3 - 2 * u2 + u) * v[1] + (-2 * u3 + 3 * u2) * v[2] +
+           (u3 - u2) * v[3];
   }
 
  private:
-  std::size_t nmax_, npts_ = 0;
-  double step_;
-  std::vector<double> val_, der_;
+  static constexpr double kInvStep = 32;  // table spacing 1/32
+  std::size_t npts_ = 0;
+  long last_ = 0;            // npts_ - 2, the last interval
+  std::vector<double> tab_;  // per order and point: J_n, step J_n'
 };
 
 }  // namespace
 
 namespace {
-
-// Gauss-Legendre nodes and weights on [0, 1] (Newton on P_n from the Chebyshev guesses).
-void gauss_legendre01(std::size_t n, std::vector<double>& x, std::vector<double>& w) {
-  x.assign(n, 0.0);
-  w.assign(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    double t = std::cos(M_PI * (static_cast<double>(i) + 0.75) / (static_cast<double>(n) + 0.5));
-    double dp = 1;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1, p1 = t;  // P_0, P_1
-      for (std::size_t k = 2; k <= n; ++k) {
-        const double p2 =
-            ((2.0 * static_cast<double>(k) - 1) * t * p1 - (static_cast<double>(k) - 1) * p0) /
-            static_cast<double>(k);
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = static_cast<double>(n) * (t * p1 - p0) / (t * t - 1);
-      const double dt = p1 / dp;
-      t -= dt;
-      if (std::fabs(dt) < 1e-16) break;
-    }
-    x[i] = 0.5 * (1 - t);
-    w[i] = 1.0 / ((1 - t * t) * dp * dp);  // 2 / ((1 - t^2) P_n'^2), halved for [0, 1]
-  }
-}
 
 // One position of the triangle rule: cell coordinates (a, b) in [0, 1]^2 of a point of the
 // lower (family 0: b <= a) or upper (family 1: a <= b) triangle of every cell, and its weight
@@ -101,8 +87,8 @@ struct RulePoint {
 // grouped by b (points of one group share their y offset, hence one y-pass).
 std::vector<std::vector<RulePoint>> triangle_rule(int family, std::size_t pu, std::size_t pv) {
   std::vector<double> xu, wu, xv, wv;
-  gauss_legendre01(pu, xu, wu);
-  gauss_legendre01(pv, xv, wv);
+  detail::gauss_legendre01(pu, xu, wu);
+  detail::gauss_legendre01(pv, xv, wv);
   std::vector<std::vector<RulePoint>> groups(pv);
   for (std::size_t j = 0; j < pv; ++j)
     for (std::size_t i = 0; i < pu; ++i) {
@@ -125,9 +111,215 @@ double gauss_error(std::size_t p, double span) {
   return std::exp(lg);
 }
 
-template <class Transform>
+using detail::AlignedArray;
+using detail::KirchhoffAxis;
+
+// The tap sums are written for the compiler's vectoriser; on x86-64 GCC also builds an AVX2
+// version chosen at run time (AVX2 without FMA: the same products and sums, the same bits).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define MICROBRDF_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define MICROBRDF_SIMD_CLONES
+#endif
+
+typedef double V4 __attribute__((vector_size(32), may_alias));
+
+constexpr std::size_t kRows = 2;        // sample rows per x-block
+constexpr std::size_t kVx = 3 * kRows;  // x-vectors per block: A, B, C of each row
+constexpr std::size_t kCols = 2;        // node columns per y-block
+constexpr std::size_t kVy = 2 * kCols;  // y-vectors per block: A - q_x B and C of each column
+constexpr std::size_t kMaxBatch = 4;    // terms per pass over the Clenshaw state
+
+// out[(k - k0) V + v] = sum_t w[k K + t] bins[v ld + start[k] + t] for k in [k0, k1): the K-tap
+// sums of V complex vectors (K even: the taps are taken in pairs, one pair per V4; V even; out
+// 32-byte aligned).
+typedef double V4u __attribute__((vector_size(32), aligned(8), may_alias));
+typedef long long V4i __attribute__((vector_size(32)));
+
+template <std::size_t V>
+[[gnu::always_inline]] inline void tap_sums_body(const double* __restrict w,
+                                                 const std::size_t* __restrict start, std::size_t K,
+                                                 std::size_t k0, std::size_t k1, const cd* bins,
+                                                 std::size_t ld, cd* out) {
+  const double* bd = reinterpret_cast<const double*>(bins);
+  double* od = reinterpret_cast<double*>(out);
+  for (std::size_t k = k0; k < k1; ++k) {
+    const double* wk = w + k * K;
+    const double* b0 = bd + 2 * start[k];
+    V4 acc[V];
+    for (std::size_t v = 0; v < V; ++v) acc[v] = V4{0, 0, 0, 0};
+    for (std::size_t t = 0; t < K; t += 2) {
+      const V4 wt = {wk[t], wk[t], wk[t + 1], wk[t + 1]};
+      for (std::size_t v = 0; v < V; ++v)
+        acc[v] += wt * *reinterpret_cast<const V4u*>(b0 + 2 * (v * ld + t));
+    }
+    // Two vectors' sums per V4: [re, im] of the even taps plus those of the odd taps.
+    V4* o = reinterpret_cast<V4*>(od + 2 * (k - k0) * V);
+    for (std::size_t v = 0; v < V; v += 2) {
+      const V4 lo = __builtin_shuffle(acc[v], acc[v + 1], V4i{0, 1, 4, 5}),
+               hi = __builtin_shuffle(acc[v], acc[v + 1], V4i{2, 3, 6, 7});
+      o[v / 2] = lo + hi;
+    }
+  }
+}
+
+MICROBRDF_SIMD_CLONES
+void tap_sums_x(const double* w, const std::size_t* start, std::size_t K, std::size_t k0,
+                std::size_t k1, const cd* bins, std::size_t ld, cd* out) {
+  tap_sums_body<kVx>(w, start, K, k0, k1, bins, ld, out);
+}
+
+MICROBRDF_SIMD_CLONES
+void tap_sums_y(const double* w, const std::size_t* start, std::size_t K, std::size_t k0,
+                std::size_t k1, const cd* bins, std::size_t ld, cd* out) {
+  tap_sums_body<kVy>(w, start, K, k0, k1, bins, ld, out);
+}
+
+// Stores that bypass the cache (the x-output is read back only after the whole pass, from
+// memory either way: no read for ownership); stream_fence() orders them before the block ends.
+#if defined(__SSE2__)
+inline void stream(cd* d, cd v) {
+  _mm_stream_pd(reinterpret_cast<double*>(d), _mm_set_pd(v.imag(), v.real()));
+}
+inline void stream_fence() { _mm_sfence(); }
+#else
+inline void stream(cd* d, cd v) { *d = v; }
+inline void stream_fence() {}
+#endif
+
+// a b, written out (std::complex's operator* checks for NaN and Inf per product).
+inline cd mul(cd a, cd b) {
+  return {a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real()};
+}
+
+// z (-i)^n
+inline cd rotate(cd z, std::size_t n) {
+  switch (n & 3) {
+    case 0:
+      return z;
+    case 1:
+      return {z.imag(), -z.real()};
+    case 2:
+      return -z;
+    default:
+      return {-z.imag(), z.real()};
+  }
+}
+
+// The nodes of an N x N table inside the unit disk, packed column by column: column k holds the
+// rows [lo, hi), from offset off; t = 2 m_z - 1 per packed node (q_z = q_c + r t).
+struct NodeLayout {
+  std::size_t n = 0, count = 0;
+  std::vector<std::size_t> lo, hi, off;
+  std::vector<double> t;
+};
+
+std::shared_ptr<const NodeLayout> node_layout(std::size_t n) {
+  static std::mutex m;
+  static std::shared_ptr<const NodeLayout> last;
+  std::lock_guard<std::mutex> lock(m);
+  if (last && last->n == n) return last;
+  auto l = std::make_shared<NodeLayout>();
+  l->n = n;
+  l->lo.assign(n, 0);
+  l->hi.assign(n, 0);
+  l->off.assign(n, 0);
+  const double d = 2.0 / static_cast<double>(n - 1);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double mx = -1.0 + d * static_cast<double>(k);
+    l->off[k] = l->t.size();
+    bool in = false;
+    for (std::size_t r = 0; r < n; ++r) {
+      const double my = -1.0 + d * static_cast<double>(r), rr = mx * mx + my * my;
+      if (!(rr < 1)) continue;  // the same test as kirchhoff_node_q
+      if (!in) l->lo[k] = r;
+      in = true;
+      l->hi[k] = r + 1;
+      l->t.push_back(2 * std::sqrt(1 - rr) - 1);
+    }
+    if (in && l->t.size() - l->off[k] != l->hi[k] - l->lo[k])
+      throw std::logic_error("Kirchhoff: the disk is not convex along a column");
+  }
+  l->count = l->t.size();
+  last = l;
+  return last;
+}
+
+// The large arrays of one table, kept between calls (no fresh pages per table).
+struct Workspace {
+  AlignedArray<cd> xo;     // x-pass output per batch slot: (k ny + y) 2 + {0: A - q_x B, 1: C}
+  AlignedArray<cd> state;  // Clenshaw b_{n+1}, b_{n+2} per packed node
+  AlignedArray<cd> it;     // exact: sums over the rule groups of the batch's terms, per packed node
+  AlignedArray<cd> pre;    // midpoint: w dA (axis factors) exp(-i q_c h') per sample
+  AlignedArray<double> g;  // midpoint: g_x, g_y per sample (0 where invalid)
+  AlignedArray<double> z;  // midpoint: r h' per sample (0 where invalid)
+  AlignedArray<double> ring;  // midpoint: J_k(r h') of the last three orders, slot k mod 3
+};
+
+struct WorkspaceSlot {
+  std::mutex m;
+  std::unique_ptr<Workspace> ws;
+};
+
+WorkspaceSlot& workspace_slot() {
+  static auto* s = new WorkspaceSlot;  // never destroyed
+  return *s;
+}
+
+std::unique_ptr<Workspace> take_workspace() {
+  auto& s = workspace_slot();
+  std::lock_guard<std::mutex> lock(s.m);
+  if (s.ws) return std::move(s.ws);
+  return std::make_unique<Workspace>();
+}
+
+void give_workspace(std::unique_ptr<Workspace> w) {
+  auto& s = workspace_slot();
+  std::lock_guard<std::mutex> lock(s.m);
+  if (!s.ws) s.ws = std::move(w);
+}
+
+struct ThreadScratch {
+  KirchhoffAxis::Scratch x, y;
+  AlignedArray<cd> sums;      // tap sums of one block (x: N x kVx; y: batch x N x kVy)
+  AlignedArray<cd> xacc;      // exact: sums over a group's points, batch x N x 2 per row
+  AlignedArray<cd> rowpre;    // exact: the rule point's factor per sample of the block's rows
+  AlignedArray<double> rowj;  // exact: its J of the batch's orders per sample of those rows
+};
+
+ThreadScratch& thread_scratch() {
+  thread_local ThreadScratch s;
+  return s;
+}
+
+// One sample row of the midpoint rule's term n into the x-block input (element x of the three
+// vectors at oa, ob, oc [pos[x]]): A = pre (q_c c + i r (J_{n-1} - J_{n+1})), B = pre g_x c,
+// C = pre g_y c with c = (n ? 2 : 1) J_n, the factor (-i)^n left out. Stores J_{n-1} in jm
+// (n >= 1).
+void fill_row_midpoint(std::size_t nx, std::size_t n, const BesselTable& bt, const cd* pre,
+                       const double* g, const double* z, const double* jp, const double* jn,
+                       double* jm, double qc, double r, const std::size_t* pos, cd* oa, cd* ob,
+                       cd* oc) {
+  const double alpha = n ? 2.0 : 1.0;
+  for (std::size_t x = 0; x < nx; ++x) {
+    double m = 0;
+    if (n >= 1) {
+      const double zz = z[x], j = bt(n - 1, std::fabs(zz));
+      m = zz < 0 && ((n - 1) & 1) ? -j : j;
+      jm[x] = m;
+    }
+    const double u = alpha * jn[x], d = r * (m - jp[x]);
+    const cd P = pre[x];
+    const std::size_t q = pos[x];
+    oa[q] = cd(P.real() * qc * u - P.imag() * d, P.imag() * qc * u + P.real() * d);
+    ob[q] = P * (g[2 * x] * u);
+    oc[q] = P * (g[2 * x + 1] * u);
+  }
+}
+
 std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::size_t resolution,
-                               double accuracy, KirchhoffFastInfo* info,
+                               double accuracy, KirchhoffFastInfo* info, bool chirp_z,
                                KirchhoffIntegration method, double band_x, double band_y) {
   if (!(lambda_q > 0)) throw InputError("Kirchhoff: lambda_q must be > 0");
   if (resolution < 3) throw InputError("Kirchhoff: resolution must be >= 3");
@@ -139,6 +331,7 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   if (!(area > 0)) return out;
   // The transforms run over the samples (midpoint) or the cells (exact: one rule point each).
   const std::size_t nx = exact ? p.nx - 1 : p.nx, ny = exact ? p.ny - 1 : p.ny;
+  if (nx == 0 || ny == 0) return out;
 
   const double qmag = 4 * M_PI / lambda_q, delta = 2.0 / static_cast<double>(N - 1);
   const double qc = 0.5 * qmag, r = 0.5 * qmag;
@@ -166,11 +359,14 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   }
   // The q_z factor makes the A series one degree longer (q_z T_{terms-1} has a T_terms part).
   ++terms;
-  BesselTable bt(terms, zmax);
+  const BesselTable bt(terms, zmax);
+  auto bessel = [&bt](std::size_t k, double z) {  // J_k(z), any sign of z
+    const double j = bt(k, std::fabs(z));
+    return z < 0 && (k & 1) ? -j : j;
+  };
 
-  // Per-family cell data of the triangles (exact) or the samples themselves (midpoint): height
-  // relative to h_c at the cell origin, height steps along a and b (slope x spacing), slopes and
-  // the window weight (0 = no triangle).
+  // Per-family cell data of the triangles (exact): height relative to h_c at the cell origin,
+  // height steps along a and b (slope x spacing), slopes and the window weight (0 = no triangle).
   const std::size_t ns = nx * ny;
   struct Family {
     std::vector<double> h0, sa, sb, gx, gy, w;
@@ -178,25 +374,15 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   std::vector<Family> fam(exact ? 2 : 1);
   double longest = 0;  // largest phase span of a valid triangle's edge, rad
   const double bx = std::min(qmag, band_x), by = std::min(qmag, band_y);
-  for (auto& f : fam) {
-    f.h0.assign(ns, 0.0);
-    f.gx.assign(ns, 0.0);
-    f.gy.assign(ns, 0.0);
-    f.w.assign(ns, 0.0);
-    if (exact) {
+  if (exact) {
+    for (auto& f : fam) {
+      f.h0.assign(ns, 0.0);
+      f.gx.assign(ns, 0.0);
+      f.gy.assign(ns, 0.0);
+      f.w.assign(ns, 0.0);
       f.sa.assign(ns, 0.0);
       f.sb.assign(ns, 0.0);
     }
-  }
-  if (!exact) {
-    for (std::size_t i = 0; i < ns; ++i)
-      if (p.w[i] != 0) {
-        fam[0].h0[i] = p.h[i] - hc;
-        fam[0].gx[i] = p.gx[i];
-        fam[0].gy[i] = p.gy[i];
-        fam[0].w[i] = p.w[i];
-      }
-  } else {
     for (std::size_t y = 0; y < ny; ++y)
       for (std::size_t x = 0; x < nx; ++x) {
         const std::size_t c = y * nx + x, i00 = y * p.nx + x, i10 = i00 + 1, i01 = i00 + p.nx,
@@ -246,120 +432,328 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
     info->phase_span = span;
   }
 
-  const bool big = ns + N * N > (1u << 17);  // threads only pay off on large problems
-  // Node tables: t(q_z) per node (NaN outside the disk), q_x per column, q_y per row.
-  std::vector<double> tnode(N * N, NAN), qx(N), qy(N);
-  for (std::size_t k = 0; k < N; ++k)
-    qx[k] = qy[k] = qmag * (-1.0 + delta * static_cast<double>(k));
-  for (std::size_t iy = 0; iy < N; ++iy)
-    for (std::size_t ix = 0; ix < N; ++ix) {
-      double mx = qx[ix] / qmag, my = qy[iy] / qmag, rr = mx * mx + my * my;
-      if (rr < 1) tnode[ix * N + iy] = (qmag * std::sqrt(1 - rr) - qc) / r;
+  // Transforms (cached): exact chirp-z, or the NUFFT with taps for accuracy / 100 relative to
+  // sum |x|. The node frequencies are q_x = q_y = |q| (-1 + delta k).
+  const auto kind = chirp_z ? KirchhoffAxis::Kind::ChirpZ : KirchhoffAxis::Kind::Nufft;
+  const int taps = detail::ZoomNufft::taps_for(accuracy * 1e-2);
+  const auto axp = KirchhoffAxis::get(kind, nx, N, -qmag * p.dx, qmag * delta * p.dx, taps, kVx);
+  const auto ayp = KirchhoffAxis::get(kind, ny, N, -qmag * p.dy, qmag * delta * p.dy, taps, kVy);
+  const KirchhoffAxis& ax = *axp;
+  const KirchhoffAxis& ay = *ayp;
+  const auto layp = node_layout(N);
+  const NodeLayout& lay = *layp;
+  std::vector<double> qx(N);
+  for (std::size_t k = 0; k < N; ++k) qx[k] = qmag * (-1.0 + delta * static_cast<double>(k));
+  const std::vector<double>& qy = qx;
+
+  // Shifts of the rule points (exact): a phase per q_x of each point, per q_y of each group.
+  std::vector<std::vector<std::vector<cd>>> xshift(fam.size()), yshift(fam.size());
+  if (exact)
+    for (std::size_t f = 0; f < fam.size(); ++f) {
+      xshift[f].resize(rules[f].size());
+      yshift[f].resize(rules[f].size());
+      for (std::size_t g = 0; g < rules[f].size(); ++g) {
+        const double oy = rules[f][g].front().b * p.dy;
+        yshift[f][g].resize(N);
+        for (std::size_t l = 0; l < N; ++l) yshift[f][g][l] = std::polar(1.0, -qy[l] * oy);
+        xshift[f][g].resize(rules[f][g].size() * N);
+        for (std::size_t pt = 0; pt < rules[f][g].size(); ++pt) {
+          const double ox = rules[f][g][pt].a * p.dx;
+          for (std::size_t k = 0; k < N; ++k)
+            xshift[f][g][pt * N + k] = std::polar(1.0, -qx[k] * ox);
+        }
+      }
     }
 
-  // Transforms: exact chirp-z, or the NUFFT with taps for accuracy / 100 relative to sum |x|.
-  auto make = [&](std::size_t n, double d, std::size_t batch) {
-    if constexpr (std::is_same_v<Transform, detail::ChirpZ>)
-      return std::make_unique<Transform>(n, N, -qmag * d, qmag * delta * d, batch);
-    else
-      return std::make_unique<Transform>(n, N, -qmag * d, qmag * delta * d, batch,
-                                         Transform::taps_for(accuracy * 1e-2));
-  };
-  auto czx_p = make(nx, p.dx, 3 * ny);
-  auto czy_p = make(ny, p.dy, N);
-  Transform& czx = *czx_p;
-  Transform& czy = *czy_p;
-  const std::size_t bt3 = 3 * ny;
-  std::vector<cd> in(3 * ns), xo(bt3 * N), ym(N * N), yc(N * N), b1(N * N), b2(N * N);
-  std::vector<cd> xacc, it;  // exact: sums over the rule points
-  if (exact) {
-    xacc.resize(bt3 * N);
-    it.resize(N * N);
+  // Terms per pass over the Clenshaw state (midpoint; the exact rule sums its groups per term
+  // first): as many as kMaxBatch copies of the x-output within 64 MiB allow.
+  const std::size_t slot = N * ny * 2;
+  const std::size_t batch =
+      std::clamp<std::size_t>((std::size_t{64} << 20) / (slot * sizeof(cd)), 1, kMaxBatch);
+  std::unique_ptr<Workspace> wsp = take_workspace();
+  Workspace& ws = *wsp;
+  ws.xo.resize(batch * slot);
+  ws.state.resize(2 * lay.count);
+  if (exact) ws.it.resize(batch * lay.count);
+  if (!exact) {
+    ws.pre.resize(ns);
+    ws.g.resize(2 * ns);
+    ws.z.resize(ns);
+    ws.ring.resize(3 * ns);
   }
-  const cd mi[4] = {cd(1, 0), cd(0, -1), cd(-1, 0), cd(0, 1)};  // (-i)^n
-  const double dA = p.dx * p.dy;
+  const bool big = ns + N * N > (1u << 17);  // threads only pay off on large problems
+  const int threads = big ? std::max(1, omp_get_max_threads()) : 1;
+  const double dA = p.dx * p.dy, norm = 1.0 / (4 * M_PI * M_PI * area);
+  const std::size_t xblocks = (ny + kRows - 1) / kRows, yblocks = (N + kCols - 1) / kCols;
+  std::size_t groups = 0;
+  for (const auto& rl : rules) groups += rl.size();
+  auto& pool = detail::HelperPool::instance();
 
-  for (std::size_t nn = terms; nn-- > 0;) {
-    const std::size_t n = nn;
-    if (exact) std::fill(it.begin(), it.end(), cd(0));
-    for (std::size_t f = 0; f < fam.size(); ++f) {
-      const Family& F = fam[f];
-      for (const auto& group : rules[f]) {
-        cd* xsum = exact ? xacc.data() : xo.data();
-        if (exact) std::fill(xacc.begin(), xacc.end(), cd(0));
-        for (const RulePoint& rp : group) {
-          // Sample arrays of term n at this rule point.
-#pragma omp parallel for schedule(static) if (big)
-          for (std::size_t i = 0; i < ns; ++i) {
-            if (F.w[i] == 0) {
-              in[i] = in[ns + i] = in[2 * ns + i] = 0.0;
+  // Midpoint: per sample the factor pre = w dA (axis factors) exp(-i q_c h'), z = r h', the
+  // slopes, and J of the two highest orders (the others follow one order per term).
+  if (!exact) {
+    const std::function<void(std::size_t)> prepare_rows = [&](std::size_t y) {
+      const cd fy = ay.factor(y);
+      for (std::size_t x = 0; x < nx; ++x) {
+        const std::size_t i = y * nx + x;
+        double* ring = ws.ring.data();
+        if (p.w[i] == 0) {
+          ws.pre[i] = 0.0;
+          ws.z[i] = ws.g[2 * i] = ws.g[2 * i + 1] = 0;
+          ring[(terms % 3) * ns + i] = ring[((terms - 1) % 3) * ns + i] = 0;
+          continue;
+        }
+        const double hp = p.h[i] - hc, z = r * hp;
+        ws.pre[i] = mul(p.w[i] * dA * ax.factor(x), fy) * std::polar(1.0, -qc * hp);
+        ws.z[i] = z;
+        ws.g[2 * i] = p.gx[i];
+        ws.g[2 * i + 1] = p.gy[i];
+        ring[(terms % 3) * ns + i] = bessel(terms, z);
+        ring[((terms - 1) % 3) * ns + i] = bessel(terms - 1, z);
+      }
+    };
+    pool.run(ny, threads, prepare_rows);
+  }
+
+  // Per term n (from the highest): the sample arrays A, B, C of every rule point, through the
+  // x-transform (combined per node column into A - q_x B and C, summed over a group's points),
+  // through the y-transform (combined into I_n = Y[A - q_x B] - q_y Y[C], summed over the
+  // groups) and into the Clenshaw recurrence b_n = I_n + 2 t b_{n+1} - b_{n+2} per node.
+  // Every block of rows or columns is computed the same way by whichever thread takes it.
+  std::size_t f = 0, g = 0, gi = 0;
+  std::size_t n_hi = 0, nb = 1;  // the batch: terms n_hi, n_hi - 1, ..., n_hi - nb + 1
+  bool first = true;
+  const std::function<void(std::size_t)> xblock = [&](std::size_t b) {  // midpoint rule
+    ThreadScratch& sc = thread_scratch();
+    ax.prepare(sc.x);
+    sc.sums.resize(N * std::max(kVx, batch * kVy));
+    cd* in = sc.x.in.data();
+    const std::size_t y0 = b * kRows, K = ax.taps(), ldi = ax.in_stride();
+    // The batch's terms one after the other: the block's samples stay in cache between them.
+    for (std::size_t bs = 0; bs < nb; ++bs) {
+      const std::size_t n = n_hi - bs;
+      cd* xo = ws.xo.data() + bs * slot;
+      for (std::size_t rr = 0; rr < kRows; ++rr) {
+        const std::size_t y = y0 + rr;
+        cd* oa = in + 3 * rr * ldi;
+        cd* ob = oa + ldi;
+        cd* oc = ob + ldi;
+        if (y >= ny) {
+          for (std::size_t x = 0; x < nx; ++x) {
+            const std::size_t q = ax.position(x);
+            oa[q] = ob[q] = oc[q] = 0.0;
+          }
+          continue;
+        }
+        const std::size_t i = y * nx;
+        double* ring = ws.ring.data();
+        fill_row_midpoint(nx, n, bt, ws.pre.data() + i, ws.g.data() + 2 * i, ws.z.data() + i,
+                          ring + ((n + 1) % 3) * ns + i, ring + (n % 3) * ns + i,
+                          n >= 1 ? ring + ((n - 1) % 3) * ns + i : nullptr, qc, r, ax.positions(),
+                          oa, ob, oc);
+      }
+      ax.run(sc.x);
+      cd* sums = sc.sums.data();
+      tap_sums_x(ax.weights(), ax.starts(), K, 0, N, sc.x.out.data(), ax.out_stride(), sums);
+      for (std::size_t k = 0; k < N; ++k) {
+        const cd* a = sums + k * kVx;
+        cd* o = xo + (k * ny + y0) * 2;
+        for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
+          stream(o + 2 * rr, a[3 * rr] - qx[k] * a[3 * rr + 1]);
+          stream(o + 2 * rr + 1, a[3 * rr + 2]);
+        }
+      }
+    }
+    stream_fence();
+  };
+
+  // Exact rule, one group (f, g): per rule point the factor and the Bessel values of every
+  // sample are computed once for the batch's terms, then each term's arrays go through the
+  // x-transform and are summed over the group's points with the points' x shifts.
+  const std::function<void(std::size_t)> xblock_exact = [&](std::size_t b) {
+    ThreadScratch& sc = thread_scratch();
+    ax.prepare(sc.x);
+    sc.sums.resize(N * std::max(kVx, batch * kVy));
+    sc.xacc.resize(nb * N * 2 * kRows);
+    const std::size_t orders = nb + 2;  // J of orders n_hi + 1 down to n_hi - nb
+    sc.rowpre.resize(kRows * nx);
+    sc.rowj.resize(kRows * orders * nx);
+    cd* in = sc.x.in.data();
+    const std::size_t y0 = b * kRows, K = ax.taps(), ldi = ax.in_stride();
+    const auto& group = rules[f][g];
+    const Family& F = fam[f];
+    for (std::size_t pt = 0; pt < group.size(); ++pt) {
+      const RulePoint& rp = group[pt];
+      for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
+        const std::size_t y = y0 + rr;
+        const cd fy = ay.factor(y);
+        cd* pre = sc.rowpre.data() + rr * nx;
+        double* jr = sc.rowj.data() + rr * orders * nx;
+        for (std::size_t x = 0; x < nx; ++x) {
+          const std::size_t i = y * nx + x;
+          if (F.w[i] == 0) {
+            pre[x] = 0.0;
+            for (std::size_t o = 0; o < orders; ++o) jr[o * nx + x] = 0;
+            continue;
+          }
+          const double hp = F.h0[i] + rp.a * F.sa[i] + rp.b * F.sb[i], z = r * hp;
+          pre[x] = mul(mul(F.w[i] * rp.weight * dA * ax.factor(x), fy), std::polar(1.0, -qc * hp));
+          for (std::size_t o = 0; o < orders; ++o)
+            jr[o * nx + x] = o <= n_hi + 1 ? bessel(n_hi + 1 - o, z) : 0.0;
+        }
+      }
+      for (std::size_t bs = 0; bs < nb; ++bs) {
+        const std::size_t n = n_hi - bs;
+        for (std::size_t rr = 0; rr < kRows; ++rr) {
+          const std::size_t y = y0 + rr;
+          cd* oa = in + 3 * rr * ldi;
+          cd* ob = oa + ldi;
+          cd* oc = ob + ldi;
+          if (y >= ny) {
+            for (std::size_t x = 0; x < nx; ++x) {
+              const std::size_t q = ax.position(x);
+              oa[q] = ob[q] = oc[q] = 0.0;
+            }
+            continue;
+          }
+          const cd* pre = sc.rowpre.data() + rr * nx;
+          const double* jr = sc.rowj.data() + rr * orders * nx;
+          for (std::size_t x = 0; x < nx; ++x) {
+            const std::size_t i = y * nx + x, q = ax.position(x);
+            const double jp = jr[bs * nx + x], jn = jr[(bs + 1) * nx + x],
+                         jm = n >= 1 ? jr[(bs + 2) * nx + x] : 0.0;
+            // With the factor (-i)^n taken out (applied after the y-transform): c_n = alpha
+            // J_n, the q_z part q_c c_n + r s_n with s_n = i (J_{n-1} - J_{n+1}).
+            const double u = (n ? 2.0 : 1.0) * jn;
+            oa[q] = mul(pre[x], cd(qc * u, r * (jm - jp)));
+            ob[q] = pre[x] * (F.gx[i] * u);
+            oc[q] = pre[x] * (F.gy[i] * u);
+          }
+        }
+        ax.run(sc.x);
+        cd* sums = sc.sums.data();
+        tap_sums_x(ax.weights(), ax.starts(), K, 0, N, sc.x.out.data(), ax.out_stride(), sums);
+        // A - q_x B and C of each row, shifted by the point's x offset, summed over the points.
+        cd* xacc = sc.xacc.data() + bs * N * 2 * kRows;
+        for (std::size_t k = 0; k < N; ++k) {
+          const cd ph = xshift[f][g][pt * N + k];
+          const cd* a = sums + k * kVx;
+          cd* xa = xacc + k * 2 * kRows;
+          for (std::size_t rr = 0; rr < kRows; ++rr) {
+            const cd u = mul(ph, a[3 * rr] - qx[k] * a[3 * rr + 1]), v = mul(ph, a[3 * rr + 2]);
+            xa[2 * rr] = pt == 0 ? u : xa[2 * rr] + u;
+            xa[2 * rr + 1] = pt == 0 ? v : xa[2 * rr + 1] + v;
+          }
+        }
+      }
+    }
+    for (std::size_t bs = 0; bs < nb; ++bs) {
+      cd* xo = ws.xo.data() + bs * slot;
+      const cd* xacc = sc.xacc.data() + bs * N * 2 * kRows;
+      for (std::size_t k = 0; k < N; ++k) {
+        const cd* xa = xacc + k * 2 * kRows;
+        cd* o = xo + (k * ny + y0) * 2;
+        for (std::size_t rr = 0; rr < kRows && y0 + rr < ny; ++rr) {
+          stream(o + 2 * rr, xa[2 * rr]);
+          stream(o + 2 * rr + 1, xa[2 * rr + 1]);
+        }
+      }
+    }
+    stream_fence();
+  };
+
+  const std::function<void(std::size_t)> yblock = [&](std::size_t b) {
+    ThreadScratch& sc = thread_scratch();
+    ay.prepare(sc.y);
+    sc.sums.resize(N * std::max(kVx, batch * kVy));
+    cd* in = sc.y.in.data();
+    const std::size_t k0 = b * kCols, K = ay.taps();
+    std::size_t lmin = N, lmax = 0;
+    for (std::size_t c = 0; c < kCols; ++c) {
+      const std::size_t k = k0 + c;
+      if (k < N && lay.hi[k] > lay.lo[k]) {
+        lmin = std::min(lmin, lay.lo[k]);
+        lmax = std::max(lmax, lay.hi[k]);
+      }
+    }
+    if (lmin >= lmax) return;
+    const std::size_t span_l = lmax - lmin;
+    for (std::size_t s = 0; s < nb; ++s) {
+      for (std::size_t c = 0; c < kCols; ++c) {
+        const std::size_t k = k0 + c;
+        const bool live = k < N && lay.hi[k] > lay.lo[k];
+        const cd* src = live ? ws.xo.data() + s * slot + k * ny * 2 : nullptr;
+        const std::size_t* pos = ay.positions();
+        cd* da = in + 2 * c * ay.in_stride();
+        cd* dc = da + ay.in_stride();
+        if (live)
+          for (std::size_t y = 0; y < ny; ++y) {
+            da[pos[y]] = src[2 * y];
+            dc[pos[y]] = src[2 * y + 1];
+          }
+        else
+          for (std::size_t y = 0; y < ny; ++y) da[pos[y]] = dc[pos[y]] = 0.0;
+      }
+      ay.run(sc.y);
+      tap_sums_y(ay.weights(), ay.starts(), K, lmin, lmax, sc.y.out.data(), ay.out_stride(),
+                 sc.sums.data() + s * span_l * kVy);
+    }
+    const bool last_group = gi + 1 == groups;
+    const std::vector<cd>* ysh = exact ? &yshift[f][g] : nullptr;
+    for (std::size_t c = 0; c < kCols; ++c) {
+      const std::size_t k = k0 + c;
+      if (k >= N || lay.hi[k] <= lay.lo[k]) continue;
+      for (std::size_t l = lay.lo[k]; l < lay.hi[k]; ++l) {
+        const std::size_t j = lay.off[k] + (l - lay.lo[k]);
+        const double t = lay.t[j];
+        cd b1 = first ? cd(0) : ws.state[2 * j], b2 = first ? cd(0) : ws.state[2 * j + 1];
+        for (std::size_t s = 0; s < nb; ++s) {
+          const std::size_t nn = n_hi - s;
+          const cd* a = sc.sums.data() + (s * span_l + (l - lmin)) * kVy + 2 * c;
+          cd I = a[0] - qy[l] * a[1];
+          if (ysh) I = mul(I, (*ysh)[l]);
+          I = rotate(I, nn);
+          if (groups > 1) {
+            cd& acc = ws.it[s * lay.count + j];
+            if (!last_group) {
+              acc = gi == 0 ? I : acc + I;
               continue;
             }
-            const double hp = exact ? F.h0[i] + rp.a * F.sa[i] + rp.b * F.sb[i] : F.h0[i];
-            const double z = r * hp, a = std::fabs(z);
-            auto cj = [&](std::size_t k) {  // c_k(z) = (k ? 2 : 1) (-i)^k J_k(z)
-              double j = bt(k, a);
-              if (z < 0 && (k & 1)) j = -j;
-              return (k ? 2.0 : 1.0) * j * mi[k & 3];
-            };
-            cd cn = cj(n), cp = cj(n + 1);
-            cd s = n == 0 ? 0.5 * cp : (n == 1 ? cj(0) + 0.5 * cp : 0.5 * (cj(n - 1) + cp));
-            const cd b = std::polar(F.w[i] * rp.weight * dA, -qc * hp);
-            in[i] = b * (qc * cn + r * s);
-            in[ns + i] = b * (F.gx[i] * cn);
-            in[2 * ns + i] = b * (F.gy[i] * cn);
+            I += acc;
           }
-          // x-pass, written transposed: xo[k * 3ny + (component * ny + y)], k = q_x index.
-          czx.execute(in.data(), nx, 1, xo.data(), 1, bt3);
-          if (exact) {  // shift by the rule point's x offset: a phase per q_x
-            const double ox = rp.a * p.dx;
-#pragma omp parallel for schedule(static) if (big)
-            for (std::size_t k = 0; k < N; ++k) {
-              const cd ph = std::polar(1.0, -qx[k] * ox);
-              cd* dst = xacc.data() + k * bt3;
-              const cd* src = xo.data() + k * bt3;
-              for (std::size_t j = 0; j < bt3; ++j) dst[j] += ph * src[j];
-            }
+          if (nn > 0) {
+            const cd bn = I + 2 * t * b1 - b2;
+            b2 = b1;
+            b1 = bn;
+          } else {
+            out[l * N + k] = std::norm(I + t * b1 - b2) * norm;
           }
         }
-#pragma omp parallel for schedule(static) if (big)
-        for (std::size_t k = 0; k < N; ++k) {
-          cd* col = xsum + k * bt3;
-          for (std::size_t y = 0; y < ny; ++y) col[y] -= qx[k] * col[ny + y];
-        }
-        czy.execute(xsum, bt3, 1, ym.data());  // column k -> ym[k * N + l], l = q_y index
-        czy.execute(xsum + 2 * ny, bt3, 1, yc.data());
-        if (exact) {  // shift by the group's y offset, sum the q_y part in
-          const double oy = group.front().b * p.dy;
-#pragma omp parallel for schedule(static) if (big)
-          for (std::size_t l = 0; l < N; ++l) {
-            const cd ph = std::polar(1.0, -qy[l] * oy);
-            for (std::size_t k = 0; k < N; ++k) {
-              const std::size_t j = k * N + l;
-              it[j] += ph * (ym[j] - qy[l] * yc[j]);
-            }
-          }
+        if (n_hi + 1 > nb && !(groups > 1 && !last_group)) {  // not the last batch
+          ws.state[2 * j] = b1;
+          ws.state[2 * j + 1] = b2;
         }
       }
     }
-    // Clenshaw step: b_n = I_n + 2 t b_{n+1} - b_{n+2}; at n = 0: f = I_0 + t b_1 - b_2.
-    const double two = n == 0 ? 1.0 : 2.0;
-#pragma omp parallel for schedule(static) if (big)
-    for (std::size_t k = 0; k < N; ++k)
-      for (std::size_t l = 0; l < N; ++l) {
-        const std::size_t j = k * N + l;
-        double t = tnode[j];
-        if (std::isnan(t)) continue;
-        cd in_n = exact ? it[j] : ym[j] - qy[l] * yc[j];
-        cd bn = in_n + two * t * b1[j] - b2[j];
-        b2[j] = b1[j];
-        b1[j] = bn;
-      }
+  };
+
+  for (n_hi = terms - 1;; n_hi -= nb) {
+    nb = std::min(batch, n_hi + 1);
+    f = g = gi = 0;
+    if (exact) {
+      for (f = 0; f < fam.size(); ++f)
+        for (g = 0; g < rules[f].size(); ++g, ++gi) {
+          pool.run(xblocks, threads, xblock_exact);
+          pool.run(yblocks, threads, yblock);
+        }
+    } else {
+      pool.run(xblocks, threads, xblock);
+      pool.run(yblocks, threads, yblock);
+    }
+    first = false;
+    if (n_hi + 1 == nb) break;
   }
-  const double norm = 1.0 / (4 * M_PI * M_PI * area);
-  for (std::size_t k = 0; k < N; ++k)
-    for (std::size_t l = 0; l < N; ++l)
-      if (!std::isnan(tnode[k * N + l])) out[l * N + k] = std::norm(b1[k * N + l]) * norm;
+  give_workspace(std::move(wsp));
   return out;
 }
 
@@ -369,10 +763,7 @@ std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_
                                          std::size_t resolution, double accuracy,
                                          KirchhoffFastInfo* info, bool chirp_z,
                                          KirchhoffIntegration m, double band_x, double band_y) {
-  return chirp_z ? table_fast<detail::ChirpZ>(p, lambda_q, resolution, accuracy, info, m, band_x,
-                                              band_y)
-                 : table_fast<detail::ZoomNufft>(p, lambda_q, resolution, accuracy, info, m, band_x,
-                                                 band_y);
+  return table_fast(p, lambda_q, resolution, accuracy, info, chirp_z, m, band_x, band_y);
 }
 
 }  // namespace microbrdf
