@@ -55,6 +55,25 @@ def test_kirchhoff_equals_cli_bit_for_bit(cli, data, tmp_path):
     assert D.metadata["method"] == "kirchhoff" and D.metadata["wavelength_m"] == 600e-9
 
 
+def test_kirchhoff_integration_rules_equal_cli_bit_for_bit(cli, data, tmp_path):
+    # The exact triangle rule and a given supersampling reach Python as in the CLI; the two rules
+    # give different tables (the midpoint rule is not exact on a rough scan).
+    path = data / "metropro-1.dat"
+    flags = ["--method", "kirchhoff", "--resolution", "65", "--patch", f"{60e-6!r}x{50e-6!r}m",
+             "--wavelength", metres(600e-9)]
+    ref = cli_ndf(cli, tmp_path, [path], *flags, "--dk-integration", "exact", "--dk-supersample", "3")
+    D = mb.ndf(path, method="kirchhoff", resolution=65, patch=(60e-6, 50e-6), wavelength=600e-9,
+               integration="exact", supersample=3)
+    assert np.array_equal(np.asarray(D), ref)
+    mid = mb.ndf(path, method="kirchhoff", resolution=65, patch=(60e-6, 50e-6), wavelength=600e-9,
+                 supersample=3)
+    assert not np.array_equal(np.asarray(mid), ref)
+    with pytest.raises(mb.InputError, match="integration|exact"):
+        mb.ndf(path, method="kirchhoff", resolution=65, integration="simpson")
+    with pytest.raises(mb.InputError, match="supersample"):
+        mb.ndf(path, method="kirchhoff", resolution=65, supersample=4)
+
+
 def test_naive_ndf_of_a_tilted_plane_is_one_node():
     # A plane z = a x: every facet has the normal (-a, 0, 1)/sqrt(1 + a^2).
     a = 0.25
