@@ -12,6 +12,17 @@
 
 namespace microbrdf::detail {
 
+/// Asks the kernel for transparent huge pages on [p, p + bytes) (advice only: where it is not
+/// offered, the memory keeps ordinary pages).
+inline void advise_huge_pages(void* p, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  (void)madvise(p, bytes, MADV_HUGEPAGE);
+#else
+  (void)p;
+  (void)bytes;
+#endif
+}
+
 /// Blocks under 1 MB: plain operator new.
 template <class T>
 struct HugePageAllocator {
@@ -26,9 +37,7 @@ struct HugePageAllocator {
     const std::size_t rounded = (bytes + kHuge - 1) / kHuge * kHuge;
     void* p = std::aligned_alloc(kHuge, rounded);
     if (!p) throw std::bad_alloc();
-#ifdef MADV_HUGEPAGE
-    madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure leaves 4 KB pages
-#endif
+    advise_huge_pages(p, rounded);
     return static_cast<T*>(p);
   }
   void deallocate(T* p, std::size_t n) {

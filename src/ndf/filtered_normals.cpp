@@ -20,6 +20,7 @@
 #include <new>
 #include <vector>
 
+#include "core/aligned_array.hpp"
 #include "core/helper_pool.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/ndf_estimate.hpp"
@@ -58,26 +59,7 @@ Kernel make_kernel(double spacing, double sigma, double truncate) {
   return k;
 }
 
-// A grow-only 64-byte aligned array of doubles (contents not preserved on growth).
-class AlignedBuffer {
- public:
-  double* get(std::size_t n) {
-    if (n > cap_) {
-      const std::size_t bytes = ((n * sizeof(double) + 63) / 64) * 64;
-      p_.reset(static_cast<double*>(std::aligned_alloc(64, bytes)));
-      if (!p_) throw std::bad_alloc();
-      cap_ = bytes / sizeof(double);
-    }
-    return p_.get();
-  }
-
- private:
-  struct Free {
-    void operator()(double* p) const { std::free(p); }
-  };
-  std::unique_ptr<double, Free> p_;
-  std::size_t cap_ = 0;
-};
+using AlignedBuffer = detail::AlignedArray<double>;  // grow-only scratch, 64-byte aligned
 
 // Per-thread working set of one column block, reused across blocks and scans.
 struct Workspace {

@@ -12,20 +12,7 @@
 
 #include "core/fft.hpp"
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 namespace microbrdf::detail {
-
-void advise_huge_pages(void* p, std::size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  (void)madvise(p, bytes, MADV_HUGEPAGE);  // advice only: without it, ordinary pages
-#else
-  (void)p;
-  (void)bytes;
-#endif
-}
 
 void gauss_legendre01(std::size_t n, std::vector<double>& x, std::vector<double>& w) {
   x.assign(n, 0.0);
