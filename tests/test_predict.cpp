@@ -375,8 +375,10 @@ double rms(const std::vector<double>& v) {
 TEST(Predict, NoiseFromTheHalvesOfOneRenderMatchesTwoIndependentRenders) {
   // The comparison strip knows the reference render's noise from the two halves of its samples
   // (report::render_split), without a second render. Check that estimate against its definition:
-  // two split renders with disjoint seeds differ by sqrt(2) x the noise of one. Cylinder pair
-  // under the courtyard map, copper GGX (0.08, 0.3), 48 x 48 px, 16 spp.
+  // two renders with other seeds differ by sqrt(2) x the noise of one. For the Sobol' sampler
+  // the halves of one sequence are slightly anti-correlated, so the estimate may err high (by
+  // 8% here), never much low. Cylinder pair under the courtyard map, copper GGX (0.08, 0.3),
+  // 48 x 48 px, 16 spp.
   report::PredictScene sc;
   sc.geometry.kind = PreviewScene::Cylinders;
   sc.lights.envmap_path = std::string(MICROBRDF_DATA) + "/envmaps/blender_courtyard.exr";
@@ -407,7 +409,8 @@ TEST(Predict, NoiseFromTheHalvesOfOneRenderMatchesTwoIndependentRenders) {
   std::printf("noise from halves %.5g, from independent renders %.5g (ratio %.3f)\n", e / 3, r / 3,
               e / r);
   // 2304 pixels each: the RMS of either estimate scatters by a few per cent.
-  EXPECT_NEAR(e / r, 1.0, 0.12);
+  EXPECT_GT(e / r, 0.95);
+  EXPECT_LT(e / r, 1.25);
   // One sample per pixel: a second render, and the same relation.
   o.spp = 1;
   o.seed = 5;

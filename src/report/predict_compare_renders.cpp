@@ -3,8 +3,8 @@
 // (ellipsoid, Beckmann, GGX) and D_K (with --kirchhoff): same lights, exposure, size, samples and
 // seed as its measured-NDF render; each against that render: SSIM on the displayed luminance
 // (core/image_metrics.hpp, Wang et al. 2004), RMS relative error of the linear luminance, and a
-// false-colour difference image. The render noise comes with the measured-NDF render itself (two
-// halves of its samples with independent scrambles, see stage_render): no extra render.
+// false-colour difference image. The render noise comes with the measured-NDF render itself (the
+// two halves of its samples kept apart, see render_split): no extra render.
 #include <algorithm>
 #include <cmath>
 
@@ -110,10 +110,10 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
   const std::vector<double> ref_d = displayed(ref_y, ev);
   const auto wz = static_cast<std::size_t>(w), hz = static_cast<std::size_t>(h);
 
-  // Noise: stage_render made the reference from two halves of its samples with independent
-  // scrambles and left one realisation r of the reference's own noise (variance sigma^2 per
-  // pixel). Two independent renders would differ by sqrt(2) r: that is the "second seed" row the
-  // models are read against, and the noise of one image is RMS(r) / RMS(reference).
+  // Noise: stage_render kept the two halves of the reference's samples apart and left one
+  // realisation r of the reference's own noise (variance sigma^2 per pixel; render_split). Two
+  // independent renders would differ by sqrt(2) r: that is the "second seed" row the models are
+  // read against, and the noise of one image is RMS(r) / RMS(reference).
   const std::vector<double>& r = ref.noise_luminance;
   if (r.size() != ref_y.size())
     throw std::logic_error("comparison strip: the reference render has no noise estimate");
@@ -133,8 +133,8 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
       {"exposure_stops", ev},
       {"smoothing_sigma_px", kSmoothPx},
       {"noise",
-       {{"second_seed", ref.noise_seed},
-        {"method", o.render_spp >= 2 ? "halves" : "second_render"},
+       {{"method", o.render_spp >= 2 ? "halves" : "second_render"},
+        {"second_seed", ref.noise_seed},
         {"rms_relative", detail::rms_relative(again_y, ref_y) / std::sqrt(2.0)},
         {"rms_relative_smoothed", detail::rms_relative(again_s, ref_s) / std::sqrt(2.0)},
         {"ssim_two_seeds", detail::ssim(displayed(again_y, ev), ref_d, wz, hz)}}}};

@@ -110,45 +110,41 @@ std::string studio_beside(const std::string& envmap) {
 }  // namespace
 
 // A compared scene's measured-NDF render, made so that its noise can be told without a second
-// render: two halves of the samples (ceil(spp/2) with the seed, floor(spp/2) with seed + 1: two
-// independent scrambles of the Sobol' points) averaged with weights nA / N and nB / N. The
-// average has the noise variance s^2 / N of one N-sample render (s^2 per sample), and the
-// halves' difference A - B has s^2 (1/nA + 1/nB), so k (Y_A - Y_B) with k = sqrt(nA nB) / N is
-// one realisation of the average's own noise (k = 1/2 for even N). At one sample per pixel the
-// image is rendered again with seed + 1 and (Y_2 - Y_1) / sqrt 2 is used.
+// render: the renderer keeps the images of the first n0 = floor(N/2) and the last n1 = N - n0
+// samples apart (RenderOptions::half_images) besides the full image, which is the same bit for
+// bit as a render without them. With s^2 the variance per sample, the full image has s^2 / N
+// and the halves' difference A - B has s^2 (1/n0 + 1/n1), so k (Y_A - Y_B) with
+// k = sqrt(n0 n1) / N is one realisation of the image's own noise (k = 1/2 for even N). For the
+// Sobol' sampler the halves are two halves of one scrambled sequence, slightly anti-correlated,
+// so this errs high (it is the noise two independent half-sample renders would show). At one
+// sample per pixel the image is rendered again with seed + 1 and (Y_2 - Y_1) / sqrt 2 is used.
 RenderImage render_split(const PredictScene& scene,
                          const std::vector<std::shared_ptr<const Svbrdf> >& mats,
                          const RenderOptions& ro, std::vector<double>& noise) {
   const int n = ro.spp;
-  const int na = n >= 2 ? (n + 1) / 2 : n, nb = n >= 2 ? n / 2 : n;
-  RenderOptions oa = ro, ob = ro;
-  oa.spp = na;
-  ob.spp = nb;
-  ob.seed = ro.seed + 1;
-  if (ro.progress) {
-    oa.progress = [&ro, na, n](double f) { ro.progress(f * na / n); };
-    ob.progress = [&ro, na, nb, n](double f) { ro.progress((na + f * nb) / n); };
-  }
-  RenderImage a = render(scene.geometry, mats, scene.lights, oa);
-  const RenderImage b = render(scene.geometry, mats, scene.lights, ob);
-  const std::vector<double> ya = detail::luminance(a.rgb), yb = detail::luminance(b.rgb);
-  noise.resize(ya.size());
-  if (n >= 2) {
-    const double wa = static_cast<double>(na) / n, wb = static_cast<double>(nb) / n;
-    const double k = std::sqrt(static_cast<double>(na) * nb) / n;
-    for (std::size_t i = 0; i < a.rgb.size(); ++i)
-      a.rgb[i] = static_cast<float>(wa * a.rgb[i] + wb * b.rgb[i]);
-    for (std::size_t i = 0; i < ya.size(); ++i) noise[i] = k * (ya[i] - yb[i]);
-  } else {
+  if (n < 2) {
+    RenderImage a = render(scene.geometry, mats, scene.lights, ro);
+    RenderOptions ob = ro;
+    ob.seed = ro.seed + 1;
+    ob.progress = nullptr;
+    const RenderImage b = render(scene.geometry, mats, scene.lights, ob);
+    const std::vector<double> ya = detail::luminance(a.rgb), yb = detail::luminance(b.rgb);
+    noise.resize(ya.size());
     for (std::size_t i = 0; i < ya.size(); ++i) noise[i] = (yb[i] - ya[i]) / std::sqrt(2.0);
+    a.seconds += b.seconds;
+    a.rays += b.rays;
+    return a;
   }
-  a.seconds += b.seconds;
-  a.rays += b.rays;
-  a.samples_per_second =
-      a.seconds > 0 ? static_cast<double>(a.width) * a.height * (n >= 2 ? n : 2) / a.seconds : 0;
-  if (n >= 2)
-    a.settings += "; samples split " + std::to_string(na) + " + " + std::to_string(nb) +
-                  " over seeds " + std::to_string(ro.seed) + ", " + std::to_string(ob.seed);
+  RenderOptions o = ro;
+  o.half_images = true;
+  RenderImage a = render(scene.geometry, mats, scene.lights, o);
+  const int n0 = n / 2, n1 = n - n0;
+  const double k = std::sqrt(static_cast<double>(n0) * n1) / n;
+  const std::vector<double> y0 = detail::luminance(a.half_rgb[0]),
+                            y1 = detail::luminance(a.half_rgb[1]);
+  noise.resize(y0.size());
+  for (std::size_t i = 0; i < y0.size(); ++i) noise[i] = k * (y0[i] - y1[i]);
+  a.half_rgb = {};  // the report keeps only the noise
   return a;
 }
 
@@ -246,7 +242,7 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
       r.exposure_stops = exposure;
       r.image = std::move(img);
       r.noise_luminance = std::move(noise);
-      r.noise_seed = ro.seed + 1;
+      r.noise_seed = ro.spp >= 2 ? ro.seed : ro.seed + 1;
       references->push_back(std::move(r));
     }
   }

@@ -114,23 +114,23 @@ struct ReferenceRender {
   /// the image's own noise (see stage_render): what a second, independent render of the same
   /// samples would add or take per pixel.
   std::vector<double> noise_luminance;
-  std::uint64_t noise_seed = 0;  ///< the seed of the second half (or of the second render)
+  std::uint64_t noise_seed = 0;  ///< the seed of the halves (or of the second render at 1 spp)
 };
 /// The exposure (stops, half-stop steps within +-10) at which the image's 99th-percentile
 /// luminance shows at about full white; 0 for a black image.
 double auto_exposure_stops(const RenderImage& img);
-/// A render of `scene` at `options.spp` samples per pixel made of two halves of the samples,
-/// ceil(spp/2) with options.seed and floor(spp/2) with seed + 1 (independent scrambles),
-/// averaged with weights nA / spp and nB / spp; `noise` receives one realisation of that
-/// image's own Monte Carlo noise in linear luminance, k (Y_A - Y_B) with k = sqrt(nA nB) / spp
-/// (at spp = 1: a second 1-sample render with seed + 1, and (Y_2 - Y_1) / sqrt 2).
+/// A render of `scene` at `options.spp` samples per pixel, the same as render() gives, and in
+/// `noise` one realisation of its own Monte Carlo noise in linear luminance,
+/// k (Y_A - Y_B) with Y_A, Y_B the images of the first floor(spp/2) and the remaining samples
+/// and k = sqrt(nA nB) / spp (at spp = 1: a second render with seed + 1, and
+/// (Y_2 - Y_1) / sqrt 2).
 RenderImage render_split(const PredictScene& scene,
                          const std::vector<std::shared_ptr<const Svbrdf> >& materials,
                          const RenderOptions& options, std::vector<double>& noise);
 /// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`. The
 /// renders of predict_scenes() (the references of the comparison strip) go into `references`
-/// when given; each is made of two halves of its samples with independent scrambles (seed and
-/// seed + 1), averaged, so that its noise is known without a second render.
+/// when given, each with its noise from the two halves of its samples (render_split), so that
+/// the noise is known without a second render.
 nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>& measured,
                             nlohmann::json& timing,
                             std::vector<ReferenceRender>* references = nullptr);

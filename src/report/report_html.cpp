@@ -585,12 +585,11 @@ void comparison_scene(Page& p, json& rc, bool first, const std::string& ndf_labe
   const bool halves = noise.contains("method") && str(noise["method"]) == "halves";
   if (first) {
     if (halves)
-      p << "the measured-NDF render is the mean of two halves of its samples with independent "
-           "scrambles (seeds "
-        << std::to_string(rc["seed"].get<long>()) << " and "
-        << std::to_string(noise["second_seed"].get<long>())
-        << "); half their difference is one realisation of the image's own Monte Carlo noise, "
-           "so the noise is known without a second render. The noise of the image is ";
+      p << "the renderer kept the images of the first and the second half of the measured-NDF "
+           "render's samples apart; half their difference is one realisation of the image's "
+           "own Monte Carlo noise (for the Sobol' sampler an upper estimate: the two halves of "
+           "one sequence are slightly anti-correlated), so the noise is known without a second "
+           "render. The noise of the image is ";
     else
       p << "the measured NDF rendered again with seed "
         << std::to_string(noise["second_seed"].get<long>())
