@@ -435,7 +435,7 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   // Transforms (cached): exact chirp-z, or the NUFFT with taps for accuracy / 100 relative to
   // sum |x|. The node frequencies are q_x = q_y = |q| (-1 + delta k).
   const auto kind = chirp_z ? KirchhoffAxis::Kind::ChirpZ : KirchhoffAxis::Kind::Nufft;
-  const int taps = detail::ZoomNufft::taps_for(accuracy * 1e-2);
+  const int taps = detail::KirchhoffAxis::taps_for(accuracy * 1e-2);
   const auto axp = KirchhoffAxis::get(kind, nx, N, -qmag * p.dx, qmag * delta * p.dx, taps, kVx);
   const auto ayp = KirchhoffAxis::get(kind, ny, N, -qmag * p.dy, qmag * delta * p.dy, taps, kVy);
   const KirchhoffAxis& ax = *axp;

@@ -202,6 +202,12 @@ std::shared_ptr<const KirchhoffAxis> KirchhoffAxis::get(Kind kind, std::size_t n
   return a;
 }
 
+int KirchhoffAxis::taps_for(double eps) {
+  if (!(eps > 0)) return 16;
+  const int k = static_cast<int>(std::ceil(-std::log10(eps))) + 1;
+  return std::clamp(k, 4, 16);
+}
+
 KirchhoffAxis::~KirchhoffAxis() {
   auto plock = fftw_planner_lock();
   if (fwd_) fftw_destroy_plan(static_cast<fftw_plan>(fwd_));

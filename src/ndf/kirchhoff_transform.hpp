@@ -39,6 +39,8 @@ class KirchhoffAxis {
   static std::shared_ptr<const KirchhoffAxis> get(Kind kind, std::size_t n, std::size_t m,
                                                   double w0, double dw, int taps,
                                                   std::size_t vectors);
+  /// NUFFT taps K for a relative tolerance eps (about 10^(1-K) <= eps), clamped to [4, 16].
+  static int taps_for(double eps);
   ~KirchhoffAxis();
   KirchhoffAxis(const KirchhoffAxis&) = delete;
   KirchhoffAxis& operator=(const KirchhoffAxis&) = delete;
