@@ -732,3 +732,24 @@ TEST(Render, VisibleWavelengthSamplingIsExact) {
     EXPECT_NEAR(l4[k], l1[0], 1e-9);
   }
 }
+
+TEST(Render, EnvironmentMapWiderThanItsTablesIsAnInputError) {
+  // The sampling tables index columns with 16 bits: a wider map is refused with a message, not
+  // a library exception (65535 columns pass).
+  for (int w : {65535, 65536}) {
+    pt::RgbFloatImage img;
+    img.width = w;
+    img.height = 2;
+    img.rgb.assign(static_cast<std::size_t>(w) * 2 * 3, 1.0f);
+    if (w <= 65535) {
+      EXPECT_NO_THROW(pt::EnvironmentMap(img, 1.0, 0.0));
+    } else {
+      try {
+        pt::EnvironmentMap m(img, 1.0, 0.0);
+        ADD_FAILURE() << "a map of 65536 columns was accepted";
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("65535"), std::string::npos) << e.what();
+      }
+    }
+  }
+}

@@ -34,6 +34,11 @@ EnvironmentMap::EnvironmentMap(RgbFloatImage img, double scale, double rotation_
   if (img_.width <= 0 || img_.height <= 0 ||
       img_.rgb.size() != std::size_t(img_.width) * img_.height * 3)
     throw InputError("environment map: empty or inconsistent image");
+  // The sampling tables index columns with 16 bits (distribution2d.hpp): 65535 columns is 8x
+  // the width of an 8K panorama.
+  if (img_.width > 65535)
+    throw InputError("environment map: " + std::to_string(img_.width) +
+                     " pixels wide; at most 65535 columns are supported (resample it)");
   if (!(scale >= 0) || !std::isfinite(scale))
     throw InputError("environment map: the scale must be finite and >= 0");
   for (auto& c : img_.rgb) c = std::isfinite(c) ? std::max(0.0f, c * float(scale)) : 0.0f;
