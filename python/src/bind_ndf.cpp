@@ -78,8 +78,15 @@ TabulatedNdf geometric_ndf(const ScanInputs& in, const NdfEstimateOptions& o,
   return acc.result();
 }
 
+/// Frees D_K's kept buffers when a binding that computed D_K returns (or throws): a Python
+/// session holds on to its process, and those buffers are 100 MB and more.
+struct ReleaseKirchhoffBuffers {
+  ~ReleaseKirchhoffBuffers() { kirchhoff_release_buffers(); }
+};
+
 TabulatedNdf kirchhoff_ndf(const ScanInputs& in, KirchhoffOptions o, const ReadOptions& read,
                            const LevelingSpec& level, const std::function<void(double)>& hook) {
+  const ReleaseKirchhoffBuffers release;
   std::size_t scan = 0;
   o.progress = [&](double f) { hook((double(scan) + f) / double(in.size())); };
   KirchhoffAccumulator acc(o);
@@ -117,6 +124,7 @@ py::dict filter_sigma_auto(const py::object& scans, double wavelength, const py:
   const ReadOptions read = read_options(spacing);
   const ScanInputs in = scan_inputs(scans);
   const FilterSigmaAuto r = call_released([&] {
+    const ReleaseKirchhoffBuffers release;
     return choose_filter_sigma(
         [&](const std::function<void(const Surface&)>& f) {
           for (std::size_t i = 0; i < in.size(); ++i) {

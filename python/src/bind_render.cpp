@@ -4,6 +4,7 @@
 #include "bindings.hpp"
 #include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/predict.hpp"
 #include "microbrdf/render.hpp"
 
@@ -155,7 +156,11 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
   o.threads = threads;
   o.log = progress_hook<const std::string&>(progress);
   const std::string dir = fspath(out_dir);
-  const std::string dumped = call_released([&] { return predict(o, dir).summary.dump(); });
+  const std::string dumped = call_released([&] {
+    const std::string text = predict(o, dir).summary.dump();
+    kirchhoff_release_buffers();  // D_K's kept buffers: 100 MB and more in a Python session
+    return text;
+  });
   return json_to_py(dumped);
 }
 

@@ -178,3 +178,17 @@ def test_sampling_and_zoom_window(cli, tmp_path):
     # A histogram says "cell".
     S = mb.ndf(mb.Surface(gaussian_surface(), spacing=0.5e-6), method="naive", resolution=65)
     assert S.sampling == "cell"
+
+
+def test_kirchhoff_buffers_are_released_after_the_call(data):
+    # The fast D_K keeps ~100 MB of buffers between tables; a Python session keeps its process,
+    # so mb.ndf frees them when it returns (kirchhoff_release_buffers).
+    def resident_mb():
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * 4096 / 1e6
+
+    before = resident_mb()
+    D = mb.ndf(data / "sur-2.sur", method="kirchhoff", resolution=1025, patch=None)
+    assert D.integral() == pytest.approx(1, rel=1e-9)
+    # The table itself is 8.4 MB; kept buffers would add more than 100 MB.
+    assert resident_mb() - before < 90

@@ -280,6 +280,16 @@ void give_workspace(std::unique_ptr<Workspace> w) {
   if (!s.ws) s.ws = std::move(w);
 }
 
+}  // namespace
+
+void kirchhoff_release_buffers() {
+  auto& s = workspace_slot();
+  std::lock_guard<std::mutex> lock(s.m);
+  s.ws.reset();
+}
+
+namespace {
+
 struct ThreadScratch {
   KirchhoffAxis::Scratch x, y;
   AlignedArray<cd> sums;      // tap sums of one block (x: N x kVx; y: batch x N x kVy)
