@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/simd_clones.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/quadrature.hpp"
 
@@ -110,16 +111,6 @@ typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
 // Directions per call: two groups of four, so two independent recurrences are in flight (the l
 // recurrence is a chain of dependent products; one alone leaves the units idle).
 constexpr int kGroups = 2, kLanes = 4 * kGroups;
-
-// The inner loop is written for the vectoriser; on x86-64 GCC also builds an AVX2 version chosen
-// at run time. AVX2 without FMA: products and sums round as in the baseline build, so both give
-// the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define MICROBRDF_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define MICROBRDF_SIMD_CLONES
-#endif
 
 // acc[kGroups * sh_odd_index(l, m) + g] += weight * Y_lm over kLanes directions (x, y, z, weight
 // lanes; group g holds lanes 4g..4g+3), l + m odd.

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <string>
 
+#include "core/simd_clones.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/sh_basis.hpp"
 
@@ -14,15 +15,6 @@ constexpr double kPi = 3.14159265358979323846;
 
 // Four lanes of doubles (GCC/Clang vector extension: one AVX2 register, two SSE2 ones).
 typedef double V4 __attribute__((vector_size(32)));
-
-// On x86-64 GCC also builds an AVX2 version chosen at run time; without FMA, products and sums
-// round as in the baseline build, so both give the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define MICROBRDF_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define MICROBRDF_SIMD_CLONES
-#endif
 
 // c += a b^T for column-major a, b (n x k, leading dimension n) and c (n x n): the estimator's
 // batched outer products, on the calling thread (an estimator is one worker's accumulator; no

@@ -22,19 +22,10 @@
 
 #include "core/aligned_array.hpp"
 #include "core/helper_pool.hpp"
+#include "core/simd_clones.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "ndf/filtered_normals_core.hpp"
-
-// The inner loops are written for the compiler's vectoriser; on x86-64 GCC also builds an AVX2
-// version chosen at run time. AVX2 without FMA: products and sums are rounded exactly as in the
-// baseline build, so both versions give the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define MICROBRDF_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define MICROBRDF_SIMD_CLONES
-#endif
 
 namespace microbrdf {
 namespace {

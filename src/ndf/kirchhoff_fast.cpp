@@ -29,6 +29,7 @@
 
 #include "core/fft.hpp"
 #include "core/helper_pool.hpp"
+#include "core/simd_clones.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
 #include "ndf/kirchhoff_transform.hpp"
@@ -113,15 +114,6 @@ double gauss_error(std::size_t p, double span) {
 
 using detail::AlignedArray;
 using detail::KirchhoffAxis;
-
-// The tap sums are written for the compiler's vectoriser; on x86-64 GCC also builds an AVX2
-// version chosen at run time (AVX2 without FMA: the same products and sums, the same bits).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define MICROBRDF_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define MICROBRDF_SIMD_CLONES
-#endif
 
 typedef double V4 __attribute__((vector_size(32), may_alias));
 
