@@ -112,7 +112,7 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
 
   // Noise: stage_render kept the two halves of the reference's samples apart and left one
   // realisation r of the reference's own noise (variance sigma^2 per pixel; render_split). Two
-  // independent renders would differ by sqrt(2) r: that is the "second seed" row the models are
+  // independent renders would differ by sqrt(2) r: that is the "noise only" row the models are
   // read against, and the noise of one image is RMS(r) / RMS(reference).
   const std::vector<double>& r = ref.noise_luminance;
   if (r.size() != ref_y.size())
