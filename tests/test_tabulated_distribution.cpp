@@ -361,13 +361,15 @@ TEST(tabulated_distribution, VisibleSamplingReducesAlbedoVarianceUnbiased) {
             << c.vis->analytic->describe() << " theta " << th;
       }
       // Normal incidence: the visible normals are D(m)(m.n) already, so both samplers draw
-      // from the same density (up to the float CDFs) and the factor is 1 up to the noise of the
-      // variance estimates (driven by rare grazing wo): checked on the pdf instead.
+      // from the same density up to the float view CDFs (each coarse-cell probability off by at
+      // most a few 2^-24, absolute) and the factor is 1 up to the noise of the variance
+      // estimates (driven by rare grazing wo): checked on the pdf instead.
       if (th == 0) {
+        const double peak = c.ndf->table->sampling_pdf(wi, Vec3(0, 0, 1));
         for (double a : {0.0, 1.0, 2.0, 4.0}) {
           const Vec3 m = direction(a * 3, 40 * a);
           const double pn = c.ndf->table->sampling_pdf(wi, m);
-          EXPECT_NEAR(c.vis->table->sampling_pdf(wi, m), pn, 1e-9 * pn);
+          EXPECT_NEAR(c.vis->table->sampling_pdf(wi, m), pn, 1e-9 * pn + 1e-6 * peak);
         }
       } else {
         EXPECT_GT(factor, th < 60 ? 1.5 : 3.0) << c.vis->analytic->describe() << " theta " << th;

@@ -144,7 +144,7 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
   // View tables: P_k(C) proportional to sum over its sub-blocks of M_s <v_k.z + v_k.x p + v_k.y q>+
   // (= integral_C D <v_k.m>+ dw where the horizon of v_k crosses no sub-block).
   const std::size_t tables = (nt_ + 1) * np_, block = nc_ * (nc_ + 1);
-  view_cdf_.assign(tables * block, 0.0);
+  view_cdf_.assign(tables * block, 0.0f);
   const auto nsub = sub_c.size();
 #pragma omp parallel
   {
@@ -159,9 +159,9 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
       std::fill(g.begin(), g.end(), 0.0);
       for (std::size_t s = 0; s < nsub; ++s)
         g[sub_c[s]] += sub_m[s] * std::max(0.0, vz + vx * sub_p[s] + vy * sub_q[s]);
-      double* out = &view_cdf_[static_cast<std::size_t>(k) * block];
+      float* out = &view_cdf_[static_cast<std::size_t>(k) * block];
       if (!cdf_2d(g, nc_, out))  // nothing visible from v_k (not for a positive table): Q
-        for (std::size_t i = 0; i < block; ++i) out[i] = q_cdf_[i];
+        for (std::size_t i = 0; i < block; ++i) out[i] = static_cast<float>(q_cdf_[i]);
     }
   }
 }
@@ -169,7 +169,7 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
 std::size_t VisibleNormalTables::memory_bytes() const {
   return fine_cdf_.size() * sizeof(double) + fine_id_.size() * sizeof(std::uint32_t) +
          offset_.size() * sizeof(std::uint32_t) + (mass_.size() + q_cdf_.size()) * sizeof(double) +
-         view_cdf_.size() * sizeof(double);
+         view_cdf_.size() * sizeof(float);
 }
 
 VisibleNormalTables::Mix VisibleNormalTables::mix(const Vec3& v) const {
@@ -225,7 +225,7 @@ double VisibleNormalTables::coarse_probability(const Mix& x, std::size_t c) cons
   double p = eps_ * width(q, r) * width(q + nc_ + r * nc_, col);
   for (int k = 0; k < 4; ++k)
     if (x.w[k] > 0) {
-      const double* t = &view_cdf_[x.table[k] * block];
+      const float* t = &view_cdf_[x.table[k] * block];
       p += x.w[k] * width(t, r) * width(t + nc_ + r * nc_, col);
     }
   return p;
@@ -235,7 +235,7 @@ Vec3 VisibleNormalTables::sample(const Vec3& v, double u1, double u2) const {
   const Mix x = mix(v);
   const std::size_t block = nc_ * (nc_ + 1);
   // Component: view table k with probability w_k, else (probability eps) the plain Q.
-  const double* cdf_k = nullptr;
+  const float* cdf_k = nullptr;
   double lo = 0;
   for (int k = 0; k < 4; ++k) {
     if (x.w[k] > 0 && u1 < lo + x.w[k]) {
