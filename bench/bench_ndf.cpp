@@ -144,6 +144,7 @@ void BM_TabulatedShadingPoint(benchmark::State& state) {
   }
   state.counters["points/s"] = benchmark::Counter(static_cast<double>(kPoints),
                                                   benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["sampling_MB"] = static_cast<double>(d.sampling_memory_bytes()) / 1e6;
 }
 
 }  // namespace
