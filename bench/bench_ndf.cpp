@@ -12,6 +12,7 @@
 #include "microbrdf/microfacet.hpp"
 #include "microbrdf/ndf_convolve.hpp"
 #include "microbrdf/ndf_sampler.hpp"
+#include "microbrdf/tabulated_distribution.hpp"
 
 using namespace microbrdf;
 
@@ -109,8 +110,46 @@ void BM_NdfConvolve1025Fwhm1p5deg(benchmark::State& state) {
     benchmark::DoNotOptimize(convolve_angular_gaussian(t, 1.5 * std::numbers::pi / 180));
 }
 
+// What a path tracer asks of a tabulated distribution per shading point (a new view each
+// time): G1 of the view, a light sample's D, G1 and sampling density, and a visible-normal
+// sample with its density and G1 of the reflected direction. Beckmann alpha 0.3 at 1025^2
+// (arg 1025) or 513^2 (arg 513), visible-normal tables at their defaults.
+void BM_TabulatedShadingPoint(benchmark::State& state) {
+  const TabulatedDistribution d(beckmann(static_cast<std::size_t>(state.range(0)), 0.3));
+  constexpr std::size_t kPoints = 4096;
+  auto u = uniforms(6 * kPoints, 3);
+  std::vector<Eigen::Vector3d> views, lights;
+  for (std::size_t i = 0; i < kPoints; ++i) {
+    for (auto* out : {&views, &lights}) {
+      const double* r = &u[6 * i + (out == &views ? 0 : 2)];
+      const double ph = 2 * std::numbers::pi * r[0], ct = 0.02 + 0.98 * r[1];
+      const double st = std::sqrt(1 - ct * ct);
+      out->emplace_back(st * std::cos(ph), st * std::sin(ph), ct);
+    }
+  }
+  for (auto _ : state) {
+    double acc = 0;
+    for (std::size_t i = 0; i < kPoints; ++i) {
+      const Eigen::Vector3d& v = views[i];
+      const Eigen::Vector3d& l = lights[i];
+      acc += d.lambda(v);
+      const Eigen::Vector3d h = (v + l).normalized();
+      if (const double dh = d.D(h); dh > 0) acc += dh * d.lambda(l) + d.sampling_pdf(v, h);
+      const Eigen::Vector3d m = d.sample_visible(v, u[6 * i + 4], u[6 * i + 5]);
+      acc += d.sampling_pdf(v, m);
+      const Eigen::Vector3d r = 2 * v.dot(m) * m - v;
+      if (r.z() > 0) acc += d.lambda(r);
+    }
+    benchmark::DoNotOptimize(acc);
+  }
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(kPoints),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["sampling_MB"] = static_cast<double>(d.sampling_memory_bytes()) / 1e6;
+}
+
 }  // namespace
 
+BENCHMARK(BM_TabulatedShadingPoint)->Arg(513)->Arg(1025);
 BENCHMARK(BM_NdfEval);
 BENCHMARK(BM_NdfSamplerBuild)->Arg(257)->Arg(1025)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NdfSample)->Arg(257)->Arg(1025);

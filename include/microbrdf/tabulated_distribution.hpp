@@ -32,8 +32,10 @@
 //      sampling_pdf(v, m) = P(C(m) | v) eval(m) / M_C(m) * m_z     (per steradian)
 //    is exactly the density sample_visible draws from. Within a coarse cell the density is
 //    D(m)(m.n) (the factor <v.m>+ / m_z is replaced by its mean over the cell), so the weights
-//    of MicrofacetBrdf, F G2 D (wi.m) / ((wi.n) q), are close to F G2 / G1(wi). About 43 MB
-//    and ~0.2 s extra for a 1025^2 table (docs/benchmarks.md).
+//    of MicrofacetBrdf, F G2 D (wi.m) / ((wi.n) q), are close to F G2 / G1(wi). The view
+//    tables hold float CDFs (the pdf uses the same float differences, so it stays exact) over
+//    each row's span of coarse cells with mass: 34 MB in all for a 1025^2 Beckmann table, 22 MB
+//    for a 513^2 measured NDF covering part of the disk (docs/benchmarks.md).
 //  - TabulatedSampling::Ndf (the former sampler, kept for comparison): sample_visible ignores v
 //    and draws m with density D(m)(m.n) (NdfSampler); the weights are F G2 (wi.m) /
 //    ((wi.n)(m.n)), with a much larger variance at grazing wi.

@@ -6,6 +6,9 @@
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "microbrdf/error.hpp"
 #include "tabulated_distribution_vn.hpp"
@@ -149,11 +152,41 @@ TabulatedDistribution::TabulatedDistribution(TabulatedNdf ndf,
 
 double TabulatedDistribution::sigma_plus_direct(const Vec3& k) const {
   const double kx = k.x(), ky = k.y(), kz = k.z();
-  double s = 0;
-  const std::size_t nb = bm_.size();
+  // Four running sums (a fixed order, whatever the thread count): one sum would wait for the
+  // previous addition at every bin; this is the bulk of the constructor's time.
+  double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+  const std::size_t nb = bm_.size(), n4 = nb - nb % 4;
   const double *m = bm_.data(), *p = bp_.data(), *q = bq_.data();
-  for (std::size_t b = 0; b < nb; ++b) s += m[b] * std::max(0.0, kz + kx * p[b] + ky * q[b]);
-  return s;
+#ifdef __SSE2__
+  // The same operations in the same order, two bins per instruction (s0 s1 | s2 s3).
+  const __m128d vx = _mm_set1_pd(kx), vy = _mm_set1_pd(ky), vz = _mm_set1_pd(kz),
+                zero = _mm_setzero_pd();
+  __m128d a01 = zero, a23 = zero;
+  for (std::size_t b = 0; b < n4; b += 4) {
+    const __m128d t01 = _mm_add_pd(_mm_add_pd(vz, _mm_mul_pd(vx, _mm_loadu_pd(p + b))),
+                                   _mm_mul_pd(vy, _mm_loadu_pd(q + b)));
+    const __m128d t23 = _mm_add_pd(_mm_add_pd(vz, _mm_mul_pd(vx, _mm_loadu_pd(p + b + 2))),
+                                   _mm_mul_pd(vy, _mm_loadu_pd(q + b + 2)));
+    a01 = _mm_add_pd(a01, _mm_mul_pd(_mm_loadu_pd(m + b), _mm_max_pd(t01, zero)));
+    a23 = _mm_add_pd(a23, _mm_mul_pd(_mm_loadu_pd(m + b + 2), _mm_max_pd(t23, zero)));
+  }
+  double lanes[4];
+  _mm_storeu_pd(lanes, a01);
+  _mm_storeu_pd(lanes + 2, a23);
+  s0 = lanes[0];
+  s1 = lanes[1];
+  s2 = lanes[2];
+  s3 = lanes[3];
+#else
+  for (std::size_t b = 0; b < n4; b += 4) {
+    s0 += m[b] * std::max(0.0, kz + kx * p[b] + ky * q[b]);
+    s1 += m[b + 1] * std::max(0.0, kz + kx * p[b + 1] + ky * q[b + 1]);
+    s2 += m[b + 2] * std::max(0.0, kz + kx * p[b + 2] + ky * q[b + 2]);
+    s3 += m[b + 3] * std::max(0.0, kz + kx * p[b + 3] + ky * q[b + 3]);
+  }
+#endif
+  for (std::size_t b = n4; b < nb; ++b) s0 += m[b] * std::max(0.0, kz + kx * p[b] + ky * q[b]);
+  return (s0 + s1) + (s2 + s3);
 }
 
 double TabulatedDistribution::sigma_plus(const Vec3& k) const {

@@ -20,21 +20,24 @@ double width(const T* cdf, std::size_t i) {
   return static_cast<double>(cdf[i]) - (i ? static_cast<double>(cdf[i - 1]) : 0.0);
 }
 
-// Fills out[0, nc) with the inclusive row CDF of the nc x nc masses g (row-major) and
-// out[nc + r nc, nc + (r+1) nc) with the conditional CDF of row r; last entries exactly 1.
-// Returns false if g has no mass.
+// Fills out[0, nc) with the inclusive row CDF of the nc x nc masses g (row-major) and, for
+// each row r, out[nc + off[r], nc + off[r+1]) with the conditional CDF of the row's cells
+// lo[r], lo[r] + 1, ... (the span of the row's cells that can have mass; g is 0 outside it);
+// last entries exactly 1. Returns false if g has no mass.
 template <class T>
-bool cdf_2d(const std::vector<double>& g, std::size_t nc, T* out) {
+bool cdf_2d(const std::vector<double>& g, std::size_t nc, const std::vector<std::uint32_t>& lo,
+            const std::vector<std::uint32_t>& off, T* out) {
   double total = 0;
   for (std::size_t r = 0; r < nc; ++r) {
     const double* row = &g[r * nc];
     double run = 0;
     for (std::size_t c = 0; c < nc; ++c) run += row[c];
-    T* cond = out + nc + r * nc;
+    const std::size_t len = off[r + 1] - off[r];
+    T* cond = out + nc + off[r];
     double acc = 0;
-    for (std::size_t c = 0; c < nc; ++c)
-      cond[c] = static_cast<T>(run > 0 ? (acc += row[c]) / run : 1.0);
-    cond[nc - 1] = 1;
+    for (std::size_t c = 0; c < len; ++c)
+      cond[c] = static_cast<T>(run > 0 ? (acc += row[lo[r] + c]) / run : 1.0);
+    if (len) cond[len - 1] = 1;
     out[r] = static_cast<T>(total += run);  // unnormalised row CDF for now
   }
   if (!(total > 0) || !std::isfinite(total)) return false;
@@ -122,8 +125,23 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
     mass_[c] = run;
     total += run;
   }
-  q_cdf_.assign(nc_ * (nc_ + 1), 0.0);
-  if (!cdf_2d(mass_, nc_, q_cdf_.data()))
+  // Each row's span of cells with mass (the same for every table: a view table gives mass only
+  // to coarse cells with mass).
+  row_lo_.assign(nc_, 0);
+  row_off_.assign(nc_ + 1, 0);
+  for (std::size_t r = 0; r < nc_; ++r) {
+    std::size_t lo = nc_, hi = 0;
+    for (std::size_t c = 0; c < nc_; ++c)
+      if (mass_[r * nc_ + c] > 0) {
+        lo = std::min(lo, c);
+        hi = c + 1;
+      }
+    row_lo_[r] = static_cast<std::uint32_t>(hi > lo ? lo : 0);
+    row_off_[r + 1] = row_off_[r] + static_cast<std::uint32_t>(hi > lo ? hi - lo : 0);
+  }
+  block_ = nc_ + row_off_[nc_];
+  q_cdf_.assign(block_, 0.0);
+  if (!cdf_2d(mass_, nc_, row_lo_, row_off_, q_cdf_.data()))
     throw InputError("tabulated NDF: no positive mass inside the unit disk");
   total_ = total;
 
@@ -143,8 +161,8 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
 
   // View tables: P_k(C) proportional to sum over its sub-blocks of M_s <v_k.z + v_k.x p + v_k.y q>+
   // (= integral_C D <v_k.m>+ dw where the horizon of v_k crosses no sub-block).
-  const std::size_t tables = (nt_ + 1) * np_, block = nc_ * (nc_ + 1);
-  view_cdf_.assign(tables * block, 0.0);
+  const std::size_t tables = (nt_ + 1) * np_, block = block_;
+  view_cdf_.assign(tables * block, 0.0f);
   const auto nsub = sub_c.size();
 #pragma omp parallel
   {
@@ -159,9 +177,10 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
       std::fill(g.begin(), g.end(), 0.0);
       for (std::size_t s = 0; s < nsub; ++s)
         g[sub_c[s]] += sub_m[s] * std::max(0.0, vz + vx * sub_p[s] + vy * sub_q[s]);
-      double* out = &view_cdf_[static_cast<std::size_t>(k) * block];
-      if (!cdf_2d(g, nc_, out))  // nothing visible from v_k (not for a positive table): Q
-        for (std::size_t i = 0; i < block; ++i) out[i] = q_cdf_[i];
+      float* out = &view_cdf_[static_cast<std::size_t>(k) * block];
+      if (!cdf_2d(g, nc_, row_lo_, row_off_,
+                  out))  // nothing visible from v_k (not for a positive table): Q
+        for (std::size_t i = 0; i < block; ++i) out[i] = static_cast<float>(q_cdf_[i]);
     }
   }
 }
@@ -169,7 +188,8 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
 std::size_t VisibleNormalTables::memory_bytes() const {
   return fine_cdf_.size() * sizeof(double) + fine_id_.size() * sizeof(std::uint32_t) +
          offset_.size() * sizeof(std::uint32_t) + (mass_.size() + q_cdf_.size()) * sizeof(double) +
-         view_cdf_.size() * sizeof(double);
+         view_cdf_.size() * sizeof(float) +
+         (row_lo_.size() + row_off_.size()) * sizeof(std::uint32_t);
 }
 
 VisibleNormalTables::Mix VisibleNormalTables::mix(const Vec3& v) const {
@@ -220,22 +240,25 @@ VisibleNormalTables::Mix VisibleNormalTables::mix_uncached(const Vec3& v) const 
 }
 
 double VisibleNormalTables::coarse_probability(const Mix& x, std::size_t c) const {
-  const std::size_t r = c / nc_, col = c % nc_, block = nc_ * (nc_ + 1);
+  const std::size_t r = c / nc_, lo = row_lo_[r];
+  if (c % nc_ < lo) return 0.0;
+  const std::size_t col = c % nc_ - lo, cond = nc_ + row_off_[r];
+  if (cond + col >= nc_ + row_off_[r + 1]) return 0.0;  // right of the row's span
   const double* q = q_cdf_.data();
-  double p = eps_ * width(q, r) * width(q + nc_ + r * nc_, col);
+  double p = eps_ * width(q, r) * width(q + cond, col);
   for (int k = 0; k < 4; ++k)
     if (x.w[k] > 0) {
-      const double* t = &view_cdf_[x.table[k] * block];
-      p += x.w[k] * width(t, r) * width(t + nc_ + r * nc_, col);
+      const float* t = &view_cdf_[x.table[k] * block_];
+      p += x.w[k] * width(t, r) * width(t + cond, col);
     }
   return p;
 }
 
 Vec3 VisibleNormalTables::sample(const Vec3& v, double u1, double u2) const {
   const Mix x = mix(v);
-  const std::size_t block = nc_ * (nc_ + 1);
+  const std::size_t block = block_;
   // Component: view table k with probability w_k, else (probability eps) the plain Q.
-  const double* cdf_k = nullptr;
+  const float* cdf_k = nullptr;
   double lo = 0;
   for (int k = 0; k < 4; ++k) {
     if (x.w[k] > 0 && u1 < lo + x.w[k]) {
@@ -251,11 +274,12 @@ Vec3 VisibleNormalTables::sample(const Vec3& v, double u1, double u2) const {
   std::size_t row = 0, col = 0;
   if (cdf_k) {
     row = pick(cdf_k, nc_, u1, r1);
-    col = pick(cdf_k + nc_ + row * nc_, nc_, u2, r2);
   } else {
     row = pick(q_cdf_.data(), nc_, u1, r1);
-    col = pick(q_cdf_.data() + nc_ + row * nc_, nc_, u2, r2);
   }
+  // (the row drawn has mass, so its span is not empty)
+  const std::size_t cond = nc_ + row_off_[row], len = row_off_[row + 1] - row_off_[row];
+  col = row_lo_[row] + (cdf_k ? pick(cdf_k + cond, len, u2, r2) : pick(&q_cdf_[cond], len, u2, r2));
   const std::size_t c = row * nc_ + col;
   u2 = r2;
   const std::uint32_t b = offset_[c], e = offset_[c + 1];

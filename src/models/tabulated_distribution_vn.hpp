@@ -69,10 +69,17 @@ class VisibleNormalTables {
   std::vector<std::uint32_t> offset_;   // coarse cell -> first entry in fine_*, nc^2 + 1
   std::vector<double> mass_;            // M_C
   // Coarse cells are drawn as a row (u1) and then a cell of the row (u2), which keeps the
-  // stratification of (u1, u2) in two dimensions. Each CDF block: nc row CDF entries, then nc
-  // conditional CDFs over the cells of each row (nc entries each), all inclusive, last = 1.
-  std::vector<double> q_cdf_;     // defensive: M_C / total
-  std::vector<double> view_cdf_;  // (nt + 1) * np view tables, nc (nc + 1) entries each
+  // stratification of (u1, u2) in two dimensions. Each CDF block (block_ entries): nc row CDF
+  // entries, then per row r the conditional CDF over its cells row_lo_[r], row_lo_[r] + 1, ...
+  // (the span of the row's cells with mass M_C > 0; no table gives mass outside it) at
+  // nc + row_off_[r], all inclusive, last = 1.
+  std::vector<std::uint32_t> row_lo_, row_off_;  // nc and nc + 1 entries
+  std::size_t block_ = 0;
+  std::vector<double> q_cdf_;  // defensive: M_C / total
+  // (nt + 1) * np view tables, block_ entries each, in float: they only choose the coarse
+  // cell, and the pdf uses the very same (float) CDF differences, so it stays exact; half the
+  // bytes of double tables halves the cache misses of the searches and density reads.
+  std::vector<float> view_cdf_;
 };
 
 }  // namespace microbrdf::detail
