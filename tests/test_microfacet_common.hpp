@@ -92,6 +92,34 @@ struct ChiSquare {
 /// bins, against N times the integral of `pdf` (per steradian of m) over each bin (6 x 6 Gauss
 /// points per bin). Bins expecting fewer than 5 are pooled. `alpha` is the significance of this
 /// one test: a family of k tests at overall 1% uses alpha = 0.01 / k (Bonferroni).
+/// Pearson's chi-square of observed counts against expected counts: bins expecting fewer than 5
+/// are pooled into one (counted if it expects 5 or more; if it expects fewer but holds more than
+/// 20 samples the test fails: samples where the density says none should be), one degree of
+/// freedom less for the fixed total. critical: the (1 - alpha) quantile.
+inline ChiSquare pooled_chi_square(const std::vector<double>& observed,
+                                   const std::vector<double>& expected, double alpha) {
+  ChiSquare r;
+  double pool_o = 0, pool_e = 0;
+  for (std::size_t k = 0; k < observed.size(); ++k) {
+    if (expected[k] < 5) {
+      pool_o += observed[k];
+      pool_e += expected[k];
+      continue;
+    }
+    r.chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
+    ++r.dof;
+  }
+  if (pool_e >= 5) {
+    r.chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
+    ++r.dof;
+  } else if (pool_o > 20) {
+    r.chi2 += 1e9;
+  }
+  r.dof -= 1;
+  r.critical = chi2_critical(r.dof, alpha);
+  return r;
+}
+
 inline ChiSquare chi_square(const Chart& chart, const std::vector<Vec3>& samples,
                             const std::function<double(const Vec3&)>& pdf, double alpha = 0.01,
                             int nu = 24, int nphi = 48) {
@@ -109,7 +137,6 @@ inline ChiSquare chi_square(const Chart& chart, const std::vector<Vec3>& samples
   std::vector<double> gx, gw;
   microbrdf::gauss_legendre(6, gx, gw);
   const double n = static_cast<double>(samples.size());
-  ChiSquare r;
   for (int iu = 0; iu < nu; ++iu)
     for (int ip = 0; ip < nphi; ++ip) {
       double e = 0;
@@ -122,25 +149,9 @@ inline ChiSquare chi_square(const Chart& chart, const std::vector<Vec3>& samples
         }
       expected[static_cast<std::size_t>(iu * nphi + ip)] = e * (1.0 / nu) * (2 * kPi / nphi) * n;
     }
-  double pool_o = 0, pool_e = 0;
-  for (std::size_t k = 0; k < observed.size(); ++k) {
-    r.total_expected += expected[k];
-    if (expected[k] < 5) {
-      pool_o += observed[k];
-      pool_e += expected[k];
-      continue;
-    }
-    r.chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
-    ++r.dof;
-  }
-  if (pool_e >= 5) {
-    r.chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
-    ++r.dof;
-  } else if (pool_o > 20) {
-    r.chi2 += 1e9;  // samples where the pdf says (almost) none should be
-  }
-  r.dof -= 1;
-  r.critical = chi2_critical(r.dof, alpha);
+  ChiSquare r = pooled_chi_square(observed, expected, alpha);
+  r.total_expected = 0;
+  for (double e : expected) r.total_expected += e;
   r.total_expected /= n;
   return r;
 }

@@ -320,27 +320,12 @@ TEST(tabulated_distribution, VisibleSamplingFollowsPdfChiSquare) {
                    by = std::min(static_cast<std::size_t>((m.y() + 1) / h), cells - 1) / 2;
         observed[by * nb + bx] += 1;
       }
-      double chi2 = 0, pool_o = 0, pool_e = 0;
-      int dof = 0;
-      for (std::size_t b = 0; b < expected.size(); ++b) {
-        const double e = expected[b] * n;
-        if (e < 5) {
-          pool_o += observed[b];
-          pool_e += e;
-          continue;
-        }
-        chi2 += (observed[b] - e) * (observed[b] - e) / e;
-        ++dof;
-      }
-      if (pool_e >= 5) {
-        chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
-        ++dof;
-      }
-      dof -= 1;
-      const double crit = mtest::chi2_critical(dof, 0.01 / 8);
-      EXPECT_LT(chi2, crit) << t.describe() << " theta " << th;
+      std::vector<double> counts(expected.size());
+      for (std::size_t b = 0; b < expected.size(); ++b) counts[b] = expected[b] * n;
+      const auto c = mtest::pooled_chi_square(observed, counts, 0.01 / 8);
+      EXPECT_LT(c.chi2, c.critical) << t.describe() << " theta " << th;
       std::printf("%s, theta_v %.0f: chi2/dof %.3f (dof %d, critical %.1f)\n",
-                  p->analytic->describe().c_str(), th, chi2 / dof, dof, crit);
+                  p->analytic->describe().c_str(), th, c.chi2 / c.dof, c.dof, c.critical);
       ++tests;
     }
   }
@@ -400,25 +385,12 @@ TEST(tabulated_distribution, VisibleSamplingPartialSupportFollowsPdf) {
                  by = std::min(static_cast<std::size_t>((m.y() + 1) / h), cells - 1) / 4;
       observed[by * nb + bx] += 1;
     }
-    double chi2 = 0, pool_o = 0, pool_e = 0;
-    int dof = 0;
-    for (std::size_t b = 0; b < expected.size(); ++b) {
-      const double e = expected[b] * n;
-      if (e < 5) {
-        pool_o += observed[b];
-        pool_e += e;
-        continue;
-      }
-      chi2 += (observed[b] - e) * (observed[b] - e) / e;
-      ++dof;
-    }
-    if (pool_e >= 5) {
-      chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
-      ++dof;
-    }
-    dof -= 1;
-    EXPECT_LT(chi2, mtest::chi2_critical(dof, 0.01 / 4)) << "theta " << th;
-    std::printf("partial support, theta_v %.1f: chi2/dof %.3f (dof %d)\n", th, chi2 / dof, dof);
+    std::vector<double> counts(expected.size());
+    for (std::size_t b = 0; b < expected.size(); ++b) counts[b] = expected[b] * n;
+    const auto c = mtest::pooled_chi_square(observed, counts, 0.01 / 4);
+    EXPECT_LT(c.chi2, c.critical) << "theta " << th;
+    std::printf("partial support, theta_v %.1f: chi2/dof %.3f (dof %d)\n", th, c.chi2 / c.dof,
+                c.dof);
   }
   // The view tables: (18 + 1) x 24 of them, float, only the rows' spans of cells with mass, so
   // well below nc (nc + 1) doubles each.
