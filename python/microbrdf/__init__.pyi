@@ -273,4 +273,7 @@ def predict(
     render_ndf: str = "filtered",
     sweep_resolution: int = 257,
     progress: Optional[Callable[[str], None]] = None,
+    integration: str = "midpoint",
+    supersample: int = 0,
+    window: str = "none",
 ) -> dict[str, Any]: ...

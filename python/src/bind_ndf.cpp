@@ -167,9 +167,6 @@ TabulatedNdf ndf(const py::object& scans, const std::string& method, double filt
     o.direct = direct;
     o.nyquist_mask = !keep_aliases;
     o.integration = parse_kirchhoff_integration(integration);
-    if (supersample != 0 && (supersample % 2 == 0 || supersample > 15))
-      throw InputError("supersample must be 0 (automatic) or an odd number 1..15, not " +
-                       std::to_string(supersample));
     o.supersample = supersample;
     if (!(o.wavelength_q > 0)) throw InputError("wavelength must be > 0 (metres)");
     if (!(o.accuracy > 0 && o.accuracy < 1)) throw InputError("accuracy must be in (0, 1)");

@@ -116,8 +116,12 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
                        std::size_t texture_size, std::uint64_t seed, int threads,
                        const std::string& level, const py::object& spacing,
                        const std::string& render_ndf, std::size_t sweep_resolution,
-                       const py::object& progress) {
+                       const py::object& progress, const std::string& integration,
+                       std::size_t supersample, const std::string& window) {
   PredictOptions o;
+  o.kirchhoff_options.integration = parse_kirchhoff_integration(integration);
+  o.kirchhoff_options.supersample = supersample;
+  o.kirchhoff_options.window = parse_kirchhoff_window(window);
   o.inputs = path_list(inputs);
   o.read = read_options(spacing);
   o.leveling = LevelingSpec::parse(level);
@@ -201,7 +205,8 @@ calling thread; Ctrl-C is honoured when the image is finished.)");
         py::arg("texture_size") = 128, py::arg("seed") = 1, py::arg("threads") = 0,
         py::arg("level") = "plane", py::arg("spacing") = py::none(),
         py::arg("render_ndf") = "filtered", py::arg("sweep_resolution") = 257,
-        py::arg("progress") = py::none(),
+        py::arg("progress") = py::none(), py::arg("integration") = "midpoint",
+        py::arg("supersample") = 0, py::arg("window") = "none",
         R"(The whole pipeline, as `microbrdf predict`: scans -> NDFs -> fits -> BRDF slices ->
 renders -> out_dir/report.html and summary.json. Returns the summary (a dict, SI units).
 
@@ -211,7 +216,9 @@ filter_sigma (m, or 'auto': the sigma nearest D_K, on sweep_resolution tables), 
 theta_i (radians, the slices' angles of incidence), envmap, envmap_scale, render_width (pixels),
 spp, no_render, strips=(along, across) exemplar scans for the texture, texel (m),
 texture_size, seed, threads, level, spacing. progress: optional callable(str) receiving the
-progress lines. Nothing is left in out_dir when it fails; Ctrl-C interrupts between stages.)");
+progress lines. integration, supersample, window: D_K's rule ('midpoint' | 'exact'), node
+supersampling (0 = automatic, odd 1..15) and tile apodisation ('none' | 'hann' | 'gauss'), as
+for ndf(method='kirchhoff') and the CLI's --dk-integration, --dk-supersample, --window. Nothing is left in out_dir when it fails; Ctrl-C interrupts between stages.)");
 }
 
 }  // namespace microbrdf::python

@@ -63,3 +63,20 @@ def test_predict_filter_sigma_auto_and_render_ndf(tmp_path):
     assert c["filter_sigma_auto"]["hellinger"] == min(h)
     with pytest.raises(ValueError):
         mb.predict(tmp_path / "s.npy", tmp_path / "bad", spacing=50e-9, filter_sigma="best")
+
+
+def test_predict_takes_the_dk_settings(tmp_path):
+    # integration, supersample and window reach D_K as in the CLI, and the summary says so; a bad
+    # supersampling factor is refused and leaves no output.
+    z = np.random.default_rng(3).standard_normal((48, 48)) * 20e-9
+    np.save(tmp_path / "s.npy", z)
+    s = mb.predict(tmp_path / "s.npy", tmp_path / "out", spacing=50e-9, level="none", resolution=65,
+                   no_render=True, kirchhoff=True, patch=None, integration="exact", supersample=3,
+                   window="hann")
+    st = s["settings"]
+    assert st["kirchhoff_integration"] == "exact" and st["kirchhoff_supersample"] == "3"
+    assert st["kirchhoff_window"] == "hann"
+    with pytest.raises(mb.InputError, match="supersample"):
+        mb.predict(tmp_path / "s.npy", tmp_path / "bad", spacing=50e-9, level="none", resolution=65,
+                   no_render=True, kirchhoff=True, patch=None, supersample=4)
+    assert not (tmp_path / "bad").exists()

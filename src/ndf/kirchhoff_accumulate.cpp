@@ -40,8 +40,11 @@ KirchhoffAccumulator::KirchhoffAccumulator(const KirchhoffOptions& options)
     : opt_(options), acc_(options.resolution) {
   if (!(opt_.wavelength_q > 0)) throw InputError("Kirchhoff: the wavelength must be > 0");
   if (opt_.resolution < 17) throw InputError("Kirchhoff: resolution must be >= 17");
-  if (opt_.supersample != 0 && opt_.supersample % 2 == 0)
-    throw InputError("Kirchhoff: the supersampling factor must be odd (or 0 = automatic)");
+  if (opt_.supersample != 0 && (opt_.supersample % 2 == 0 || opt_.supersample > 15))
+    throw InputError(
+        "Kirchhoff: supersample (the node supersampling factor) must be 0 "
+        "(automatic) or odd in 1..15, not " +
+        std::to_string(opt_.supersample));
 }
 
 KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
