@@ -39,6 +39,35 @@ std::vector<double> slice_values(const Brdf& b, double ti, double lambda, SliceP
   return v;
 }
 
+// n angles (deg) evenly from lo to hi; a rounding residue at 0 becomes 0 (the mirror direction,
+// not -7e-15 deg).
+std::vector<double> even_angles(double lo, double hi, std::size_t n) {
+  std::vector<double> a(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    a[i] = lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(n - 1);
+    if (std::abs(a[i]) < 1e-9) a[i] = 0;
+  }
+  return a;
+}
+
+// A slice plot's frame: log BRDF axis over [lo, hi] deg; when top > 0 the y range is
+// [top * floor, top * 3].
+Plot slice_frame(const std::string& title, const std::string& x_label, double lo, double hi,
+                 double top, double floor) {
+  Plot p;
+  p.title = title;
+  p.x.label = x_label;
+  p.y.label = "BRDF (1/sr)";
+  p.y.scale = AxisScale::Log;
+  p.x.min = lo;
+  p.x.max = hi;
+  if (top > 0) {
+    p.y.min = top * floor;
+    p.y.max = top * 3;
+  }
+  return p;
+}
+
 constexpr double kPoorFit = 0.45;  // relative L2 error from which a fit is called poor
 
 void warn_fit(const Context& c, const FitResult& r, bool zoomed) {
@@ -280,16 +309,12 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
       const char* pname = plane == SlicePlane::In ? "in" : "out";
       c.log(std::string("BRDF: ") + pname + "-plane slice, theta_i " + std::to_string(ti * kDeg) +
             " deg");
-      Plot p;
       char title[120];
       std::snprintf(title, sizeof title, "BRDF %s-plane, θi = %.4g°, λ = %s", pname, ti * kDeg,
                     format_length(o.wavelength_m).c_str());
-      p.title = title;
-      p.x.label = plane == SlicePlane::In
-                      ? "θo in the plane of incidence (deg; mirror at +θi)"
-                      : "angle from the mirror direction across the plane (deg)";
-      p.y.label = "BRDF (1/sr)";
-      p.y.scale = AxisScale::Log;
+      const std::string x_label = plane == SlicePlane::In
+                                      ? "θo in the plane of incidence (deg; mirror at +θi)"
+                                      : "angle from the mirror direction across the plane (deg)";
       // The lobes of brushed metals are a fraction of a degree wide along the brushing: find
       // where any model exceeds 1e-5 of the highest peak on a coarse cut, then sample that range
       // densely (slice_samples points).
@@ -308,31 +333,24 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
       if (!(hi > lo)) lo = -90, hi = 90;
       lo = std::max(-89.9, lo - 1.0);
       hi = std::min(89.9, hi + 1.0);
-      std::vector<double> angles(o.slice_samples);
-      for (std::size_t i = 0; i < angles.size(); ++i)
-        angles[i] =
-            lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(angles.size() - 1);
-      for (double& a : angles)
-        if (std::abs(a) < 1e-9) a = 0;  // the mirror direction, not -7e-15 deg
-      p.x.min = lo;
-      p.x.max = hi;
+      const std::vector<double> angles = even_angles(lo, hi, o.slice_samples);
       nlohmann::json values = nlohmann::json::object(), peaks = nlohmann::json::object();
       top = 0;
+      std::vector<std::vector<double>> curves;
       for (std::size_t k = 0; k < models.size(); ++k) {
-        const std::vector<double> v =
-            slice_values(*models[k].brdf, ti, o.wavelength_m, plane, angles);
+        const std::vector<double>& v =
+            curves.emplace_back(slice_values(*models[k].brdf, ti, o.wavelength_m, plane, angles));
         std::size_t imax = 0;
         for (std::size_t i = 0; i < v.size(); ++i)
           if (v[i] > v[imax]) imax = i;
         top = std::max(top, v[imax]);
         values[models[k].key] = finite_array(v);
         peaks[models[k].key] = {{"value_per_sr", v[imax]}, {"angle_deg", angles[imax]}};
-        p.add(PlotSeries(angles, v, models[k].label, k == 0 ? PlotStyle::Line : PlotStyle::Dashed));
       }
-      if (top > 0) {
-        p.y.min = top * 1e-5;
-        p.y.max = top * 3;
-      }
+      Plot p = slice_frame(title, x_label, lo, hi, top, 1e-5);
+      for (std::size_t k = 0; k < models.size(); ++k)
+        p.add(PlotSeries(angles, curves[k], models[k].label,
+                         k == 0 ? PlotStyle::Line : PlotStyle::Dashed));
       char svg[64];
       std::snprintf(svg, sizeof svg, "img/brdf_%s_%02d.svg", pname,
                     static_cast<int>(std::lround(ti * kDeg)));
@@ -355,24 +373,12 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
           const double mid = d_or_0(peaks[models[0].key]["angle_deg"]);
           const double zlo = std::max(lo, mid - std::max(3 * width, 0.25));
           const double zhi = std::min(hi, mid + std::max(3 * width, 0.25));
-          std::vector<double> za(o.slice_samples);
-          for (std::size_t i = 0; i < za.size(); ++i)
-            za[i] = zlo + (zhi - zlo) * static_cast<double>(i) / static_cast<double>(za.size() - 1);
-          Plot z;
-          z.title = std::string("zoom on the measured lobe");
-          z.x.label = "angle (deg)";
-          z.y.label = "BRDF (1/sr)";
-          z.y.scale = AxisScale::Log;
-          z.x.min = zlo;
-          z.x.max = zhi;
+          const std::vector<double> za = even_angles(zlo, zhi, o.slice_samples);
+          Plot z = slice_frame("zoom on the measured lobe", "angle (deg)", zlo, zhi, top, 1e-3);
           z.legend = LegendPlace::None;  // the same curves as the main plot's legend
           for (std::size_t k = 0; k < models.size(); ++k)
             z.add(PlotSeries(za, slice_values(*models[k].brdf, ti, o.wavelength_m, plane, za), "",
                              k == 0 ? PlotStyle::Line : PlotStyle::Dashed));
-          if (top > 0) {
-            z.y.min = top * 1e-3;
-            z.y.max = top * 3;
-          }
           char zsvg[64];
           std::snprintf(zsvg, sizeof zsvg, "img/brdf_%s_%02d_zoom.svg", pname,
                         static_cast<int>(std::lround(ti * kDeg)));
