@@ -210,13 +210,7 @@ void register_ndf(CLI::App& app) {
       ->required();
   add_read_flags(cmd, a->read, "plane");
   cmd->add_option("--method", a->method, "naive | filtered | kirchhoff")->capture_default_str();
-  cmd->add_option("--filter-sigma", a->filter_sigma,
-                  "Gaussian std of the local plane fit, or 'auto': the sigma whose filtered NDF "
-                  "is nearest (Hellinger distance) to D_K at --wavelength")
-      ->capture_default_str();
-  cmd->add_option("--sweep-resolution", a->sweep_resolution,
-                  "--filter-sigma auto: table size of the sweep (D_K is slow)")
-      ->capture_default_str();
+  add_filter_sigma_flags(cmd, a->filter_sigma, a->sweep_resolution, "Filtered: ");
   cmd->add_option("--resolution", a->resolution, "Table size N (odd keeps a node at the centre)")
       ->capture_default_str();
   cmd->add_option("--min-support", a->min_support,

@@ -151,13 +151,7 @@ void register_predict(CLI::App& app) {
   c->add_option("-o,--output", a->output, "Output folder (created; an earlier report is replaced)")
       ->required();
   add_material_flags(c, a->material, "default: Fe");
-  c->add_option("--filter-sigma", a->filter_sigma,
-                "Filtered NDF: Gaussian std of the local plane fit, or 'auto': the sigma whose "
-                "filtered NDF is nearest D_K at --wavelength (Hellinger distance over a sweep)")
-      ->capture_default_str();
-  c->add_option("--sweep-resolution", a->sweep_resolution,
-                "--filter-sigma auto: table size of the sweep (D_K is slow)")
-      ->capture_default_str();
+  add_filter_sigma_flags(c, a->filter_sigma, a->sweep_resolution, "Filtered NDF: ");
   c->add_option("--render-ndf", a->render_ndf,
                 "NDF of the measured BRDF (slices, renders): naive | filtered | kirchhoff (needs "
                 "--kirchhoff)")

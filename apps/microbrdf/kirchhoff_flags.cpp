@@ -36,6 +36,18 @@ void add_kirchhoff_flags(CLI::App* cmd, KirchhoffFlags& f, const std::string& pr
       ->capture_default_str();
 }
 
+void add_filter_sigma_flags(CLI::App* cmd, std::string& filter_sigma, std::size_t& sweep_resolution,
+                            const std::string& prefix) {
+  cmd->add_option("--filter-sigma", filter_sigma,
+                  prefix +
+                      "Gaussian std of the local plane fit, or 'auto': the sigma whose filtered "
+                      "NDF is nearest D_K at --wavelength (Hellinger distance over a sweep)")
+      ->capture_default_str();
+  cmd->add_option("--sweep-resolution", sweep_resolution,
+                  "--filter-sigma auto: table size of the sweep (D_K is slow)")
+      ->capture_default_str();
+}
+
 KirchhoffOptions kirchhoff_options(const KirchhoffFlags& f, const std::string& wavelength) {
   KirchhoffOptions o;
   o.wavelength_q = parse_length(wavelength);
