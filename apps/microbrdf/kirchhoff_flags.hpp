@@ -1,9 +1,8 @@
 #pragma once
-// The Kirchhoff D_K flags (and --filter-sigma, which sweeps against D_K) of `ndf` and `predict`,
-// defined and parsed once: the tile (coherence
-// area), apodisation, tail bound, Nyquist mask, integration rule and node supersampling
-// (docs/kirchhoff.md). --wavelength is registered by each command (in predict it is also the
-// wavelength of the BRDF slices).
+// The Kirchhoff D_K flags of `ndf` and `predict` (and --filter-sigma, which sweeps against D_K),
+// defined and parsed once: the tile (coherence area), apodisation, tail bound, Nyquist mask,
+// integration rule and node supersampling (docs/kirchhoff.md). --wavelength is registered by
+// each command (in predict it is also the wavelength of the BRDF slices).
 #include <CLI/CLI.hpp>
 #include <cstddef>
 #include <string>
