@@ -96,7 +96,16 @@ struct RenderOptions {
   /// Also return the images of the first and the second half of each pixel's samples
   /// (RenderImage::half_rgb; needs spp >= 2).
   bool half_images = false;
+  /// render_variants only: the share of each variant's BRDF sampler in the mixture that draws
+  /// the path's next direction (one weight per variant, >= 0, not all 0; empty = equal shares).
+  /// A variant of weight 0 is still rendered, through the others' samples: give 0 only to a
+  /// variant whose lobe the weighted ones cover (e.g. a tabulated NDF beside analytic fits,
+  /// which reach every direction), or its image is biased.
+  std::vector<double> variant_weights;
 };
+
+/// Most variants render_variants takes.
+inline constexpr int kMaxRenderVariants = 8;
 
 struct RenderImage {
   int width = 0, height = 0;
@@ -121,6 +130,21 @@ struct RenderImage {
 RenderImage render(const RenderScene& scene,
                    const std::vector<std::shared_ptr<const Svbrdf>>& materials,
                    const RenderLights& lights, const RenderOptions& options);
+
+/// Several materials ("variants") of one scene rendered along the same paths: every camera
+/// ray, light sample and shadow ray is shared, each variant carries its own throughput, and the
+/// next direction is drawn from the mixture of the variants' BRDF samplers
+/// (RenderOptions::variant_weights) and weighted by f_v cos / p_mix for every variant v; the
+/// light samples' MIS weights use the same mixture density. Each image is an unbiased estimate
+/// of what render() gives for that variant alone, and their noise is correlated, so the
+/// differences between variants are far less noisy than between independent renders
+/// (docs/render.md, "Variants"). `variants` holds 1..kMaxRenderVariants entries, each as
+/// `materials` of render(); with one variant this is render() bit for bit. Delta lobes (mirror)
+/// are allowed: a delta sample carries only the variant that drew it.
+std::vector<RenderImage> render_variants(
+    const RenderScene& scene,
+    const std::vector<std::vector<std::shared_ptr<const Svbrdf>>>& variants,
+    const RenderLights& lights, const RenderOptions& options);
 
 /// Linear EXR (half floats, RGB) with the render settings in the header; atomic.
 void write_render_exr(const RenderImage& img, const std::string& path);

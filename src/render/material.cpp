@@ -193,6 +193,21 @@ bool SpectralMaterial::eval(double u, double v, const View& vw, const Vec3& wl,
   return true;
 }
 
+double SpectralMaterial::sampling_pdf(double u, double v, const View& vw, const Vec3& wl) const {
+  if (!mf_) return m_->pdf(u, v, vw.wv, wl);
+  const Vec3& wv = vw.wv;
+  if (wl.z() <= 0 || wv.z() <= 0) return 0;  // sample() never returns such directions
+  const Vec3 hs = wl + wv;
+  const double len = hs.norm();
+  if (len == 0) return 0;
+  const Vec3 h = hs / len;
+  const double vh = wv.dot(h);
+  if (!(vh > 0)) return 0;
+  // As in eval(): MicrofacetBrdf::pdf(wv, wl) = sampling_pdf(wv, h) / (4 wv.h).
+  return visible_exact_ ? (vw.pa > 0 ? d_->D(h) / (4 * vw.pa) : 0.0)
+                        : d_->sampling_pdf(wv, h) / (4 * vh);
+}
+
 bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, double u2,
                               const Wavelengths& w, Sample& s) const {
   const int n = w.n;

@@ -87,6 +87,10 @@ class SpectralMaterial {
   /// (the fast path then leaves *pdf at 0 without computing it).
   bool eval(double u, double v, const View& vw, const Vec3& wl, const Wavelengths& w, double* f,
             double* pdf) const;
+  /// The BRDF sampler's density of wl (per steradian) whatever f is there: eval() leaves *pdf
+  /// at 0 where f = 0, but a sampler with a defensive component may still draw such directions,
+  /// and a mixture of several materials' samplers (render variants) needs every density.
+  double sampling_pdf(double u, double v, const View& vw, const Vec3& wl) const;
   /// A BRDF sample driven by the viewer direction; false when the sample is refused or carries
   /// no weight. Without the fast path: Svbrdf::sample at the first wavelength and eval() of the
   /// others (delta lobes: each wavelength's own sample() for the same numbers).

@@ -50,31 +50,42 @@ double power_heuristic(double a, double b) {
 struct PathContext {
   const pt::PreviewGeometry& geo;
   const pt::LightSet& lights;
-  const std::vector<pt::SpectralMaterial>& mats;
+  /// Per variant, its materials (one, or one per object).
+  const std::vector<std::vector<pt::SpectralMaterial>>& variants;
   const RenderOptions& opt;
   const pt::SpectralTables& spec;
+  const double* mix_weight;  ///< per variant, its share of the BRDF-sampling mixture
+  const double* mix_cdf;     ///< running sums of mix_weight (the last is 1)
 };
 
 /// What a path's hero wavelengths fix: the upsampling basis at each (RGB lights -> spectrum)
-/// and, per material, its optical constants (SpectralMaterial::prepare, done on first use).
+/// and, per variant and material, its optical constants (SpectralMaterial::prepare, done on
+/// first use).
 struct PathSpectrum {
   int n = 0;
   double lambda_m[pt::kMaxWavelengths];
   Eigen::Matrix<double, 3, pt::kMaxWavelengths> basis;  // (uninitialised: the first n are set)
-  pt::SpectralMaterial::Wavelengths mat[2];
-  bool prepared[2] = {false, false};
+  pt::SpectralMaterial::Wavelengths mat[kMaxRenderVariants][2];
+  bool prepared[kMaxRenderVariants][2] = {};
   double upsample(const V3& rgb, int k) const { return rgb.dot(basis.col(k)); }
 };
 
-/// Radiance (relative to D65) at the n hero wavelengths along one camera path, added to L.
+using Radiance = double[kMaxRenderVariants][pt::kMaxWavelengths];
+
+/// Radiance (relative to D65) at the n hero wavelengths along one camera path, added to L[v]
+/// for each variant v. With one variant this is the plain path tracer; with several, the
+/// geometry, the light samples and the shadow rays are shared, and each BRDF-sampled direction
+/// comes from the mixture of the variants' samplers (render_variants).
 std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt::PathSampler& rng,
-                         double* L) {
+                         Radiance& L) {
   const int n = ps.n;
-  double T[pt::kMaxWavelengths];
-  for (int k = 0; k < n; ++k) T[k] = 1;
+  const int nv = static_cast<int>(c.variants.size());
+  double T[kMaxRenderVariants][pt::kMaxWavelengths];
+  for (int v = 0; v < nv; ++v)
+    for (int k = 0; k < n; ++k) T[v][k] = 1;
   std::uint64_t rays = 0;
   bool specular = true;  // camera ray or a delta bounce: emission counts fully
-  double prev_pdf = 0;   // BRDF-sampling density of the current ray direction
+  double prev_pdf = 0;   // BRDF-sampling (mixture) density of the current ray direction
   const bool use_nee = c.opt.mis != MisMode::BrdfOnly;
   const bool use_brdf_emission = c.opt.mis != MisMode::LightOnly;
   const double eps = c.geo.epsilon();
@@ -85,9 +96,13 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       if (use_nee) w = power_heuristic(prev_pdf, light_pdf);
     }
     if (!(w > 0)) return;
-    for (int k = 0; k < n; ++k) L[k] += T[k] * w * ps.upsample(rgb, k);
+    for (int v = 0; v < nv; ++v)
+      for (int k = 0; k < n; ++k) L[v][k] += T[v][k] * w * ps.upsample(rgb, k);
   };
 
+  const pt::SpectralMaterial* mat[kMaxRenderVariants];
+  pt::SpectralMaterial::Wavelengths* wl_consts[kMaxRenderVariants];
+  pt::SpectralMaterial::View view[kMaxRenderVariants];
   for (int depth = 0;; ++depth) {
     // The light sample's numbers are drawn before the ray is traced (the same request order):
     // the environment map's tables and the radiance this ray meets if it escapes are then
@@ -114,18 +129,21 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       return rays;
     }
     if (depth >= c.opt.max_depth) return rays;
-    const int slot = c.mats.size() == 1 ? 0 : std::min(sp.object, 1);
-    const pt::SpectralMaterial& mat = c.mats[c.mats.size() == 1 ? 0 : sp.object];
     const V3 wv = sp.to_local(-d);  // towards the viewer
     if (!(wv.z() > 0)) return rays;
-    // The material's wavelength constants, once per path and material (the cylinder pair may
-    // have two materials; with more than two, every bounce prepares its own).
-    pt::SpectralMaterial::Wavelengths* wl_consts = &ps.mat[slot];
-    if (!ps.prepared[slot] || c.mats.size() > 2) {
-      mat.prepare(ps.lambda_m, n, *wl_consts);
-      ps.prepared[slot] = c.mats.size() <= 2;
+    for (int v = 0; v < nv; ++v) {
+      const auto& mats = c.variants[v];
+      const int slot = mats.size() == 1 ? 0 : std::min(sp.object, 1);
+      mat[v] = &mats[mats.size() == 1 ? 0 : sp.object];
+      // The material's wavelength constants, once per path and material (the cylinder pair may
+      // have two materials; with more than two, every bounce prepares its own).
+      wl_consts[v] = &ps.mat[v][slot];
+      if (!ps.prepared[v][slot] || mats.size() > 2) {
+        mat[v]->prepare(ps.lambda_m, n, *wl_consts[v]);
+        ps.prepared[v][slot] = mats.size() <= 2;
+      }
+      view[v] = mat[v]->view(wv);
     }
-    const pt::SpectralMaterial::View view = mat.view(wv);
     const V3 origin = sp.p + eps * sp.ng;
 
     // Next-event estimation.
@@ -135,9 +153,25 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
           // f and the BRDF density before the shadow ray: no ray for a light sample the BRDF
           // does not reflect.
-          double f[pt::kMaxWavelengths], brdf_pdf = 0;
+          double f[kMaxRenderVariants][pt::kMaxWavelengths], pdf[kMaxRenderVariants];
+          bool reflects[kMaxRenderVariants], any = false;
           const bool mis = !ls->delta && c.opt.mis == MisMode::Mis;
-          if (mat.eval(sp.u, sp.v, view, wl, *wl_consts, f, mis ? &brdf_pdf : nullptr)) {
+          for (int v = 0; v < nv; ++v) {
+            pdf[v] = 0;
+            reflects[v] =
+                mat[v]->eval(sp.u, sp.v, view[v], wl, *wl_consts[v], f[v], mis ? &pdf[v] : nullptr);
+            any |= reflects[v];
+          }
+          if (any) {
+            // The BRDF technique's density here: with variants, the mixture's, which needs
+            // every sampler's density, also where its own f is 0.
+            double brdf_pdf = pdf[0];
+            if (nv > 1 && mis) {
+              brdf_pdf = 0;
+              for (int v = 0; v < nv; ++v)
+                brdf_pdf += c.mix_weight[v] *
+                            (reflects[v] ? pdf[v] : mat[v]->sampling_pdf(sp.u, sp.v, view[v], wl));
+            }
             ++rays;
             // Blocked by geometry, or by another area light in front (the same rule as for
             // BRDF-sampled rays, which see the nearest emitter only).
@@ -146,8 +180,11 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
                 !(c.lights.hit_area(origin, ls->dir, tmax).t > 0)) {
               const double w = mis ? power_heuristic(ls->pdf, brdf_pdf) : 1.0;
               const double scale = w * wl.z() / ls->pdf;
-              for (int k = 0; k < n; ++k)
-                if (f[k] != 0) L[k] += T[k] * f[k] * scale * ps.upsample(ls->rgb, k);
+              for (int v = 0; v < nv; ++v)
+                if (reflects[v])
+                  for (int k = 0; k < n; ++k)
+                    if (f[v][k] != 0)
+                      L[v][k] += T[v][k] * f[v][k] * scale * ps.upsample(ls->rgb, k);
             }
           }
         }
@@ -157,26 +194,64 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     // BRDF sampling (the viewer direction plays wi; see the header comment).
     double u1, u2;
     rng.get2d(u1, u2);
+    int pick = 0;
+    if (nv > 1) {
+      // Which variant's sampler draws: u1 chooses by the mixture weights and, stretched back
+      // to [0, 1), drives the sample (as LightSet::sample does with the light choice).
+      while (pick < nv - 1 && !(u1 < c.mix_cdf[pick])) ++pick;
+      const double lo = pick == 0 ? 0.0 : c.mix_cdf[pick - 1];
+      u1 = std::min((u1 - lo) / c.mix_weight[pick], std::nextafter(1.0, 0.0));
+    }
     pt::SpectralMaterial::Sample s;
-    if (!mat.sample(sp.u, sp.v, view, u1, u2, *wl_consts, s)) return rays;
+    if (!mat[pick]->sample(sp.u, sp.v, view[pick], u1, u2, *wl_consts[pick], s)) return rays;
     const V3 wl = s.wo;
-    for (int k = 0; k < n; ++k) T[k] *= s.weight[k];
+    if (nv == 1) {
+      for (int k = 0; k < n; ++k) T[0][k] *= s.weight[k];
+      prev_pdf = s.pdf;
+    } else if (s.delta) {
+      // A delta lobe carries only the variant that drew it, chosen with its mixture weight.
+      for (int v = 0; v < nv; ++v)
+        for (int k = 0; k < n; ++k)
+          T[v][k] = v == pick ? T[v][k] * s.weight[k] / c.mix_weight[pick] : 0.0;
+      prev_pdf = 0;
+    } else {
+      // f_v cos / p_mix for every variant, p_mix = sum_v w_v p_v(wl): the density with which
+      // the mixture drew wl (the drawing sampler's own f cos is its weight times its pdf).
+      double fc[kMaxRenderVariants][pt::kMaxWavelengths], p_mix = 0;
+      for (int v = 0; v < nv; ++v) {
+        if (v == pick) {
+          p_mix += c.mix_weight[v] * s.pdf;
+          for (int k = 0; k < n; ++k) fc[v][k] = s.weight[k] * s.pdf;
+          continue;
+        }
+        double p = 0;
+        if (!mat[v]->eval(sp.u, sp.v, view[v], wl, *wl_consts[v], fc[v], &p))
+          p = mat[v]->sampling_pdf(sp.u, sp.v, view[v], wl);
+        p_mix += c.mix_weight[v] * p;
+        for (int k = 0; k < n; ++k) fc[v][k] *= wl.z();
+      }
+      if (!(p_mix > 0 && std::isfinite(p_mix))) return rays;
+      for (int v = 0; v < nv; ++v)
+        for (int k = 0; k < n; ++k) T[v][k] *= fc[v][k] / p_mix;
+      prev_pdf = p_mix;
+    }
     specular = s.delta;
-    prev_pdf = s.pdf;
     d = sp.to_world(wl).normalized();
     if (d.dot(sp.ng) <= 0) return rays;  // below the geometric surface
     o = origin;
-    // Russian roulette after three bounces.
+    // Russian roulette after three bounces (one decision for every variant).
     double tmax = 0;
-    for (int k = 0; k < n; ++k) {
-      if (!std::isfinite(T[k])) return rays;
-      tmax = std::max(tmax, std::abs(T[k]));
-    }
+    for (int v = 0; v < nv; ++v)
+      for (int k = 0; k < n; ++k) {
+        if (!std::isfinite(T[v][k])) return rays;
+        tmax = std::max(tmax, std::abs(T[v][k]));
+      }
     if (!(tmax > 0)) return rays;
     if (depth >= 3) {
       const double q = std::min(1.0, tmax);
       if (rng.get1d() >= q) return rays;
-      for (int k = 0; k < n; ++k) T[k] /= q;
+      for (int v = 0; v < nv; ++v)
+        for (int k = 0; k < n; ++k) T[v][k] /= q;
     }
   }
 }
@@ -193,9 +268,44 @@ std::string render_sampler_name(RenderSampler s) {
   return s == RenderSampler::Sobol ? "sobol" : "independent";
 }
 
+namespace {
+
+std::string settings_line(const RenderScene& scene,
+                          const std::vector<std::shared_ptr<const Svbrdf>>& materials,
+                          const RenderLights& lights, const RenderOptions& opt, int variants) {
+  std::ostringstream os;
+  os << "scene " << preview_scene_name(scene.kind) << "; materials:";
+  for (const auto& m : materials) os << " [" << m->describe() << "]";
+  os << "; lights:";
+  if (lights.uniform_white_env) os << " uniform white environment";
+  if (!lights.envmap_path.empty())
+    os << " envmap " << lights.envmap_path << " x" << lights.envmap_scale;
+  os << " points " << lights.points.size() << " spheres " << lights.spheres.size() << " disks "
+     << lights.disks.size() << "; " << opt.width << "x" << opt.height << ", " << opt.spp << " spp, "
+     << opt.wavelengths << " wavelengths/path, max depth " << opt.max_depth << ", seed " << opt.seed
+     << ", mis "
+     << (opt.mis == MisMode::Mis        ? "power"
+         : opt.mis == MisMode::BrdfOnly ? "brdf_only"
+                                        : "light_only")
+     << ", sampler " << render_sampler_name(opt.sampler);
+  if (variants > 1) os << ", one of " << variants << " variants along shared paths";
+  return os.str();
+}
+
+}  // namespace
+
 RenderImage render(const RenderScene& scene,
                    const std::vector<std::shared_ptr<const Svbrdf>>& materials,
                    const RenderLights& lights, const RenderOptions& opt) {
+  RenderOptions one = opt;
+  one.variant_weights.clear();
+  return std::move(render_variants(scene, {materials}, lights, one).front());
+}
+
+std::vector<RenderImage> render_variants(
+    const RenderScene& scene,
+    const std::vector<std::vector<std::shared_ptr<const Svbrdf>>>& variants,
+    const RenderLights& lights, const RenderOptions& opt) {
   if (opt.width <= 0 || opt.height <= 0 || opt.width > 16384 || opt.height > 16384)
     throw InputError("render: image size must be 1..16384 pixels a side");
   if (opt.spp <= 0) throw InputError("render: samples per pixel must be > 0");
@@ -204,32 +314,70 @@ RenderImage render(const RenderScene& scene,
   if (opt.max_depth < 1) throw InputError("render: max depth must be >= 1");
   if (opt.wavelengths < 1 || opt.wavelengths > pt::kMaxWavelengths)
     throw InputError("render: wavelengths per path must be 1..16");
-  if (materials.empty()) throw InputError("render: no material");
-  for (const auto& m : materials)
-    if (!m) throw InputError("render: null material");
+  const int nv = static_cast<int>(variants.size());
+  if (nv < 1 || nv > kMaxRenderVariants)
+    throw InputError("render: give 1.." + std::to_string(kMaxRenderVariants) +
+                     " material variants, not " + std::to_string(nv));
+  // The mixture of the variants' samplers: shares normalised to 1, their running sums.
+  std::vector<double> mix(nv, 1.0), cdf(nv);
+  if (!opt.variant_weights.empty()) {
+    if (int(opt.variant_weights.size()) != nv)
+      throw InputError("render: " + std::to_string(opt.variant_weights.size()) +
+                       " variant weights for " + std::to_string(nv) + " variants");
+    for (int v = 0; v < nv; ++v) {
+      mix[v] = opt.variant_weights[v];
+      if (!(mix[v] >= 0) || !std::isfinite(mix[v]))
+        throw InputError("render: variant weights must be finite and >= 0");
+    }
+  }
+  double total = 0;
+  for (double w : mix) total += w;
+  if (!(total > 0)) throw InputError("render: the variant weights are all 0");
+  double run = 0;
+  for (int v = 0; v < nv; ++v) {
+    mix[v] /= total;
+    run += mix[v];
+    cdf[v] = run;
+  }
+  cdf[nv - 1] = 1;
   const auto t0 = std::chrono::steady_clock::now();
   pt::PreviewGeometry geo(scene);
   // Uniform materials ignore the texture coordinates.
-  geo.set_texture_coordinates(!std::all_of(materials.begin(), materials.end(), [](const auto& m) {
-    return dynamic_cast<const UniformSvbrdf*>(m.get()) != nullptr;
-  }));
-  if (materials.size() != 1 && int(materials.size()) != geo.object_count())
-    throw InputError("render: scene '" + preview_scene_name(scene.kind) + "' has " +
-                     std::to_string(geo.object_count()) + " objects; give 1 or " +
-                     std::to_string(geo.object_count()) + " materials, not " +
-                     std::to_string(materials.size()));
+  bool uniform = true;
+  for (const auto& materials : variants) {
+    if (materials.empty()) throw InputError("render: no material");
+    for (const auto& m : materials) {
+      if (!m) throw InputError("render: null material");
+      uniform &= dynamic_cast<const UniformSvbrdf*>(m.get()) != nullptr;
+    }
+    if (materials.size() != 1 && int(materials.size()) != geo.object_count())
+      throw InputError("render: scene '" + preview_scene_name(scene.kind) + "' has " +
+                       std::to_string(geo.object_count()) + " objects; give 1 or " +
+                       std::to_string(geo.object_count()) + " materials, not " +
+                       std::to_string(materials.size()));
+  }
+  geo.set_texture_coordinates(!uniform);
   const pt::LightSet ls(lights);
   if (ls.count() == 0) throw InputError("render: no light (give an environment map or lights)");
   const auto& spec = pt::SpectralTables::get();
-  std::vector<pt::SpectralMaterial> mats;
-  for (const auto& m : materials) mats.emplace_back(m);
-  const PathContext ctx{geo, ls, mats, opt, spec};
+  std::vector<std::vector<pt::SpectralMaterial>> mats(nv);
+  for (int v = 0; v < nv; ++v)
+    for (const auto& m : variants[v]) mats[v].emplace_back(m);
+  const PathContext ctx{geo, ls, mats, opt, spec, mix.data(), cdf.data()};
   const Eigen::Matrix3d to_rgb = xyz_to_linear_srgb_matrix();
 
-  RenderImage img;
-  img.width = opt.width;
-  img.height = opt.height;
-  img.rgb.assign(std::size_t(opt.width) * opt.height * 3, 0.0f);
+  std::vector<RenderImage> imgs(nv);
+  const std::size_t values = std::size_t(opt.width) * opt.height * 3;
+  const bool halves = opt.half_images;
+  for (auto& img : imgs) {
+    img.width = opt.width;
+    img.height = opt.height;
+    img.rgb.assign(values, 0.0f);
+    if (halves) {
+      img.half_rgb[0].assign(values, 0.0f);
+      img.half_rgb[1].assign(values, 0.0f);
+    }
+  }
   const pt::Camera& cam = geo.camera();
   const int n = opt.wavelengths;
   std::atomic<int> rows_done{0};
@@ -237,23 +385,21 @@ RenderImage render(const RenderScene& scene,
   const int threads = resolve_thread_count(opt.threads);
   const auto kind = opt.sampler == RenderSampler::Sobol ? pt::PathSamplerKind::Sobol
                                                         : pt::PathSamplerKind::Independent;
-  const bool halves = opt.half_images;
-  if (halves) {
-    img.half_rgb[0].assign(img.rgb.size(), 0.0f);
-    img.half_rgb[1].assign(img.rgb.size(), 0.0f);
-  }
   const int first_half = opt.spp / 2;  // samples [0, spp/2) and [spp/2, spp)
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : rays)
   for (int y = 0; y < opt.height; ++y) {
     for (int x = 0; x < opt.width; ++x) {
       const std::uint64_t pixel = std::uint64_t(y) * opt.width + x;
-      Eigen::Vector3d xyz[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+      Eigen::Vector3d xyz[kMaxRenderVariants][2];
+      for (int v = 0; v < nv; ++v) xyz[v][0] = xyz[v][1] = Eigen::Vector3d::Zero();
       for (int s = 0; s < opt.spp; ++s) {
         pt::PathSampler rng(kind, opt.seed, pixel, std::uint32_t(s), std::uint32_t(opt.spp));
         double jx, jy;
         rng.get2d(jx, jy);
-        double lambda[pt::kMaxWavelengths], L[pt::kMaxWavelengths];
-        for (int k = 0; k < n; ++k) L[k] = 0;
+        double lambda[pt::kMaxWavelengths];
+        Radiance L;
+        for (int v = 0; v < nv; ++v)
+          for (int k = 0; k < n; ++k) L[v][k] = 0;
         double lweight[pt::kMaxWavelengths];
         pt::visible_hero_wavelengths(rng.get1d(), n, lambda, lweight);
         PathSpectrum ps;
@@ -264,43 +410,39 @@ RenderImage render(const RenderScene& scene,
         }
         const V3 d = cam.direction(x + jx, y + jy, opt.width, opt.height);
         rays += trace_path(ctx, cam.position, d, ps, rng, L);
-        Eigen::Vector3d sx = Eigen::Vector3d::Zero();
-        for (int k = 0; k < n; ++k)
-          if (L[k] != 0) sx += (L[k] * lweight[k]) * spec.xyz_weight(lambda[k]);
-        if (sx.allFinite()) xyz[s < first_half ? 0 : 1] += sx / n;
-      }
-      const Eigen::Vector3d rgb = to_rgb * ((xyz[0] + xyz[1]) / opt.spp);
-      for (int ch = 0; ch < 3; ++ch) img.rgb[pixel * 3 + ch] = float(rgb[ch]);
-      if (halves)
-        for (int h = 0; h < 2; ++h) {
-          const int count = h == 0 ? first_half : opt.spp - first_half;
-          const Eigen::Vector3d hr = to_rgb * (xyz[h] / count);
-          for (int ch = 0; ch < 3; ++ch) img.half_rgb[h][pixel * 3 + ch] = float(hr[ch]);
+        for (int v = 0; v < nv; ++v) {
+          Eigen::Vector3d sx = Eigen::Vector3d::Zero();
+          for (int k = 0; k < n; ++k)
+            if (L[v][k] != 0) sx += (L[v][k] * lweight[k]) * spec.xyz_weight(lambda[k]);
+          if (sx.allFinite()) xyz[v][s < first_half ? 0 : 1] += sx / n;
         }
+      }
+      for (int v = 0; v < nv; ++v) {
+        RenderImage& img = imgs[v];
+        const Eigen::Vector3d rgb = to_rgb * ((xyz[v][0] + xyz[v][1]) / opt.spp);
+        for (int ch = 0; ch < 3; ++ch) img.rgb[pixel * 3 + ch] = float(rgb[ch]);
+        if (halves)
+          for (int h = 0; h < 2; ++h) {
+            const int count = h == 0 ? first_half : opt.spp - first_half;
+            const Eigen::Vector3d hr = to_rgb * (xyz[v][h] / count);
+            for (int ch = 0; ch < 3; ++ch) img.half_rgb[h][pixel * 3 + ch] = float(hr[ch]);
+          }
+      }
     }
     const int done = ++rows_done;
     if (opt.progress && omp_get_thread_num() == 0) opt.progress(double(done) / opt.height);
   }
   if (opt.progress) opt.progress(1.0);
-  img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  img.samples_per_second = double(opt.width) * opt.height * opt.spp / std::max(img.seconds, 1e-9);
-  img.rays = rays;
-  std::ostringstream os;
-  os << "scene " << preview_scene_name(scene.kind) << "; materials:";
-  for (const auto& m : materials) os << " [" << m->describe() << "]";
-  os << "; lights:";
-  if (lights.uniform_white_env) os << " uniform white environment";
-  if (!lights.envmap_path.empty())
-    os << " envmap " << lights.envmap_path << " x" << lights.envmap_scale;
-  os << " points " << lights.points.size() << " spheres " << lights.spheres.size() << " disks "
-     << lights.disks.size() << "; " << opt.width << "x" << opt.height << ", " << opt.spp << " spp, "
-     << n << " wavelengths/path, max depth " << opt.max_depth << ", seed " << opt.seed << ", mis "
-     << (opt.mis == MisMode::Mis        ? "power"
-         : opt.mis == MisMode::BrdfOnly ? "brdf_only"
-                                        : "light_only")
-     << ", sampler " << render_sampler_name(opt.sampler);
-  img.settings = os.str();
-  return img;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (int v = 0; v < nv; ++v) {
+    RenderImage& img = imgs[v];
+    img.seconds = seconds;
+    img.samples_per_second = double(opt.width) * opt.height * opt.spp / std::max(seconds, 1e-9);
+    img.rays = rays;
+    img.settings = settings_line(scene, variants[v], lights, opt, nv);
+  }
+  return imgs;
 }
 
 }  // namespace microbrdf
