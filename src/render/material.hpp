@@ -101,6 +101,10 @@ class SpectralMaterial {
   void eval(double u, double v, const Vec3& wi, const Vec3& wo, const double* lambda_m, int n,
             double* f) const;
   const Svbrdf& svbrdf() const { return *m_; }
+  /// Materials with the same key fill the same Wavelengths in prepare() (the conductor's
+  /// Fresnel object, or null when prepare() records only the wavelengths): one prepare() serves
+  /// them all.
+  const void* wavelength_key() const { return conductor_ ? &mf_->fresnel() : nullptr; }
   /// Whether the microfacet fast path is in use.
   bool fast() const { return mf_ != nullptr; }
 

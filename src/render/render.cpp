@@ -135,6 +135,14 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       const auto& mats = c.variants[v];
       const int slot = mats.size() == 1 ? 0 : std::min(sp.object, 1);
       mat[v] = &mats[mats.size() == 1 ? 0 : sp.object];
+      // Variants whose metals are the same object share their wavelength constants.
+      int same = 0;
+      while (same < v && mat[same]->wavelength_key() != mat[v]->wavelength_key()) ++same;
+      if (same < v) {
+        wl_consts[v] = wl_consts[same];
+        view[v] = mat[v]->view(wv);
+        continue;
+      }
       // The material's wavelength constants, once per path and material (the cylinder pair may
       // have two materials; with more than two, every bounce prepares its own).
       wl_consts[v] = &ps.mat[v][slot];
@@ -158,8 +166,9 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
           const bool mis = !ls->delta && c.opt.mis == MisMode::Mis;
           for (int v = 0; v < nv; ++v) {
             pdf[v] = 0;
-            reflects[v] =
-                mat[v]->eval(sp.u, sp.v, view[v], wl, *wl_consts[v], f[v], mis ? &pdf[v] : nullptr);
+            // (a variant that never draws needs no density)
+            reflects[v] = mat[v]->eval(sp.u, sp.v, view[v], wl, *wl_consts[v], f[v],
+                                       mis && c.mix_weight[v] > 0 ? &pdf[v] : nullptr);
             any |= reflects[v];
           }
           if (any) {
@@ -169,8 +178,10 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
             if (nv > 1 && mis) {
               brdf_pdf = 0;
               for (int v = 0; v < nv; ++v)
-                brdf_pdf += c.mix_weight[v] *
-                            (reflects[v] ? pdf[v] : mat[v]->sampling_pdf(sp.u, sp.v, view[v], wl));
+                if (c.mix_weight[v] > 0)
+                  brdf_pdf +=
+                      c.mix_weight[v] *
+                      (reflects[v] ? pdf[v] : mat[v]->sampling_pdf(sp.u, sp.v, view[v], wl));
             }
             ++rays;
             // Blocked by geometry, or by another area light in front (the same rule as for
@@ -225,7 +236,9 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
           continue;
         }
         double p = 0;
-        if (!mat[v]->eval(sp.u, sp.v, view[v], wl, *wl_consts[v], fc[v], &p))
+        const bool draws = c.mix_weight[v] > 0;
+        if (!mat[v]->eval(sp.u, sp.v, view[v], wl, *wl_consts[v], fc[v], draws ? &p : nullptr) &&
+            draws)
           p = mat[v]->sampling_pdf(sp.u, sp.v, view[v], wl);
         p_mix += c.mix_weight[v] * p;
         for (int k = 0; k < n; ++k) fc[v][k] *= wl.z();

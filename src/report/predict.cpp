@@ -340,12 +340,13 @@ PredictResult predict_staged(const PredictOptions& given, const std::string& out
   timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, fresnel, measured); });
   c.log("[4/6] renders");
   std::vector<report::ReferenceRender> references;
-  timed("renders",
-        [&] { summary["renders"] = report::stage_render(c, measured, timing, &references); });
+  const std::vector<report::NamedBrdf> models = report::model_brdfs(ndfs, fits, fresnel);
+  timed("renders", [&] {
+    summary["renders"] = report::stage_render(c, measured, models, timing, &references);
+  });
   if (o.render)
     timed("render_comparison", [&] {
-      summary["render_comparison"] =
-          report::stage_compare_renders(c, ndfs, fits, fresnel, references, timing);
+      summary["render_comparison"] = report::stage_compare_renders(c, models, references);
     });
   c.log("[5/6] texture");
   timed("texture", [&] { summary["texture"] = report::stage_texture(c, fresnel, timing); });

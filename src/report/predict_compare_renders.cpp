@@ -1,7 +1,8 @@
 // predict stage 5b: the comparison strip. Each scene of stage 5 (the cylinder pair and the sphere
-// under the environment map, the plate under a small light) rendered again with each fitted NDF
-// (ellipsoid, Beckmann, GGX) and D_K (with --kirchhoff): same lights, exposure, size, samples and
-// seed as its measured-NDF render; each against that render: SSIM on the displayed luminance
+// under the environment map, the plate under a small light) with each fitted NDF (ellipsoid,
+// Beckmann, GGX) and D_K (with --kirchhoff), rendered by stage 5 along the same paths as its
+// measured-NDF render (render_variants: same lights, exposure, size, samples and seed, and
+// correlated noise); each against that render: SSIM on the displayed luminance
 // (core/image_metrics.hpp, Wang et al. 2004), RMS relative error of the linear luminance, and a
 // false-colour difference image. The render noise comes with the measured-NDF render itself (the
 // two halves of its samples kept apart, see render_split): no extra render.
@@ -86,25 +87,17 @@ double quantile(std::vector<double> v, double q) {
   return v[k];
 }
 
-// One scene's strip; `prefix` ("" for the cylinder pair, whose file and timing names predate the
-// other scenes, else "<scene>_") goes into file and timing names.
+// One scene's strip; `prefix` ("" for the cylinder pair, whose file names predate the other
+// scenes, else "<scene>_") goes into file names.
 nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& models,
-                             const ReferenceRender& ref, nlohmann::json& timing) {
+                             const ReferenceRender& ref) {
   const auto& o = c.opt;
   const std::string& sc = ref.scene.name;
   const std::string prefix = sc == "cylinders" ? "" : sc + "_";
   const int w = ref.image.width, h = ref.image.height;
   const double ev = ref.exposure_stops;
-  auto render_with = [&](const std::shared_ptr<const Brdf>& brdf, std::uint64_t seed,
-                         const std::string& key) {
-    c.log("renders: comparison, " + sc + " with the " + key + " BRDF");
-    RenderOptions ro = predict_render_options(o, w, h);
-    ro.seed = seed;
-    RenderImage img =
-        render(ref.scene.geometry, {std::make_shared<UniformSvbrdf>(brdf)}, ref.scene.lights, ro);
-    timing["render_compare_" + prefix + key + "_s"] = img.seconds;
-    return img;
-  };
+  if (ref.model_images.size() != models.size())
+    throw std::logic_error("comparison strip: the reference render has no model images");
 
   const std::vector<double> ref_y = detail::luminance(ref.image.rgb);
   const std::vector<double> ref_d = displayed(ref_y, ev);
@@ -143,10 +136,9 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
   // 99.5th percentile of |Y_model - Y_measured| (both smoothed) over every model, in units of the
   // measured render's 99th-percentile luminance.
   std::vector<std::vector<double> > diffs, ys, yss;
-  std::vector<RenderImage> imgs;
-  for (const auto& m : models) {
-    imgs.push_back(render_with(m.brdf, o.seed, m.key));
-    const auto& y = ys.emplace_back(detail::luminance(imgs.back().rgb));
+  const std::vector<RenderImage>& imgs = ref.model_images;
+  for (const auto& img : imgs) {
+    const auto& y = ys.emplace_back(detail::luminance(img.rgb));
     const auto& ysm = yss.emplace_back(smoothed(y, wz, hz, kSmoothPx));
     std::vector<double> dlt(y.size());
     for (std::size_t i = 0; i < y.size(); ++i) dlt[i] = std::fabs(ysm[i] - ref_s[i]);
@@ -212,14 +204,10 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
 
 }  // namespace
 
-nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
-                                     const std::vector<FitResult>& fits,
-                                     const std::shared_ptr<const Fresnel>& fresnel,
-                                     const std::vector<ReferenceRender>& references,
-                                     nlohmann::json& timing) {
-  const std::vector<NamedBrdf> models = model_brdfs(ndfs, fits, fresnel);
+nlohmann::json stage_compare_renders(const Context& c, const std::vector<NamedBrdf>& models,
+                                     const std::vector<ReferenceRender>& references) {
   nlohmann::json scenes = nlohmann::json::array();
-  for (const auto& ref : references) scenes.push_back(compare_scene(c, models, ref, timing));
+  for (const auto& ref : references) scenes.push_back(compare_scene(c, models, ref));
   // The cylinder pair's keys at the top level (as before the other scenes joined), every scene
   // in "scenes".
   nlohmann::json out = nlohmann::json::object();

@@ -109,47 +109,53 @@ std::string studio_beside(const std::string& envmap) {
 
 }  // namespace
 
-// A compared scene's measured-NDF render, made so that its noise can be told without a second
-// render: the renderer keeps the images of the first n0 = floor(N/2) and the last n1 = N - n0
-// samples apart (RenderOptions::half_images) besides the full image, which is the same bit for
-// bit as a render without them. With s^2 the variance per sample, the full image has s^2 / N
-// and the halves' difference A - B has s^2 (1/n0 + 1/n1), so k (Y_A - Y_B) with
-// k = sqrt(n0 n1) / N is one realisation of the image's own noise (k = 1/2 for even N). For the
-// Sobol' sampler the halves are two halves of one scrambled sequence, slightly anti-correlated,
-// so this errs high (it is the noise two independent half-sample renders would show). At one
-// sample per pixel the image is rendered again with seed + 1 and (Y_2 - Y_1) / sqrt 2 is used.
-RenderImage render_split(const PredictScene& scene,
-                         const std::vector<std::shared_ptr<const Svbrdf> >& mats,
-                         const RenderOptions& ro, std::vector<double>& noise) {
+// A compared scene's measured-NDF render (the first variant) and the models' renders along the
+// same paths, made so that the noise can be told without a second render: the renderer keeps the
+// images of the first n0 = floor(N/2) and the last n1 = N - n0 samples apart
+// (RenderOptions::half_images) besides the full image, which is the same bit for bit as a render
+// without them. With s^2 the variance per sample, the full image has s^2 / N and the halves'
+// difference A - B has s^2 (1/n0 + 1/n1), so k (Y_A - Y_B) with k = sqrt(n0 n1) / N is one
+// realisation of the image's own noise (k = 1/2 for even N). For the Sobol' sampler the halves
+// are two halves of one scrambled sequence, slightly anti-correlated, so this errs high (it is
+// the noise two independent half-sample renders would show). At one sample per pixel the image
+// is rendered again with seed + 1 and (Y_2 - Y_1) / sqrt 2 is used.
+std::vector<RenderImage> render_split(
+    const PredictScene& scene,
+    const std::vector<std::vector<std::shared_ptr<const Svbrdf> > >& variants,
+    const RenderOptions& ro, std::vector<double>& noise) {
   const int n = ro.spp;
   if (n < 2) {
-    RenderImage a = render(scene.geometry, mats, scene.lights, ro);
+    std::vector<RenderImage> a = render_variants(scene.geometry, variants, scene.lights, ro);
     RenderOptions ob = ro;
     ob.seed = ro.seed + 1;
     ob.progress = nullptr;
-    const RenderImage b = render(scene.geometry, mats, scene.lights, ob);
-    const std::vector<double> ya = detail::luminance(a.rgb), yb = detail::luminance(b.rgb);
+    ob.variant_weights.clear();
+    const RenderImage b = render(scene.geometry, variants.front(), scene.lights, ob);
+    const std::vector<double> ya = detail::luminance(a.front().rgb), yb = detail::luminance(b.rgb);
     noise.resize(ya.size());
+    // (The second render draws with the first variant's sampler alone: for spp = 1 the noise
+    // figure is that of a plain render of the measured NDF.)
     for (std::size_t i = 0; i < ya.size(); ++i) noise[i] = (yb[i] - ya[i]) / std::sqrt(2.0);
-    a.seconds += b.seconds;
-    a.rays += b.rays;
+    a.front().seconds += b.seconds;
+    a.front().rays += b.rays;
     return a;
   }
   RenderOptions o = ro;
   o.half_images = true;
-  RenderImage a = render(scene.geometry, mats, scene.lights, o);
+  std::vector<RenderImage> a = render_variants(scene.geometry, variants, scene.lights, o);
   const int n0 = n / 2, n1 = n - n0;
   const double k = std::sqrt(static_cast<double>(n0) * n1) / n;
-  const std::vector<double> y0 = detail::luminance(a.half_rgb[0]),
-                            y1 = detail::luminance(a.half_rgb[1]);
+  const std::vector<double> y0 = detail::luminance(a.front().half_rgb[0]),
+                            y1 = detail::luminance(a.front().half_rgb[1]);
   noise.resize(y0.size());
   for (std::size_t i = 0; i < y0.size(); ++i) noise[i] = k * (y0[i] - y1[i]);
-  a.half_rgb = {};  // the report keeps only the noise
+  for (auto& img : a) img.half_rgb = {};  // the report keeps only the noise
   return a;
 }
 
 nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>& measured,
-                            nlohmann::json& timing, std::vector<ReferenceRender>* references) {
+                            const std::vector<NamedBrdf>& models, nlohmann::json& timing,
+                            std::vector<ReferenceRender>* references) {
   const auto& o = c.opt;
   if (!o.render) return {{"skipped", "rendering turned off (--no-render)"}};
   std::vector<std::shared_ptr<const Svbrdf> > mats{std::make_shared<UniformSvbrdf>(measured)};
@@ -213,8 +219,28 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
       last = step;
     };
     std::vector<double> noise;
-    RenderImage img = j.compared ? render_split(j.scene, mats, ro, noise)
-                                 : render(j.scene.geometry, mats, j.scene.lights, ro);
+    std::vector<RenderImage> model_images;
+    RenderImage img;
+    if (j.compared) {
+      // The compared scenes: the measured NDF and every model along the same paths (one pass;
+      // the models' differences from the measured render then show the models, not the noise).
+      std::vector<std::vector<std::shared_ptr<const Svbrdf> > > variants{mats};
+      for (const auto& m : models) variants.push_back({std::make_shared<UniformSvbrdf>(m.brdf)});
+      // Half of the directions drawn by the measured NDF's own sampler (its image keeps most of
+      // its own noise level), the other half shared by the models; every image stays unbiased
+      // (each sampler reaches the whole hemisphere between them) and a model's variance is at
+      // most 1 / (its share) times that of its own render (docs/render.md, "Variants").
+      if (variants.size() > 1) {
+        ro.variant_weights.assign(variants.size(), 1.0);
+        ro.variant_weights.front() = static_cast<double>(variants.size() - 1);
+      }
+      std::vector<RenderImage> imgs = render_split(j.scene, variants, ro, noise);
+      img = std::move(imgs.front());
+      model_images.assign(std::make_move_iterator(imgs.begin() + 1),
+                          std::make_move_iterator(imgs.end()));
+    } else {
+      img = render(j.scene.geometry, mats, j.scene.lights, ro);
+    }
     const double exposure = j.fixed_zero ? 0.0 : auto_exposure_stops(img);
     const std::string file = "img/render_" + j.key + ".png";
     write_render_png(img, c.path(file), exposure);
@@ -235,6 +261,12 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
                    {"rays", img.rays},
                    {"material", measured->describe()},
                    {"lights", j.scene.lights_text}});
+    if (j.compared) {
+      nlohmann::json keys = nlohmann::json::array();
+      for (const auto& m : models) keys.push_back(m.key);
+      // One pass renders the measured NDF and these models (the comparison strip's images).
+      out.back()["shared_paths_with"] = std::move(keys);
+    }
     if (references && j.compared) {
       ReferenceRender r;
       r.scene = j.scene;
@@ -243,6 +275,7 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
       r.image = std::move(img);
       r.noise_luminance = std::move(noise);
       r.noise_seed = ro.spp >= 2 ? ro.seed : ro.seed + 1;
+      r.model_images = std::move(model_images);
       references->push_back(std::move(r));
     }
   }

@@ -115,36 +115,38 @@ struct ReferenceRender {
   /// samples would add or take per pixel.
   std::vector<double> noise_luminance;
   std::uint64_t noise_seed = 0;  ///< the seed of the halves (or of the second render at 1 spp)
+  /// The compared models' images (the `models` of stage_render, in order), rendered along the
+  /// same paths as `image` (render_variants): their differences from it carry little noise.
+  std::vector<RenderImage> model_images;
 };
 /// The exposure (stops, half-stop steps within +-10) at which the image's 99th-percentile
 /// luminance shows at about full white; 0 for a black image.
 double auto_exposure_stops(const RenderImage& img);
-/// A render of `scene` at `options.spp` samples per pixel, the same as render() gives, and in
-/// `noise` one realisation of its own Monte Carlo noise in linear luminance,
-/// k (Y_A - Y_B) with Y_A, Y_B the images of the first floor(spp/2) and the remaining samples
-/// and k = sqrt(nA nB) / spp (at spp = 1: a second render with seed + 1, and
-/// (Y_2 - Y_1) / sqrt 2).
-RenderImage render_split(const PredictScene& scene,
-                         const std::vector<std::shared_ptr<const Svbrdf> >& materials,
-                         const RenderOptions& options, std::vector<double>& noise);
+/// Renders of `scene` at `options.spp` samples per pixel, one per variant along shared paths
+/// (render_variants; one variant: the same as render() gives), and in `noise` one realisation
+/// of the first variant's own Monte Carlo noise in linear luminance, k (Y_A - Y_B) with Y_A,
+/// Y_B its images of the first floor(spp/2) and the remaining samples and
+/// k = sqrt(nA nB) / spp (at spp = 1: a second render with seed + 1, and (Y_2 - Y_1) / sqrt 2).
+std::vector<RenderImage> render_split(
+    const PredictScene& scene,
+    const std::vector<std::vector<std::shared_ptr<const Svbrdf> > >& variants,
+    const RenderOptions& options, std::vector<double>& noise);
 /// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`. The
 /// renders of predict_scenes() (the references of the comparison strip) go into `references`
 /// when given, each with its noise from the two halves of its samples (render_split), so that
-/// the noise is known without a second render.
+/// the noise is known without a second render, and with the images of `models` rendered along
+/// the same paths (ReferenceRender::model_images).
 nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>& measured,
-                            nlohmann::json& timing,
+                            const std::vector<NamedBrdf>& models, nlohmann::json& timing,
                             std::vector<ReferenceRender>* references = nullptr);
-/// The comparison strip: each reference scene rendered with each fit (and D_K) at the settings
-/// of its measured-NDF render (same lights, size, samples, seed, exposure), their SSIM and RMS
-/// relative error against it, difference images, and the render noise (from the two halves of
-/// the reference's samples, see ReferenceRender::noise_luminance);
-/// returns the "render_comparison" object (the cylinder pair's keys at the top level, every
-/// scene in "scenes").
-nlohmann::json stage_compare_renders(const Context& c, const NdfSet& ndfs,
-                                     const std::vector<FitResult>& fits,
-                                     const std::shared_ptr<const Fresnel>& fresnel,
-                                     const std::vector<ReferenceRender>& references,
-                                     nlohmann::json& timing);
+/// The comparison strip: each reference scene's images of the fits (and D_K), rendered by
+/// stage_render along the paths of its measured-NDF render (same lights, size, samples, seed,
+/// exposure), their SSIM and RMS relative error against it, difference images, and the render
+/// noise (from the two halves of the reference's samples, see
+/// ReferenceRender::noise_luminance); returns the "render_comparison" object (the cylinder
+/// pair's keys at the top level, every scene in "scenes").
+nlohmann::json stage_compare_renders(const Context& c, const std::vector<NamedBrdf>& models,
+                                     const std::vector<ReferenceRender>& references);
 /// The lights of every predict render: the environment map if given, else a dim uniform sky
 /// and two disk softboxes.
 RenderLights predict_lights(const PredictOptions& o);

@@ -603,8 +603,10 @@ void comparison_scene(Page& p, json& rc, bool first, const std::string& ndf_labe
     p << ". Two independent renders would differ by &radic;2 times that (the row \"noise "
          "only\" below; its SSIM compares the render with itself plus that difference: "
       << report::num(d(noise["ssim_two_seeds"]), 4)
-      << "). The models are rendered with the reference's seed, so part of the noise cancels in "
-         "their differences: a model whose numbers are no worse than the noise-only row "
+      << "). The models are rendered along the same paths as the reference (one render of "
+         "all of them: shared camera rays, light samples and shadow rays, each direction drawn "
+         "by one of their samplers and weighted for every model), so most of the noise cancels "
+         "in their differences: a model whose numbers are no worse than the noise-only row "
          "differs from the measurement by no more than noise can explain.</p>\n<table>\n";
   else
     p << "; SSIM with noise only " << report::num(d(noise["ssim_two_seeds"]), 4)

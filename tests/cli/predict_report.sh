@@ -86,7 +86,8 @@ dk, nr = (json.load(open(p)) for p in sys.argv[1:3])
 for x in dk["render_comparison"]["scenes"]:
     models = [m["model"] for m in x["models"]]
     assert models == ["ellipsoid", "beckmann", "ggx", "kirchhoff"], models
-    assert all(0 < m["ssim"] <= 1 for m in x["models"])
+    # (16 px at 1 spp: mostly noise, so SSIM may fall below 0; it stays an SSIM)
+    assert all(-1 <= m["ssim"] <= 1 for m in x["models"])
 assert "render_comparison" not in nr and "skipped" in nr["renders"]
 PY
 
