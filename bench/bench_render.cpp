@@ -75,6 +75,45 @@ void BM_RenderCylinders(benchmark::State& state) {
 }
 BENCHMARK(BM_RenderCylinders)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The comparison strip of `predict`: a measured (tabulated) NDF and three analytic fits of it on
+// the cylinder pair. Arg 0: four separate renders (the yardstick, same run); arg 1: one
+// render_variants pass with the weights predict uses (the tabulated NDF half of the draws).
+// Both produce the same four images in expectation; the counter is CPU seconds per set of four.
+void BM_RenderStrip(benchmark::State& state) {
+  RenderScene sc;
+  sc.kind = PreviewScene::Cylinders;
+  auto f = std::make_shared<ConductorFresnel>(metal("SS-austenitic"));
+  auto uniform = [&](std::shared_ptr<const MicrofacetDistribution> d) {
+    return std::vector<std::shared_ptr<const Svbrdf>>{
+        std::make_shared<UniformSvbrdf>(std::make_shared<MicrofacetBrdf>(std::move(d), f))};
+  };
+  const std::vector<std::vector<std::shared_ptr<const Svbrdf>>> variants = {
+      {material(true)},
+      uniform(std::make_shared<EllipsoidDistribution>(EllipsoidParams{0.006, 0.13})),
+      uniform(std::make_shared<BeckmannDistribution>(0.0075, 0.15)),
+      uniform(std::make_shared<GgxDistribution>(0.006, 0.12))};
+  const auto lights = courtyard();
+  RenderOptions o;
+  o.width = o.height = 256;
+  o.spp = kSpp;
+  o.threads = kThreads;
+  const bool shared = state.range(0) != 0;
+  if (shared) o.variant_weights = {3, 1, 1, 1};
+  const double c0 = cpu_seconds();
+  for (auto _ : state) {
+    if (shared) {
+      benchmark::DoNotOptimize(render_variants(sc, variants, lights, o).back().rgb.data());
+    } else {
+      for (const auto& v : variants) benchmark::DoNotOptimize(render(sc, v, lights, o).rgb.data());
+    }
+  }
+  state.counters["cpu_s_per_set"] = (cpu_seconds() - c0) / double(state.iterations());
+  state.SetLabel(std::string(shared ? "one shared-path pass" : "four separate renders") +
+                 ": tabulated Beckmann 0.007/0.14 + ellipsoid, Beckmann, GGX fits, SS, "
+                 "courtyard, 256x256x4, 2 threads");
+}
+BENCHMARK(BM_RenderStrip)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // The reference: the same camera rays (jittered, same count), closest hit only.
 void BM_EmbreePrimaryRays(benchmark::State& state) {
   RenderScene sc;
