@@ -20,6 +20,7 @@
 #include "render/material.hpp"
 #include "render/scene.hpp"
 #include "render/spectral.hpp"
+#include "render_test_util.hpp"
 
 using namespace microbrdf;
 namespace fs = std::filesystem;
@@ -42,12 +43,7 @@ RenderOptions small(int size, int spp, int wavelengths = 4) {
   return o;
 }
 
-Eigen::Vector3d mean_rgb(const RenderImage& img) {
-  Eigen::Vector3d m = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < img.rgb.size() / 3; ++i)
-    m += Eigen::Vector3d(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
-  return m / double(img.rgb.size() / 3);
-}
+using test::mean_rgb;
 
 /// A scratch directory for this process, removed at exit.
 std::string temp_dir() {

@@ -13,6 +13,7 @@
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "render/material.hpp"
+#include "render_test_util.hpp"
 
 using namespace microbrdf;
 
@@ -38,12 +39,7 @@ RenderOptions options(int size, int spp) {
   return o;
 }
 
-Eigen::Vector3d mean_rgb(const RenderImage& img) {
-  Eigen::Vector3d m = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < img.rgb.size() / 3; ++i)
-    m += Eigen::Vector3d(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
-  return m / double(img.rgb.size() / 3);
-}
+using test::mean_rgb;
 
 double rms_difference(const RenderImage& a, const RenderImage& b, const RenderImage& c,
                       const RenderImage& d) {
