@@ -236,8 +236,45 @@ bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, dou
   s.wo = wo;
   s.pdf = pdf;
   s.delta = false;
+  s.target = dm / (4 * vw.pa);
   fresnel_all(im, w, geo, s.weight);
   return true;
+}
+
+bool SpectralMaterial::ris_terms(const View& vw, const Vec3& wl, double& pdf,
+                                 double& target) const {
+  pdf = target = 0;
+  const Vec3& wv = vw.wv;
+  if (wl.z() <= 0 || wv.z() <= 0 || !(vw.pa > 0)) return false;
+  const Vec3 hs = wl + wv;
+  const double len = hs.norm();
+  if (len == 0) return false;
+  const Vec3 h = hs / len;
+  const double dh = d_->D(h);
+  if (!(dh > 0)) return false;
+  target = dh / (4 * vw.pa);
+  if (visible_exact_) {
+    pdf = target;
+  } else {
+    const double vh = wv.dot(h);
+    pdf = vh > 0 ? d_->sampling_pdf(wv, h) / (4 * vh) : 0.0;
+  }
+  return true;
+}
+
+bool SpectralMaterial::sample_direction(const View& vw, double u1, double u2, Vec3& wl,
+                                        double& pdf, double& target) const {
+  const Vec3& wv = vw.wv;
+  if (wv.z() <= 0 || !(vw.pa > 0)) return false;
+  const Vec3 m = d_->sample_visible(wv, u1, u2);
+  const double im = wv.dot(m);
+  if (im <= 0) return false;
+  wl = 2 * im * m - wv;
+  if (wl.z() <= 0) return false;
+  const double dm = d_->D(m);
+  target = dm / (4 * vw.pa);
+  pdf = visible_exact_ ? target : d_->sampling_pdf(wv, m) / (4 * im);
+  return pdf > 0 && std::isfinite(pdf) && target > 0;
 }
 
 void SpectralMaterial::eval(double u, double v, const Vec3& wi, const Vec3& wo,

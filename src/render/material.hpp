@@ -77,6 +77,7 @@ class SpectralMaterial {
     double pdf = 0;                  ///< per steradian; 0 for a delta lobe
     bool delta = false;              ///< weights from each wavelength's own sample()
     double weight[kMaxWavelengths];  ///< f cos / pdf per wavelength (the first n are set)
+    double target = 0;               ///< fast path: D(h) / (4 sigma+(wv)) (see ris_terms)
   };
 
   explicit SpectralMaterial(std::shared_ptr<const Svbrdf> m);
@@ -92,6 +93,16 @@ class SpectralMaterial {
   /// others (delta lobes: each wavelength's own sample() for the same numbers).
   bool sample(double u, double v, const View& vw, double u1, double u2, const Wavelengths& w,
               Sample& s) const;
+
+  /// For resampled direct light (direct_ris.hpp; fast path only): the BRDF sampler's density of
+  /// wl (as eval's) and a cheap stand-in for f cos without the Fresnel term, the target
+  /// D(h) / (4 sigma+(wv)) (= f cos G1(wv) / (F G2); equal to the density for the analytic
+  /// models), positive wherever f is. False where the target is 0 (then f = 0 too).
+  bool ris_terms(const View& vw, const Vec3& wl, double& pdf, double& target) const;
+  /// A BRDF-sampled direction with its density and target (as sample(), without G2 and the
+  /// Fresnel term); fast path only. False when the sample is refused.
+  bool sample_direction(const View& vw, double u1, double u2, Vec3& wl, double& pdf,
+                        double& target) const;
 
   /// f(wi, wo) at n wavelengths (metres) into f; wi = light, wo = viewer (local frame).
   void eval(double u, double v, const Vec3& wi, const Vec3& wo, const double* lambda_m, int n,

@@ -31,6 +31,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/threads.hpp"
+#include "render/direct_ris.hpp"
 #include "render/lights.hpp"
 #include "render/material.hpp"
 #include "render/path_sampler.hpp"
@@ -77,11 +78,15 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
   double prev_pdf = 0;   // BRDF-sampling density of the current ray direction
   const bool use_nee = c.opt.mis != MisMode::BrdfOnly;
   const bool use_brdf_emission = c.opt.mis != MisMode::LightOnly;
+  // Resampled direct light (direct_ris.hpp) where the material allows; its continuation then
+  // carries indirect light only: emission it meets is already counted.
+  const bool use_ris = c.opt.direct == DirectLight::Ris && c.opt.mis == MisMode::Mis;
+  bool after_ris = false;
   const double eps = c.geo.epsilon();
   auto add_emission = [&](const V3& rgb, double light_pdf) {
     double w = 1;
     if (!specular) {
-      if (!use_brdf_emission) return;
+      if (!use_brdf_emission || after_ris) return;
       if (use_nee) w = power_heuristic(prev_pdf, light_pdf);
     }
     if (!(w > 0)) return;
@@ -108,6 +113,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       return rays;
     }
     if (t < 0) {
+      if (after_ris) return rays;
       double pdf;
       const V3 rgb = c.lights.env_rgb(d, env_pixel, pdf);
       if (c.lights.env()) add_emission(rgb, pdf);
@@ -129,7 +135,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     const V3 origin = sp.p + eps * sp.ng;
 
     // Next-event estimation.
-    if (nee) {
+    const bool ris = use_ris && nee && mat.fast();
+    if (nee && !ris) {
       if (auto ls = c.lights.sample(origin, nee_u1, nee_u2)) {
         const V3 wl = sp.to_local(ls->dir);
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
@@ -158,7 +165,17 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     double u1, u2;
     rng.get2d(u1, u2);
     pt::SpectralMaterial::Sample s;
-    if (!mat.sample(sp.u, sp.v, view, u1, u2, *wl_consts, s)) return rays;
+    const bool sampled = mat.sample(sp.u, sp.v, view, u1, u2, *wl_consts, s);
+    if (ris) {
+      const pt::RisDirectInput in{c.geo,    c.lights, mat,
+                                  view,     *wl_consts, sp,
+                                  origin,   ps.basis, c.opt.ris_brdf_candidates,
+                                  c.opt.ris_light_candidates};
+      rays += pt::ris_direct_light(in, sampled ? &s : nullptr, u1, u2, nee_u1, nee_u2,
+                                   rng.get1d(), T, L);
+    }
+    if (!sampled) return rays;
+    after_ris = ris && !s.delta;
     const V3 wl = s.wo;
     for (int k = 0; k < n; ++k) T[k] *= s.weight[k];
     specular = s.delta;
@@ -189,6 +206,14 @@ RenderSampler parse_render_sampler(const std::string& name, const std::string& f
   throw InputError(flag + " '" + name + "': give sobol or independent");
 }
 
+DirectLight parse_direct_light(const std::string& name, const std::string& flag) {
+  if (name == "mis") return DirectLight::Mis;
+  if (name == "ris") return DirectLight::Ris;
+  throw InputError(flag + " '" + name + "': give mis or ris");
+}
+
+std::string direct_light_name(DirectLight d) { return d == DirectLight::Ris ? "ris" : "mis"; }
+
 std::string render_sampler_name(RenderSampler s) {
   return s == RenderSampler::Sobol ? "sobol" : "independent";
 }
@@ -204,6 +229,10 @@ RenderImage render(const RenderScene& scene,
   if (opt.max_depth < 1) throw InputError("render: max depth must be >= 1");
   if (opt.wavelengths < 1 || opt.wavelengths > pt::kMaxWavelengths)
     throw InputError("render: wavelengths per path must be 1..16");
+  if (opt.ris_brdf_candidates < 1 || opt.ris_brdf_candidates > pt::kMaxRisBrdfCandidates)
+    throw InputError("render: RIS BRDF candidates must be 1..16");
+  if (opt.ris_light_candidates < 1 || opt.ris_light_candidates > pt::kMaxRisLightCandidates)
+    throw InputError("render: RIS light candidates must be 1..4");
   if (materials.empty()) throw InputError("render: no material");
   for (const auto& m : materials)
     if (!m) throw InputError("render: null material");
@@ -298,7 +327,11 @@ RenderImage render(const RenderScene& scene,
      << (opt.mis == MisMode::Mis        ? "power"
          : opt.mis == MisMode::BrdfOnly ? "brdf_only"
                                         : "light_only")
-     << ", sampler " << render_sampler_name(opt.sampler);
+     << ", sampler " << render_sampler_name(opt.sampler) << ", direct light "
+     << direct_light_name(opt.direct);
+  if (opt.direct == DirectLight::Ris)
+    os << " (" << opt.ris_brdf_candidates << " BRDF + " << opt.ris_light_candidates
+       << " light candidates)";
   img.settings = os.str();
   return img;
 }

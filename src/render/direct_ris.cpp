@@ -1,0 +1,146 @@
+// Direct light by resampled importance sampling (see direct_ris.hpp).
+#include "render/direct_ris.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace microbrdf::pt {
+namespace {
+
+constexpr double kPhi = 0.6180339887498949;  // golden-ratio fraction: the lattice's 2nd axis
+
+/// The j-th of `count` points of the shifted lattice (u1 + j / count, u2 + j phi) mod 1.
+void lattice_point(double u1, double u2, int j, int count, double& v1, double& v2) {
+  v1 = u1 + double(j) / count;
+  v2 = u2 + std::fmod(j * kPhi, 1.0);
+  if (v1 >= 1) v1 -= 1;
+  if (v2 >= 1) v2 -= 1;
+  // (a sum just below 2 rounds to 1 after the subtraction only if u >= 1, which never happens)
+}
+
+/// Rec. 709 luminance of linear sRGB: > 0 wherever any channel is (map pixels are >= 0).
+double luminance(const V3& rgb) { return 0.2126 * rgb.x() + 0.7152 * rgb.y() + 0.0722 * rgb.z(); }
+
+struct Candidate {
+  V3 wl;               // local direction (towards the light)
+  V3 dir;              // world direction
+  V3 rgb;              // radiance arriving without visibility
+  double distance;     // to the emitter (infinity: the environment)
+  double target;       // p_hat
+  double weight;       // p_hat / (M p_b + N p_l)
+};
+
+}  // namespace
+
+int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* continuation,
+                     double brdf_u1, double brdf_u2, double light_u1, double light_u2,
+                     double u_select, const double* T, double* L) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const int M = in.brdf_candidates, N = in.light_candidates;
+  const int n = in.wavelengths.n;
+  const ShadingPoint& sp = in.sp;
+  int rays = 0;
+  Candidate cand[kMaxRisBrdfCandidates + kMaxRisLightCandidates];
+  int count = 0;
+  double sum = 0;
+  auto add_spectral = [&](const V3& wl, const V3& dir, double distance, const V3& rgb,
+                          double scale) {
+    double f[kMaxWavelengths];
+    if (!in.mat.eval(sp.u, sp.v, in.view, wl, in.wavelengths, f, nullptr)) return;
+    ++rays;
+    const double tmax = std::isinf(distance) ? 1e30 : distance * (1 - 1e-6);
+    if (in.geo.occluded(in.origin, dir, tmax)) return;
+    const double s = scale * wl.z();
+    for (int k = 0; k < n; ++k)
+      if (f[k] != 0) L[k] += T[k] * f[k] * s * rgb.dot(in.basis.col(k));
+  };
+
+  // Light candidates (and the delta-light samples, which are estimated on their own).
+  for (int j = 0; j < N; ++j) {
+    double v1 = light_u1, v2 = light_u2;
+    if (j > 0) lattice_point(light_u1, light_u2, j, N, v1, v2);
+    const auto ls = in.lights.sample(in.origin, v1, v2);
+    if (!ls) continue;
+    const V3 wl = sp.to_local(ls->dir);
+    if (!(wl.z() > 0) || !(ls->dir.dot(sp.ng) > 0)) continue;
+    if (ls->delta) {
+      add_spectral(wl, ls->dir, ls->distance, ls->rgb, 1.0 / (N * ls->pdf));
+      continue;
+    }
+    const double tmax = std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6);
+    if (in.lights.hit_area(in.origin, ls->dir, tmax).t > 0) continue;  // another light in front
+    double pb, target;
+    if (!in.mat.ris_terms(in.view, wl, pb, target)) continue;
+    const double p_hat = target * luminance(ls->rgb);
+    if (!(p_hat > 0)) continue;
+    Candidate& c = cand[count++];
+    c.wl = wl;
+    c.dir = ls->dir;
+    c.rgb = ls->rgb;
+    c.distance = ls->distance;
+    c.target = p_hat;
+    c.weight = p_hat / (M * pb + N * ls->pdf);
+    sum += c.weight;
+  }
+
+  // BRDF candidates: directions first (prefetching their map pixels), then the radiance.
+  const int first_brdf = count;
+  std::pair<int, int> pixel[kMaxRisBrdfCandidates];
+  double pb[kMaxRisBrdfCandidates];
+  for (int j = 0; j < M; ++j) {
+    V3 wl;
+    double pdf, target;
+    if (j == 0) {
+      if (!continuation || continuation->delta) continue;
+      wl = continuation->wo;
+      pdf = continuation->pdf;
+      target = continuation->target;
+    } else {
+      double v1, v2;
+      lattice_point(brdf_u1, brdf_u2, j, M, v1, v2);
+      if (!in.mat.sample_direction(in.view, v1, v2, wl, pdf, target)) continue;
+    }
+    const V3 dir = sp.to_world(wl).normalized();
+    if (!(dir.dot(sp.ng) > 0)) continue;
+    Candidate& c = cand[count];
+    pixel[count - first_brdf] = in.lights.prefetch_env(dir);
+    pb[count - first_brdf] = pdf;
+    c.wl = wl;
+    c.dir = dir;
+    c.target = target;
+    ++count;
+  }
+  for (int i = first_brdf; i < count; ++i) {
+    Candidate& c = cand[i];
+    const LightHit lh = in.lights.hit_area(in.origin, c.dir, 1e30);
+    double pl;
+    if (lh.t > 0) {
+      c.rgb = lh.rgb;
+      c.distance = lh.t;
+      pl = lh.pdf;
+    } else {
+      c.rgb = in.lights.env_rgb(c.dir, pixel[i - first_brdf], pl);
+      c.distance = kInf;
+    }
+    c.target *= luminance(c.rgb);
+    c.weight = c.target > 0 ? c.target / (M * pb[i - first_brdf] + N * pl) : 0.0;
+    sum += c.weight;
+  }
+  if (!(sum > 0) || !std::isfinite(sum)) return rays;
+
+  // The choice: the first candidate whose running sum exceeds u_select * sum.
+  const double r = u_select * sum;
+  int pick = -1;
+  double run = 0;
+  for (int i = 0; i < count; ++i) {
+    if (!(cand[i].weight > 0)) continue;
+    pick = i;
+    run += cand[i].weight;
+    if (r < run) break;
+  }
+  const Candidate& c = cand[pick];
+  add_spectral(c.wl, c.dir, c.distance, c.rgb, sum / c.target);
+  return rays;
+}
+
+}  // namespace microbrdf::pt
