@@ -9,25 +9,27 @@ namespace {
 
 constexpr double kPhi = 0.6180339887498949;  // golden-ratio fraction: the lattice's 2nd axis
 
-/// The j-th of `count` points of the shifted lattice (u1 + j / count, u2 + j phi) mod 1.
+/// The point (u1 + j / count, u2 + j phi) mod 1 of the shifted lattice (j may be negative).
 void lattice_point(double u1, double u2, int j, int count, double& v1, double& v2) {
-  v1 = u1 + double(j) / count;
-  v2 = u2 + std::fmod(j * kPhi, 1.0);
+  const double o1 = double(j) / count, o2 = j * kPhi;
+  v1 = u1 + (o1 - std::floor(o1));
+  v2 = u2 + (o2 - std::floor(o2));
   if (v1 >= 1) v1 -= 1;
   if (v2 >= 1) v2 -= 1;
-  // (a sum just below 2 rounds to 1 after the subtraction only if u >= 1, which never happens)
+  v1 = std::min(v1, 0x1.fffffffffffffp-1);  // (rounding of the sums)
+  v2 = std::min(v2, 0x1.fffffffffffffp-1);
 }
 
 /// Rec. 709 luminance of linear sRGB: > 0 wherever any channel is (map pixels are >= 0).
 double luminance(const V3& rgb) { return 0.2126 * rgb.x() + 0.7152 * rgb.y() + 0.0722 * rgb.z(); }
 
 struct Candidate {
-  V3 wl;               // local direction (towards the light)
-  V3 dir;              // world direction
-  V3 rgb;              // radiance arriving without visibility
-  double distance;     // to the emitter (infinity: the environment)
-  double target;       // p_hat
-  double weight;       // p_hat / (M p_b + N p_l)
+  V3 wl;            // local direction (towards the light)
+  V3 dir;           // world direction
+  V3 rgb;           // radiance arriving without visibility
+  double distance;  // to the emitter (infinity: the environment)
+  double target;    // p_hat
+  double weight;    // p_hat / (M p_b + N p_l)
 };
 
 }  // namespace
@@ -54,6 +56,55 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
     for (int k = 0; k < n; ++k)
       if (f[k] != 0) L[k] += T[k] * f[k] * s * rgb.dot(in.basis.col(k));
   };
+
+  // BRDF candidates: directions first (prefetching their map pixels), then the radiance.
+  // Candidate k sits at (r + k / M, u2 + (k - a) phi) mod 1 with a = floor(M u1), r = u1 - a / M:
+  // candidate a is the continuation's point (u1, u2) itself, and a, uniform and independent of
+  // the set of candidates, picks the stratum of the choice below.
+  const int a = std::min(int(brdf_u1 * M), M - 1);
+  const int first_brdf = 0;
+  std::pair<int, int> pixel[kMaxRisBrdfCandidates];
+  double pb[kMaxRisBrdfCandidates];
+  V3 lwl[kMaxRisBrdfCandidates];
+  double lpdf[kMaxRisBrdfCandidates], ltarget[kMaxRisBrdfCandidates];
+  bool lok[kMaxRisBrdfCandidates];
+  in.mat.lattice_directions(in.view, brdf_u1, brdf_u2, M, a, lwl, lpdf, ltarget, lok);
+  if (continuation && !continuation->delta) {
+    lok[a] = true;
+    lwl[a] = continuation->wo;
+    lpdf[a] = continuation->pdf;
+    ltarget[a] = continuation->target;
+  }
+  for (int j = 0; j < M; ++j) {
+    if (!lok[j]) continue;
+    const V3& wl = lwl[j];
+    const double pdf = lpdf[j], target = ltarget[j];
+    const V3 dir = sp.to_world(wl).normalized();
+    if (!(dir.dot(sp.ng) > 0)) continue;
+    Candidate& c = cand[count];
+    pixel[count - first_brdf] = in.lights.prefetch_env(dir);
+    pb[count - first_brdf] = pdf;
+    c.wl = wl;
+    c.dir = dir;
+    c.target = target;
+    ++count;
+  }
+  for (int i = first_brdf; i < count; ++i) {
+    Candidate& c = cand[i];
+    const LightHit lh = in.lights.hit_area(in.origin, c.dir, 1e30);
+    double pl;
+    if (lh.t > 0) {
+      c.rgb = lh.rgb;
+      c.distance = lh.t;
+      pl = lh.pdf;
+    } else {
+      c.rgb = in.lights.env_rgb(c.dir, pixel[i - first_brdf], pl);
+      c.distance = kInf;
+    }
+    c.target *= luminance(c.rgb);
+    c.weight = c.target > 0 ? c.target / (M * pb[i - first_brdf] + N * pl) : 0.0;
+    sum += c.weight;
+  }
 
   // Light candidates (and the delta-light samples, which are estimated on their own).
   for (int j = 0; j < N; ++j) {
@@ -83,53 +134,14 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
     sum += c.weight;
   }
 
-  // BRDF candidates: directions first (prefetching their map pixels), then the radiance.
-  const int first_brdf = count;
-  std::pair<int, int> pixel[kMaxRisBrdfCandidates];
-  double pb[kMaxRisBrdfCandidates];
-  for (int j = 0; j < M; ++j) {
-    V3 wl;
-    double pdf, target;
-    if (j == 0) {
-      if (!continuation || continuation->delta) continue;
-      wl = continuation->wo;
-      pdf = continuation->pdf;
-      target = continuation->target;
-    } else {
-      double v1, v2;
-      lattice_point(brdf_u1, brdf_u2, j, M, v1, v2);
-      if (!in.mat.sample_direction(in.view, v1, v2, wl, pdf, target)) continue;
-    }
-    const V3 dir = sp.to_world(wl).normalized();
-    if (!(dir.dot(sp.ng) > 0)) continue;
-    Candidate& c = cand[count];
-    pixel[count - first_brdf] = in.lights.prefetch_env(dir);
-    pb[count - first_brdf] = pdf;
-    c.wl = wl;
-    c.dir = dir;
-    c.target = target;
-    ++count;
-  }
-  for (int i = first_brdf; i < count; ++i) {
-    Candidate& c = cand[i];
-    const LightHit lh = in.lights.hit_area(in.origin, c.dir, 1e30);
-    double pl;
-    if (lh.t > 0) {
-      c.rgb = lh.rgb;
-      c.distance = lh.t;
-      pl = lh.pdf;
-    } else {
-      c.rgb = in.lights.env_rgb(c.dir, pixel[i - first_brdf], pl);
-      c.distance = kInf;
-    }
-    c.target *= luminance(c.rgb);
-    c.weight = c.target > 0 ? c.target / (M * pb[i - first_brdf] + N * pl) : 0.0;
-    sum += c.weight;
-  }
   if (!(sum > 0) || !std::isfinite(sum)) return rays;
 
-  // The choice: the first candidate whose running sum exceeds u_select * sum.
-  const double r = u_select * sum;
+  // The choice: the first candidate (BRDF candidates in the order of k, then the light ones)
+  // whose running sum exceeds (a + u_select) / M * sum. (a + u_select) / M is uniform and
+  // independent of the candidates, as the choice needs; when the weights are about equal it
+  // picks candidate a, the continuation, so that the shadow ray keeps the stratification of
+  // (u1, u2) and tests the direction whose indirect light the continuation gathers.
+  const double r = (a + u_select) / M * sum;
   int pick = -1;
   double run = 0;
   for (int i = 0; i < count; ++i) {

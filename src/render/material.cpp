@@ -1,6 +1,7 @@
 // Spectral evaluation and sampling of materials (see material.hpp).
 #include "render/material.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -40,7 +41,12 @@ SpectralMaterial::SpectralMaterial(std::shared_ptr<const Svbrdf> m) : m_(std::mo
   visible_exact_ = dynamic_cast<const BeckmannDistribution*>(d_) ||
                    dynamic_cast<const GgxDistribution*>(d_) ||
                    dynamic_cast<const EllipsoidDistribution*>(d_);
+  if ((ggx_ = dynamic_cast<const GgxDistribution*>(d_))) {
+    ggx_c_ = std::cos(ggx_->params().phi);
+    ggx_s_ = std::sin(ggx_->params().phi);
+  }
   if (!self_check()) {
+    ggx_ = nullptr;
     mf_ = nullptr;
     d_ = nullptr;
     conductor_ = false;
@@ -262,8 +268,8 @@ bool SpectralMaterial::ris_terms(const View& vw, const Vec3& wl, double& pdf,
   return true;
 }
 
-bool SpectralMaterial::sample_direction(const View& vw, double u1, double u2, Vec3& wl,
-                                        double& pdf, double& target) const {
+bool SpectralMaterial::sample_direction(const View& vw, double u1, double u2, Vec3& wl, double& pdf,
+                                        double& target) const {
   const Vec3& wv = vw.wv;
   if (wv.z() <= 0 || !(vw.pa > 0)) return false;
   const Vec3 m = d_->sample_visible(wv, u1, u2);
@@ -282,6 +288,86 @@ void SpectralMaterial::eval(double u, double v, const Vec3& wi, const Vec3& wo,
   Wavelengths w;
   prepare(lambda_m, n, w);
   eval(u, v, view(wo), wi, w, f, nullptr);
+}
+
+}  // namespace microbrdf::pt
+
+namespace microbrdf::pt {
+namespace {
+
+constexpr double kGolden = 0.6180339887498949;
+constexpr int kMaxLattice = 16;
+
+/// cos and sin of 2 pi frac(j phi) for j = -15..15 (index j + 15).
+struct LatticeTurns {
+  double c[2 * kMaxLattice - 1], s[2 * kMaxLattice - 1];
+  LatticeTurns() {
+    for (int j = -(kMaxLattice - 1); j < kMaxLattice; ++j) {
+      const double o = j * kGolden, t = 2 * M_PI * (o - std::floor(o));
+      c[j + kMaxLattice - 1] = std::cos(t);
+      s[j + kMaxLattice - 1] = std::sin(t);
+    }
+  }
+};
+
+/// (u + o) mod 1 for o in (-1, 1), below 1.
+double wrap(double u, double o) {
+  double v = u + (o < 0 ? o + 1 : o);
+  if (v >= 1) v -= 1;
+  return std::min(v, 0x1.fffffffffffffp-1);
+}
+
+}  // namespace
+
+void SpectralMaterial::lattice_directions(const View& vw, double u1, double u2, int M, int a,
+                                          Vec3* wl, double* pdf, double* target, bool* ok) const {
+  for (int k = 0; k < M; ++k) ok[k] = false;
+  const Vec3& wv = vw.wv;
+  if (wv.z() <= 0 || !(vw.pa > 0)) return;
+  if (!ggx_) {
+    for (int k = 0; k < M; ++k) {
+      if (k == a) continue;
+      const double o2 = (k - a) * kGolden;
+      ok[k] = sample_direction(vw, wrap(u1, double(k - a) / M), wrap(u2, o2 - std::trunc(o2)),
+                               wl[k], pdf[k], target[k]);
+    }
+    return;
+  }
+  // GgxDistribution::sample_visible (Heitz 2018) with the stretched view's frame once.
+  static const LatticeTurns turns;
+  const double ax = ggx_->params().alpha_x, ay = ggx_->params().alpha_y;
+  const double c = ggx_c_, s = ggx_s_;
+  const double lx = c * wv.x() + s * wv.y(), ly = -s * wv.x() + c * wv.y();
+  const Vec3 vh = Vec3(ax * lx, ay * ly, wv.z()).normalized();
+  const double lensq = vh.x() * vh.x() + vh.y() * vh.y();
+  const Vec3 t1 = lensq > 0 ? Vec3(-vh.y(), vh.x(), 0) / std::sqrt(lensq) : Vec3(1, 0, 0);
+  const Vec3 t2 = vh.cross(t1);
+  const double sh = 0.5 * (1 + vh.z());
+  const double phi = 2 * M_PI * u2, c0 = std::cos(phi), s0 = std::sin(phi);
+  for (int k = 0; k < M; ++k) {
+    if (k == a) continue;
+    const int j = k - a;
+    const double r = std::sqrt(wrap(u1, double(j) / M));
+    const double tc = turns.c[j + kMaxLattice - 1], ts = turns.s[j + kMaxLattice - 1];
+    const double p1 = r * (c0 * tc - s0 * ts);
+    double p2 = r * (s0 * tc + c0 * ts);
+    p2 = (1 - sh) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + sh * p2;
+    const Vec3 n = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * vh;
+    const Vec3 ml = Vec3(ax * n.x(), ay * n.y(), std::max(0.0, n.z())).normalized();
+    const Vec3 m(c * ml.x() - s * ml.y(), s * ml.x() + c * ml.y(), ml.z());
+    const double im = wv.dot(m);
+    if (im <= 0) continue;
+    wl[k] = 2 * im * m - wv;
+    if (wl[k].z() <= 0) continue;
+    // GgxDistribution::D
+    const double z = m.z();
+    if (z <= 0) continue;
+    const double x = c * m.x() + s * m.y(), y = -s * m.x() + c * m.y();
+    const double q = x * x / (ax * ax) + y * y / (ay * ay) + z * z;
+    const double dm = 1.0 / (M_PI * ax * ay * q * q);
+    target[k] = pdf[k] = dm / (4 * vw.pa);
+    ok[k] = pdf[k] > 0 && std::isfinite(pdf[k]);
+  }
 }
 
 }  // namespace microbrdf::pt

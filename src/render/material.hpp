@@ -103,6 +103,13 @@ class SpectralMaterial {
   /// Fresnel term); fast path only. False when the sample is refused.
   bool sample_direction(const View& vw, double u1, double u2, Vec3& wl, double& pdf,
                         double& target) const;
+  /// BRDF-sampled directions at the lattice points (u1 + j / M, u2 + j phi) mod 1 (phi the
+  /// golden-ratio fraction) for j = -a .. M-1-a except j = 0 (the caller's own sample), into
+  /// slot a + j of wl, pdf, target; ok[a + j] tells whether it was drawn. Fast path only; M <= 16.
+  /// For GGX the view's stretched frame is computed once and the azimuths are turned by fixed
+  /// rotations (the same directions as sample_direction up to rounding; no sin/cos per point).
+  void lattice_directions(const View& vw, double u1, double u2, int M, int a, Vec3* wl, double* pdf,
+                          double* target, bool* ok) const;
 
   /// f(wi, wo) at n wavelengths (metres) into f; wi = light, wo = viewer (local frame).
   void eval(double u, double v, const Vec3& wi, const Vec3& wo, const double* lambda_m, int n,
@@ -125,6 +132,8 @@ class SpectralMaterial {
   FastSpectrum n_, k_;
   bool separable_ = false;
   bool visible_exact_ = false;  // sampling_pdf = the visible-normal density (analytic models)
+  const GgxDistribution* ggx_ = nullptr;  // lattice_directions' GGX path
+  double ggx_c_ = 1, ggx_s_ = 0;          // cos, sin of its phi
 };
 
 }  // namespace microbrdf::pt

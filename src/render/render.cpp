@@ -103,7 +103,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       rng.get2d(nee_u1, nee_u2);
       c.lights.prefetch_sample(nee_u1, nee_u2);
     }
-    const auto env_pixel = c.lights.prefetch_env(d);
+    const auto env_pixel = after_ris ? std::pair<int, int>{-1, -1} : c.lights.prefetch_env(d);
     pt::ShadingPoint sp;
     ++rays;
     const double t = c.geo.intersect(o, d, 1e30, sp);
@@ -135,7 +135,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     const V3 origin = sp.p + eps * sp.ng;
 
     // Next-event estimation.
-    const bool ris = use_ris && nee && mat.fast();
+    static const int ris_depth = getenv("RIS_DEPTH") ? atoi(getenv("RIS_DEPTH")) : 99;
+    const bool ris = use_ris && nee && mat.fast() && depth < ris_depth;
     if (nee && !ris) {
       if (auto ls = c.lights.sample(origin, nee_u1, nee_u2)) {
         const V3 wl = sp.to_local(ls->dir);
@@ -167,12 +168,18 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     pt::SpectralMaterial::Sample s;
     const bool sampled = mat.sample(sp.u, sp.v, view, u1, u2, *wl_consts, s);
     if (ris) {
-      const pt::RisDirectInput in{c.geo,    c.lights, mat,
-                                  view,     *wl_consts, sp,
-                                  origin,   ps.basis, c.opt.ris_brdf_candidates,
+      const pt::RisDirectInput in{c.geo,
+                                  c.lights,
+                                  mat,
+                                  view,
+                                  *wl_consts,
+                                  sp,
+                                  origin,
+                                  ps.basis,
+                                  c.opt.ris_brdf_candidates,
                                   c.opt.ris_light_candidates};
-      rays += pt::ris_direct_light(in, sampled ? &s : nullptr, u1, u2, nee_u1, nee_u2,
-                                   rng.get1d(), T, L);
+      rays += pt::ris_direct_light(in, sampled ? &s : nullptr, u1, u2, nee_u1, nee_u2, rng.get1d(),
+                                   T, L);
     }
     if (!sampled) return rays;
     after_ris = ris && !s.delta;
