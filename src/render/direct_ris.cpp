@@ -36,7 +36,7 @@ struct Candidate {
 
 int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* continuation,
                      double brdf_u1, double brdf_u2, double light_u1, double light_u2,
-                     double u_select, const double* T, double* L) {
+                     double u_select, const double* T, double* L, RisPending* pending) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const int M = in.brdf_candidates, N = in.light_candidates;
   const int n = in.wavelengths.n;
@@ -46,13 +46,20 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
   int count = 0;
   double sum = 0;
   auto add_spectral = [&](const V3& wl, const V3& dir, double distance, const V3& rgb,
-                          double scale) {
+                          double scale, RisPending* defer) {
     double f[kMaxWavelengths];
     if (!in.mat.eval(sp.u, sp.v, in.view, wl, in.wavelengths, f, nullptr)) return;
-    ++rays;
     const double tmax = std::isinf(distance) ? 1e30 : distance * (1 - 1e-6);
-    if (in.geo.occluded(in.origin, dir, tmax)) return;
     const double s = scale * wl.z();
+    if (defer) {
+      defer->active = true;
+      defer->tmax = tmax;
+      for (int k = 0; k < n; ++k)
+        defer->value[k] = f[k] != 0 ? T[k] * f[k] * s * rgb.dot(in.basis.col(k)) : 0.0;
+      return;
+    }
+    ++rays;
+    if (in.geo.occluded(in.origin, dir, tmax)) return;
     for (int k = 0; k < n; ++k)
       if (f[k] != 0) L[k] += T[k] * f[k] * s * rgb.dot(in.basis.col(k));
   };
@@ -63,6 +70,7 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
   // the set of candidates, picks the stratum of the choice below.
   const int a = std::min(int(brdf_u1 * M), M - 1);
   const int first_brdf = 0;
+  int pick_continuation = -1;  // the candidate that is the continuation's direction
   std::pair<int, int> pixel[kMaxRisBrdfCandidates];
   double pb[kMaxRisBrdfCandidates];
   V3 lwl[kMaxRisBrdfCandidates];
@@ -81,6 +89,7 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
     const double pdf = lpdf[j], target = ltarget[j];
     const V3 dir = sp.to_world(wl).normalized();
     if (!(dir.dot(sp.ng) > 0)) continue;
+    if (j == a) pick_continuation = count;
     Candidate& c = cand[count];
     pixel[count - first_brdf] = in.lights.prefetch_env(dir);
     pb[count - first_brdf] = pdf;
@@ -115,7 +124,7 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
     const V3 wl = sp.to_local(ls->dir);
     if (!(wl.z() > 0) || !(ls->dir.dot(sp.ng) > 0)) continue;
     if (ls->delta) {
-      add_spectral(wl, ls->dir, ls->distance, ls->rgb, 1.0 / (N * ls->pdf));
+      add_spectral(wl, ls->dir, ls->distance, ls->rgb, 1.0 / (N * ls->pdf), nullptr);
       continue;
     }
     const double tmax = std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6);
@@ -151,7 +160,8 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
     if (r < run) break;
   }
   const Candidate& c = cand[pick];
-  add_spectral(c.wl, c.dir, c.distance, c.rgb, sum / c.target);
+  add_spectral(c.wl, c.dir, c.distance, c.rgb, sum / c.target,
+               pick == pick_continuation ? pending : nullptr);
   return rays;
 }
 

@@ -52,12 +52,40 @@ struct RisDirectInput {
   int brdf_candidates = 4, light_candidates = 1;
 };
 
+/// Direct light whose visibility is that of the path's continuation ray (the chosen candidate
+/// was the continuation's direction): the caller adds `value` to L when that ray, traced from
+/// the same origin, meets no geometry closer than `tmax`, or calls resolve_by_shadow_ray() if
+/// the path ends before tracing it.
+struct RisPending {
+  bool active = false;
+  double tmax = 0;
+  double value[kMaxWavelengths];
+  /// With the continuation's hit distance t (-1: none).
+  void resolve(double t, int n, double* L) {
+    if (!active) return;
+    active = false;
+    if (t < 0 || t >= float(tmax))
+      for (int k = 0; k < n; ++k) L[k] += value[k];
+  }
+  /// Returns the number of rays traced (0 or 1).
+  int resolve_by_shadow_ray(const PreviewGeometry& geo, const V3& origin, const V3& dir, int n,
+                            double* L) {
+    if (!active) return 0;
+    active = false;
+    if (!geo.occluded(origin, dir, tmax))
+      for (int k = 0; k < n; ++k) L[k] += value[k];
+    return 1;
+  }
+};
+
 /// Adds the direct light at the shading point, times the path throughput T, to L (n = the
 /// wavelengths' count). `continuation`: the path's BRDF sample drawn from (brdf_u1, brdf_u2), or
 /// null when that draw was refused; (light_u1, light_u2): the light sample's point; u_select:
-/// the choice among the candidates. Returns the number of shadow rays traced.
+/// the choice among the candidates. When the choice is the continuation's direction and
+/// `pending` is given, no shadow ray is traced: the light goes to *pending. Returns the number
+/// of shadow rays traced.
 int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* continuation,
                      double brdf_u1, double brdf_u2, double light_u1, double light_u2,
-                     double u_select, const double* T, double* L);
+                     double u_select, const double* T, double* L, RisPending* pending);
 
 }  // namespace microbrdf::pt

@@ -344,10 +344,12 @@ void SpectralMaterial::lattice_directions(const View& vw, double u1, double u2, 
   const Vec3 t2 = vh.cross(t1);
   const double sh = 0.5 * (1 + vh.z());
   const double phi = 2 * M_PI * u2, c0 = std::cos(phi), s0 = std::sin(phi);
+  const double iax2 = 1 / (ax * ax), iay2 = 1 / (ay * ay), norm = 1 / (M_PI * ax * ay);
+  const double i4pa = 1 / (4 * vw.pa), inv_m = 1.0 / M;
   for (int k = 0; k < M; ++k) {
     if (k == a) continue;
     const int j = k - a;
-    const double r = std::sqrt(wrap(u1, double(j) / M));
+    const double r = std::sqrt(wrap(u1, j * inv_m));
     const double tc = turns.c[j + kMaxLattice - 1], ts = turns.s[j + kMaxLattice - 1];
     const double p1 = r * (c0 * tc - s0 * ts);
     double p2 = r * (s0 * tc + c0 * ts);
@@ -363,9 +365,8 @@ void SpectralMaterial::lattice_directions(const View& vw, double u1, double u2, 
     const double z = m.z();
     if (z <= 0) continue;
     const double x = c * m.x() + s * m.y(), y = -s * m.x() + c * m.y();
-    const double q = x * x / (ax * ax) + y * y / (ay * ay) + z * z;
-    const double dm = 1.0 / (M_PI * ax * ay * q * q);
-    target[k] = pdf[k] = dm / (4 * vw.pa);
+    const double q = x * x * iax2 + y * y * iay2 + z * z;
+    target[k] = pdf[k] = norm / (q * q) * i4pa;
     ok[k] = pdf[k] > 0 && std::isfinite(pdf[k]);
   }
 }

@@ -80,8 +80,12 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
   const bool use_brdf_emission = c.opt.mis != MisMode::LightOnly;
   // Resampled direct light (direct_ris.hpp) where the material allows; its continuation then
   // carries indirect light only: emission it meets is already counted.
-  const bool use_ris = c.opt.direct == DirectLight::Ris && c.opt.mis == MisMode::Mis;
+  // Not under a uniform environment alone: the target is then the BRDF's own density, and
+  // resampling would cost without lowering the noise.
+  const bool use_ris = c.opt.direct == DirectLight::Ris && c.opt.mis == MisMode::Mis &&
+                       !(c.lights.count() == 1 && c.lights.env() && c.lights.env()->is_uniform());
   bool after_ris = false;
+  pt::RisPending pending;  // direct light whose visibility is the continuation ray's
   const double eps = c.geo.epsilon();
   auto add_emission = [&](const V3& rgb, double light_pdf) {
     double w = 1;
@@ -107,6 +111,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     pt::ShadingPoint sp;
     ++rays;
     const double t = c.geo.intersect(o, d, 1e30, sp);
+    pending.resolve(t, n, L);
     const pt::LightHit lh = c.lights.hit_area(o, d, t > 0 ? t : 1e30);
     if (lh.t > 0) {
       add_emission(lh.rgb, lh.pdf);
@@ -135,8 +140,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     const V3 origin = sp.p + eps * sp.ng;
 
     // Next-event estimation.
-    static const int ris_depth = getenv("RIS_DEPTH") ? atoi(getenv("RIS_DEPTH")) : 99;
-    const bool ris = use_ris && nee && mat.fast() && depth < ris_depth;
+    const bool ris = use_ris && nee && mat.fast();
     if (nee && !ris) {
       if (auto ls = c.lights.sample(origin, nee_u1, nee_u2)) {
         const V3 wl = sp.to_local(ls->dir);
@@ -179,7 +183,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
                                   c.opt.ris_brdf_candidates,
                                   c.opt.ris_light_candidates};
       rays += pt::ris_direct_light(in, sampled ? &s : nullptr, u1, u2, nee_u1, nee_u2, rng.get1d(),
-                                   T, L);
+                                   T, L, &pending);
     }
     if (!sampled) return rays;
     after_ris = ris && !s.delta;
@@ -190,16 +194,18 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     d = sp.to_world(wl).normalized();
     if (d.dot(sp.ng) <= 0) return rays;  // below the geometric surface
     o = origin;
+    // A path that ends here traces the pending direct light's shadow ray itself.
+    auto end = [&] { return rays + pending.resolve_by_shadow_ray(c.geo, o, d, n, L); };
     // Russian roulette after three bounces.
     double tmax = 0;
     for (int k = 0; k < n; ++k) {
-      if (!std::isfinite(T[k])) return rays;
+      if (!std::isfinite(T[k])) return end();
       tmax = std::max(tmax, std::abs(T[k]));
     }
-    if (!(tmax > 0)) return rays;
+    if (!(tmax > 0)) return end();
     if (depth >= 3) {
       const double q = std::min(1.0, tmax);
-      if (rng.get1d() >= q) return rays;
+      if (rng.get1d() >= q) return end();
       for (int k = 0; k < n; ++k) T[k] /= q;
     }
   }
