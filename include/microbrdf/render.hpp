@@ -106,7 +106,7 @@ struct RenderOptions {
   MisMode mis = MisMode::Mis;
   RenderSampler sampler = RenderSampler::Sobol;
   DirectLight direct = DirectLight::Mis;  ///< direct-light estimator (with mis = MisMode::Mis)
-  int ris_brdf_candidates = 4;            ///< DirectLight::Ris: BRDF-sampled candidates (1..16)
+  int ris_brdf_candidates = 6;            ///< DirectLight::Ris: BRDF-sampled candidates (1..16)
   int ris_light_candidates = 1;           ///< DirectLight::Ris: light-sampled candidates (1..4)
   double exposure = 0;                    ///< stops, for the PNG only
   std::function<void(double fraction)> progress;  ///< called from one thread, fraction in [0, 1]

@@ -87,7 +87,9 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
     if (!lok[j]) continue;
     const V3& wl = lwl[j];
     const double pdf = lpdf[j], target = ltarget[j];
-    const V3 dir = sp.to_world(wl).normalized();
+    // (the continuation's direction exactly as trace_path computes it; the others are unit
+    // vectors in an orthonormal frame already)
+    const V3 dir = j == a ? sp.to_world(wl).normalized() : sp.to_world(wl);
     if (!(dir.dot(sp.ng) > 0)) continue;
     if (j == a) pick_continuation = count;
     Candidate& c = cand[count];

@@ -355,7 +355,8 @@ void SpectralMaterial::lattice_directions(const View& vw, double u1, double u2, 
     double p2 = r * (s0 * tc + c0 * ts);
     p2 = (1 - sh) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + sh * p2;
     const Vec3 n = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * vh;
-    const Vec3 ml = Vec3(ax * n.x(), ay * n.y(), std::max(0.0, n.z())).normalized();
+    Vec3 ml(ax * n.x(), ay * n.y(), std::max(0.0, n.z()));
+    ml *= 1 / ml.norm();
     const Vec3 m(c * ml.x() - s * ml.y(), s * ml.x() + c * ml.y(), ml.z());
     const double im = wv.dot(m);
     if (im <= 0) continue;
