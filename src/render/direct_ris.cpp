@@ -45,8 +45,8 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
   Candidate cand[kMaxRisBrdfCandidates + kMaxRisLightCandidates];
   int count = 0;
   double sum = 0;
-  auto add_spectral = [&](const V3& wl, const V3& dir, double distance, const V3& rgb,
-                          double scale, RisPending* defer) {
+  auto add_spectral = [&](const V3& wl, const V3& dir, double distance, const V3& rgb, double scale,
+                          RisPending* defer) {
     double f[kMaxWavelengths];
     if (!in.mat.eval(sp.u, sp.v, in.view, wl, in.wavelengths, f, nullptr)) return;
     const double tmax = std::isinf(distance) ? 1e30 : distance * (1 - 1e-6);
@@ -76,7 +76,8 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
   V3 lwl[kMaxRisBrdfCandidates];
   double lpdf[kMaxRisBrdfCandidates], ltarget[kMaxRisBrdfCandidates];
   bool lok[kMaxRisBrdfCandidates];
-  in.mat.lattice_directions(in.view, brdf_u1, brdf_u2, M, a, lwl, lpdf, ltarget, lok);
+  in.mat.lattice_directions(sp.u, sp.v, in.view, brdf_u1, brdf_u2, in.wavelengths, M, a, lwl, lpdf,
+                            ltarget, lok);
   if (continuation && !continuation->delta) {
     lok[a] = true;
     lwl[a] = continuation->wo;
@@ -132,7 +133,7 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
     const double tmax = std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6);
     if (in.lights.hit_area(in.origin, ls->dir, tmax).t > 0) continue;  // another light in front
     double pb, target;
-    if (!in.mat.ris_terms(in.view, wl, pb, target)) continue;
+    if (!in.mat.ris_terms(sp.u, sp.v, in.view, wl, in.wavelengths, pb, target)) continue;
     const double p_hat = target * luminance(ls->rgb);
     if (!(p_hat > 0)) continue;
     Candidate& c = cand[count++];

@@ -213,7 +213,12 @@ bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, dou
       s.pdf = b->pdf;
       double f[kMaxWavelengths];
       for (int k = 0; k < n; ++k) f[k] = m_->eval(u, v, s.wo, wv, w.lambda_m[k]);
-      for (int k = 0; k < n; ++k) s.weight[k] = f[k] * s.wo.z() / s.pdf;
+      s.target = 0;
+      for (int k = 0; k < n; ++k) {
+        s.weight[k] = f[k] * s.wo.z() / s.pdf;
+        s.target += std::abs(f[k]);
+      }
+      s.target *= s.wo.z() / n;
     } else {
       s.pdf = 0;
       s.weight[0] = b->weight;
@@ -247,10 +252,18 @@ bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, dou
   return true;
 }
 
-bool SpectralMaterial::ris_terms(const View& vw, const Vec3& wl, double& pdf,
-                                 double& target) const {
+bool SpectralMaterial::ris_terms(double u, double v, const View& vw, const Vec3& wl,
+                                 const Wavelengths& w, double& pdf, double& target) const {
   pdf = target = 0;
   const Vec3& wv = vw.wv;
+  if (!mf_) {
+    if (!(wl.z() > 0)) return false;
+    double f[kMaxWavelengths];
+    eval(u, v, vw, wl, w, f, &pdf);
+    for (int k = 0; k < w.n; ++k) target += std::abs(f[k]);
+    target *= wl.z() / w.n;
+    return target > 0;
+  }
   if (wl.z() <= 0 || wv.z() <= 0 || !(vw.pa > 0)) return false;
   const Vec3 hs = wl + wv;
   const double len = hs.norm();
@@ -268,9 +281,18 @@ bool SpectralMaterial::ris_terms(const View& vw, const Vec3& wl, double& pdf,
   return true;
 }
 
-bool SpectralMaterial::sample_direction(const View& vw, double u1, double u2, Vec3& wl, double& pdf,
+bool SpectralMaterial::sample_direction(double u, double v, const View& vw, double u1, double u2,
+                                        const Wavelengths& w, Vec3& wl, double& pdf,
                                         double& target) const {
   const Vec3& wv = vw.wv;
+  if (!mf_) {
+    Sample s;
+    if (!sample(u, v, vw, u1, u2, w, s) || s.delta) return false;
+    wl = s.wo;
+    pdf = s.pdf;
+    target = s.target;
+    return target > 0;
+  }
   if (wv.z() <= 0 || !(vw.pa > 0)) return false;
   const Vec3 m = d_->sample_visible(wv, u1, u2);
   const double im = wv.dot(m);
@@ -319,17 +341,18 @@ double wrap(double u, double o) {
 
 }  // namespace
 
-void SpectralMaterial::lattice_directions(const View& vw, double u1, double u2, int M, int a,
-                                          Vec3* wl, double* pdf, double* target, bool* ok) const {
+void SpectralMaterial::lattice_directions(double u, double v, const View& vw, double u1, double u2,
+                                          const Wavelengths& w, int M, int a, Vec3* wl, double* pdf,
+                                          double* target, bool* ok) const {
   for (int k = 0; k < M; ++k) ok[k] = false;
   const Vec3& wv = vw.wv;
-  if (wv.z() <= 0 || !(vw.pa > 0)) return;
+  if (wv.z() <= 0 || (mf_ && !(vw.pa > 0))) return;
   if (!ggx_) {
     for (int k = 0; k < M; ++k) {
       if (k == a) continue;
       const double o2 = (k - a) * kGolden;
-      ok[k] = sample_direction(vw, wrap(u1, double(k - a) / M), wrap(u2, o2 - std::trunc(o2)),
-                               wl[k], pdf[k], target[k]);
+      ok[k] = sample_direction(u, v, vw, wrap(u1, double(k - a) / M), wrap(u2, o2 - std::trunc(o2)),
+                               w, wl[k], pdf[k], target[k]);
     }
     return;
   }

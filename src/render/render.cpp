@@ -140,7 +140,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     const V3 origin = sp.p + eps * sp.ng;
 
     // Next-event estimation.
-    const bool ris = use_ris && nee && mat.fast();
+    const bool ris = use_ris && nee;
     if (nee && !ris) {
       if (auto ls = c.lights.sample(origin, nee_u1, nee_u2)) {
         const V3 wl = sp.to_local(ls->dir);
