@@ -302,7 +302,7 @@ void register_render(CLI::App& app) {
                 "Direct light (with --mis mis): mis (one light + one BRDF sample, power "
                 "heuristic) or ris (resampled importance sampling: --ris-candidates directions "
                 "drawn without rays, one chosen by its unshadowed light, one shadow ray; lower "
-                "noise for glossy metals under detailed maps; microfacet materials only)")
+                "noise at equal time for glossy metals under detailed maps; docs/render.md)")
       ->capture_default_str();
   c->add_option("--ris-candidates", a->ris_candidates,
                 "With --direct ris: M,N = BRDF-sampled and light-sampled candidate directions per "

@@ -198,8 +198,8 @@ points, stratified per pixel; lower noise) | 'independent' (plain Monte Carlo).
 direct: the direct-light estimator (with mis='mis'): 'mis' (one light and one BRDF sample,
 power heuristic) | 'ris' (resampled importance sampling: ris_brdf_candidates BRDF-sampled and
 ris_light_candidates light-sampled directions, one chosen by an unshadowed estimate of its
-light, one shadow ray; lower noise for glossy metals under detailed maps; microfacet
-materials only, others use 'mis'; docs/render.md, "Estimators").
+light, one shadow ray; unbiased, lower noise at equal time for glossy metals under detailed
+maps; docs/render.md, "Resampled direct light").
 Lights: envmap=path (.exr/.hdr, equirectangular) with env_scale, env_rotation (rad);
 white_env=True; point=[((x, y, z), (r, g, b)) intensity W/sr]; sphere_light=[((x, y, z), radius,
 (r, g, b))]; disk_light=[((x, y, z), (nx, ny, nz), radius, (r, g, b))] (radiance). No light:

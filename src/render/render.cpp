@@ -2,7 +2,8 @@
 //
 // Per pixel sample: a camera ray with a box-filter jitter, `wavelengths` hero wavelengths
 // (spectral.hpp) carried together, next-event estimation from one uniformly chosen light and a
-// BRDF-sampled continuation, combined by the power heuristic (MisMode::Mis) or used alone
+// BRDF-sampled continuation, combined by the power heuristic (MisMode::Mis; or, with
+// DirectLight::Ris, direct light by resampling, direct_ris.hpp) or used alone
 // (light_only: emission reached by BRDF sampling is dropped except after a delta bounce;
 // brdf_only: no light samples, point lights are invisible). The BRDF's sampler is driven by the
 // first (hero) wavelength; its pdf does not depend on wavelength (Brdf::pdf), so every
@@ -12,7 +13,8 @@
 //
 // Random numbers: one PathSampler per (pixel, sample) (path_sampler.hpp), asked in a fixed order
 // per path: jitter (2D), hero wavelength (1D), then per bounce the light sample (2D), the BRDF
-// sample (2D) and, after three bounces, Russian roulette (1D). With the Sobol sampler each of
+// sample (2D), with DirectLight::Ris the choice among the candidates (1D), and, after three
+// bounces, Russian roulette (1D). With the Sobol sampler each of
 // these requests is stratified over the samples of a pixel.
 //
 // Determinism: the numbers of each (pixel, sample) are a function of (seed, pixel, sample) and
