@@ -929,3 +929,55 @@ TEST(Render, ResampledDirectLightOptionsAreChecked) {
   EXPECT_EQ(parse_direct_light("mis", "--direct"), DirectLight::Mis);
   EXPECT_THROW(parse_direct_light("nee", "--direct"), InputError);
 }
+
+TEST(Render, LatticeCandidatesAreBrdfSamplesOfTheLatticePoints) {
+  // The RIS candidates of lattice_directions (GGX: the stretched frame once, fixed rotations,
+  // no normalisation) against sample_direction at the lattice points (u1 + j / M, u2 + j phi)
+  // mod 1, and their density and target against ris_terms of the same direction; for GGX (the
+  // fast loop) and Beckmann (the plain loop), and against ris_terms for a Lambertian (generic).
+  auto cu = std::make_shared<ConductorFresnel>(metal("Cu"));
+  std::vector<std::shared_ptr<const Brdf>> brdfs = {
+      std::make_shared<MicrofacetBrdf>(std::make_shared<GgxDistribution>(0.08, 0.3, 0.4), cu),
+      std::make_shared<MicrofacetBrdf>(std::make_shared<BeckmannDistribution>(0.2, 0.05), cu),
+      std::make_shared<LambertianBrdf>(0.7)};
+  const double lambda[4] = {380e-9, 480e-9, 600e-9, 790e-9};
+  const double phi = 0.6180339887498949;
+  for (const auto& b : brdfs) {
+    const pt::SpectralMaterial m(std::make_shared<UniformSvbrdf>(b));
+    pt::SpectralMaterial::Wavelengths w;
+    m.prepare(lambda, 4, w);
+    int compared = 0;
+    for (int i = 0; i < 200; ++i) {
+      const double tv = 1.5 * (i % 20) / 20, pv = 0.31 * i;
+      const Vec3 wv(std::sin(tv) * std::cos(pv), std::sin(tv) * std::sin(pv), std::cos(tv));
+      const auto view = m.view(wv);
+      const double u1 = (i + 0.5) / 200, u2 = std::fmod(0.7548776662 * i, 1.0);
+      const int M = 1 + i % 8, a = std::min(int(u1 * M), M - 1);
+      Vec3 wl[16];
+      double pdf[16], target[16];
+      bool ok[16];
+      m.lattice_directions(0, 0, view, u1, u2, w, M, a, wl, pdf, target, ok);
+      for (int k = 0; k < M; ++k) {
+        if (k == a) continue;
+        const double o1 = double(k - a) / M, o2 = (k - a) * phi;
+        double v1 = u1 + o1 - std::floor(o1), v2 = u2 + o2 - std::floor(o2);
+        v1 -= std::floor(v1);
+        v2 -= std::floor(v2);
+        Vec3 ref;
+        double ref_pdf = 0, ref_target = 0;
+        const bool got = m.sample_direction(0, 0, view, v1, v2, w, ref, ref_pdf, ref_target);
+        ASSERT_EQ(ok[k], got) << b->describe() << " i " << i << " k " << k;
+        if (!got) continue;
+        EXPECT_LT((wl[k] - ref).norm(), 1e-9) << b->describe() << " i " << i << " k " << k;
+        EXPECT_NEAR(pdf[k], ref_pdf, 1e-9 * ref_pdf) << b->describe() << " i " << i;
+        EXPECT_NEAR(target[k], ref_target, 1e-9 * ref_target) << b->describe() << " i " << i;
+        double t_pdf = 0, t_target = 0;
+        ASSERT_TRUE(m.ris_terms(0, 0, view, ref, w, t_pdf, t_target));
+        EXPECT_NEAR(t_pdf, ref_pdf, 1e-8 * ref_pdf) << b->describe() << " i " << i;
+        EXPECT_NEAR(t_target, ref_target, 1e-8 * ref_target) << b->describe() << " i " << i;
+        ++compared;
+      }
+    }
+    EXPECT_GT(compared, 300) << b->describe();
+  }
+}

@@ -367,7 +367,7 @@ void SpectralMaterial::lattice_directions(double u, double v, const View& vw, do
   const Vec3 t2 = vh.cross(t1);
   const double sh = 0.5 * (1 + vh.z());
   const double phi = 2 * M_PI * u2, c0 = std::cos(phi), s0 = std::sin(phi);
-  const double iax2 = 1 / (ax * ax), iay2 = 1 / (ay * ay), norm = 1 / (M_PI * ax * ay);
+  const double norm = 1 / (M_PI * ax * ay);
   const double i4pa = 1 / (4 * vw.pa), inv_m = 1.0 / M;
   for (int k = 0; k < M; ++k) {
     if (k == a) continue;
@@ -378,19 +378,19 @@ void SpectralMaterial::lattice_directions(double u, double v, const View& vw, do
     double p2 = r * (s0 * tc + c0 * ts);
     p2 = (1 - sh) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + sh * p2;
     const Vec3 n = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * vh;
-    Vec3 ml(ax * n.x(), ay * n.y(), std::max(0.0, n.z()));
-    ml *= 1 / ml.norm();
-    const Vec3 m(c * ml.x() - s * ml.y(), s * ml.x() + c * ml.y(), ml.z());
+    // The unstretched normal mu = (ax n.x, ay n.y, n.z) / |...| in the distribution's frame:
+    // with l2 = |...|^2 and |n| = 1, GGX's q = |n|^2 / l2, so D = l2^2 / (pi ax ay), and the
+    // reflection needs no normalisation of mu but a division by l2.
+    const double nz = std::max(0.0, n.z());
+    if (!(nz > 0)) continue;
+    const Vec3 mu(ax * n.x(), ay * n.y(), nz);
+    const double l2 = mu.squaredNorm();
+    const Vec3 m(c * mu.x() - s * mu.y(), s * mu.x() + c * mu.y(), mu.z());  // not unit
     const double im = wv.dot(m);
     if (im <= 0) continue;
-    wl[k] = 2 * im * m - wv;
+    wl[k] = (2 * im / l2) * m - wv;
     if (wl[k].z() <= 0) continue;
-    // GgxDistribution::D
-    const double z = m.z();
-    if (z <= 0) continue;
-    const double x = c * m.x() + s * m.y(), y = -s * m.x() + c * m.y();
-    const double q = x * x * iax2 + y * y * iay2 + z * z;
-    target[k] = pdf[k] = norm / (q * q) * i4pa;
+    target[k] = pdf[k] = l2 * l2 * norm * i4pa;
     ok[k] = pdf[k] > 0 && std::isfinite(pdf[k]);
   }
 }
