@@ -108,7 +108,7 @@ struct RenderOptions {
   RenderSampler sampler = RenderSampler::Sobol;
   DirectLight direct = DirectLight::Ris;  ///< direct-light estimator (with mis = MisMode::Mis)
   int ris_brdf_candidates = 6;            ///< DirectLight::Ris: BRDF-sampled candidates (1..16)
-  int ris_light_candidates = 1;           ///< DirectLight::Ris: light-sampled candidates (1..4)
+  int ris_light_candidates = 3;           ///< DirectLight::Ris: light-sampled candidates (1..4)
   double exposure = 0;                    ///< stops, for the PNG only
   std::function<void(double fraction)> progress;  ///< called from one thread, fraction in [0, 1]
   /// Also return the images of the first and the second half of each pixel's samples
