@@ -2,12 +2,15 @@
 """Render noise at equal spp and at equal CPU time (docs/benchmarks.md, "Render noise").
 
     PYTHONPATH=build/python /usr/bin/python3 bench/render_noise.py [--size 64] [--spp 64]
-        [--wavelengths 4,8] [--baseline OLD/build/python] [--figure out.png]
+        [--wavelengths 4,8] [--direct mis,ris] [--baseline OLD/build/python] [--figure out.png]
 
-For each case (white sky / courtyard map; cylinder pair / plate; GGX (0.08, 0.3) copper), renders a
-reference with many samples per pixel (Sobol', 16 hero wavelengths, seed 999; cached in --cache),
-then images at --spp with seeds 1..--seeds with: the independent sampler at 4 hero wavelengths,
-and the Sobol' sampler at each of --wavelengths. With --baseline, the same images are also
+For each case (white sky / courtyard map; cylinder pair / plate; GGX (0.08, 0.3) copper; with
+--cases 3,4 also GGX 0.3 gold on the sphere under the studio map and Beckmann 0.2 silver on the
+vase under the interior map), renders a
+reference with 4096 samples per pixel (Sobol', 16 hero wavelengths, MIS direct light, seed 999;
+cached in --cache), then images at --spp with seeds 1..--seeds with: the independent sampler at
+4 hero wavelengths (MIS), and the Sobol' sampler at each of --wavelengths with each direct-light
+estimator of --direct (mis, ris: `mb.render(direct=...)`). With --baseline, the same images are also
 rendered by an older build's Python module (a separate process with that PYTHONPATH; its own
 default sampler), so that its error and its CPU time are measured in the same run. Prints, per
 configuration, the RMS over pixels of the per-pixel relative RGB error |I - R| / |R| (and of the
@@ -28,9 +31,11 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 LUMA = np.array([0.2126, 0.7152, 0.0722])
-CASES = [("white", "cylinders", 4096), ("courtyard", "cylinders", 2048),
-         ("courtyard", "plate", 2048)]
 BRDF = dict(model="ggx", alpha_x=0.08, alpha_y=0.3, metal="Cu")
+CASES = [("white", "cylinders", 4096, BRDF), ("courtyard", "cylinders", 4096, BRDF),
+         ("courtyard", "plate", 4096, BRDF),
+         ("studio", "sphere", 4096, dict(model="ggx", alpha=0.3, metal="Au")),
+         ("interior", "vase", 4096, dict(model="beckmann", alpha=0.2, metal="Ag"))]
 
 
 def case_kwargs(lights, scene, size, threads):
@@ -40,10 +45,13 @@ def case_kwargs(lights, scene, size, threads):
     return kw
 
 
-def render(mb, kw, spp, seed, sampler=None, wavelengths=4):
+def render(mb, kw, spp, seed, sampler=None, wavelengths=4, direct=None, brdf=BRDF):
+    # (no sampler: an older build's module, which knows neither keyword)
     extra = {} if sampler is None else {"sampler": sampler}
+    if direct is not None:
+        extra["direct"] = direct
     t = time.process_time()
-    img = mb.render(mb.brdf(**BRDF), spp=spp, seed=seed, wavelengths=wavelengths, **extra, **kw)
+    img = mb.render(mb.brdf(**brdf), spp=spp, seed=seed, wavelengths=wavelengths, **extra, **kw)
     return np.array(img, dtype=np.float64), time.process_time() - t
 
 
@@ -61,7 +69,7 @@ def worker(args):
     job = json.loads(args)
     imgs, cpu = [], []
     for seed in job["seeds"]:
-        img, t = render(mb, job["kw"], job["spp"], seed)
+        img, t = render(mb, job["kw"], job["spp"], seed, brdf=job["brdf"])
         imgs.append(img)
         cpu.append(t)
     np.savez(job["out"], imgs=np.array(imgs), cpu=np.array(cpu))
@@ -78,6 +86,8 @@ def main():
     ap.add_argument("--seeds", type=int, default=4, help="images per configuration (seeds 1..N)")
     ap.add_argument("--threads", type=int, default=1, help="render threads (CPU time counts all)")
     ap.add_argument("--wavelengths", default="4,8", help="hero wavelengths of the Sobol' images")
+    ap.add_argument("--direct", default="mis,ris",
+                    help="direct-light estimators of the Sobol' images (mis, ris)")
     ap.add_argument("--baseline", help="PYTHONPATH of an older build's module, rendered alike")
     ap.add_argument("--cases", default="0,1,2", help="which of the three cases (indices)")
     ap.add_argument("--cache", default="/tmp/microbrdf-render-noise", help="reference cache")
@@ -87,13 +97,13 @@ def main():
     seeds = list(range(1, a.seeds + 1))
     curves = []
     for ci in [int(c) for c in a.cases.split(",")]:
-        lights, scene, ref_spp = CASES[ci]
+        lights, scene, ref_spp, brdf = CASES[ci]
         kw = case_kwargs(lights, scene, a.size, a.threads)
         path = f"{a.cache}/{lights}_{scene}_{a.size}_{ref_spp}.npy"
         if os.path.exists(path):
             ref = np.load(path)
         else:
-            ref, _ = render(mb, {**kw, "threads": 0}, ref_spp, 999, "sobol", 16)
+            ref, _ = render(mb, {**kw, "threads": 0}, ref_spp, 999, "sobol", 16, "mis", brdf)
             np.save(path, ref)
         mask = ref @ LUMA > 0.02 * np.percentile(ref @ LUMA, 99)
         print(f"{lights} / {scene}, {a.size}^2, {a.spp} spp, {len(seeds)} seeds, "
@@ -101,7 +111,7 @@ def main():
         rows = []
         if a.baseline:
             out = f"{a.cache}/baseline_{os.getpid()}.npz"
-            job = dict(kw=kw, spp=a.spp, seeds=seeds, out=out)
+            job = dict(kw=kw, spp=a.spp, seeds=seeds, out=out, brdf=brdf)
             env = {**os.environ, "PYTHONPATH": a.baseline}
             subprocess.run([sys.executable, __file__, "--worker", json.dumps(job)], env=env,
                            check=True)
@@ -109,11 +119,12 @@ def main():
             os.remove(out)
             e = np.mean([errors(img, ref, mask) for img in d["imgs"]], axis=0)
             rows.append(("baseline build", e, float(np.mean(d["cpu"]))))
-        configs = [("independent", 4)] + [("sobol", int(w)) for w in a.wavelengths.split(",")]
-        for sampler, wl in configs:
-            runs = [render(mb, kw, a.spp, seed, sampler, wl) for seed in seeds]
+        configs = [("independent", 4, "mis")] + [
+            ("sobol", int(w), d) for d in a.direct.split(",") for w in a.wavelengths.split(",")]
+        for sampler, wl, direct in configs:
+            runs = [render(mb, kw, a.spp, seed, sampler, wl, direct, brdf) for seed in seeds]
             e = np.mean([errors(img, ref, mask) for img, _ in runs], axis=0)
-            rows.append((f"{sampler}, {wl} wavelengths", e, float(np.mean([t for _, t in runs]))))
+            rows.append((f"{sampler}, {wl} wl, {direct}", e, float(np.mean([t for _, t in runs]))))
         e0, t0 = rows[0][1][0], rows[0][2]
         for name, e, t in rows:
             ratio = e0 * np.sqrt(t0) / (e[0] * np.sqrt(t))
@@ -124,7 +135,7 @@ def main():
             for sampler in ("independent", "sobol"):
                 errs = []
                 for spp in spps:
-                    runs = [render(mb, kw, spp, seed, sampler) for seed in (1, 2)]
+                    runs = [render(mb, kw, spp, seed, sampler, 4, "mis", brdf) for seed in (1, 2)]
                     errs.append(np.mean([errors(img, ref, mask)[0] for img, _ in runs]))
                 slope = np.polyfit(np.log(spps), np.log(errs), 1)[0]
                 print(f"  {sampler:11s} " + "  ".join(

@@ -138,6 +138,7 @@ TEST(RenderVariants, DifferencesAreLessNoisyThanBetweenSeparateRenders) {
   const auto b1 = metal_brdf(std::make_shared<GgxDistribution>(0.12, 0.33), "Cu");
   auto o = options(24, 16);
   o.sampler = RenderSampler::Independent;
+  o.direct = DirectLight::Mis;  // the estimator variants use: the same for both sides
   auto ref_o = o;
   ref_o.spp = 512;
   const auto ref = render_variants(sc, {one(b0), one(b1)}, l, ref_o);

@@ -74,6 +74,21 @@ RenderLights::Disk dong_plate_light();
 
 enum class MisMode { Mis, BrdfOnly, LightOnly };
 
+/// How direct light from area lights and the environment is estimated at a shading point (with
+/// MisMode::Mis; docs/render.md, "Estimators"):
+///  - Mis: one light sample and the BRDF-sampled continuation, weighted by the power heuristic;
+///  - Ris: resampled importance sampling: RenderOptions::ris_brdf_candidates BRDF-sampled and
+///    ris_light_candidates light-sampled directions (no rays), one of them chosen in proportion
+///    to an unshadowed, Fresnel-free estimate of its contribution over the balance-heuristic
+///    mixture density, one shadow ray for it; the continuation then carries indirect light only.
+///    Unbiased; lower noise at equal time for glossy materials under detailed maps. Delta lights
+///    (points) keep their own light samples, delta lobes their continuation's emission; under a
+///    uniform environment alone (where the target is the BRDF's density) Mis is used.
+enum class DirectLight { Mis, Ris };
+/// "mis" or "ris"; throws InputError naming `flag` otherwise.
+DirectLight parse_direct_light(const std::string& name, const std::string& flag);
+std::string direct_light_name(DirectLight d);
+
 /// How the random numbers of each path are drawn: Sobol = padded Owen-scrambled Sobol' points
 /// (stratified per pixel; the default, lower noise at equal time), Independent = plain Monte
 /// Carlo (docs/render.md, "Sampling").
@@ -91,7 +106,10 @@ struct RenderOptions {
   int threads = 0;  ///< 0 = all cores
   MisMode mis = MisMode::Mis;
   RenderSampler sampler = RenderSampler::Sobol;
-  double exposure = 0;                            ///< stops, for the PNG only
+  DirectLight direct = DirectLight::Ris;  ///< direct-light estimator (with mis = MisMode::Mis)
+  int ris_brdf_candidates = 6;            ///< DirectLight::Ris: BRDF-sampled candidates (1..16)
+  int ris_light_candidates = 3;           ///< DirectLight::Ris: light-sampled candidates (1..4)
+  double exposure = 0;                    ///< stops, for the PNG only
   std::function<void(double fraction)> progress;  ///< called from one thread, fraction in [0, 1]
   /// Also return the images of the first and the second half of each pixel's samples
   /// (RenderImage::half_rgb; needs spp >= 2).

@@ -62,7 +62,9 @@ py::array render_image(const py::object& brdfs, const std::string& scene, int si
                        const py::object& envmap, double env_scale, double env_rotation,
                        bool white_env, const py::list& point, const py::list& sphere_light,
                        const py::list& disk_light, const std::string& brushing, double brush_angle,
-                       const py::object& obj, double uv_scale, const py::object& progress) {
+                       const py::object& obj, double uv_scale, const py::object& progress,
+                       const std::string& direct, int ris_brdf_candidates,
+                       int ris_light_candidates) {
   RenderScene sc;
   sc.kind = parse_preview_scene(scene);
   if (!obj.is_none()) sc.obj_path = fspath(obj);
@@ -98,6 +100,9 @@ py::array render_image(const py::object& brdfs, const std::string& scene, int si
   else
     throw InputError("mis must be 'mis', 'brdf' or 'light'");
   o.sampler = parse_render_sampler(sampler, "sampler");
+  o.direct = parse_direct_light(direct, "direct");
+  o.ris_brdf_candidates = ris_brdf_candidates;
+  o.ris_light_candidates = ris_light_candidates;
   o.progress = progress_hook<double>(progress);
   const RenderLights l =
       lights(sc.kind, envmap, env_scale, env_rotation, white_env, point, sphere_light, disk_light);
@@ -180,6 +185,9 @@ void bind_render(py::module_& m) {
         py::arg("sphere_light") = py::list(), py::arg("disk_light") = py::list(),
         py::arg("brushing") = "linear", py::arg("brush_angle") = 0.0, py::arg("obj") = py::none(),
         py::arg("uv_scale") = 1.0, py::arg("progress") = py::none(),
+        py::arg("direct") = direct_light_name(RenderOptions{}.direct),
+        py::arg("ris_brdf_candidates") = RenderOptions{}.ris_brdf_candidates,
+        py::arg("ris_light_candidates") = RenderOptions{}.ris_light_candidates,
         R"(Renders a BRDF on preview objects, as `microbrdf render`; returns the image.
 
 brdf: a Brdf, or a list (one per object). scene: 'cylinders' (Dong Fig. 10) | 'plate' |
@@ -187,6 +195,11 @@ brdf: a Brdf, or a list (one per object). scene: 'cylinders' (Dong Fig. 10) | 'p
 spp: samples per pixel. wavelengths: hero wavelengths per path. seed: same seed, same image,
 any thread count. mis: 'mis' | 'brdf' | 'light'. sampler: 'sobol' (Owen-scrambled Sobol'
 points, stratified per pixel; lower noise) | 'independent' (plain Monte Carlo).
+direct: the direct-light estimator (with mis='mis'): 'mis' (one light and one BRDF sample,
+power heuristic) | 'ris' (resampled importance sampling: ris_brdf_candidates BRDF-sampled and
+ris_light_candidates light-sampled directions, one chosen by an unshadowed estimate of its
+light, one shadow ray; unbiased, lower noise at equal time for glossy metals under detailed
+maps; docs/render.md, "Resampled direct light").
 Lights: envmap=path (.exr/.hdr, equirectangular) with env_scale, env_rotation (rad);
 white_env=True; point=[((x, y, z), (r, g, b)) intensity W/sr]; sphere_light=[((x, y, z), radius,
 (r, g, b))]; disk_light=[((x, y, z), (nx, ny, nz), radius, (r, g, b))] (radiance). No light:

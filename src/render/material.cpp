@@ -1,6 +1,7 @@
 // Spectral evaluation and sampling of materials (see material.hpp).
 #include "render/material.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -40,7 +41,12 @@ SpectralMaterial::SpectralMaterial(std::shared_ptr<const Svbrdf> m) : m_(std::mo
   visible_exact_ = dynamic_cast<const BeckmannDistribution*>(d_) ||
                    dynamic_cast<const GgxDistribution*>(d_) ||
                    dynamic_cast<const EllipsoidDistribution*>(d_);
+  if ((ggx_ = dynamic_cast<const GgxDistribution*>(d_))) {
+    ggx_c_ = std::cos(ggx_->params().phi);
+    ggx_s_ = std::sin(ggx_->params().phi);
+  }
   if (!self_check()) {
+    ggx_ = nullptr;
     mf_ = nullptr;
     d_ = nullptr;
     conductor_ = false;
@@ -222,7 +228,12 @@ bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, dou
       s.pdf = b->pdf;
       double f[kMaxWavelengths];
       for (int k = 0; k < n; ++k) f[k] = m_->eval(u, v, s.wo, wv, w.lambda_m[k]);
-      for (int k = 0; k < n; ++k) s.weight[k] = f[k] * s.wo.z() / s.pdf;
+      s.target = 0;
+      for (int k = 0; k < n; ++k) {
+        s.weight[k] = f[k] * s.wo.z() / s.pdf;
+        s.target += std::abs(f[k]);
+      }
+      s.target *= s.wo.z() / n;
     } else {
       s.pdf = 0;
       s.weight[0] = b->weight;
@@ -251,8 +262,62 @@ bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, dou
   s.wo = wo;
   s.pdf = pdf;
   s.delta = false;
+  s.target = dm / (4 * vw.pa);
   fresnel_all(im, w, geo, s.weight);
   return true;
+}
+
+bool SpectralMaterial::ris_terms(double u, double v, const View& vw, const Vec3& wl,
+                                 const Wavelengths& w, double& pdf, double& target) const {
+  pdf = target = 0;
+  const Vec3& wv = vw.wv;
+  if (!mf_) {
+    if (!(wl.z() > 0)) return false;
+    double f[kMaxWavelengths];
+    eval(u, v, vw, wl, w, f, &pdf);
+    for (int k = 0; k < w.n; ++k) target += std::abs(f[k]);
+    target *= wl.z() / w.n;
+    return target > 0;
+  }
+  if (wl.z() <= 0 || wv.z() <= 0 || !(vw.pa > 0)) return false;
+  const Vec3 hs = wl + wv;
+  const double len = hs.norm();
+  if (len == 0) return false;
+  const Vec3 h = hs / len;
+  const double dh = d_->D(h);
+  if (!(dh > 0)) return false;
+  target = dh / (4 * vw.pa);
+  if (visible_exact_) {
+    pdf = target;
+  } else {
+    const double vh = wv.dot(h);
+    pdf = vh > 0 ? d_->sampling_pdf(wv, h) / (4 * vh) : 0.0;
+  }
+  return true;
+}
+
+bool SpectralMaterial::sample_direction(double u, double v, const View& vw, double u1, double u2,
+                                        const Wavelengths& w, Vec3& wl, double& pdf,
+                                        double& target) const {
+  const Vec3& wv = vw.wv;
+  if (!mf_) {
+    Sample s;
+    if (!sample(u, v, vw, u1, u2, w, s) || s.delta) return false;
+    wl = s.wo;
+    pdf = s.pdf;
+    target = s.target;
+    return target > 0;
+  }
+  if (wv.z() <= 0 || !(vw.pa > 0)) return false;
+  const Vec3 m = d_->sample_visible(wv, u1, u2);
+  const double im = wv.dot(m);
+  if (im <= 0) return false;
+  wl = 2 * im * m - wv;
+  if (wl.z() <= 0) return false;
+  const double dm = d_->D(m);
+  target = dm / (4 * vw.pa);
+  pdf = visible_exact_ ? target : d_->sampling_pdf(wv, m) / (4 * im);
+  return pdf > 0 && std::isfinite(pdf) && target > 0;
 }
 
 void SpectralMaterial::eval(double u, double v, const Vec3& wi, const Vec3& wo,
@@ -260,6 +325,89 @@ void SpectralMaterial::eval(double u, double v, const Vec3& wi, const Vec3& wo,
   Wavelengths w;
   prepare(lambda_m, n, w);
   eval(u, v, view(wo), wi, w, f, nullptr);
+}
+
+}  // namespace microbrdf::pt
+
+namespace microbrdf::pt {
+namespace {
+
+constexpr double kGolden = 0.6180339887498949;
+constexpr int kMaxLattice = 16;
+
+/// cos and sin of 2 pi frac(j phi) for j = -15..15 (index j + 15).
+struct LatticeTurns {
+  double c[2 * kMaxLattice - 1], s[2 * kMaxLattice - 1];
+  LatticeTurns() {
+    for (int j = -(kMaxLattice - 1); j < kMaxLattice; ++j) {
+      const double o = j * kGolden, t = 2 * M_PI * (o - std::floor(o));
+      c[j + kMaxLattice - 1] = std::cos(t);
+      s[j + kMaxLattice - 1] = std::sin(t);
+    }
+  }
+};
+
+/// (u + o) mod 1 for o in (-1, 1), below 1.
+double wrap(double u, double o) {
+  double v = u + (o < 0 ? o + 1 : o);
+  if (v >= 1) v -= 1;
+  return std::min(v, 0x1.fffffffffffffp-1);
+}
+
+}  // namespace
+
+void SpectralMaterial::lattice_directions(double u, double v, const View& vw, double u1, double u2,
+                                          const Wavelengths& w, int M, int a, Vec3* wl, double* pdf,
+                                          double* target, bool* ok) const {
+  for (int k = 0; k < M; ++k) ok[k] = false;
+  const Vec3& wv = vw.wv;
+  if (wv.z() <= 0 || (mf_ && !(vw.pa > 0))) return;
+  if (!ggx_) {
+    for (int k = 0; k < M; ++k) {
+      if (k == a) continue;
+      const double o2 = (k - a) * kGolden;
+      ok[k] = sample_direction(u, v, vw, wrap(u1, double(k - a) / M), wrap(u2, o2 - std::trunc(o2)),
+                               w, wl[k], pdf[k], target[k]);
+    }
+    return;
+  }
+  // GgxDistribution::sample_visible (Heitz 2018) with the stretched view's frame once.
+  static const LatticeTurns turns;
+  const double ax = ggx_->params().alpha_x, ay = ggx_->params().alpha_y;
+  const double c = ggx_c_, s = ggx_s_;
+  const double lx = c * wv.x() + s * wv.y(), ly = -s * wv.x() + c * wv.y();
+  const Vec3 vh = Vec3(ax * lx, ay * ly, wv.z()).normalized();
+  const double lensq = vh.x() * vh.x() + vh.y() * vh.y();
+  const Vec3 t1 = lensq > 0 ? Vec3(-vh.y(), vh.x(), 0) / std::sqrt(lensq) : Vec3(1, 0, 0);
+  const Vec3 t2 = vh.cross(t1);
+  const double sh = 0.5 * (1 + vh.z());
+  const double phi = 2 * M_PI * u2, c0 = std::cos(phi), s0 = std::sin(phi);
+  const double norm = 1 / (M_PI * ax * ay);
+  const double i4pa = 1 / (4 * vw.pa), inv_m = 1.0 / M;
+  for (int k = 0; k < M; ++k) {
+    if (k == a) continue;
+    const int j = k - a;
+    const double r = std::sqrt(wrap(u1, j * inv_m));
+    const double tc = turns.c[j + kMaxLattice - 1], ts = turns.s[j + kMaxLattice - 1];
+    const double p1 = r * (c0 * tc - s0 * ts);
+    double p2 = r * (s0 * tc + c0 * ts);
+    p2 = (1 - sh) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + sh * p2;
+    const Vec3 n = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * vh;
+    // The unstretched normal mu = (ax n.x, ay n.y, n.z) / |...| in the distribution's frame:
+    // with l2 = |...|^2 and |n| = 1, GGX's q = |n|^2 / l2, so D = l2^2 / (pi ax ay), and the
+    // reflection needs no normalisation of mu but a division by l2.
+    const double nz = std::max(0.0, n.z());
+    if (!(nz > 0)) continue;
+    const Vec3 mu(ax * n.x(), ay * n.y(), nz);
+    const double l2 = mu.squaredNorm();
+    const Vec3 m(c * mu.x() - s * mu.y(), s * mu.x() + c * mu.y(), mu.z());  // not unit
+    const double im = wv.dot(m);
+    if (im <= 0) continue;
+    wl[k] = (2 * im / l2) * m - wv;
+    if (wl[k].z() <= 0) continue;
+    target[k] = pdf[k] = l2 * l2 * norm * i4pa;
+    ok[k] = pdf[k] > 0 && std::isfinite(pdf[k]);
+  }
 }
 
 }  // namespace microbrdf::pt

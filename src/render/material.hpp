@@ -77,6 +77,7 @@ class SpectralMaterial {
     double pdf = 0;                  ///< per steradian; 0 for a delta lobe
     bool delta = false;              ///< weights from each wavelength's own sample()
     double weight[kMaxWavelengths];  ///< f cos / pdf per wavelength (the first n are set)
+    double target = 0;               ///< ris_terms' target of wo
   };
 
   explicit SpectralMaterial(std::shared_ptr<const Svbrdf> m);
@@ -96,6 +97,26 @@ class SpectralMaterial {
   /// others (delta lobes: each wavelength's own sample() for the same numbers).
   bool sample(double u, double v, const View& vw, double u1, double u2, const Wavelengths& w,
               Sample& s) const;
+
+  /// For resampled direct light (direct_ris.hpp): the BRDF sampler's density of wl (as eval's)
+  /// and a target, a cheap stand-in for f cos that is positive wherever f is: on the fast path
+  /// D(h) / (4 sigma+(wv)) (= f cos G1(wv) / (F G2); equal to the density for the analytic
+  /// models), otherwise the mean over the wavelengths of |f| cos. False where the target is 0
+  /// (then f = 0 too).
+  bool ris_terms(double u, double v, const View& vw, const Vec3& wl, const Wavelengths& w,
+                 double& pdf, double& target) const;
+  /// A BRDF-sampled direction with its density and target (as sample(); on the fast path without
+  /// G2 and the Fresnel term). False when the sample is refused or is a delta lobe's.
+  bool sample_direction(double u, double v, const View& vw, double u1, double u2,
+                        const Wavelengths& w, Vec3& wl, double& pdf, double& target) const;
+  /// BRDF-sampled directions at the lattice points (u1 + j / M, u2 + j phi) mod 1 (phi the
+  /// golden-ratio fraction) for j = -a .. M-1-a except j = 0 (the caller's own sample), into
+  /// slot a + j of wl, pdf, target; ok[a + j] tells whether it was drawn. M <= 16.
+  /// For GGX the view's stretched frame is computed once and the azimuths are turned by fixed
+  /// rotations (the same directions as sample_direction up to rounding; no sin/cos per point).
+  void lattice_directions(double u, double v, const View& vw, double u1, double u2,
+                          const Wavelengths& w, int M, int a, Vec3* wl, double* pdf, double* target,
+                          bool* ok) const;
 
   /// f(wi, wo) at n wavelengths (metres) into f; wi = light, wo = viewer (local frame).
   void eval(double u, double v, const Vec3& wi, const Vec3& wo, const double* lambda_m, int n,
@@ -122,6 +143,8 @@ class SpectralMaterial {
   FastSpectrum n_, k_;
   bool separable_ = false;
   bool visible_exact_ = false;  // sampling_pdf = the visible-normal density (analytic models)
+  const GgxDistribution* ggx_ = nullptr;  // lattice_directions' GGX path
+  double ggx_c_ = 1, ggx_s_ = 0;          // cos, sin of its phi
 };
 
 }  // namespace microbrdf::pt

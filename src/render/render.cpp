@@ -2,7 +2,8 @@
 //
 // Per pixel sample: a camera ray with a box-filter jitter, `wavelengths` hero wavelengths
 // (spectral.hpp) carried together, next-event estimation from one uniformly chosen light and a
-// BRDF-sampled continuation, combined by the power heuristic (MisMode::Mis) or used alone
+// BRDF-sampled continuation, combined by the power heuristic (MisMode::Mis; or, with
+// DirectLight::Ris, direct light by resampling, direct_ris.hpp) or used alone
 // (light_only: emission reached by BRDF sampling is dropped except after a delta bounce;
 // brdf_only: no light samples, point lights are invisible). The BRDF's sampler is driven by the
 // first (hero) wavelength; its pdf does not depend on wavelength (Brdf::pdf), so every
@@ -12,7 +13,8 @@
 //
 // Random numbers: one PathSampler per (pixel, sample) (path_sampler.hpp), asked in a fixed order
 // per path: jitter (2D), hero wavelength (1D), then per bounce the light sample (2D), the BRDF
-// sample (2D) and, after three bounces, Russian roulette (1D). With the Sobol sampler each of
+// sample (2D), with DirectLight::Ris the choice among the candidates (1D), and, after three
+// bounces, Russian roulette (1D). With the Sobol sampler each of
 // these requests is stratified over the samples of a pixel.
 //
 // Determinism: the numbers of each (pixel, sample) are a function of (seed, pixel, sample) and
@@ -31,6 +33,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/threads.hpp"
+#include "render/direct_ris.hpp"
 #include "render/lights.hpp"
 #include "render/material.hpp"
 #include "render/path_sampler.hpp"
@@ -88,11 +91,20 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
   double prev_pdf = 0;   // BRDF-sampling (mixture) density of the current ray direction
   const bool use_nee = c.opt.mis != MisMode::BrdfOnly;
   const bool use_brdf_emission = c.opt.mis != MisMode::LightOnly;
+  // Resampled direct light (direct_ris.hpp) where the material allows; its continuation then
+  // carries indirect light only: emission it meets is already counted.
+  // Not under a uniform environment alone: the target is then the BRDF's own density, and
+  // resampling would cost without lowering the noise.
+  // One variant only: with several, the light sample is shared by their MIS estimators.
+  const bool use_ris = nv == 1 && c.opt.direct == DirectLight::Ris && c.opt.mis == MisMode::Mis &&
+                       !(c.lights.count() == 1 && c.lights.env() && c.lights.env()->is_uniform());
+  bool after_ris = false;
+  pt::RisPending pending;  // direct light whose visibility is the continuation ray's
   const double eps = c.geo.epsilon();
   auto add_emission = [&](const V3& rgb, double light_pdf) {
     double w = 1;
     if (!specular) {
-      if (!use_brdf_emission) return;
+      if (!use_brdf_emission || after_ris) return;
       if (use_nee) w = power_heuristic(prev_pdf, light_pdf);
     }
     if (!(w > 0)) return;
@@ -113,16 +125,18 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       rng.get2d(nee_u1, nee_u2);
       c.lights.prefetch_sample(nee_u1, nee_u2);
     }
-    const auto env_pixel = c.lights.prefetch_env(d);
+    const auto env_pixel = after_ris ? std::pair<int, int>{-1, -1} : c.lights.prefetch_env(d);
     pt::ShadingPoint sp;
     ++rays;
     const double t = c.geo.intersect(o, d, 1e30, sp);
+    pending.resolve(t, n, L[0]);
     const pt::LightHit lh = c.lights.hit_area(o, d, t > 0 ? t : 1e30);
     if (lh.t > 0) {
       add_emission(lh.rgb, lh.pdf);
       return rays;
     }
     if (t < 0) {
+      if (after_ris) return rays;
       double pdf;
       const V3 rgb = c.lights.env_rgb(d, env_pixel, pdf);
       if (c.lights.env()) add_emission(rgb, pdf);
@@ -155,7 +169,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     const V3 origin = sp.p + eps * sp.ng;
 
     // Next-event estimation.
-    if (nee) {
+    const bool ris = use_ris && nee;
+    if (nee && !ris) {
       if (auto ls = c.lights.sample(origin, nee_u1, nee_u2)) {
         const V3 wl = sp.to_local(ls->dir);
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
@@ -214,7 +229,23 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       u1 = std::min((u1 - lo) / c.mix_weight[pick], std::nextafter(1.0, 0.0));
     }
     pt::SpectralMaterial::Sample s;
-    if (!mat[pick]->sample(sp.u, sp.v, view[pick], u1, u2, *wl_consts[pick], s)) return rays;
+    const bool sampled = mat[pick]->sample(sp.u, sp.v, view[pick], u1, u2, *wl_consts[pick], s);
+    if (ris) {  // (one variant: use_ris)
+      const pt::RisDirectInput in{c.geo,
+                                  c.lights,
+                                  *mat[0],
+                                  view[0],
+                                  *wl_consts[0],
+                                  sp,
+                                  origin,
+                                  ps.basis,
+                                  c.opt.ris_brdf_candidates,
+                                  c.opt.ris_light_candidates};
+      rays += pt::ris_direct_light(in, sampled ? &s : nullptr, u1, u2, nee_u1, nee_u2, rng.get1d(),
+                                   T[0], L[0], &pending);
+    }
+    if (!sampled) return rays;
+    after_ris = ris && !s.delta;
     const V3 wl = s.wo;
     if (nv == 1) {
       for (int k = 0; k < n; ++k) T[0][k] *= s.weight[k];
@@ -252,17 +283,19 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     d = sp.to_world(wl).normalized();
     if (d.dot(sp.ng) <= 0) return rays;  // below the geometric surface
     o = origin;
+    // A path that ends here traces the pending direct light's shadow ray itself.
+    auto end = [&] { return rays + pending.resolve_by_shadow_ray(c.geo, o, d, n, L[0]); };
     // Russian roulette after three bounces (one decision for every variant).
     double tmax = 0;
     for (int v = 0; v < nv; ++v)
       for (int k = 0; k < n; ++k) {
-        if (!std::isfinite(T[v][k])) return rays;
+        if (!std::isfinite(T[v][k])) return end();
         tmax = std::max(tmax, std::abs(T[v][k]));
       }
-    if (!(tmax > 0)) return rays;
+    if (!(tmax > 0)) return end();
     if (depth >= 3) {
       const double q = std::min(1.0, tmax);
-      if (rng.get1d() >= q) return rays;
+      if (rng.get1d() >= q) return end();
       for (int v = 0; v < nv; ++v)
         for (int k = 0; k < n; ++k) T[v][k] /= q;
     }
@@ -276,6 +309,14 @@ RenderSampler parse_render_sampler(const std::string& name, const std::string& f
   if (name == "independent") return RenderSampler::Independent;
   throw InputError(flag + " '" + name + "': give sobol or independent");
 }
+
+DirectLight parse_direct_light(const std::string& name, const std::string& flag) {
+  if (name == "mis") return DirectLight::Mis;
+  if (name == "ris") return DirectLight::Ris;
+  throw InputError(flag + " '" + name + "': give mis or ris");
+}
+
+std::string direct_light_name(DirectLight d) { return d == DirectLight::Ris ? "ris" : "mis"; }
 
 std::string render_sampler_name(RenderSampler s) {
   return s == RenderSampler::Sobol ? "sobol" : "independent";
@@ -300,8 +341,15 @@ std::string settings_line(const RenderScene& scene,
      << (opt.mis == MisMode::Mis        ? "power"
          : opt.mis == MisMode::BrdfOnly ? "brdf_only"
                                         : "light_only")
-     << ", sampler " << render_sampler_name(opt.sampler);
-  if (variants > 1) os << ", one of " << variants << " variants along shared paths";
+     << ", sampler " << render_sampler_name(opt.sampler) << ", direct light ";
+  if (variants > 1) {
+    os << "mis, one of " << variants << " variants along shared paths";
+  } else {
+    os << direct_light_name(opt.direct);
+    if (opt.direct == DirectLight::Ris)
+      os << " (" << opt.ris_brdf_candidates << " BRDF + " << opt.ris_light_candidates
+         << " light candidates)";
+  }
   return os.str();
 }
 
@@ -353,6 +401,10 @@ std::vector<RenderImage> render_variants(
     cdf[v] = run;
   }
   cdf[nv - 1] = 1;
+  if (opt.ris_brdf_candidates < 1 || opt.ris_brdf_candidates > pt::kMaxRisBrdfCandidates)
+    throw InputError("render: RIS BRDF candidates must be 1..16");
+  if (opt.ris_light_candidates < 1 || opt.ris_light_candidates > pt::kMaxRisLightCandidates)
+    throw InputError("render: RIS light candidates must be 1..4");
   const auto t0 = std::chrono::steady_clock::now();
   pt::PreviewGeometry geo(scene);
   // Uniform materials ignore the texture coordinates.

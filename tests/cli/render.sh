@@ -24,6 +24,21 @@ $BIN render --scene sphere --model ggx --alpha 0.2 --metal Cu --envmap "$ENV" --
   --threads 1 -o "$T/b.png" --quiet >/dev/null || fail "second render"
 cmp -s "$T/a.png" "$T/b.png" || fail "image depends on the thread count"
 
+# The direct-light estimators: resampling (the default) and MIS, reported in the JSON; bad
+# candidate counts name their flag and exit 2.
+grep -q '"direct": "ris"' "$T/j" || fail "JSON lacks \"direct\": \"ris\" (the default)"
+$BIN render --scene sphere --model ggx --alpha 0.2 --metal Cu --envmap "$ENV" --size 16 --spp 2 \
+  --direct mis -o "$T/m.png" --quiet --json >"$T/jm" 2>"$T/err" || fail "--direct mis: $(cat "$T/err")"
+grep -q '"direct": "mis"' "$T/jm" || fail "JSON lacks \"direct\": \"mis\""
+for bad in 4,x 0,1 4,0 17,1; do
+  $BIN render --scene sphere --lambertian 1 --ris-candidates "$bad" -o "$T/x.png" 2>"$T/err"
+  [ $? -eq 2 ] || fail "--ris-candidates $bad not exit 2"
+  grep -q -- "--ris-candidates" "$T/err" || fail "--ris-candidates $bad: error does not name the flag"
+done
+$BIN render --scene sphere --lambertian 1 --direct nee -o "$T/x.png" 2>"$T/err"
+[ $? -eq 2 ] && grep -q -- "--direct" "$T/err" || fail "--direct nee: not exit 2 naming the flag"
+[ ! -e "$T/x.png" ] || fail "a refused render wrote its output"
+
 # An OBJ mesh (a tetrahedron) under a point light and rotational brushing.
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$T/t.obj"
 $BIN render --scene obj --obj "$T/t.obj" --lambertian 0.8 --point 2,2,4:30 --brushing rotational \
