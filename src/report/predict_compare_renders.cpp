@@ -8,10 +8,12 @@
 // two halves of its samples kept apart, see render_split): no extra render.
 #include <algorithm>
 #include <cmath>
+#include <exception>
 
 #include "core/image_metrics.hpp"
 #include "microbrdf/image.hpp"
 #include "microbrdf/spectrum.hpp"
+#include "microbrdf/threads.hpp"
 #include "report/predict_stages.hpp"
 
 namespace microbrdf::report {
@@ -206,8 +208,24 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
 
 nlohmann::json stage_compare_renders(const Context& c, const std::vector<NamedBrdf>& models,
                                      const std::vector<ReferenceRender>& references) {
+  // The scenes side by side on the run's threads (each writes its own files; the results keep
+  // the scenes' order). An exception in one is rethrown here, the first in scene order.
+  const auto n = static_cast<int>(references.size());
+  std::vector<nlohmann::json> per_scene(references.size());
+  std::vector<std::exception_ptr> failed(references.size());
+#pragma omp parallel for schedule(dynamic, 1) \
+    num_threads(std::max(1, std::min(n, resolve_thread_count(c.opt.threads))))
+  for (int i = 0; i < n; ++i) {
+    try {
+      per_scene[i] = compare_scene(c, models, references[i]);
+    } catch (...) {
+      failed[i] = std::current_exception();
+    }
+  }
+  for (const auto& e : failed)
+    if (e) std::rethrow_exception(e);
   nlohmann::json scenes = nlohmann::json::array();
-  for (const auto& ref : references) scenes.push_back(compare_scene(c, models, ref));
+  for (auto& s : per_scene) scenes.push_back(std::move(s));
   // The cylinder pair's keys at the top level (as before the other scenes joined), every scene
   // in "scenes".
   nlohmann::json out = nlohmann::json::object();

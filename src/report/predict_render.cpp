@@ -45,6 +45,12 @@ RenderOptions predict_render_options(const PredictOptions& o, int width, int hei
   ro.spp = o.render_spp;
   ro.seed = o.seed;
   ro.threads = o.threads;
+  // MIS, not the renderer's default RIS: the comparison strip renders the measured NDF and the
+  // models along shared paths, whose light samples serve every variant (RIS serves one), and
+  // every render of the report keeps one estimator, so that their noise figures compare. With
+  // a tabulated NDF each RIS candidate is a visible-normal draw from tables, which makes a
+  // sample about 3x dearer.
+  ro.direct = DirectLight::Mis;
   return ro;
 }
 
