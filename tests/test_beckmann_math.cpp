@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <vector>
 
 #include "models/beckmann_math.hpp"
@@ -176,4 +177,21 @@ TEST(BeckmannMath, VisibleSlopeRoundTrips) {
               wmu, wu);
   EXPECT_LT(worst, 1e-10);
   for (double mu : {0.0, 0.5, 3.0}) EXPECT_TRUE(std::isfinite(bm::visible_slope(mu, 0.0)));
+}
+
+TEST(BeckmannMath, VisibleSlopeStartIsClose) {
+  // The tabulated start is within 1e-4 (1 + |x|) of the root (one Halley step then ends the
+  // iteration) for most (mu, u); a performance property, asserted loosely.
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> un(0, 1);
+  int close = 0, n = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const double mu = k % 2 ? 3 * un(rng) : 1 / (1e-3 + un(rng)), u = un(rng);
+    const double x = bm::visible_slope(mu, u), s = bm::visible_slope_start(mu, u);
+    ASSERT_TRUE(std::isfinite(s)) << mu << " " << u;
+    close += std::abs(s - x) <= 1e-4 * (1 + std::abs(x));
+    ++n;
+  }
+  std::printf("visible slope start within 1e-4 (1 + |x|): %.4f of %d\n", double(close) / n, n);
+  EXPECT_GT(close, 0.97 * n);
 }

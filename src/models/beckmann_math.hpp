@@ -10,7 +10,7 @@
 //  - gauss_quantile(u): the x with erfc(-x)/2 = u (x = erfinv(2u - 1)), a polynomial guess good
 //    to 1e-7 relative and one Halley step, i.e. converged to the double-precision CDF;
 //  - smith_lambda(a): Beckmann's Lambda = (exp(-a^2)/(a sqrt(pi)) - erfc(a))/2, a > 0;
-//  - visible_slope(mu, u): the visible-slope quantile (see its comment).
+//  - visible_slope(mu, u): the visible-slope quantile (beckmann_math.cpp).
 // The polynomial coefficients interpolate the functions at Chebyshev nodes in 40-digit arithmetic
 // (scripts/fit_beckmann_math.py prints them and their errors).
 
@@ -164,97 +164,11 @@ inline double smith_lambda(double a) { return 0.5 * exp_minus_sq(a) * (kInvSqrtP
 
 /// Draws x with density proportional to <mu - x>+ exp(-x^2) (mu = cot theta of the stretched
 /// view, >= 0; mu >= 1e8 means exp(-x^2)) by inverting the CDF
-///   C(x) = mu sqrt(pi)/2 erfc(-x) + exp(-x^2)/2  (x <= mu),  u C(mu) = C(x).
-/// C(x)/(mu sqrt(pi)) = Phi(x) + phi(x)/(2 mu) exactly (Phi the CDF of exp(-x^2)/sqrt(pi), phi
-/// its density), whose root for large mu is x0 - 1/(2 mu) - x0/(4 mu^2) + (1 - 2 x0^2)/(12 mu^3)
-/// + O(mu^-4), x0 the Gaussian quantile of u C(mu)/(mu sqrt(pi)); that is the start for mu > 1, mu
-/// - sqrt(-ln u) (exact for mu = 0) below, raised for u > 1/2 and mu < 5 to mu - z0 (the mass above
-/// x is >= exp(-mu^2) (mu - x)^2 / 2 for x >= -mu, so the root lies at or above mu - z0, z0 =
-/// sqrt(2 (1-u) C(mu) exp(mu^2)); also the asymptotic root for u -> 1). Below the median Halley's
-/// method runs on ln C (nearly quadratic in the lower tail; written as -x^2 + ln(...) for x <= 0,
-/// so nothing underflows), above it on the ln of the mass above x (C(mu) - C(x) ~ (mu - x)^2 near
-/// the end); both are monotone with a bracket [lo, mu], and a step leaving the bracket is replaced
-/// by bisection. A Halley step below 1e-4 (1 + |x|) (above the median: 1e-4 min(1 + |x|, mu - x),
-/// the scale of ln(mu - x)) ends the iteration (cubic convergence: ~1e-12 left;
-/// tests/test_beckmann_math.cpp asserts 1e-10 (1 + |x|) against a long-double bisection), as does a
-/// Newton step (taken where Halley's correction is large) below 1e-8 (1 + |x|).
-inline double visible_slope(double mu, double u) {
-  if (!(mu < 1e8)) return gauss_quantile(u);
-  const double e_mu = exp_minus_sq(mu);
-  const double half_mu_sqrt_pi = 0.5 * mu * kSqrtPi;
-  // C(mu) with erfc(-mu) = 2 - erfc(mu)
-  const double erfc_mu = e_mu * erfcx(mu);
-  const double c_mu = half_mu_sqrt_pi * (2 - erfc_mu) + 0.5 * e_mu;
-  const bool upper = u > 0.5;
-  const double tail = (1 - u) * c_mu;  // mass above the root
-  double x = std::numeric_limits<double>::quiet_NaN();
-  if (mu > 1) {
-    const double eps = 1 / mu;
-    const double x0 = erfinv_guess_u(u * (c_mu / (mu * kSqrtPi)));
-    x = x0 - eps * (0.5 + eps * (0.25 * x0 - eps * (1 - 2 * x0 * x0) / 12));
-  }
-  if (!(x == x)) x = mu - std::sqrt(-std::log(std::max(u, 1e-300)));
-  if (upper && mu < 5) {
-    const double z0 = std::sqrt(2 * tail / e_mu);
-    if (!(x < mu) || x < mu - z0) x = mu - z0;
-  }
-  double lo = -30, hi = mu;
-  if (!(x > lo && x < hi)) x = 0.5 * (std::max(lo, -6.0) + hi);
-  const double target = std::log(upper ? tail : u * c_mu);
-  for (int it = 0; it < 200; ++it) {
-    // g = ln C - target (below the median) or ln(C(mu) - C) - target, with g' and g''.
-    double g, g1, g2;
-    const double d = mu - x;
-    if (!upper && x <= 0) {
-      // C = exp(-x^2) A, A = mu sqrt(pi)/2 erfcx(-x) + 1/2; C' = d exp(-x^2),
-      // C'' = -(1 + 2 x d) exp(-x^2)
-      const double a = half_mu_sqrt_pi * erfcx(-x) + 0.5;
-      g = std::log(a) - x * x - target;
-      g1 = d / a;
-      g2 = -(1 + 2 * x * d) / a - g1 * g1;
-    } else {
-      const double e = exp_minus_sq(x);
-      const double erfc_x = x >= 0 ? e * erfcx(x) : 2 - e * erfcx(-x);
-      const double p = d * e, c2 = -(1 + 2 * x * d) * e;
-      if (!upper) {
-        const double c = half_mu_sqrt_pi * (2 - erfc_x) + 0.5 * e;
-        g = std::log(c) - target;
-        g1 = p / c;
-        g2 = c2 / c - g1 * g1;
-      } else {
-        // C(mu) - C(x) from the differences of erfc and exp (no cancellation against
-        // mu sqrt(pi), which C(mu) - C(x) computed directly would suffer for large mu)
-        const double s = half_mu_sqrt_pi * (erfc_x - erfc_mu) - 0.5 * (e - e_mu);
-        if (s > 0) {
-          g = std::log(s) - target;
-          g1 = -p / s;
-          g2 = -c2 / s - g1 * g1;
-        } else {
-          g = -1e300;
-          g1 = -1e300;
-          g2 = 0;
-        }
-      }
-    }
-    if (upper ? g < 0 : g > 0)  // x lies right of the root
-      hi = x;
-    else
-      lo = x;
-    const double n = g / g1, h = 0.5 * n * g2 / g1;
-    const bool halley = std::abs(h) < 0.5;
-    const double dx = halley ? n / (1 - h) : n;
-    const double xn = x - dx;
-    // (near the end of the range, the upper function ~ 2 ln(mu - x): steps relative to mu - x)
-    const double scale = upper ? std::min(1 + std::abs(x), d) : 1 + std::abs(x);
-    if (std::abs(dx) <= (halley ? 1e-4 : 1e-8) * scale) return std::clamp(xn, lo, hi);
-    if (xn > lo && xn < hi) {
-      x = xn;
-    } else {
-      x = 0.5 * (lo + hi);
-      if (hi - lo <= 1e-14 * (1 + std::abs(x))) return x;
-    }
-  }
-  return x;
-}
+///   C(x) = mu sqrt(pi)/2 erfc(-x) + exp(-x^2)/2  (x <= mu),  u C(mu) = C(x),
+/// converged to 1e-10 (1 + |x|) or better (beckmann_math.cpp describes how).
+double visible_slope(double mu, double u);
+/// The start of visible_slope's iteration (exposed for the tests: within 1e-4 (1 + |x|) of the
+/// root for most (mu, u), where one Halley step ends the iteration).
+double visible_slope_start(double mu, double u);
 
 }  // namespace microbrdf::beckmann
