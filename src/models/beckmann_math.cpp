@@ -6,7 +6,9 @@
 // exactly (Phi the CDF of exp(-x^2)/sqrt(pi), phi its density), whose root for large mu is
 //   x0 - 1/(2 mu) - x0/(4 mu^2) + (1 - 2 x0^2)/(12 mu^3) + O(mu^-4),
 // x0 the Gaussian quantile of u C(mu)/(mu sqrt(pi)) (series() below). The iteration starts from
-//  - mu >= 1: that series plus a correction interpolated bilinearly in (1/mu, x0) from a table;
+//  - mu >= 1: that series at x0 = the Gaussian quantile of u plus a correction interpolated
+//    bilinearly in (1/mu, x0) from a table (which also absorbs C(mu)/(mu sqrt(pi)) - 1, so that
+//    the start does not wait for C(mu));
 //  - mu < 1: mu - v, v = sqrt(-ln u) (exact for mu = 0), plus a correction interpolated in
 //    (mu, v) from a second table;
 //  - elsewhere (tails beyond the tables): mu - v, raised for u > 1/2 and mu < 5 to mu - z0 (the
@@ -42,9 +44,11 @@ struct SlopeView {
 SlopeView slope_view(double mu) {
   SlopeView s;
   s.mu = mu;
-  s.e_mu = exp_minus_sq(mu);
   s.half_mu_sqrt_pi = 0.5 * mu * kSqrtPi;
-  s.erfc_mu = s.e_mu * erfcx(mu);
+  // Above mu = 8, exp(-mu^2) < 1.6e-28 and erfc(mu) < 2e-30: below the rounding of C(mu) and of
+  // every mass the iteration compares (>= 2^-53 C(mu), u being a double below 1).
+  s.e_mu = mu < 8 ? exp_minus_sq(mu) : 0.0;
+  s.erfc_mu = mu < 8 ? s.e_mu * erfcx(mu) : 0.0;
   s.c_mu = s.half_mu_sqrt_pi * (2 - s.erfc_mu) + 0.5 * s.e_mu;  // erfc(-mu) = 2 - erfc(mu)
   return s;
 }
@@ -139,10 +143,9 @@ Tables build_tables() {
   for (int i = 1; i <= kNa; ++i) {  // i = 0: mu = inf, correction 0
     const double eps = double(i) / kNa, mu = 1 / eps;
     const SlopeView s = slope_view(mu);
-    const double norm = s.c_mu / (mu * kSqrtPi);
     for (int j = 0; j <= kNx; ++j) {
       const double x0 = kX0 + (kX1 - kX0) * j / kNx;
-      const double u = std::min(0.5 * erfc(-x0) / norm, 1 - 0x1p-53);
+      const double u = x0 <= 0 ? 0.5 * erfc(-x0) : 1 - 0.5 * erfc(x0);
       const double x = refine(s, u, plain_start(s, u), 1e-7);
       t.a[i * (kNx + 1) + j] = float(x - series(x0, eps));
     }
@@ -177,7 +180,7 @@ double start(const SlopeView& s, double u) {
   const double mu = s.mu;
   if (mu >= 1) {
     const double eps = 1 / mu;
-    const double x0 = erfinv_guess_u(u * (s.c_mu / (mu * kSqrtPi)));
+    const double x0 = erfinv_u(u);
     if (x0 >= kX0 && x0 <= kX1)
       return series(x0, eps) +
              bilinear(tables().a.data(), kNa, kNx, eps * kNa, (x0 - kX0) * (kNx / (kX1 - kX0)));

@@ -7,8 +7,9 @@
 //  - exp_minus_sq(x) = exp(-x^2) with the rounding error of x^2 put back (Dekker's product);
 //  - erfc(x) for every x from the two, with one exp: erfc(x) = exp(-x^2) erfcx(x) for x >= 0,
 //    2 - exp(-x^2) erfcx(-x) below;
-//  - gauss_quantile(u): the x with erfc(-x)/2 = u (x = erfinv(2u - 1)), a polynomial guess good
-//    to 1e-7 relative and one Halley step, i.e. converged to the double-precision CDF;
+//  - gauss_quantile(u): the x with erfc(-x)/2 = u (x = erfinv(2u - 1)) from piecewise
+//    polynomials in w = -ln(4u(1-u)) or sqrt(w) (after Giles 2010's choice of variables), relative
+//    error ~1e-15 (a Newton loop in the far tail u < 1.2e-25);
 //  - smith_lambda(a): Beckmann's Lambda = (exp(-a^2)/(a sqrt(pi)) - erfc(a))/2, a > 0;
 //  - visible_slope(mu, u): the visible-slope quantile (beckmann_math.cpp).
 // The polynomial coefficients interpolate the functions at Chebyshev nodes in 40-digit arithmetic
@@ -61,14 +62,17 @@ inline constexpr double kErfcx[32][11] = {
 inline constexpr double kErfcxTail[1][9] = {
     {1, -0.49999999999983968, 0.74999999972518139, -1.8749998179102214, 6.5624392457413823, -29.519774033107606, 161.13156959527583, -968.96196585311759, 4565.5548889797928},
 };
-inline constexpr double kErfinvW[1][11] = {
-    {1.6536545626831027, 0.24015818130870092, -0.006033683153015207, -0.00074069870851445568, 0.00018675940221723361, -1.3887019697590711e-05, -1.37997428444425e-06, 4.2566279061253253e-07, -2.5652876737032751e-08, -4.6076465066097856e-09, 6.9836807302724098e-10},
+inline constexpr double kErfinvW1[1][17] = {
+    {1.2520638405834421, 0.25036244534245328, 0.00087976471266243059, -0.0020923279303963621, 0.00017766931513648151, 2.3288167998022545e-05, -5.3727739784419461e-06, -6.5075623330753371e-08, 1.1770360466744276e-07, -7.2320396460356228e-09, -2.0197844277880304e-09, 3.025022423945856e-10, 2.2821374551355602e-11, -8.2161869917228182e-12, 6.6991409901317097e-14, 1.5292687608252847e-13, -1.0149655105549236e-14},
 };
-inline constexpr double kErfinvS1[1][8] = {
-    {3.0838856307387981, 1.0052589060074881, 0.0053697962862446595, -0.0037477055004574334, 0.0024997690055618988, -0.0017191089428599863, 0.0009413204033573106, -0.00026965833091659131},
+inline constexpr double kErfinvW2[1][17] = {
+    {1.9986469608891362, 0.21919392797953619, -0.0073613509241466845, 3.577044993007046e-05, 7.4426256326539809e-05, -1.2653042733623601e-05, 9.4068433867568135e-07, 4.1415475801794433e-08, -2.037665704484259e-08, 2.4342255318113001e-09, -5.4139015036660257e-11, -2.8979447730015984e-11, 5.1224925692115769e-12, -3.132400719868238e-13, -3.2912671546536133e-14, 9.3265841087912878e-15, -7.4452660213418667e-16},
 };
-inline constexpr double kErfinvS2[1][9] = {
-    {5.6074830714321475, 1.0098320781429804, -0.00043165798360279931, -6.841902665500837e-05, 2.9478353214823297e-05, -7.108470289695574e-06, 1.4989306901779226e-06, -3.8715775907481636e-07, 7.3379778461131144e-08},
+inline constexpr double kErfinvS1[1][19] = {
+    {3.0838856104922208, 1.0052589676941592, 0.0053709145535581985, -0.0037512085075638536, 0.0024914420976198813, -0.0016882755561681802, 0.00095328935211181774, -0.00035503751863069763, 2.4031363245440546e-05, 6.8284840522929237e-05, -4.7319529183371892e-05, 1.2475343474376931e-05, 2.9273722115986924e-06, -4.0139463981902916e-06, 1.4958263152984917e-06, 1.8323999881328579e-08, -2.6860975725571463e-07, 9.0719505710299223e-08, -3.8310399460724111e-10},
+};
+inline constexpr double kErfinvS2[1][21] = {
+    {5.6074830714321475, 1.0098320335141004, -0.00043164799588128858, -6.822751395221123e-05, 2.9435834295615522e-05, -7.3251028119844934e-06, 1.5459909513699952e-06, -3.0041656863116615e-07, 5.544660517816854e-08, -9.9130384511133974e-09, 1.7507083621220156e-09, -3.0102128883564048e-10, 6.948561234303362e-11, -4.3214628850466653e-11, 1.793080721876815e-11, -1.2369971784411629e-13, 8.2159798082534736e-13, -2.5739487900268288e-12, 9.0159926617794721e-13, 3.677813230805085e-14, -4.0313019006459849e-14},
 };
 // clang-format on
 
@@ -80,19 +84,26 @@ inline double poly10(const double* c, double t) {
   const double d = (c[8] + c[9] * t) + t2 * c[10];
   return (a + t4 * b) + t8 * d;
 }
-/// c[0] + ... + c[n-1] t^(n-1) by Horner's rule.
+/// c[0] + ... + c[N-1] t^(N-1) by Estrin's scheme (pairs combined with t, t^2, t^4, ...).
 template <int N>
-inline double horner(const double (&c)[N], double t) {
-  double r = c[N - 1];
-  for (int i = N - 2; i >= 0; --i) r = r * t + c[i];
-  return r;
+inline double estrin(const double (&c)[N], double t) {
+  double a[N];
+  for (int i = 0; i < N; ++i) a[i] = c[i];
+  int n = N;
+  for (double p = t; n > 1; p *= p) {
+    const int m = (n + 1) / 2;
+    for (int i = 0; i < n / 2; ++i) a[i] = a[2 * i] + a[2 * i + 1] * p;
+    if (n % 2) a[n / 2] = a[n - 1];
+    n = m;
+  }
+  return a[0];
 }
 
 /// exp(x^2) erfc(x) for x >= 0 (also for x = +inf: 0); NaN for NaN.
 inline double erfcx(double x) {
   if (x < 8) return poly10(kErfcx[int(x * 4)], x - (int(x * 4) + 0.5) * 0.25);
   const double y = 1 / (x * x);
-  return horner(kErfcxTail[0], y) * kInvSqrtPi / x;
+  return estrin(kErfcxTail[0], y) * kInvSqrtPi / x;
 }
 
 /// exp(-x^2): exp of the rounded -x^2, times 1 - (its rounding error) from Dekker's exact
@@ -112,45 +123,34 @@ inline double erfc(double x) {
   return x >= 0 ? e * erfcx(x) : 2 - e * erfcx(-x);
 }
 
-/// erfinv(2u - 1) from u in (0, 1) (the polynomial guess of gauss_quantile, relative error
-/// < 1e-7 for 1e-24 < u < 1 - 1e-16), or NaN outside that range.
-inline double erfinv_guess_u(double u) {
+/// erfinv(2u - 1) from u in (0, 1): relative error ~1e-15 for 1.2e-25 < u < 1 - 1.2e-25 (the
+/// polynomials interpolate erfinv(t)/t to 1e-15), NaN outside that range.
+inline double erfinv_u(double u) {
   const double w = -std::log(4 * u * (1 - u));  // -ln(1 - t^2), t = 2u - 1, without cancellation
   const double t = 2 * u - 1;
-  if (w < 6.25) return t * horner(kErfinvW[0], w - 3.125);
+  if (w < 3) return t * estrin(kErfinvW1[0], w - 1.5);
+  if (w < 6.25) return t * estrin(kErfinvW2[0], w - 4.625);
   const double s = std::sqrt(w);
-  if (w < 16) return t * horner(kErfinvS1[0], s - 3.25);
-  if (w < 56) return t * horner(kErfinvS2[0], s - 5.75);
+  if (w < 16) return t * estrin(kErfinvS1[0], s - 3.25);
+  if (w < 56.25) return t * estrin(kErfinvS2[0], s - 5.75);
   return std::numeric_limits<double>::quiet_NaN();
 }
 
 /// The x <= 0 with erfc(-x)/2 = q, 0 <= q <= 1/2 (q = 0 is taken as 1e-300: x ~ -26.2).
 inline double lower_gauss_quantile(double q) {
-  double x = erfinv_guess_u(q);
-  if (x == x) {
-    // Halley on f = erfc(-x)/2 - q, f' = exp(-x^2)/sqrt(pi), f''/f' = -2x: cubic convergence
-    // from the 1e-7 guess, so the first step already leaves ~1e-20.
-    for (int it = 0; it < 8; ++it) {
-      const double e = exp_minus_sq(x);
-      const double r = (0.5 * e * erfcx(-x) - q) * kSqrtPi / e;  // f / f'
-      const double dx = r / (1 + x * r);
-      x -= dx;
-      if (!(std::abs(dx) > 1e-6 * (1 + std::abs(x)))) break;
-    }
-    return std::min(x, 0.0);
-  }
-  // Far tail (q < 1e-24): Newton on ln(erfc(-x)/2) = -x^2 + ln(erfcx(-x)/2), nearly linear.
+  const double x = erfinv_u(q);
+  if (x == x) return std::min(x, 0.0);
+  // Far tail (q < 1.2e-25): Newton on ln(erfc(-x)/2) = -x^2 + ln(erfcx(-x)/2), nearly linear.
   const double lq = std::log(std::max(q, 1e-300));
-  x = -std::sqrt(-lq);
+  double y = -std::sqrt(-lq);
   for (int it = 0; it < 50; ++it) {
-    const double ex = erfcx(-x);
-    const double g = -x * x + std::log(0.5 * ex) - lq;
-    const double dg = 2 * kInvSqrtPi / ex;
-    const double dx = g / dg;
-    x -= dx;
-    if (!(std::abs(dx) > 1e-12 * (1 + std::abs(x)))) break;
+    const double ex = erfcx(-y);
+    const double g = -y * y + std::log(0.5 * ex) - lq;
+    const double dy = g * ex * (0.5 * kSqrtPi);  // g / g', g' = 2/(sqrt(pi) erfcx(-y))
+    y -= dy;
+    if (!(std::abs(dy) > 1e-12 * (1 + std::abs(y)))) break;
   }
-  return x;
+  return y;
 }
 
 /// x with erfc(-x)/2 = u, u in [0, 1) (antisymmetric: q = min(u, 1 - u), both exact).
