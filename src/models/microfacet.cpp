@@ -92,7 +92,12 @@ double MicrofacetDistribution::pdf_visible(const Vec3& v, const Vec3& m) const {
 
 // ---------------------------------------------------------------------------------------------
 BeckmannDistribution::BeckmannDistribution(double ax, double ay, double phi)
-    : p_{ax, ay, phi}, c_(std::cos(phi)), s_(std::sin(phi)) {
+    : p_{ax, ay, phi},
+      c_(std::cos(phi)),
+      s_(std::sin(phi)),
+      inv_ax2_(1 / (ax * ax)),
+      inv_ay2_(1 / (ay * ay)),
+      d_norm_(1 / (kPi * ax * ay)) {
   check_alpha(ax, ay);
 }
 
@@ -100,17 +105,18 @@ double BeckmannDistribution::D(const Vec3& m) const {
   const double z = m.z();
   if (z <= 0) return 0;
   const double x = c_ * m.x() + s_ * m.y(), y = -s_ * m.x() + c_ * m.y();
-  const double z2 = z * z;
-  const double e = (x * x / (p_.alpha_x * p_.alpha_x) + y * y / (p_.alpha_y * p_.alpha_y)) / z2;
-  return std::exp(-e) / (kPi * p_.alpha_x * p_.alpha_y * z2 * z2);
+  const double iz2 = 1 / (z * z);
+  const double e = (x * x * inv_ax2_ + y * y * inv_ay2_) * iz2;
+  return std::exp(-e) * d_norm_ * iz2 * iz2;
 }
 
 double BeckmannDistribution::lambda(const Vec3& v) const {
   const double x = c_ * v.x() + s_ * v.y(), y = -s_ * v.x() + c_ * v.y(), z = v.z();
   const double t2 =
       (p_.alpha_x * p_.alpha_x * x * x + p_.alpha_y * p_.alpha_y * y * y);  // alpha^2 tan^2 * z^2
-  if (t2 <= 0) return 0;
-  return beckmann::smith_lambda(z / std::sqrt(t2));  // a = 1/(alpha tan theta)
+  // a = 1/(alpha tan theta); Lambda(5.75) < 4e-18: 0 beyond (1 + Lambda rounds to 1 there)
+  if (!(z * z > 33.0625 * t2)) return t2 > 0 ? beckmann::smith_lambda(z / std::sqrt(t2)) : 0.0;
+  return 0;
 }
 
 Vec3 BeckmannDistribution::sample_visible(const Vec3& v, double u1, double u2) const {
@@ -187,6 +193,10 @@ EllipsoidDistribution::EllipsoidDistribution(const EllipsoidParams& p) : p_(p) {
   an_ = a_.col(2);
   an_norm_ = an_.norm();
   det_ = p.alpha_x * p.alpha_y;
+  np_ = an_ / an_norm_;
+  const Vec3 helper = std::abs(np_.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  b1_ = (helper - helper.dot(np_) * np_).normalized();
+  b2_ = np_.cross(b1_);
 }
 
 double EllipsoidDistribution::D(const Vec3& m) const {
@@ -205,15 +215,11 @@ Vec3 EllipsoidDistribution::sample_visible(const Vec3& v, double u1, double u2) 
   // docs/theory.md §1.5: map the ellipsoid to the unit sphere (points A^-1 s), where uniform
   // projected area along v becomes uniform projected area along v' = Av/|Av|, and the cut
   // m.n > 0 becomes s.n' > 0 with n' = An/|An|.
-  const Vec3 np = an_ / an_norm_;
+  // Orthonormal frame (b1, b2, n'), fixed per distribution (constructor).
   const Vec3 vp = (a_ * v).normalized();
-  // Orthonormal frame (b1, b2, n').
-  const Vec3 helper = std::abs(np.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  const Vec3 b1 = (helper - helper.dot(np) * np).normalized();
-  const Vec3 b2 = np.cross(b1);
-  const Vec3 vl(vp.dot(b1), vp.dot(b2), vp.dot(np));
+  const Vec3 vl(vp.dot(b1_), vp.dot(b2_), vp.dot(np_));
   const Vec3 nl = hemisphere_visible(vl, u1, u2);
-  const Vec3 s = nl.x() * b1 + nl.y() * b2 + nl.z() * np;
+  const Vec3 s = nl.x() * b1_ + nl.y() * b2_ + nl.z() * np_;
   return (a_.transpose() * s).normalized();
 }
 
