@@ -16,6 +16,7 @@
 // (scripts/fit_beckmann_math.py prints them and their errors).
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -84,19 +85,26 @@ inline double poly10(const double* c, double t) {
   const double d = (c[8] + c[9] * t) + t2 * c[10];
   return (a + t4 * b) + t8 * d;
 }
-/// c[0] + ... + c[N-1] t^(N-1) by Estrin's scheme (pairs combined with t, t^2, t^4, ...).
+/// Estrin's scheme on c[Lo .. Lo+N), p[k] = t^(2^k): the lower half plus t^H times the upper half,
+/// H the largest power of two below N (unrolled at compile time).
+template <int Lo, int N>
+inline double estrin_part(const double* c, const double* p) {
+  if constexpr (N == 1) {
+    return c[Lo];
+  } else if constexpr (N == 2) {
+    return c[Lo] + c[Lo + 1] * p[0];
+  } else {
+    constexpr int H = int(std::bit_floor(unsigned(N - 1)));
+    return estrin_part<Lo, H>(c, p) +
+           p[std::countr_zero(unsigned(H))] * estrin_part<Lo + H, N - H>(c, p);
+  }
+}
+/// c[0] + ... + c[N-1] t^(N-1) by Estrin's scheme (N <= 33).
 template <int N>
 inline double estrin(const double (&c)[N], double t) {
-  double a[N];
-  for (int i = 0; i < N; ++i) a[i] = c[i];
-  int n = N;
-  for (double p = t; n > 1; p *= p) {
-    const int m = (n + 1) / 2;
-    for (int i = 0; i < n / 2; ++i) a[i] = a[2 * i] + a[2 * i + 1] * p;
-    if (n % 2) a[n / 2] = a[n - 1];
-    n = m;
-  }
-  return a[0];
+  double p[5] = {t, 0, 0, 0, 0};
+  for (int k = 1; k < 5; ++k) p[k] = p[k - 1] * p[k - 1];
+  return estrin_part<0, N>(c, p);
 }
 
 /// exp(x^2) erfc(x) for x >= 0 (also for x = +inf: 0); NaN for NaN.
