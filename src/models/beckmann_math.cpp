@@ -54,7 +54,7 @@ SlopeView slope_view(double mu) {
 }
 
 double series(double x0, double eps) {
-  return x0 - eps * (0.5 + eps * (0.25 * x0 - eps * (1 - 2 * x0 * x0) / 12));
+  return x0 - eps * (0.5 + eps * (0.25 * x0 - eps * (1 - 2 * x0 * x0) * (1.0 / 12)));
 }
 
 // The start without the tables.
@@ -77,37 +77,40 @@ double refine(const SlopeView& s, double u, double x, double halley_tol) {
   double lo = -30, hi = mu;
   if (!(x > lo && x < hi)) x = 0.5 * (std::max(lo, -6.0) + hi);
   for (int it = 0; it < 200; ++it) {
-    // g = ln(C / target) (below the median) or ln((C(mu) - C) / target), with g' and g''.
-    double g, g1, g2;
+    // g = ln(K / target), K = C (below the median) or C(mu) - C (above), with G1 = g' K and
+    // G2 = g'' K^2 (free of divisions): Halley's step g g' / (g'^2 - g g''/2) is then
+    // g K G1 / (G1^2 - g G2 / 2) and Newton's g K / G1.
+    double g, k, G1, G2;
     const double d = mu - x;
     if (!upper && x <= 0) {
       // C = exp(-x^2) A, A = mu sqrt(pi)/2 erfcx(-x) + 1/2; C' = d exp(-x^2),
-      // C'' = -(1 + 2 x d) exp(-x^2)
-      const double a = hmsp * erfcx(-x) + 0.5;
-      g = std::log(a * inv_target) - x * x;
-      g1 = d / a;
-      g2 = -(1 + 2 * x * d) / a - g1 * g1;
+      // C'' = -(1 + 2 x d) exp(-x^2); K = A (the factor exp(-x^2) cancels in g' and g'')
+      k = hmsp * erfcx(-x) + 0.5;
+      g = std::log(k * inv_target) - x * x;
+      G1 = d;
+      G2 = -(1 + 2 * x * d) * k - d * d;
     } else {
       const double e = exp_minus_sq(x);
       const double erfc_x = x >= 0 ? e * erfcx(x) : 2 - e * erfcx(-x);
-      const double p = d * e, c2 = -(1 + 2 * x * d) * e;
+      const double p = d * e, c2 = -(1 + 2 * x * d) * e;  // C', C''
       if (!upper) {
-        const double c = hmsp * (2 - erfc_x) + 0.5 * e;
-        g = std::log(c * inv_target);
-        g1 = p / c;
-        g2 = c2 / c - g1 * g1;
+        k = hmsp * (2 - erfc_x) + 0.5 * e;
+        g = std::log(k * inv_target);
+        G1 = p;
+        G2 = c2 * k - p * p;
       } else {
         // C(mu) - C(x) from the differences of erfc and exp (no cancellation against
         // mu sqrt(pi), which C(mu) - C(x) computed directly would suffer for large mu)
-        const double m = hmsp * (erfc_x - s.erfc_mu) - 0.5 * (e - s.e_mu);
-        if (m > 0) {
-          g = std::log(m * inv_target);
-          g1 = -p / m;
-          g2 = -c2 / m - g1 * g1;
-        } else {
-          g = -1e300;
-          g1 = -1e300;
-          g2 = 0;
+        k = hmsp * (erfc_x - s.erfc_mu) - 0.5 * (e - s.e_mu);
+        if (k > 0) {
+          g = std::log(k * inv_target);
+          G1 = -p;
+          G2 = -c2 * k - p * p;
+        } else {  // at or beyond the end: right of the root, a unit step (then bisection)
+          g = -1;
+          k = 1;
+          G1 = -1;
+          G2 = 0;
         }
       }
     }
@@ -115,9 +118,8 @@ double refine(const SlopeView& s, double u, double x, double halley_tol) {
       hi = x;
     else
       lo = x;
-    const double n = g / g1, h = 0.5 * n * g2 / g1;
-    const bool halley = std::abs(h) < 0.5;
-    const double dx = halley ? n / (1 - h) : n;
+    const bool halley = std::abs(g * G2) < G1 * G1;  // Halley's correction factor within 2
+    const double dx = halley ? g * k * G1 / (G1 * G1 - 0.5 * g * G2) : g * k / G1;
     const double xn = x - dx;
     // (near the end of the range, the upper function ~ 2 ln(mu - x): steps relative to mu - x)
     const double scale = upper ? std::min(1 + std::abs(x), d) : 1 + std::abs(x);
