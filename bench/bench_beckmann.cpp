@@ -1,7 +1,8 @@
 // Beckmann per-sample work, before/after in one run: the visible-normal sampler, Smith's Lambda
 // and the slope quantiles of the library (src/models/beckmann_math.*) against the previous
 // implementation kept here as the yardstick (libm erfc/exp/log; Winitzki's erfinv start and
-// safeguarded Newton). GGX and the ellipsoid are timed alongside as the cheap references.
+// safeguarded Newton). GGX and the ellipsoid (whose previous sampler, building its frame per
+// call, is a second yardstick) are timed alongside.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -122,6 +123,43 @@ class LegacyBeckmann final : public MicrofacetDistribution {
   double ax_, ay_, c_, s_;
 };
 
+// The ellipsoid's previous sampler: the frame across n' = An/|An| built on every call.
+Vec3 legacy_hemisphere_visible(const Vec3& v, double u1, double u2) {
+  const double lensq = v.x() * v.x() + v.y() * v.y();
+  const Vec3 t1 = lensq > 0 ? Vec3(-v.y(), v.x(), 0) / std::sqrt(lensq) : Vec3(1, 0, 0);
+  const Vec3 t2 = v.cross(t1);
+  const double r = std::sqrt(u1), phi = 2 * kPi * u2;
+  const double p1 = r * std::cos(phi);
+  double p2 = r * std::sin(phi);
+  const double s = 0.5 * (1 + v.z());
+  p2 = (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + s * p2;
+  return p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * v;
+}
+
+class LegacyEllipsoid final : public MicrofacetDistribution {
+ public:
+  explicit LegacyEllipsoid(const EllipsoidParams& p) : e_(p) {}
+  double D(const Vec3& m) const override { return e_.D(m); }
+  double lambda(const Vec3& v) const override { return e_.lambda(v); }
+  Vec3 sample_visible(const Vec3& v, double u1, double u2) const override {
+    const Eigen::Matrix3d& a = e_.A();
+    const Vec3 an = a.col(2);
+    const Vec3 np = an / an.norm();
+    const Vec3 vp = (a * v).normalized();
+    const Vec3 helper = std::abs(np.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    const Vec3 b1 = (helper - helper.dot(np) * np).normalized();
+    const Vec3 b2 = np.cross(b1);
+    const Vec3 vl(vp.dot(b1), vp.dot(b2), vp.dot(np));
+    const Vec3 nl = legacy_hemisphere_visible(vl, u1, u2);
+    const Vec3 s = nl.x() * b1 + nl.y() * b2 + nl.z() * np;
+    return (a.transpose() * s).normalized();
+  }
+  std::string describe() const override { return "legacy ellipsoid"; }
+
+ private:
+  EllipsoidDistribution e_;
+};
+
 // ---- inputs ----------------------------------------------------------------------------------
 // Views with cos theta uniform (as a path tracer's shading points roughly see them) and uniform
 // random numbers; the render's lobe, alpha = (0.08, 0.3).
@@ -156,11 +194,14 @@ std::shared_ptr<MicrofacetDistribution> model(int which) {
       return make_distribution(NdfSpec{"beckmann", 0.08, 0.3, 0});
     case 2:
       return make_distribution(NdfSpec{"ggx", 0.08, 0.3, 0});
+    case 3:
+      return std::make_shared<LegacyEllipsoid>(EllipsoidParams{0.08, 0.3, 0.07, -0.05, 0.35});
     default:
       return make_distribution(NdfSpec{"ellipsoid", 0.08, 0.3, 0, 0.07, -0.05, 0.35});
   }
 }
-const char* kModel[] = {"beckmann, previous (yardstick)", "beckmann", "ggx", "ellipsoid"};
+const char* kModel[] = {"beckmann, previous (yardstick)", "beckmann", "ggx",
+                        "ellipsoid, previous (yardstick)", "ellipsoid"};
 
 void per_item(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
@@ -258,34 +299,39 @@ void BM_Erfc(benchmark::State& state) {
   per_item(state);
 }
 
-}  // namespace
-
-BENCHMARK(BM_BeckmannSampleVisible)->DenseRange(0, 3);
-BENCHMARK(BM_BeckmannLambda)->DenseRange(0, 3);
-BENCHMARK(BM_BeckmannD)->DenseRange(0, 3);
-BENCHMARK(BM_BeckmannPdfVisible)->DenseRange(0, 3);
-BENCHMARK(BM_BeckmannSlopeX)->DenseRange(0, 1);
-BENCHMARK(BM_BeckmannSlopeY)->DenseRange(0, 1);
-BENCHMARK(BM_Erfc)->DenseRange(0, 1);
-namespace {
-void BM_BeckmannSlopeStartOnly(benchmark::State& state) {
+// The start of the visible-slope iteration alone (C(mu), the Gaussian quantile, the table).
+void BM_BeckmannSlopeStart(benchmark::State& state) {
   const Inputs& in = inputs();
   for (auto _ : state) {
     double s = 0;
-    for (std::size_t k = 0; k < kBatch; ++k) s += beckmann::visible_slope_start(in.mu[k], in.u[2 * k]);
+    for (std::size_t k = 0; k < kBatch; ++k)
+      s += beckmann::visible_slope_start(in.mu[k], in.u[2 * k]);
     benchmark::DoNotOptimize(s);
   }
+  state.SetLabel("visible slope start, library");
   per_item(state);
 }
-void BM_BeckmannLambdaA(benchmark::State& state) {
+
+// Smith's Lambda from a = 1/(alpha tan theta) alone (here a = the views' mu).
+void BM_BeckmannSmithLambda(benchmark::State& state) {
   const Inputs& in = inputs();
   for (auto _ : state) {
     double s = 0;
     for (std::size_t k = 0; k < kBatch; ++k) s += beckmann::smith_lambda(in.mu[k]);
     benchmark::DoNotOptimize(s);
   }
+  state.SetLabel("beckmann::smith_lambda(a)");
   per_item(state);
 }
+
 }  // namespace
-BENCHMARK(BM_BeckmannSlopeStartOnly);
-BENCHMARK(BM_BeckmannLambdaA);
+
+BENCHMARK(BM_BeckmannSampleVisible)->DenseRange(0, 4);
+BENCHMARK(BM_BeckmannLambda)->DenseRange(0, 4);
+BENCHMARK(BM_BeckmannD)->DenseRange(0, 4);
+BENCHMARK(BM_BeckmannPdfVisible)->DenseRange(0, 4);
+BENCHMARK(BM_BeckmannSlopeX)->DenseRange(0, 1);
+BENCHMARK(BM_BeckmannSlopeY)->DenseRange(0, 1);
+BENCHMARK(BM_Erfc)->DenseRange(0, 1);
+BENCHMARK(BM_BeckmannSlopeStart);
+BENCHMARK(BM_BeckmannSmithLambda);
