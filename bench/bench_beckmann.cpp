@@ -5,6 +5,7 @@
 // call, is a second yardstick) are timed alongside.
 #include <benchmark/benchmark.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
