@@ -124,9 +124,10 @@ Vec3 BeckmannDistribution::sample_visible(const Vec3& v, double u1, double u2) c
   const double lx = c_ * v.x() + s_ * v.y(), ly = -s_ * v.x() + c_ * v.y();
   const double vx = p_.alpha_x * lx, vy = p_.alpha_y * ly;
   const double r2 = vx * vx + vy * vy;
-  const double r = std::sqrt(r2);  // no overflow: |v| = 1, alphas <= 10
-  const double mu = r > 0 ? v.z() / r : std::numeric_limits<double>::infinity();
-  const double cp = r > 0 ? vx / r : 1, sp = r > 0 ? vy / r : 0;
+  const double ir = 1 / std::sqrt(r2);  // no overflow: |v| = 1, alphas <= 10; inf for r2 = 0
+  const bool tilted = r2 > 0;
+  const double mu = tilted ? v.z() * ir : std::numeric_limits<double>::infinity();
+  const double cp = tilted ? vx * ir : 1, sp = tilted ? vy * ir : 0;
   // Slopes in the view-aligned unit configuration: x along the view azimuth.
   const double sx1 = beckmann::visible_slope(mu, u1);
   const double sy1 = beckmann::gauss_quantile(u2);
