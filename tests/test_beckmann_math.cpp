@@ -68,9 +68,14 @@ TEST(BeckmannMath, ErfcxMatchesLongDouble) {
     const LD ref = s / (LD(x) * 1.77245385090551602729816748334L);
     worst = std::max(worst, rel(bm::erfcx(x), ref));
   }
+  for (double x = -5; x < 0; x += 1.0 / 256 + 1e-7) {  // the reflection, for completeness
+    const LD ref = std::exp(LD(x) * x) * std::erfc(LD(x));
+    worst = std::max(worst, rel(bm::erfcx(x), ref));
+  }
   std::printf("erfcx: max relative error %.3g (x = %g)\n", worst, at);
   EXPECT_LT(worst, 1e-15);
   EXPECT_EQ(bm::erfcx(INFINITY), 0.0);
+  EXPECT_EQ(bm::erfcx(-INFINITY), INFINITY);
   EXPECT_TRUE(std::isnan(bm::erfcx(NAN)));
 }
 

@@ -107,13 +107,6 @@ inline double estrin(const double (&c)[N], double t) {
   return estrin_part<0, N>(c, p);
 }
 
-/// exp(x^2) erfc(x) for x >= 0 (also for x = +inf: 0); NaN for NaN.
-inline double erfcx(double x) {
-  if (x < 8) return poly10(kErfcx[int(x * 4)], x - (int(x * 4) + 0.5) * 0.25);
-  const double y = 1 / (x * x);
-  return estrin(kErfcxTail[0], y) * kInvSqrtPi / x;
-}
-
 /// exp(-x^2): exp of the rounded -x^2, times 1 - (its rounding error) from Dekker's exact
 /// product (no FMA needed); relative error a few ulp where std::exp(-x*x) loses x^2 ulp.
 inline double exp_minus_sq(double x) {
@@ -123,6 +116,20 @@ inline double exp_minus_sq(double x) {
   const double c = kSplit * x, hi = c - (c - x), lo = x - hi;
   const double err = ((hi * hi - s) + 2 * hi * lo) + lo * lo;  // x^2 - s exactly
   return std::exp(-s) * (1 - err);
+}
+
+/// exp(x^2) erfc(x) (x = +inf: 0; NaN for NaN). The polynomials cover x >= 0; below,
+/// 2 exp(x^2) - erfcx(-x) (inf below -26.6), which the callers here never need.
+inline double erfcx(double x) {
+  if (x >= 0 && x < 8) return poly10(kErfcx[int(x * 4)], x - (int(x * 4) + 0.5) * 0.25);
+  if (x < 0) {
+    const double ax = -x;
+    const double r = ax < 8 ? poly10(kErfcx[int(ax * 4)], ax - (int(ax * 4) + 0.5) * 0.25)
+                            : estrin(kErfcxTail[0], 1 / (ax * ax)) * kInvSqrtPi / ax;
+    return 2 / exp_minus_sq(x) - r;
+  }
+  const double y = 1 / (x * x);
+  return estrin(kErfcxTail[0], y) * kInvSqrtPi / x;
 }
 
 /// erfc(x) for every x with one exp.
