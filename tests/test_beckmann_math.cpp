@@ -159,7 +159,7 @@ TEST(BeckmannMath, SmithLambdaMatchesTheErfcFormula) {
 
 TEST(BeckmannMath, VisibleSlopeRoundTrips) {
   // The visible-slope quantile at many (mu, u) against the long-double bisection: converged to
-  // 1e-10 (1 + |x|) (the brief of sample_visible: ~1e-8), and monotone in u.
+  // 1e-10 (1 + |x|) (sample_visible promises ~1e-8), and monotone in u.
   double worst = 0, wmu = 0, wu = 0;
   int n = 0;
   for (double mu : {0.0, 1e-6, 1e-3, 0.01, 0.1, 0.3, 0.5,  0.7,  0.9,  1.0,   1.0001, 1.1, 1.3, 1.7,
