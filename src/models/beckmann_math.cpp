@@ -16,7 +16,8 @@
 //    mu - z0, z0 = sqrt(2 (1-u) C(mu) exp(mu^2)); also the asymptotic root for u -> 1).
 // The tables hold the exact roots at their nodes (computed once, on first use, by the same
 // iteration run to 1e-7 Halley steps, i.e. ~1e-20); the interpolated start is within 1e-4 (1 + |x|)
-// of the root for ~99% of (mu, u) (tests/test_beckmann_math.cpp).
+// of the root for ~98% of (mu, u) (tests/test_beckmann_math.cpp), so one Halley step usually ends
+// the iteration (1.01-1.04 steps on average for alpha 0.08-1 and uniform cos theta views).
 // Below the median, Halley's method runs on ln C (nearly quadratic in the lower tail; written as
 // -x^2 + ln(...) for x <= 0, so nothing underflows), above it on the ln of the mass above x
 // (C(mu) - C(x) ~ (mu - x)^2 near the end), both monotone with a bracket [lo, mu]; a step leaving
@@ -33,7 +34,7 @@ namespace {
 
 // Table A: 1/mu in [0, 1], x0 in [-7, 7]; table B: mu in [0, 1], v in [0, 6.5]; 33 x 257 floats
 // each (34 kB). The finer axis matters: 65 x 129 nodes start within 1e-4 for 91% of the test
-// points, 33 x 257 for 99%.
+// points, 33 x 257 for 98-99%.
 constexpr int kNa = 32, kNx = 256, kNb = 32, kNv = 256;
 constexpr double kX0 = -7, kX1 = 7, kV1 = 6.5;
 
