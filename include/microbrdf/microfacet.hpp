@@ -67,8 +67,10 @@ struct AnisotropicAlpha {
 };
 
 /// Beckmann: D = exp(-(x^2/ax^2 + y^2/ay^2)/z^2) / (pi ax ay z^4) in the rotated frame; exact
-/// Smith Lambda = (erf(a) - 1)/2 + exp(-a^2)/(2 a sqrt(pi)), a = 1/(alpha_v tan theta_v); exact
-/// visible-normal sampling by inverting the visible-slope CDF (Newton on erfc, see docs/models.md).
+/// Smith Lambda = (erf(a) - 1)/2 + exp(-a^2)/(2 a sqrt(pi)), a = 1/(alpha_v tan theta_v) (returned
+/// as 0 for a > 5.75, where Lambda < 4e-18 and 1 + Lambda rounds to 1); visible-normal sampling by
+/// inverting the visible-slope CDF to 1e-10 of the slope (Halley on erfc from a tabulated start;
+/// docs/models.md) and the perpendicular slope by an erfinv accurate to ~1e-15.
 class BeckmannDistribution final : public MicrofacetDistribution {
  public:
   BeckmannDistribution(double alpha_x, double alpha_y, double phi = 0);
@@ -81,7 +83,9 @@ class BeckmannDistribution final : public MicrofacetDistribution {
 
  private:
   AnisotropicAlpha p_;
-  double c_, s_;  // cos phi, sin phi
+  double c_, s_;              // cos phi, sin phi
+  double inv_ax2_, inv_ay2_;  // 1/alpha^2
+  double d_norm_;             // 1/(pi alpha_x alpha_y)
 };
 
 /// GGX / Trowbridge-Reitz (= Burley's GTR2aniso): D = 1/(pi ax ay (x^2/ax^2 + y^2/ay^2 + z^2)^2);
@@ -134,6 +138,7 @@ class EllipsoidDistribution final : public MicrofacetDistribution {
   Eigen::Matrix3d r_, a_, ainvt_;
   Vec3 an_;  // A n
   double an_norm_, det_;
+  Vec3 np_, b1_, b2_;  // sample_visible's frame: n' = An/|An| and two unit vectors across it
 };
 
 /// What the CLI and file formats use to name a distribution.

@@ -5,14 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "microbrdf/error.hpp"
+#include "models/beckmann_math.hpp"
 
 namespace microbrdf {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kSqrtPi = 1.77245385090551602730;
 
 void check_alpha(double ax, double ay) {
   if (!(ax > 0 && ax <= 10 && ay > 0 && ay <= 10) || !std::isfinite(ax) || !std::isfinite(ay))
@@ -37,83 +38,6 @@ Vec3 hemisphere_visible(const Vec3& v, double u1, double u2) {
   const double s = 0.5 * (1 + v.z());
   p2 = (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + s * p2;
   return p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * v;
-}
-
-// Approximate inverse error function (Winitzki), refined by Newton in the caller.
-double erfinv_guess(double t) {
-  t = std::clamp(t, -1 + 1e-16, 1 - 1e-16);
-  const double a = 0.147;
-  const double l = std::log(1 - t * t);
-  const double b = 2 / (kPi * a) + 0.5 * l;
-  return std::copysign(std::sqrt(std::sqrt(b * b - l / a) - b), t);
-}
-
-// Draws x with density proportional to <mu - x>+ exp(-x^2) (mu = cot theta of the stretched
-// view; mu = +inf means exp(-x^2)) by inverting the CDF
-//   C(x) = mu sqrt(pi)/2 erfc(-x) + exp(-x^2)/2  (x <= mu),  u C(mu) = C(x).
-// Safeguarded Newton, started from a close guess so that 2-4 steps suffice:
-//  - flat (mu = inf): Winitzki's erfinv, Newton on the CDF (on its complement above 1/2);
-//  - mu > 1: the density ~ mu exp(-x^2 - x/mu) = Gaussian of mean -1/(2 mu): erfinv - 1/(2 mu);
-//  - mu <= 1: mu - sqrt(-ln u), exact for mu = 0 (the density is then -2x exp(-x^2) on x < 0);
-//  - u > 1/2 and mu < 5: the mass above x is >= exp(-mu^2) (mu - x)^2 / 2 for x >= -mu, so the
-//    root lies at or above mu - z0, z0 = sqrt(2 (1-u) C(mu) exp(mu^2)); the guess is raised to
-//    that bound (it is also the asymptotic root for u -> 1).
-// Below the median Newton runs on ln C (nearly quadratic in the lower tail), above it on the ln
-// of the mass above x (C(mu) - C(x) ~ (mu - x)^2 near the end), both monotone with a bracket
-// [lo, mu]; a step leaving the bracket is replaced by bisection. The iteration stops when a
-// Newton step is below 1e-8 (1 + |x|): convergence is quadratic, so the remaining error is
-// ~1e-16, i.e. the root is as exact as the double-precision CDF allows (tested against a
-// bisection to 1e-15).
-double sample_visible_slope(double mu, double u) {
-  if (!(mu < 1e8)) {
-    double x = erfinv_guess(2 * u - 1);
-    for (int it = 0; it < 50; ++it) {
-      const double f = u < 0.5 ? 0.5 * std::erfc(-x) - u : (1 - u) - 0.5 * std::erfc(x);
-      const double dx = f * kSqrtPi * std::exp(x * x);
-      x -= dx;
-      if (!(std::abs(dx) > 1e-8 * (1 + std::abs(x)))) break;
-    }
-    return x;
-  }
-  const double e_mu = std::exp(-mu * mu);
-  const double c_mu = mu * 0.5 * kSqrtPi * std::erfc(-mu) + 0.5 * e_mu;
-  const bool upper = u > 0.5;
-  const double tail = (1 - u) * c_mu;  // mass above the root
-  double x =
-      mu > 1 ? erfinv_guess(2 * u - 1) - 0.5 / mu : mu - std::sqrt(-std::log(std::max(u, 1e-300)));
-  if (upper && mu < 5) {
-    const double z0 = std::sqrt(2 * tail / e_mu);
-    if (!(x < mu) || x < mu - z0) x = mu - z0;
-  }
-  double lo = -30, hi = mu;
-  if (!(x > lo && x < hi)) x = 0.5 * (std::max(lo, -6.0) + hi);
-  const double target = std::log(upper ? tail : u * c_mu);
-  for (int it = 0; it < 200; ++it) {
-    const double c = mu * 0.5 * kSqrtPi * std::erfc(-x) + 0.5 * std::exp(-x * x);
-    const double p = (mu - x) * std::exp(-x * x);
-    double g, dg;
-    if (!upper) {
-      g = std::log(c) - target;
-      dg = p / c;
-    } else {
-      const double s = c_mu - c;
-      g = s > 0 ? std::log(s) - target : -1e300;
-      dg = s > 0 ? -p / s : -1e300;
-    }
-    if (upper ? g < 0 : g > 0)  // x lies right of the root
-      hi = x;
-    else
-      lo = x;
-    const double xn = x - g / dg;
-    if (std::abs(xn - x) <= 1e-8 * (1 + std::abs(x))) return std::clamp(xn, lo, hi);
-    if (xn > lo && xn < hi) {
-      x = xn;
-    } else {
-      x = 0.5 * (lo + hi);
-      if (hi - lo <= 1e-14 * (1 + std::abs(x))) return x;
-    }
-  }
-  return x;
 }
 
 }  // namespace
@@ -168,7 +92,12 @@ double MicrofacetDistribution::pdf_visible(const Vec3& v, const Vec3& m) const {
 
 // ---------------------------------------------------------------------------------------------
 BeckmannDistribution::BeckmannDistribution(double ax, double ay, double phi)
-    : p_{ax, ay, phi}, c_(std::cos(phi)), s_(std::sin(phi)) {
+    : p_{ax, ay, phi},
+      c_(std::cos(phi)),
+      s_(std::sin(phi)),
+      inv_ax2_(1 / (ax * ax)),
+      inv_ay2_(1 / (ay * ay)),
+      d_norm_(1 / (kPi * ax * ay)) {
   check_alpha(ax, ay);
 }
 
@@ -176,31 +105,32 @@ double BeckmannDistribution::D(const Vec3& m) const {
   const double z = m.z();
   if (z <= 0) return 0;
   const double x = c_ * m.x() + s_ * m.y(), y = -s_ * m.x() + c_ * m.y();
-  const double z2 = z * z;
-  const double e = (x * x / (p_.alpha_x * p_.alpha_x) + y * y / (p_.alpha_y * p_.alpha_y)) / z2;
-  return std::exp(-e) / (kPi * p_.alpha_x * p_.alpha_y * z2 * z2);
+  const double iz2 = 1 / (z * z);
+  const double e = (x * x * inv_ax2_ + y * y * inv_ay2_) * iz2;
+  return std::exp(-e) * d_norm_ * iz2 * iz2;
 }
 
 double BeckmannDistribution::lambda(const Vec3& v) const {
   const double x = c_ * v.x() + s_ * v.y(), y = -s_ * v.x() + c_ * v.y(), z = v.z();
   const double t2 =
       (p_.alpha_x * p_.alpha_x * x * x + p_.alpha_y * p_.alpha_y * y * y);  // alpha^2 tan^2 * z^2
-  if (t2 <= 0) return 0;
-  const double a = z / std::sqrt(t2);  // 1/(alpha tan theta)
-  return -0.5 * std::erfc(a) + std::exp(-a * a) / (2 * a * kSqrtPi);
+  // a = 1/(alpha tan theta); Lambda(5.75) < 4e-18: 0 beyond (1 + Lambda rounds to 1 there)
+  if (!(z * z > 33.0625 * t2)) return t2 > 0 ? beckmann::smith_lambda(z / std::sqrt(t2)) : 0.0;
+  return 0;
 }
 
 Vec3 BeckmannDistribution::sample_visible(const Vec3& v, double u1, double u2) const {
   // Local (rotated) frame, then stretch to the unit-roughness configuration.
   const double lx = c_ * v.x() + s_ * v.y(), ly = -s_ * v.x() + c_ * v.y();
-  Vec3 vs(p_.alpha_x * lx, p_.alpha_y * ly, v.z());
-  vs.normalize();
-  const double sin_t = std::hypot(vs.x(), vs.y());
-  const double mu = sin_t > 0 ? vs.z() / sin_t : std::numeric_limits<double>::infinity();
-  const double cp = sin_t > 0 ? vs.x() / sin_t : 1, sp = sin_t > 0 ? vs.y() / sin_t : 0;
+  const double vx = p_.alpha_x * lx, vy = p_.alpha_y * ly;
+  const double r2 = vx * vx + vy * vy;
+  const double ir = 1 / std::sqrt(r2);  // no overflow: |v| = 1, alphas <= 10; inf for r2 = 0
+  const bool tilted = r2 > 0;
+  const double mu = tilted ? v.z() * ir : std::numeric_limits<double>::infinity();
+  const double cp = tilted ? vx * ir : 1, sp = tilted ? vy * ir : 0;
   // Slopes in the view-aligned unit configuration: x along the view azimuth.
-  const double sx1 = sample_visible_slope(mu, u1);
-  const double sy1 = sample_visible_slope(std::numeric_limits<double>::infinity(), u2);
+  const double sx1 = beckmann::visible_slope(mu, u1);
+  const double sy1 = beckmann::gauss_quantile(u2);
   // Rotate to the view azimuth and unstretch.
   const double sx = p_.alpha_x * (cp * sx1 - sp * sy1);
   const double sy = p_.alpha_y * (sp * sx1 + cp * sy1);
@@ -264,6 +194,10 @@ EllipsoidDistribution::EllipsoidDistribution(const EllipsoidParams& p) : p_(p) {
   an_ = a_.col(2);
   an_norm_ = an_.norm();
   det_ = p.alpha_x * p.alpha_y;
+  np_ = an_ / an_norm_;
+  const Vec3 helper = std::abs(np_.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  b1_ = (helper - helper.dot(np_) * np_).normalized();
+  b2_ = np_.cross(b1_);
 }
 
 double EllipsoidDistribution::D(const Vec3& m) const {
@@ -282,15 +216,11 @@ Vec3 EllipsoidDistribution::sample_visible(const Vec3& v, double u1, double u2) 
   // docs/theory.md §1.5: map the ellipsoid to the unit sphere (points A^-1 s), where uniform
   // projected area along v becomes uniform projected area along v' = Av/|Av|, and the cut
   // m.n > 0 becomes s.n' > 0 with n' = An/|An|.
-  const Vec3 np = an_ / an_norm_;
+  // Orthonormal frame (b1, b2, n'), fixed per distribution (constructor).
   const Vec3 vp = (a_ * v).normalized();
-  // Orthonormal frame (b1, b2, n').
-  const Vec3 helper = std::abs(np.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  const Vec3 b1 = (helper - helper.dot(np) * np).normalized();
-  const Vec3 b2 = np.cross(b1);
-  const Vec3 vl(vp.dot(b1), vp.dot(b2), vp.dot(np));
+  const Vec3 vl(vp.dot(b1_), vp.dot(b2_), vp.dot(np_));
   const Vec3 nl = hemisphere_visible(vl, u1, u2);
-  const Vec3 s = nl.x() * b1 + nl.y() * b2 + nl.z() * np;
+  const Vec3 s = nl.x() * b1_ + nl.y() * b2_ + nl.z() * np_;
   return (a_.transpose() * s).normalized();
 }
 
