@@ -108,8 +108,10 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       if (use_nee) w = power_heuristic(prev_pdf, light_pdf);
     }
     if (!(w > 0)) return;
+    double e[pt::kMaxWavelengths];  // (once for every variant)
+    for (int k = 0; k < n; ++k) e[k] = ps.upsample(rgb, k);
     for (int v = 0; v < nv; ++v)
-      for (int k = 0; k < n; ++k) L[v][k] += T[v][k] * w * ps.upsample(rgb, k);
+      for (int k = 0; k < n; ++k) L[v][k] += T[v][k] * w * e[k];
   };
 
   const pt::SpectralMaterial* mat[kMaxRenderVariants];
@@ -206,11 +208,12 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
                 !(c.lights.hit_area(origin, ls->dir, tmax).t > 0)) {
               const double w = mis ? power_heuristic(ls->pdf, brdf_pdf) : 1.0;
               const double scale = w * wl.z() / ls->pdf;
+              double e[pt::kMaxWavelengths];  // (once for every variant)
+              for (int k = 0; k < n; ++k) e[k] = ps.upsample(ls->rgb, k);
               for (int v = 0; v < nv; ++v)
                 if (reflects[v])
                   for (int k = 0; k < n; ++k)
-                    if (f[v][k] != 0)
-                      L[v][k] += T[v][k] * f[v][k] * scale * ps.upsample(ls->rgb, k);
+                    if (f[v][k] != 0) L[v][k] += T[v][k] * f[v][k] * scale * e[k];
             }
           }
         }
