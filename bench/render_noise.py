@@ -48,8 +48,11 @@ def case_kwargs(lights, scene, size, threads):
 def render(mb, kw, spp, seed, sampler=None, wavelengths=4, direct=None, brdf=BRDF):
     # (no sampler: an older build's module, which knows neither keyword)
     extra = {} if sampler is None else {"sampler": sampler}
-    if direct is not None:
-        extra["direct"] = direct
+    if direct is not None:  # "mis", "ris" or "ris:M/N" (M BRDF and N light candidates)
+        extra["direct"] = direct.split(":")[0]
+        if ":" in direct:
+            m, n = direct.split(":")[1].split("/")
+            extra["ris_brdf_candidates"], extra["ris_light_candidates"] = int(m), int(n)
     t = time.process_time()
     img = mb.render(mb.brdf(**brdf), spp=spp, seed=seed, wavelengths=wavelengths, **extra, **kw)
     return np.array(img, dtype=np.float64), time.process_time() - t
@@ -87,7 +90,7 @@ def main():
     ap.add_argument("--threads", type=int, default=1, help="render threads (CPU time counts all)")
     ap.add_argument("--wavelengths", default="4,8", help="hero wavelengths of the Sobol' images")
     ap.add_argument("--direct", default="mis,ris",
-                    help="direct-light estimators of the Sobol' images (mis, ris)")
+                    help="direct-light estimators of the Sobol' images (mis, ris, ris:M/N)")
     ap.add_argument("--baseline", help="PYTHONPATH of an older build's module, rendered alike")
     ap.add_argument("--cases", default="0,1,2", help="which of the three cases (indices)")
     ap.add_argument("--cache", default="/tmp/microbrdf-render-noise", help="reference cache")

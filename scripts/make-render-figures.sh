@@ -74,7 +74,7 @@ if want 5; then
   R --scene sphere --mirror --metal Al --envmap "$ENV/blender_courtyard.exr" --size 256 --spp 16 -o "$IMG/render_mirror_sphere.png"
   for m in mis brdf light; do
     R --scene sphere --model ggx --alpha 0.05 --metal Al --envmap "$ENV/blender_studio.exr" --size 128 --spp 16 \
-      --mis $m -o "$IMG/render_mis_$m.png"
+      --mis $m --direct mis -o "$IMG/render_mis_$m.png"
   done
 fi
 

@@ -34,6 +34,14 @@ struct Candidate {
 
 }  // namespace
 
+void ris_prefetch_light_candidates(const LightSet& lights, double u1, double u2, int N) {
+  for (int j = 0; j < N; ++j) {
+    double v1 = u1, v2 = u2;
+    if (j > 0) lattice_point(u1, u2, j, N, v1, v2);
+    lights.prefetch_sample(v1, v2, true);
+  }
+}
+
 int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* continuation,
                      double brdf_u1, double brdf_u2, double light_u1, double light_u2,
                      double u_select, const double* T, double* L, RisPending* pending) {
@@ -69,6 +77,7 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
   // candidate a is the continuation's point (u1, u2) itself, and a, uniform and independent of
   // the set of candidates, picks the stratum of the choice below.
   const int a = std::min(int(brdf_u1 * M), M - 1);
+  const bool area = in.lights.has_area();
   const int first_brdf = 0;
   int pick_continuation = -1;  // the candidate that is the continuation's direction
   std::pair<int, int> pixel[kMaxRisBrdfCandidates];
@@ -101,22 +110,7 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
     c.target = target;
     ++count;
   }
-  for (int i = first_brdf; i < count; ++i) {
-    Candidate& c = cand[i];
-    const LightHit lh = in.lights.hit_area(in.origin, c.dir, 1e30);
-    double pl;
-    if (lh.t > 0) {
-      c.rgb = lh.rgb;
-      c.distance = lh.t;
-      pl = lh.pdf;
-    } else {
-      c.rgb = in.lights.env_rgb(c.dir, pixel[i - first_brdf], pl);
-      c.distance = kInf;
-    }
-    c.target *= luminance(c.rgb);
-    c.weight = c.target > 0 ? c.target / (M * pb[i - first_brdf] + N * pl) : 0.0;
-    sum += c.weight;
-  }
+  const int brdf_count = count;
 
   // Light candidates (and the delta-light samples, which are estimated on their own).
   for (int j = 0; j < N; ++j) {
@@ -131,7 +125,7 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
       continue;
     }
     const double tmax = std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6);
-    if (in.lights.hit_area(in.origin, ls->dir, tmax).t > 0) continue;  // another light in front
+    if (area && in.lights.hit_area(in.origin, ls->dir, tmax).t > 0) continue;  // one in front
     double pb, target;
     if (!in.mat.ris_terms(sp.u, sp.v, in.view, wl, in.wavelengths, pb, target)) continue;
     const double p_hat = target * luminance(ls->rgb);
@@ -143,6 +137,24 @@ int ris_direct_light(const RisDirectInput& in, const SpectralMaterial::Sample* c
     c.distance = ls->distance;
     c.target = p_hat;
     c.weight = p_hat / (M * pb + N * ls->pdf);
+    sum += c.weight;
+  }
+
+  // (the light candidates above give the map records time to arrive)
+  for (int i = first_brdf; i < brdf_count; ++i) {
+    Candidate& c = cand[i];
+    const LightHit lh = area ? in.lights.hit_area(in.origin, c.dir, 1e30) : LightHit{};
+    double pl;
+    if (lh.t > 0) {
+      c.rgb = lh.rgb;
+      c.distance = lh.t;
+      pl = lh.pdf;
+    } else {
+      c.rgb = in.lights.env_rgb(c.dir, pixel[i - first_brdf], pl);
+      c.distance = kInf;
+    }
+    c.target *= luminance(c.rgb);
+    c.weight = c.target > 0 ? c.target / (M * pb[i - first_brdf] + N * pl) : 0.0;
     sum += c.weight;
   }
 

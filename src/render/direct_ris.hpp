@@ -52,6 +52,10 @@ struct RisDirectInput {
   int brdf_candidates = 4, light_candidates = 1;
 };
 
+/// Memory prefetches for the light candidates of the light sample's point (u1, u2), to be
+/// called before the bounce's ray is traced (no effect on results).
+void ris_prefetch_light_candidates(const LightSet& lights, double u1, double u2, int N);
+
 /// Direct light whose visibility is that of the path's continuation ray (the chosen candidate
 /// was the continuation's direction): the caller adds `value` to L when that ray, traced from
 /// the same origin, meets no geometry closer than `tmax`, or calls resolve_by_shadow_ray() if

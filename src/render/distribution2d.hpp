@@ -98,12 +98,16 @@ class PiecewiseConstant2D {
   }
   /// Starts loading what sample(u1, u2, ...) reads first from memory (the guide entry of the
   /// row that u2 picks), so that the draw, made later, finds it in the cache.
-  void prefetch_sample(double u1, double u2) const {
+  /// With `cells`, also the record the column walk starts at (reads the guide entry, which
+  /// stays in the caches).
+  void prefetch_sample(double u1, double u2, bool prefetch_cells = false) const {
     double fv;
     const std::size_t row = invert_rows(u2, fv);
     const double gx = u1 * double(gu_);
     const std::size_t j = gx > 0 ? std::min(std::size_t(gx), gu_) : 0;
     __builtin_prefetch(&col_guide_[row * (gu_ + 1) + j]);
+    if (prefetch_cells)
+      __builtin_prefetch(&cells_[row * (nu_ + 1) + col_guide_[row * (gu_ + 1) + j]]);
   }
   /// Starts loading the record of cell (col, row).
   void prefetch_cell(std::size_t col, std::size_t row) const {

@@ -65,8 +65,8 @@ class EnvironmentMap {
     dist_.prefetch_cell(std::size_t(c), std::size_t(r));
     return {c, r};
   }
-  void prefetch_sample(double u1, double u2) const {
-    if (!uniform_) dist_.prefetch_sample(u1, u2);
+  void prefetch_sample(double u1, double u2, bool cells = false) const {
+    if (!uniform_) dist_.prefetch_sample(u1, u2, cells);
   }
   /// rgb(d) and pdf(d) with one pixel look-up.
   Eigen::Vector3d rgb_and_pdf(const Eigen::Vector3d& d, double& pdf) const;

@@ -35,6 +35,8 @@ class LightSet {
   explicit LightSet(const RenderLights& lights);
   int count() const { return count_; }
   const EnvironmentMap* env() const { return env_.get(); }
+  /// Whether there are sphere or disk lights (hit_area can find something).
+  bool has_area() const { return !l_.spheres.empty() || !l_.disks.empty(); }
 
   /// Samples one light from x with a 2D point: u1 chooses the light (uniformly) and, stretched
   /// back to [0,1), places the sample on it together with u2.
@@ -42,10 +44,11 @@ class LightSet {
   /// The nearest area light along x + t d, t in (0, tmax).
   LightHit hit_area(const Eigen::Vector3d& x, const Eigen::Vector3d& d, double tmax) const;
   /// Memory prefetches for a later sample(x, u1, u2) and env_rgb(d) (no effect on results).
-  void prefetch_sample(double u1, double u2) const {
+  /// With `cells`, also the map record the draw's column walk starts at.
+  void prefetch_sample(double u1, double u2, bool cells = false) const {
     if (!env_ || !(count_ > 0)) return;
     const int i = std::min(int(u1 * count_), count_ - 1);
-    if (i == 0) env_->prefetch_sample(std::min(u1 * count_, std::nextafter(1.0, 0.0)), u2);
+    if (i == 0) env_->prefetch_sample(std::min(u1 * count_, std::nextafter(1.0, 0.0)), u2, cells);
   }
   /// Returns what env_rgb needs besides d (the map pixel).
   std::pair<int, int> prefetch_env(const Eigen::Vector3d& d) const {

@@ -125,7 +125,10 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     const bool nee = use_nee && c.lights.count() > 0;
     if (nee) {
       rng.get2d(nee_u1, nee_u2);
-      c.lights.prefetch_sample(nee_u1, nee_u2);
+      if (use_ris)
+        pt::ris_prefetch_light_candidates(c.lights, nee_u1, nee_u2, c.opt.ris_light_candidates);
+      else
+        c.lights.prefetch_sample(nee_u1, nee_u2);
     }
     const auto env_pixel = after_ris ? std::pair<int, int>{-1, -1} : c.lights.prefetch_env(d);
     pt::ShadingPoint sp;
