@@ -97,6 +97,7 @@ void BM_RenderStrip(benchmark::State& state) {
   o.width = o.height = 256;
   o.spp = kSpp;
   o.threads = kThreads;
+  o.direct = DirectLight::Mis;  // shared paths use MIS: the separate renders alike
   const bool shared = state.range(0) != 0;
   if (shared) o.variant_weights = {3, 1, 1, 1};
   const double c0 = cpu_seconds();

@@ -347,15 +347,18 @@ std::string settings_line(const RenderScene& scene,
      << (opt.mis == MisMode::Mis        ? "power"
          : opt.mis == MisMode::BrdfOnly ? "brdf_only"
                                         : "light_only")
-     << ", sampler " << render_sampler_name(opt.sampler) << ", direct light ";
-  if (variants > 1) {
-    os << "mis, one of " << variants << " variants along shared paths";
-  } else {
-    os << direct_light_name(opt.direct);
-    if (opt.direct == DirectLight::Ris)
-      os << " (" << opt.ris_brdf_candidates << " BRDF + " << opt.ris_light_candidates
-         << " light candidates)";
-  }
+     << ", sampler " << render_sampler_name(opt.sampler);
+  // The estimator trace_path uses: resampling needs one variant, --mis mis and a light other
+  // than the uniform sky alone.
+  const bool uniform_sky_only = lights.uniform_white_env && lights.points.empty() &&
+                                lights.spheres.empty() && lights.disks.empty();
+  const DirectLight direct =
+      variants > 1 || opt.mis != MisMode::Mis || uniform_sky_only ? DirectLight::Mis : opt.direct;
+  os << ", direct light " << direct_light_name(direct);
+  if (direct == DirectLight::Ris)
+    os << " (" << opt.ris_brdf_candidates << " BRDF + " << opt.ris_light_candidates
+       << " light candidates)";
+  if (variants > 1) os << ", one of " << variants << " variants along shared paths";
   return os.str();
 }
 
