@@ -5,8 +5,9 @@
         [--wavelengths 4,8] [--direct mis,ris] [--baseline OLD/build/python] [--figure out.png]
 
 For each case (white sky / courtyard map; cylinder pair / plate; GGX (0.08, 0.3) copper; with
---cases 3,4 also GGX 0.3 gold on the sphere under the studio map and Beckmann 0.2 silver on the
-vase under the interior map), renders a
+--cases 3,4,5 also GGX 0.3 gold on the sphere under the studio map, Beckmann 0.2 silver on the
+vase under the interior map, and Beckmann (0.008, 0.16) stainless steel on the cylinder pair
+under the courtyard map), renders a
 reference with 4096 samples per pixel (Sobol', 16 hero wavelengths, MIS direct light, seed 999;
 cached in --cache), then images at --spp with seeds 1..--seeds with: the independent sampler at
 4 hero wavelengths (MIS), and the Sobol' sampler at each of --wavelengths with each direct-light
@@ -35,7 +36,11 @@ BRDF = dict(model="ggx", alpha_x=0.08, alpha_y=0.3, metal="Cu")
 CASES = [("white", "cylinders", 4096, BRDF), ("courtyard", "cylinders", 4096, BRDF),
          ("courtyard", "plate", 4096, BRDF),
          ("studio", "sphere", 4096, dict(model="ggx", alpha=0.3, metal="Au")),
-         ("interior", "vase", 4096, dict(model="beckmann", alpha=0.2, metal="Ag"))]
+         ("interior", "vase", 4096, dict(model="beckmann", alpha=0.2, metal="Ag")),
+         # The configuration the render figures were first measured with: brushed stainless
+         # (Dong 2015 Fig. 12 Beckmann fit) on the cylinder pair under the courtyard map.
+         ("courtyard", "cylinders", 4096,
+          dict(model="beckmann", alpha_x=0.008, alpha_y=0.16, metal="SS-austenitic"))]
 
 
 def case_kwargs(lights, scene, size, threads):
@@ -92,7 +97,7 @@ def main():
     ap.add_argument("--direct", default="mis,ris",
                     help="direct-light estimators of the Sobol' images (mis, ris, ris:M/N)")
     ap.add_argument("--baseline", help="PYTHONPATH of an older build's module, rendered alike")
-    ap.add_argument("--cases", default="0,1,2", help="which of the three cases (indices)")
+    ap.add_argument("--cases", default="0,1,2", help="which cases (indices into CASES, 0-5)")
     ap.add_argument("--cache", default="/tmp/microbrdf-render-noise", help="reference cache")
     ap.add_argument("--figure", help="PNG of the error against spp (matplotlib, Agg)")
     a = ap.parse_args()
@@ -102,14 +107,17 @@ def main():
     for ci in [int(c) for c in a.cases.split(",")]:
         lights, scene, ref_spp, brdf = CASES[ci]
         kw = case_kwargs(lights, scene, a.size, a.threads)
-        path = f"{a.cache}/{lights}_{scene}_{a.size}_{ref_spp}.npy"
+        # (the BRDF in the name when it is not the default: two cases share lights and scene)
+        tag = "" if brdf is BRDF else "_" + "_".join(f"{k}{v}" for k, v in sorted(brdf.items()))
+        path = f"{a.cache}/{lights}_{scene}{tag}_{a.size}_{ref_spp}.npy"
         if os.path.exists(path):
             ref = np.load(path)
         else:
             ref, _ = render(mb, {**kw, "threads": 0}, ref_spp, 999, "sobol", 16, "mis", brdf)
             np.save(path, ref)
         mask = ref @ LUMA > 0.02 * np.percentile(ref @ LUMA, 99)
-        print(f"{lights} / {scene}, {a.size}^2, {a.spp} spp, {len(seeds)} seeds, "
+        print(f"{lights} / {scene} ({brdf['model']} {brdf['metal']}), {a.size}^2, {a.spp} spp, "
+              f"{len(seeds)} seeds, "
               f"{a.threads} thread(s); reference {ref_spp} spp, {mask.sum()} pixels", flush=True)
         rows = []
         if a.baseline:

@@ -1,6 +1,6 @@
 # Type stubs of the microbrdf module. SI units: metres, radians, 1/sr.
 import os
-from typing import Any, Callable, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Callable, List, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -247,7 +247,12 @@ def render(
     obj: Optional[PathLike] = None,
     uv_scale: float = 1.0,
     progress: Optional[Callable[[float], None]] = None,
-) -> npt.NDArray[np.float32]: ...
+    direct: str = "ris",
+    ris_brdf_candidates: int = 6,
+    ris_light_candidates: int = 3,
+    variants: Optional[Sequence[Union[Brdf, Sequence[Brdf]]]] = None,
+    variant_weights: Sequence[float] = ...,
+) -> Union[npt.NDArray[np.float32], List[npt.NDArray[np.float32]]]: ...
 def predict(
     inputs: Union[PathLike, Sequence[PathLike]],
     out_dir: PathLike,

@@ -56,7 +56,7 @@ RenderLights lights(PreviewScene kind, const py::object& envmap, double env_scal
   return l;
 }
 
-py::array render_image(const py::object& brdfs, const std::string& scene, int size, int width,
+py::object render_image(const py::object& brdfs, const std::string& scene, int size, int width,
                        int height, int spp, int max_depth, int wavelengths, std::uint64_t seed,
                        int threads, const std::string& mis, const std::string& sampler,
                        const py::object& envmap, double env_scale, double env_rotation,
@@ -64,7 +64,8 @@ py::array render_image(const py::object& brdfs, const std::string& scene, int si
                        const py::list& disk_light, const std::string& brushing, double brush_angle,
                        const py::object& obj, double uv_scale, const py::object& progress,
                        const std::string& direct, int ris_brdf_candidates,
-                       int ris_light_candidates) {
+                       int ris_light_candidates, const py::object& variants,
+                       const std::vector<double>& variant_weights) {
   RenderScene sc;
   sc.kind = parse_preview_scene(scene);
   if (!obj.is_none()) sc.obj_path = fspath(obj);
@@ -76,13 +77,20 @@ py::array render_image(const py::object& brdfs, const std::string& scene, int si
     throw InputError("brushing must be 'linear' or 'rotational'");
   sc.brush_angle_rad = brush_angle;
   sc.uv_scale = uv_scale;
-  std::vector<std::shared_ptr<const Svbrdf>> mats;
-  if (py::isinstance<Brdf>(brdfs)) {
-    mats.push_back(std::make_shared<UniformSvbrdf>(brdfs.cast<std::shared_ptr<Brdf>>()));
-  } else {
-    for (auto b : brdfs.cast<py::sequence>())
+  // A Brdf, or a list of them (one per object): one variant's materials.
+  auto materials = [](const py::handle& b) {
+    std::vector<std::shared_ptr<const Svbrdf>> mats;
+    if (py::isinstance<Brdf>(b)) {
       mats.push_back(std::make_shared<UniformSvbrdf>(b.cast<std::shared_ptr<Brdf>>()));
-  }
+    } else {
+      for (auto x : b.cast<py::sequence>())
+        mats.push_back(std::make_shared<UniformSvbrdf>(x.cast<std::shared_ptr<Brdf>>()));
+    }
+    return mats;
+  };
+  std::vector<std::vector<std::shared_ptr<const Svbrdf>>> all{materials(brdfs)};
+  if (!variants.is_none())
+    for (auto v : variants.cast<py::sequence>()) all.push_back(materials(v));
   RenderOptions o;
   o.width = width > 0 ? width : size;
   o.height = height > 0 ? height : size;
@@ -103,13 +111,23 @@ py::array render_image(const py::object& brdfs, const std::string& scene, int si
   o.direct = parse_direct_light(direct, "direct");
   o.ris_brdf_candidates = ris_brdf_candidates;
   o.ris_light_candidates = ris_light_candidates;
+  o.variant_weights = variant_weights;
   o.progress = progress_hook<double>(progress);
   const RenderLights l =
       lights(sc.kind, envmap, env_scale, env_rotation, white_env, point, sphere_light, disk_light);
-  auto* img = new RenderImage;
-  py::capsule owner(img, [](void* p) { delete static_cast<RenderImage*>(p); });
-  *img = call_released([&] { return render(sc, mats, l, o); });
-  return view(img->rgb.data(), {img->height, img->width, 3}, owner);
+  auto* imgs = new std::vector<RenderImage>;
+  py::capsule owner(imgs, [](void* p) { delete static_cast<std::vector<RenderImage>*>(p); });
+  *imgs = call_released([&] {
+    if (variants.is_none()) return std::vector<RenderImage>{render(sc, all.front(), l, o)};
+    return render_variants(sc, all, l, o);
+  });
+  auto image = [&](const RenderImage& img) -> py::object {
+    return view(img.rgb.data(), {img.height, img.width, 3}, owner);
+  };
+  if (variants.is_none()) return image(imgs->front());
+  py::list out;
+  for (const auto& img : *imgs) out.append(image(img));
+  return out;
 }
 
 py::object predict_run(const py::object& inputs, const py::object& out_dir,
@@ -188,6 +206,7 @@ void bind_render(py::module_& m) {
         py::arg("direct") = direct_light_name(RenderOptions{}.direct),
         py::arg("ris_brdf_candidates") = RenderOptions{}.ris_brdf_candidates,
         py::arg("ris_light_candidates") = RenderOptions{}.ris_light_candidates,
+        py::arg("variants") = py::none(), py::arg("variant_weights") = std::vector<double>{},
         R"(Renders a BRDF on preview objects, as `microbrdf render`; returns the image.
 
 brdf: a Brdf, or a list (one per object). scene: 'cylinders' (Dong Fig. 10) | 'plate' |
@@ -205,6 +224,12 @@ white_env=True; point=[((x, y, z), (r, g, b)) intensity W/sr]; sphere_light=[((x
 (r, g, b))]; disk_light=[((x, y, z), (nx, ny, nz), radius, (r, g, b))] (radiance). No light:
 a white sky (the plate: Dong's disk light).
 brushing: 'linear' | 'rotational'; brush_angle (rad).
+variants: further BRDFs (each a Brdf or a list per object) rendered along the same paths as
+`brdf` (shared camera rays, light samples and shadow rays; each direction drawn by one of their
+samplers, shares variant_weights, default equal): each image is an unbiased render of its own
+BRDF, and their noise is correlated, so differences between them are far cleaner than between
+separate renders (direct light by MIS; docs/render.md, "Variants"). Then a list of images is
+returned, `brdf`'s first.
 Returns linear sRGB radiance, float32 (height, width, 3), row 0 at the top: a view on the
 renderer's buffer (no copy). Runs without the GIL; progress(fraction) is called from the
 calling thread; Ctrl-C is honoured when the image is finished.)");
