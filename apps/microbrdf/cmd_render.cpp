@@ -92,13 +92,7 @@ RenderLights make_lights(const RenderArgs& a, PreviewScene scene) {
     l.disks.push_back(
         {Eigen::Vector3d(g[0], g[1], g[2]), Eigen::Vector3d(g[3], g[4], g[5]), g[6], c});
   }
-  const bool none = l.envmap_path.empty() && !l.uniform_white_env && l.points.empty() &&
-                    l.spheres.empty() && l.disks.empty();
-  if (none && scene == PreviewScene::Plate) {
-    l.disks.push_back(dong_plate_light());
-  } else if (none) {
-    l.uniform_white_env = true;
-  }
+  add_default_light_if_none(l, scene);
   return l;
 }
 
@@ -147,25 +141,10 @@ void run(RenderArgs& a) {
   opt.seed = a.seed;
   opt.threads = bounded_threads("render", a.threads);
   opt.exposure = a.exposure;
-  if (a.mis == "mis")
-    opt.mis = MisMode::Mis;
-  else if (a.mis == "brdf")
-    opt.mis = MisMode::BrdfOnly;
-  else if (a.mis == "light")
-    opt.mis = MisMode::LightOnly;
-  else
-    throw InputError("--mis must be mis, brdf or light");
+  opt.mis = parse_mis_mode(a.mis, "--mis");
   opt.sampler = parse_render_sampler(a.sampler, "--sampler");
   opt.direct = parse_direct_light(a.direct, "--direct");
-  {
-    std::istringstream is(a.ris_candidates);
-    char comma = 0;
-    if (!(is >> opt.ris_brdf_candidates >> comma >> opt.ris_light_candidates) || comma != ',' ||
-        !(is >> std::ws).eof() || opt.ris_brdf_candidates < 1 || opt.ris_brdf_candidates > 16 ||
-        opt.ris_light_candidates < 1 || opt.ris_light_candidates > 4)
-      throw InputError("--ris-candidates '" + a.ris_candidates +
-                       "': give M,N (BRDF, light candidates), M in 1..16, N in 1..4");
-  }
+  parse_ris_candidates(a.ris_candidates, "--ris-candidates", opt);
   const auto mats = render_materials(a.spec, a.sun);
   const auto lights = make_lights(a, sc.kind);
   Progress progress("render", a.quiet);
@@ -299,10 +278,9 @@ void register_render(CLI::App& app) {
                 "(plain Monte Carlo)")
       ->capture_default_str();
   c->add_option("--direct", a->direct,
-                "Direct light (with --mis mis): mis (one light + one BRDF sample, power "
-                "heuristic) or ris (resampled importance sampling: --ris-candidates directions "
-                "drawn without rays, one chosen by its unshadowed light, one shadow ray; lower "
-                "noise at equal time for glossy metals under detailed maps; docs/render.md)")
+                "Direct light (--mis mis): mis (light + BRDF sample, power heuristic) or ris "
+                "(resampled: --ris-candidates directions without rays, one chosen by its "
+                "unshadowed light, one shadow ray; less noise at equal time; docs/render.md)")
       ->capture_default_str();
   c->add_option("--ris-candidates", a->ris_candidates,
                 "With --direct ris: M,N = BRDF-sampled and light-sampled candidate directions per "

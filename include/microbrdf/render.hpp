@@ -66,6 +66,10 @@ struct RenderLights {
   std::vector<Disk> disks;
 };
 
+/// What `render` and `mb.render` light a scene with when given no light at all: the plate gets
+/// dong_plate_light(), every other scene a uniform white sky of radiance 1.
+void add_default_light_if_none(RenderLights& lights, PreviewScene scene);
+
 /// The light of Dong 2015 Fig. 13 for the plate scene: a disk spanning 9 degrees, 23 degrees to
 /// the left of the camera (which looks straight down), as far from the plate as the camera; its
 /// radiance 1/sin^2(4.5 deg) gives an irradiance of pi on a surface facing it (a white
@@ -121,6 +125,12 @@ struct RenderOptions {
   /// which reach every direction), or its image is biased.
   std::vector<double> variant_weights;
 };
+
+/// "mis", "brdf" or "light" (MisMode); throws InputError naming `flag` otherwise.
+MisMode parse_mis_mode(const std::string& name, const std::string& flag);
+/// "M,N": options.ris_brdf_candidates = M (1..16) and ris_light_candidates = N (1..4); throws
+/// InputError naming `flag` otherwise.
+void parse_ris_candidates(const std::string& text, const std::string& flag, RenderOptions& options);
 
 /// Most variants render_variants takes.
 inline constexpr int kMaxRenderVariants = 8;

@@ -46,26 +46,20 @@ RenderLights lights(PreviewScene kind, const py::object& envmap, double env_scal
     l.disks.push_back({vec3(t[0], "disk_light centre"), vec3(t[1], "disk_light normal"), r,
                        vec3(t[3], "disk_light rgb")});
   }
-  // No light at all: the plate gets Dong's disk light, everything else a white sky (as the CLI).
-  const bool none = l.envmap_path.empty() && !l.uniform_white_env && l.points.empty() &&
-                    l.spheres.empty() && l.disks.empty();
-  if (none && kind == PreviewScene::Plate)
-    l.disks.push_back(dong_plate_light());
-  else if (none)
-    l.uniform_white_env = true;
+  add_default_light_if_none(l, kind);  // (as the CLI)
   return l;
 }
 
 py::object render_image(const py::object& brdfs, const std::string& scene, int size, int width,
-                       int height, int spp, int max_depth, int wavelengths, std::uint64_t seed,
-                       int threads, const std::string& mis, const std::string& sampler,
-                       const py::object& envmap, double env_scale, double env_rotation,
-                       bool white_env, const py::list& point, const py::list& sphere_light,
-                       const py::list& disk_light, const std::string& brushing, double brush_angle,
-                       const py::object& obj, double uv_scale, const py::object& progress,
-                       const std::string& direct, int ris_brdf_candidates,
-                       int ris_light_candidates, const py::object& variants,
-                       const std::vector<double>& variant_weights) {
+                        int height, int spp, int max_depth, int wavelengths, std::uint64_t seed,
+                        int threads, const std::string& mis, const std::string& sampler,
+                        const py::object& envmap, double env_scale, double env_rotation,
+                        bool white_env, const py::list& point, const py::list& sphere_light,
+                        const py::list& disk_light, const std::string& brushing, double brush_angle,
+                        const py::object& obj, double uv_scale, const py::object& progress,
+                        const std::string& direct, int ris_brdf_candidates,
+                        int ris_light_candidates, const py::object& variants,
+                        const std::vector<double>& variant_weights) {
   RenderScene sc;
   sc.kind = parse_preview_scene(scene);
   if (!obj.is_none()) sc.obj_path = fspath(obj);
@@ -99,14 +93,7 @@ py::object render_image(const py::object& brdfs, const std::string& scene, int s
   o.wavelengths = wavelengths;
   o.seed = seed;
   o.threads = threads;
-  if (mis == "mis")
-    o.mis = MisMode::Mis;
-  else if (mis == "brdf")
-    o.mis = MisMode::BrdfOnly;
-  else if (mis == "light")
-    o.mis = MisMode::LightOnly;
-  else
-    throw InputError("mis must be 'mis', 'brdf' or 'light'");
+  o.mis = parse_mis_mode(mis, "mis");
   o.sampler = parse_render_sampler(sampler, "sampler");
   o.direct = parse_direct_light(direct, "direct");
   o.ris_brdf_candidates = ris_brdf_candidates;
