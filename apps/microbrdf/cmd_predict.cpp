@@ -40,6 +40,7 @@ struct PredictArgs {
   int threads = 0;
   std::uint64_t seed = 1;
   bool kirchhoff = false, no_render = false, json = false, quiet = false;
+  std::string renders = "all";
   KirchhoffFlags dk;
 };
 
@@ -71,7 +72,10 @@ void run(const PredictArgs& a) {
   std::stringstream ss(a.theta_i);
   for (std::string item; std::getline(ss, item, ',');)
     o.slice_theta_i_rad.push_back(parse_angle(item));
-  o.render = !a.no_render;
+  o.render = !a.no_render && a.renders != "none";
+  if (a.renders != "all" && a.renders != "measured" && a.renders != "none")
+    throw InputError("--renders '" + a.renders + "': give all, measured or none");
+  o.render_models = a.renders == "all";
   o.envmap_path = a.envmap;
   o.envmap_scale = a.envmap_scale;
   o.render_width = a.render_width;
@@ -168,7 +172,11 @@ void register_predict(CLI::App& app) {
   c->add_option("--render-width", a->render_width, "Width of the renders, pixels")
       ->capture_default_str();
   c->add_option("--spp", a->spp, "Samples per pixel of the renders")->capture_default_str();
-  c->add_flag("--no-render", a->no_render, "Skip the renders");
+  c->add_flag("--no-render", a->no_render, "Skip the renders (= --renders none)");
+  c->add_option("--renders", a->renders,
+                "all (the measured NDF and every model along shared paths, the strip, studio "
+                "renders, swatch), measured (the measured NDF's three scenes only: quick) or none")
+      ->capture_default_str();
   c->add_option("--strips", a->strips, "Exemplar strips ALONG ACROSS the brushing (texture)")
       ->expected(2);
   c->add_option("--texel", a->texel, "Texel size of the per-texel fits")->capture_default_str();

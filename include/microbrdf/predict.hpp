@@ -71,6 +71,10 @@ struct PredictOptions {
   std::size_t slice_samples = 401;
 
   bool render = true;
+  /// false: only the measured NDF's renders of the three scenes, each alone (no comparison strip,
+  /// studio renders or swatch): a quick look, what `predict` rendered before the report compared
+  /// the models in images (`--renders measured`).
+  bool render_models = true;
   std::string envmap_path;  ///< equirectangular EXR/HDR; empty = a built-in set of area lights
   double envmap_scale = 1;
   int render_width = 256;  ///< pixels of each (square) render

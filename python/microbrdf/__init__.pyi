@@ -268,6 +268,7 @@ def predict(
     render_width: int = 256,
     spp: int = 32,
     no_render: bool = False,
+    renders: str = "all",
     strips: Optional[Tuple[Any, Any]] = None,
     texel: float = 53e-6,
     texture_size: int = 128,

@@ -122,8 +122,8 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
                        std::size_t resolution, bool kirchhoff, double wavelength,
                        const py::object& patch, const std::vector<double>& theta_i,
                        const py::object& envmap, double envmap_scale, int render_width, int spp,
-                       bool no_render, const py::object& strips, double texel,
-                       std::size_t texture_size, std::uint64_t seed, int threads,
+                       bool no_render, const std::string& renders, const py::object& strips,
+                       double texel, std::size_t texture_size, std::uint64_t seed, int threads,
                        const std::string& level, const py::object& spacing,
                        const std::string& render_ndf, std::size_t sweep_resolution,
                        const py::object& progress, const std::string& integration,
@@ -155,7 +155,10 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
   if (!theta_i.empty()) o.slice_theta_i_rad = theta_i;
   if (!envmap.is_none()) o.envmap_path = fspath(envmap);
   o.envmap_scale = envmap_scale;
-  o.render = !no_render;
+  if (renders != "all" && renders != "measured" && renders != "none")
+    throw InputError("renders '" + renders + "': give 'all', 'measured' or 'none'");
+  o.render = !no_render && renders != "none";
+  o.render_models = renders == "all";
   o.render_width = render_width;
   o.render_spp = spp;
   if (!strips.is_none()) {
@@ -226,9 +229,9 @@ calling thread; Ctrl-C is honoured when the image is finished.)");
         py::arg("wavelength") = 555e-9, py::arg("patch") = py::make_tuple(70e-6, 53e-6),
         py::arg("theta_i") = std::vector<double>{}, py::arg("envmap") = py::none(),
         py::arg("envmap_scale") = 1.0, py::arg("render_width") = 256, py::arg("spp") = 32,
-        py::arg("no_render") = false, py::arg("strips") = py::none(), py::arg("texel") = 53e-6,
-        py::arg("texture_size") = 128, py::arg("seed") = 1, py::arg("threads") = 0,
-        py::arg("level") = "plane", py::arg("spacing") = py::none(),
+        py::arg("no_render") = false, py::arg("renders") = "all", py::arg("strips") = py::none(),
+        py::arg("texel") = 53e-6, py::arg("texture_size") = 128, py::arg("seed") = 1,
+        py::arg("threads") = 0, py::arg("level") = "plane", py::arg("spacing") = py::none(),
         py::arg("render_ndf") = "filtered", py::arg("sweep_resolution") = 257,
         py::arg("progress") = py::none(), py::arg("integration") = "midpoint",
         py::arg("supersample") = 0, py::arg("window") = "none",
@@ -239,7 +242,9 @@ inputs: a path (or glob, directory, @manifest) or a list. metal: optical constan
 filter_sigma (m, or 'auto': the sigma nearest D_K, on sweep_resolution tables), render_ndf
 ('naive' | 'filtered' | 'kirchhoff': the NDF of the slices and renders), resolution (N), kirchhoff (also D_K), wavelength (m), patch ((dx, dy) m),
 theta_i (radians, the slices' angles of incidence), envmap, envmap_scale, render_width (pixels),
-spp, no_render, strips=(along, across) exemplar scans for the texture, texel (m),
+spp, no_render, renders ('all': the measured NDF and every model, strip, studio renders and
+swatch | 'measured': the measured NDF's three scenes only | 'none'), strips=(along, across)
+exemplar scans for the texture, texel (m),
 texture_size, seed, threads, level, spacing. progress: optional callable(str) receiving the
 progress lines. integration, supersample, window: D_K's rule ('midpoint' | 'exact'), node
 supersampling (0 = automatic, odd 1..15) and tile apodisation ('none' | 'hann' | 'gauss'), as

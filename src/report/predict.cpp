@@ -153,6 +153,9 @@ nlohmann::json settings_json(const PredictOptions& o, const OpticalConstants& m)
           {"envmap_scale", o.envmap_scale},
           {"render_width", o.render_width},
           {"render_spp", o.render_spp},
+          {"renders", !o.render         ? "none"
+                      : o.render_models ? "all"
+                                        : "measured"},
           {"strips_along", o.strips_along},
           {"strips_across", o.strips_across},
           {"texel_m", o.texel_m},
@@ -344,7 +347,7 @@ PredictResult predict_staged(const PredictOptions& given, const std::string& out
   timed("renders", [&] {
     summary["renders"] = report::stage_render(c, measured, models, timing, &references);
   });
-  if (o.render)
+  if (o.render && o.render_models)
     timed("render_comparison", [&] {
       summary["render_comparison"] = report::stage_compare_renders(c, models, references);
     });

@@ -177,9 +177,9 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
   };
   std::vector<Job> jobs;
   for (const auto& s : predict_scenes(o))
-    jobs.push_back({s, s.name, w, o.render_spp, true, false, "scene"});
+    jobs.push_back({s, s.name, w, o.render_spp, o.render_models, false, "scene"});
   // The material's own colour: the courtyard is warm, a grey metal looks bronze under it.
-  if (const std::string studio = studio_beside(o.envmap_path); !studio.empty()) {
+  if (const std::string studio = studio_beside(o.envmap_path); o.render_models && !studio.empty()) {
     for (int k = 0; k < 2; ++k) {
       PredictScene s = predict_scenes(o)[k];
       s.lights = RenderLights{};
@@ -196,7 +196,7 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
                       false, "studio"});
     }
   }
-  {
+  if (o.render_models) {
     PredictScene s;
     s.name = "swatch";
     s.geometry.kind = PreviewScene::Sphere;
