@@ -11,7 +11,12 @@ interpolates at the Chebyshev nodes of its interval in 40-digit arithmetic; the 
 by Horner's rule on a dense grid) to stderr.
 """
 import sys
-import mpmath as mp
+
+try:
+    import mpmath as mp
+except ImportError:
+    sys.exit("fit_beckmann_math.py needs mpmath: apt-get install python3-mpmath (a maintenance "
+             "script; the build and the tests do not run it)")
 mp.mp.dps = 40
 
 def cheb_interp(f, a, b, n):
