@@ -74,6 +74,20 @@ EnvironmentMap::EnvironmentMap(RgbFloatImage img, double scale, double rotation_
   row_cos_[0] = 1;
   row_cos_[h] = -1;
   row_sin_[0] = row_sin_[h] = 0;
+  // Rows by y: cell i holds y in (1 - (i + 1) / y_scale_, 1 - i / y_scale_] (8 cells per row on
+  // average); the row if the cell, widened by 1e-12, meets no row edge, else -1.
+  row_by_y_.assign(8 * h, -1);
+  y_scale_ = 0.5 * double(row_by_y_.size());
+  int r_lo = 0;
+  for (std::size_t i = 0; i < row_by_y_.size(); ++i) {
+    const double y_hi = 1 - double(i) / y_scale_ + 1e-12,
+                 y_lo = 1 - double(i + 1) / y_scale_ - 1e-12;
+    while (r_lo + 1 < int(h) && y_hi <= row_cos_[r_lo + 1])
+      ++r_lo;  // pixel_of's edge test, incrementally
+    int r_hi = r_lo;
+    while (r_hi + 1 < int(h) && y_lo <= row_cos_[r_hi + 1]) ++r_hi;
+    if (r_hi == r_lo && r_lo < 32767) row_by_y_[i] = std::int16_t(r_lo);
+  }
   col_sin_.resize(w + 1);
   col_cos_.resize(w + 1);
   for (std::size_t c = 0; c <= w; ++c) {
@@ -132,11 +146,16 @@ void EnvironmentMap::pixel_of(const Eigen::Vector3d& d, int& col, int& row) cons
   // (acos_guess 7e-5 rad, atan2_guess 1e-5 rad; margins 2e-4 and 5e-5 rad): the tests against
   // the edges are needed near the edges only.
   const double y = std::clamp(d.y(), -1.0, 1.0);
-  const double gr = acos_guess(y) * row_scale_;
-  int r = std::clamp(int(gr), 0, h - 1);
-  if (!(gr - r > row_margin_ && gr - r < 1 - row_margin_)) {
-    while (r > 0 && y > row_cos_[r]) --r;
-    while (r + 1 < h && y <= row_cos_[r + 1]) ++r;
+  // The row from the table over y where its cell holds no row edge (most of the sphere but the
+  // poles), else from the guess.
+  int r = row_by_y_[std::min(std::size_t((1 - y) * y_scale_), row_by_y_.size() - 1)];
+  if (r < 0) {
+    const double gr = acos_guess(y) * row_scale_;
+    r = std::clamp(int(gr), 0, h - 1);
+    if (!(gr - r > row_margin_ && gr - r < 1 - row_margin_)) {
+      while (r > 0 && y > row_cos_[r]) --r;
+      while (r + 1 < h && y <= row_cos_[r + 1]) ++r;
+    }
   }
   // Column: the azimuth of p = (x, -z) lies at or past the left edge of column c when
   // sin(phi - phi_c) >= 0, i.e. p.x cos(phi_c) - p.z sin(phi_c) >= 0 (edges less than a half

@@ -101,6 +101,9 @@ class EnvironmentMap {
   bool tables_ = false;  // the edge tables below are in use (maps of >= 64 x 32 pixels)
   // pixel_of: rows per radian; the guesses' error bounds (with margin) in rows and columns
   double row_scale_ = 0, row_margin_ = 0, col_margin_ = 0;
+  std::vector<std::int16_t>
+      row_by_y_;  // pixel_of: the row of a cell of y, or -1 (see the constructor)
+  double y_scale_ = 0;
   double row_step_ = 0, col_step_ = 0;     // direction_in_pixel: radians per row, per column
   std::vector<double> row_cos_, row_sin_;  // cos, sin of theta at the top edge of row r (h + 1)
   std::vector<double> col_sin_, col_cos_;  // sin, cos of phi at the left edge of column c (w + 1)
