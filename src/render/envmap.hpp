@@ -77,9 +77,12 @@ class EnvironmentMap {
   int width() const { return img_.width; }
   int height() const { return img_.height; }
   bool is_uniform() const { return uniform_; }
-  /// Pixel (column, row) that direction d falls into: a polynomial guess of the angles, then
-  /// exact tests against the pixel boundaries (tables of the boundaries' cosines and azimuth
-  /// vectors), falling back to pixel_of_exact() where the tests are undecided (the poles).
+  /// Pixel (column, row) that direction d falls into: the row from a table over y where its
+  /// cell holds no row edge, else from a polynomial guess of theta; the column from a
+  /// polynomial guess of the azimuth; a guess decides alone when it lies further from a pixel
+  /// edge than its error bound, else exact tests against the pixel boundaries (tables of the
+  /// boundaries' cosines and azimuth vectors) decide, falling back to pixel_of_exact() where
+  /// the tests are undecided (the poles).
   void pixel_of(const Eigen::Vector3d& d, int& col, int& row) const;
   /// The same from acos and atan2 (the definition; the tests compare the two).
   void pixel_of_exact(const Eigen::Vector3d& d, int& col, int& row) const;
