@@ -546,6 +546,20 @@ TEST(Render, FastPixelLookupEqualsTheDefinition) {
             bad += !check(d);
           }
     EXPECT_EQ(bad, 0);
+    // Directions swept through y in steps finer than the table of rows by y that pixel_of reads
+    // (8 cells per row), and 1e-13 either side of every row edge, at several azimuths.
+    bad = 0;
+    for (int i = 0; i <= 64 * h; ++i)
+      for (double phi : {0.3, 2.0, -1.1}) {
+        const double y = 1 - 2.0 * i / (64.0 * h), r = std::sqrt(std::max(0.0, 1 - y * y));
+        bad += !check(Eigen::Vector3d(r * std::cos(phi), y, r * std::sin(phi)));
+      }
+    for (int row = 1; row < h; ++row)
+      for (double dy : {-1e-13, 1e-13}) {
+        const double y = std::cos(M_PI * row / h) + dy, r = std::sqrt(1 - y * y);
+        bad += !check(Eigen::Vector3d(r * 0.6, y, r * 0.8));
+      }
+    EXPECT_EQ(bad, 0);
     // The poles, and directions exactly on a pixel edge (there either side is right: both
     // lookups round, and a sampled direction never lies on an edge).
     for (const Eigen::Vector3d& d :

@@ -105,9 +105,17 @@ class PiecewiseConstant2D {
     const std::size_t row = invert_rows(u2, fv);
     const double gx = u1 * double(gu_);
     const std::size_t j = gx > 0 ? std::min(std::size_t(gx), gu_) : 0;
-    __builtin_prefetch(&col_guide_[row * (gu_ + 1) + j]);
-    if (prefetch_cells)
-      __builtin_prefetch(&cells_[row * (nu_ + 1) + col_guide_[row * (gu_ + 1) + j]]);
+    const std::uint16_t* guide = &col_guide_[row * (gu_ + 1)];
+    __builtin_prefetch(guide + j);
+    if (!prefetch_cells) return;
+    // The walk ends at or before guide[j + 1] (and reads the record after it): every cache line
+    // from guide[j] on, at most kColGuideStride + 2 records (longer spans are empty cells).
+    const std::size_t lo = guide[j],
+                      hi = std::min<std::size_t>({std::size_t(guide[std::min(j + 1, gu_)]) + 1, nu_,
+                                                  lo + kColGuideStride + 1});
+    const char* first = reinterpret_cast<const char*>(&cells_[row * (nu_ + 1) + lo]);
+    const char* last = reinterpret_cast<const char*>(&cells_[row * (nu_ + 1) + hi]);
+    for (const char* p = first; p <= last; p += 64) __builtin_prefetch(p);
   }
   /// Starts loading the record of cell (col, row).
   void prefetch_cell(std::size_t col, std::size_t row) const {
@@ -144,6 +152,13 @@ class PiecewiseConstant2D {
     // same k as std::upper_bound(c, c + m + 1, t) - c - 1 whatever the guide says.
     const double gx = x * double(gm);
     std::size_t k = guide(gx > 0 ? std::min(std::size_t(gx), gm) : 0);
+    // The first 8 steps without branches (c is non-decreasing: the c[k + i] <= t are a prefix),
+    // as the walk's end, a data-dependent branch, is mispredicted about once per search.
+    if (k + 8 <= m) {
+      std::size_t steps = 0;
+      for (std::size_t i = 1; i <= 8; ++i) steps += c(k + i) <= t ? 1 : 0;
+      k += steps;
+    }
     while (k < m && c(k + 1) <= t) ++k;
     while (k > 0 && c(k) > t) --k;
     k = std::min(k, m - 1);

@@ -59,6 +59,11 @@ EnvironmentMap::EnvironmentMap(RgbFloatImage img, double scale, double rotation_
   std::vector<float>().swap(img_.rgb);
   // Edge tables (pixel_of, direction_in_pixel); the series inside a pixel need small pixels.
   tables_ = w >= 64 && h >= 32;
+  row_scale_ = double(h) / M_PI;
+  row_margin_ = 2e-4 * row_scale_;
+  col_margin_ = 5e-5 * double(w) / (2 * M_PI);
+  row_step_ = M_PI / double(h);
+  col_step_ = 2 * M_PI / double(w);
   row_cos_.resize(h + 1);
   row_sin_.resize(h + 1);
   for (std::size_t r = 0; r <= h; ++r) {
@@ -69,6 +74,20 @@ EnvironmentMap::EnvironmentMap(RgbFloatImage img, double scale, double rotation_
   row_cos_[0] = 1;
   row_cos_[h] = -1;
   row_sin_[0] = row_sin_[h] = 0;
+  // Rows by y: cell i holds y in (1 - (i + 1) / y_scale_, 1 - i / y_scale_] (8 cells per row on
+  // average); the row if the cell, widened by 1e-12, meets no row edge, else -1.
+  row_by_y_.assign(8 * h, -1);
+  y_scale_ = 0.5 * double(row_by_y_.size());
+  int r_lo = 0;
+  for (std::size_t i = 0; i < row_by_y_.size(); ++i) {
+    const double y_hi = 1 - double(i) / y_scale_ + 1e-12,
+                 y_lo = 1 - double(i + 1) / y_scale_ - 1e-12;
+    while (r_lo + 1 < int(h) && y_hi <= row_cos_[r_lo + 1])
+      ++r_lo;  // pixel_of's edge test, incrementally
+    int r_hi = r_lo;
+    while (r_hi + 1 < int(h) && y_lo <= row_cos_[r_hi + 1]) ++r_hi;
+    if (r_hi == r_lo && r_lo < 32767) row_by_y_[i] = std::int16_t(r_lo);
+  }
   col_sin_.resize(w + 1);
   col_cos_.resize(w + 1);
   for (std::size_t c = 0; c <= w; ++c) {
@@ -110,9 +129,11 @@ inline double atan2_guess(double y, double x) {
 
 // sin and cos of a small angle a (|a| <= 0.1) to ~1e-16 by their series.
 inline void small_sincos(double a, double& s, double& c) {
+  // (Horner with the reciprocal factorials: no divisions)
   const double a2 = a * a;
-  s = a * (1 - a2 / 6 * (1 - a2 / 20 * (1 - a2 / 42 * (1 - a2 / 72))));
-  c = 1 - a2 / 2 * (1 - a2 / 12 * (1 - a2 / 30 * (1 - a2 / 56 * (1 - a2 / 90))));
+  s = a * (1 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880)))));
+  c = 1 + a2 * (-0.5 +
+                a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 + a2 * (-1.0 / 3628800)))));
 }
 
 }  // namespace
@@ -121,17 +142,34 @@ void EnvironmentMap::pixel_of(const Eigen::Vector3d& d, int& col, int& row) cons
   if (!tables_) return pixel_of_exact(d, col, row);
   const int w = img_.width, h = img_.height;
   // Row: theta >= pi r / h  <=>  y <= cos(pi r / h).
+  // The guesses decide alone when they fall further from a pixel edge than their error
+  // (acos_guess 7e-5 rad, atan2_guess 1e-5 rad; margins 2e-4 and 5e-5 rad): the tests against
+  // the edges are needed near the edges only.
   const double y = std::clamp(d.y(), -1.0, 1.0);
-  int r = std::clamp(int(acos_guess(y) * (h / M_PI)), 0, h - 1);
-  while (r > 0 && y > row_cos_[r]) --r;
-  while (r + 1 < h && y <= row_cos_[r + 1]) ++r;
+  // The row from the table over y where its cell holds no row edge (most of the sphere but the
+  // poles), else from the guess.
+  int r = row_by_y_[std::min(std::size_t((1 - y) * y_scale_), row_by_y_.size() - 1)];
+  if (r < 0) {
+    const double gr = acos_guess(y) * row_scale_;
+    r = std::clamp(int(gr), 0, h - 1);
+    if (!(gr - r > row_margin_ && gr - r < 1 - row_margin_)) {
+      while (r > 0 && y > row_cos_[r]) --r;
+      while (r + 1 < h && y <= row_cos_[r + 1]) ++r;
+    }
+  }
   // Column: the azimuth of p = (x, -z) lies at or past the left edge of column c when
   // sin(phi - phi_c) >= 0, i.e. p.x cos(phi_c) - p.z sin(phi_c) >= 0 (edges less than a half
   // turn apart: w >= 64).
   const double px = d.x(), pz = -d.z();
   double u = 0.5 + atan2_guess(px, pz) * (0.5 / M_PI) + rotation_u_;
   u -= std::floor(u);
-  int c = std::min(int(u * w), w - 1);
+  const double gc = u * w;
+  int c = std::min(int(gc), w - 1);
+  if (gc - c > col_margin_ && gc - c < 1 - col_margin_ && px * px + pz * pz > 1e-12) {
+    col = c;
+    row = r;
+    return;
+  }
   auto past = [&](int k) {  // p at or past the left edge of column k (mod w)
     const int kk = k == w ? 0 : k;
     return px * col_cos_[kk] - pz * col_sin_[kk] >= 0;
@@ -176,8 +214,8 @@ Eigen::Vector3d EnvironmentMap::direction_in_pixel(std::size_t col, double fu, s
     return direction((double(col) + fu) / w, v);
   }
   double sa, ca, sb, cb;
-  small_sincos(2 * M_PI * fu / w, sa, ca);
-  small_sincos(M_PI * fv / h, sb, cb);
+  small_sincos(col_step_ * fu, sa, ca);
+  small_sincos(row_step_ * fv, sb, cb);
   const double sp = col_sin_[col] * ca + col_cos_[col] * sa;
   const double cp = col_cos_[col] * ca - col_sin_[col] * sa;
   const double st = row_sin_[row] * cb + row_cos_[row] * sb;

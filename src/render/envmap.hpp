@@ -77,9 +77,12 @@ class EnvironmentMap {
   int width() const { return img_.width; }
   int height() const { return img_.height; }
   bool is_uniform() const { return uniform_; }
-  /// Pixel (column, row) that direction d falls into: a polynomial guess of the angles, then
-  /// exact tests against the pixel boundaries (tables of the boundaries' cosines and azimuth
-  /// vectors), falling back to pixel_of_exact() where the tests are undecided (the poles).
+  /// Pixel (column, row) that direction d falls into: the row from a table over y where its
+  /// cell holds no row edge, else from a polynomial guess of theta; the column from a
+  /// polynomial guess of the azimuth; a guess decides alone when it lies further from a pixel
+  /// edge than its error bound, else exact tests against the pixel boundaries (tables of the
+  /// boundaries' cosines and azimuth vectors) decide, falling back to pixel_of_exact() where
+  /// the tests are undecided (the poles).
   void pixel_of(const Eigen::Vector3d& d, int& col, int& row) const;
   /// The same from acos and atan2 (the definition; the tests compare the two).
   void pixel_of_exact(const Eigen::Vector3d& d, int& col, int& row) const;
@@ -99,6 +102,12 @@ class EnvironmentMap {
   double rotation_u_ = 0;  // rotation / (2 pi)
   PiecewiseConstant2D dist_;
   bool tables_ = false;  // the edge tables below are in use (maps of >= 64 x 32 pixels)
+  // pixel_of: rows per radian; the guesses' error bounds (with margin) in rows and columns
+  double row_scale_ = 0, row_margin_ = 0, col_margin_ = 0;
+  std::vector<std::int16_t>
+      row_by_y_;  // pixel_of: the row of a cell of y, or -1 (see the constructor)
+  double y_scale_ = 0;
+  double row_step_ = 0, col_step_ = 0;     // direction_in_pixel: radians per row, per column
   std::vector<double> row_cos_, row_sin_;  // cos, sin of theta at the top edge of row r (h + 1)
   std::vector<double> col_sin_, col_cos_;  // sin, cos of phi at the left edge of column c (w + 1)
 };
