@@ -31,10 +31,10 @@ struct RenderArgs {
   bool white_env = false;
   std::vector<std::string> points, sphere_lights, disk_lights;
   // image
-  int size = 256, width = 0, height = 0, spp = 64, max_depth = 6, wavelengths = 4, threads = 0;
+  int size = 256, width = 0, height = 0, spp = 64, max_depth = 6,
+      wavelengths = RenderOptions{}.wavelengths, threads = 0;
   std::uint64_t seed = 1;
-  std::string mis = "mis";
-  std::string sampler = "sobol";
+  std::string mis = "mis", sampler = "sobol";
   std::string direct = direct_light_name(RenderOptions{}.direct);
   std::string ris_candidates = std::to_string(RenderOptions{}.ris_brdf_candidates) + "," +
                                std::to_string(RenderOptions{}.ris_light_candidates);

@@ -230,7 +230,7 @@ def render(
     height: int = 0,
     spp: int = 16,
     max_depth: int = 6,
-    wavelengths: int = 4,
+    wavelengths: int = 8,
     seed: int = 1,
     threads: int = 0,
     mis: str = "mis",
