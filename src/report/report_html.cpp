@@ -606,8 +606,10 @@ void comparison_scene(Page& p, json& rc, bool first, const std::string& ndf_labe
       << "). The models are rendered along the same paths as the reference (one render of "
          "all of them: shared camera rays, light samples and shadow rays, each direction drawn "
          "by one of their samplers and weighted for every model), so most of the noise cancels "
-         "in their differences: a model whose numbers are no worse than the noise-only row "
-         "differs from the measurement by no more than noise can explain.</p>\n<table>\n";
+         "in their differences: what a model's numbers and difference image show is mostly the "
+         "model's own departure from the measurement. A model at or below the noise-only row "
+         "differs from the measurement by less than two independent renders of the measurement "
+         "would.</p>\n<table>\n";
   else
     p << "; SSIM with noise only " << report::num(d(noise["ssim_two_seeds"]), 4)
       << ".</p>\n<table>\n";
