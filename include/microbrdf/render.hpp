@@ -170,7 +170,9 @@ RenderImage render(const RenderScene& scene,
 /// differences between variants are far less noisy than between independent renders
 /// (docs/render.md, "Variants"). `variants` holds 1..kMaxRenderVariants entries, each as
 /// `materials` of render(); with one variant this is render() bit for bit. Delta lobes (mirror)
-/// are allowed: a delta sample carries only the variant that drew it.
+/// are allowed: a delta sample carries only the variant that drew it. With several variants the
+/// direct light is always estimated by MIS (RenderOptions::direct applies to one variant): the
+/// shared light sample serves every variant.
 std::vector<RenderImage> render_variants(
     const RenderScene& scene,
     const std::vector<std::vector<std::shared_ptr<const Svbrdf>>>& variants,
