@@ -51,6 +51,15 @@ TraceCounters unpack_counters(const double* v) {
 // round complete) into a fresh estimator; returns its state and the counters.
 WorkResult trace_block(const MicroScene& scene, const SimulateOptions& o, std::uint64_t first,
                        std::uint64_t count, std::uint64_t total) {
+  // One thread per block, whatever the caller's OpenMP setting: with --threads 1 the work pool
+  // hands its single worker every core for "inner" parallelism, and a matrix product inside
+  // would then open an OpenMP team whose second thread mostly waits (7-14% more CPU than
+  // --threads 2 for the same work, measured).
+  struct OneOmpThread {
+    int before = omp_get_max_threads();
+    OneOmpThread() { omp_set_num_threads(1); }
+    ~OneOmpThread() { omp_set_num_threads(before); }
+  } one_thread;
   ShEstimator est(o.lmax);
   TraceCounters cnt;
   MicroTracer tracer(scene, o.trace);
