@@ -59,7 +59,20 @@ struct PathContext {
   const pt::SpectralTables& spec;
   const double* mix_weight;  ///< per variant, its share of the BRDF-sampling mixture
   const double* mix_cdf;     ///< running sums of mix_weight (the last is 1)
+  bool ris;                  ///< direct light by resampling (direct_light_used)
 };
+
+/// The direct-light estimator a render really uses (trace_path and the settings line): resampled
+/// direct light (direct_ris.hpp) needs one variant (with several, the light sample is shared by
+/// their MIS estimators), --mis mis, and a light other than a uniform environment alone (whose
+/// target would be the BRDF's own density: resampling would cost without lowering the noise).
+DirectLight direct_light_used(const RenderOptions& opt, const pt::LightSet& lights, int variants) {
+  const bool uniform_env_only = lights.count() == 1 && lights.env() && lights.env()->is_uniform();
+  return variants == 1 && opt.direct == DirectLight::Ris && opt.mis == MisMode::Mis &&
+                 !uniform_env_only
+             ? DirectLight::Ris
+             : DirectLight::Mis;
+}
 
 /// What a path's hero wavelengths fix: the upsampling basis at each (RGB lights -> spectrum)
 /// and, per variant and material, its optical constants (SpectralMaterial::prepare, done on
@@ -91,13 +104,9 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
   double prev_pdf = 0;   // BRDF-sampling (mixture) density of the current ray direction
   const bool use_nee = c.opt.mis != MisMode::BrdfOnly;
   const bool use_brdf_emission = c.opt.mis != MisMode::LightOnly;
-  // Resampled direct light (direct_ris.hpp) where the material allows; its continuation then
+  // Resampled direct light where the material allows (direct_light_used); its continuation then
   // carries indirect light only: emission it meets is already counted.
-  // Not under a uniform environment alone: the target is then the BRDF's own density, and
-  // resampling would cost without lowering the noise.
-  // One variant only: with several, the light sample is shared by their MIS estimators.
-  const bool use_ris = nv == 1 && c.opt.direct == DirectLight::Ris && c.opt.mis == MisMode::Mis &&
-                       !(c.lights.count() == 1 && c.lights.env() && c.lights.env()->is_uniform());
+  const bool use_ris = c.ris;
   bool after_ris = false;
   pt::RisPending pending;  // direct light whose visibility is the continuation ray's
   const double eps = c.geo.epsilon();
@@ -154,20 +163,19 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       const auto& mats = c.variants[v];
       const int slot = mats.size() == 1 ? 0 : std::min(sp.object, 1);
       mat[v] = &mats[mats.size() == 1 ? 0 : sp.object];
-      // Variants whose metals are the same object share their wavelength constants.
+      // Variants whose metals are the same object share their wavelength constants; otherwise
+      // the material's own, once per path and material (the cylinder pair may have two
+      // materials; with more than two, every bounce prepares its own).
       int same = 0;
       while (same < v && mat[same]->wavelength_key() != mat[v]->wavelength_key()) ++same;
       if (same < v) {
         wl_consts[v] = wl_consts[same];
-        view[v] = mat[v]->view(wv);
-        continue;
-      }
-      // The material's wavelength constants, once per path and material (the cylinder pair may
-      // have two materials; with more than two, every bounce prepares its own).
-      wl_consts[v] = &ps.mat[v][slot];
-      if (!ps.prepared[v][slot] || mats.size() > 2) {
-        mat[v]->prepare(ps.lambda_m, n, *wl_consts[v]);
-        ps.prepared[v][slot] = mats.size() <= 2;
+      } else {
+        wl_consts[v] = &ps.mat[v][slot];
+        if (!ps.prepared[v][slot] || mats.size() > 2) {
+          mat[v]->prepare(ps.lambda_m, n, *wl_consts[v]);
+          ps.prepared[v][slot] = mats.size() <= 2;
+        }
       }
       view[v] = mat[v]->view(wv);
     }
@@ -332,7 +340,8 @@ namespace {
 
 std::string settings_line(const RenderScene& scene,
                           const std::vector<std::shared_ptr<const Svbrdf>>& materials,
-                          const RenderLights& lights, const RenderOptions& opt, int variants) {
+                          const RenderLights& lights, const RenderOptions& opt, int variants,
+                          DirectLight direct) {
   std::ostringstream os;
   os << "scene " << preview_scene_name(scene.kind) << "; materials:";
   for (const auto& m : materials) os << " [" << m->describe() << "]";
@@ -348,12 +357,6 @@ std::string settings_line(const RenderScene& scene,
          : opt.mis == MisMode::BrdfOnly ? "brdf_only"
                                         : "light_only")
      << ", sampler " << render_sampler_name(opt.sampler);
-  // The estimator trace_path uses: resampling needs one variant, --mis mis and a light other
-  // than the uniform sky alone.
-  const bool uniform_sky_only = lights.uniform_white_env && lights.points.empty() &&
-                                lights.spheres.empty() && lights.disks.empty();
-  const DirectLight direct =
-      variants > 1 || opt.mis != MisMode::Mis || uniform_sky_only ? DirectLight::Mis : opt.direct;
   os << ", direct light " << direct_light_name(direct);
   if (direct == DirectLight::Ris)
     os << " (" << opt.ris_brdf_candidates << " BRDF + " << opt.ris_light_candidates
@@ -437,7 +440,9 @@ std::vector<RenderImage> render_variants(
   std::vector<std::vector<pt::SpectralMaterial>> mats(nv);
   for (int v = 0; v < nv; ++v)
     for (const auto& m : variants[v]) mats[v].emplace_back(m);
-  const PathContext ctx{geo, ls, mats, opt, spec, mix.data(), cdf.data()};
+  const DirectLight direct = direct_light_used(opt, ls, nv);
+  const PathContext ctx{geo,  ls,         mats,       opt,
+                        spec, mix.data(), cdf.data(), direct == DirectLight::Ris};
   const Eigen::Matrix3d to_rgb = xyz_to_linear_srgb_matrix();
 
   std::vector<RenderImage> imgs(nv);
@@ -514,7 +519,7 @@ std::vector<RenderImage> render_variants(
     img.seconds = seconds;
     img.samples_per_second = double(opt.width) * opt.height * opt.spp / std::max(seconds, 1e-9);
     img.rays = rays;
-    img.settings = settings_line(scene, variants[v], lights, opt, nv);
+    img.settings = settings_line(scene, variants[v], lights, opt, nv, direct);
   }
   return imgs;
 }

@@ -138,7 +138,6 @@ std::vector<RenderImage> render_split(
     RenderOptions ob = ro;
     ob.seed = ro.seed + 1;
     ob.progress = nullptr;
-    ob.variant_weights.clear();
     const RenderImage b = render(scene.geometry, variants.front(), scene.lights, ob);
     const std::vector<double> ya = detail::luminance(a.front().rgb), yb = detail::luminance(b.rgb);
     noise.resize(ya.size());

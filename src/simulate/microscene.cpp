@@ -356,6 +356,26 @@ void MicroScene::build_escape_bound() {
   esc_top_ = *std::max_element(esc_hmax_.begin(), esc_hmax_.end());
 }
 
+namespace {
+
+// The escape bound's walk, one axis: into the neighbouring block of `nb` (widths `bw`, the last
+// the rest of the tile's `extent`) upwards or downwards, wrapping across the tile edge to the
+// periodic copy; [lo, hi) follows the block.
+inline void next_block(bool up, int& c, double& lo, double& hi, int nb, double bw, double extent) {
+  const auto width = [&](int i) { return i == nb - 1 ? extent - i * bw : bw; };
+  if (up) {
+    c = c + 1 == nb ? 0 : c + 1;
+    lo = hi;
+    hi = lo + width(c);
+  } else {
+    c = c == 0 ? nb - 1 : c - 1;
+    hi = lo;
+    lo = hi - width(c);
+  }
+}
+
+}  // namespace
+
 bool MicroScene::clears_upward(const Vec& p, const Vec& n, const Vec& d) const {
   if (esc_hmax_.empty() || !(d.z() > 0)) return false;
   const double margin = 0.25 * eps_;
@@ -404,28 +424,8 @@ bool MicroScene::clears_upward(const Vec& p, const Vec& n, const Vec& d) const {
     H = std::min(H + S * (t_out - t_in), hmax);
     t_in = t_out;
     // Into the next block (across the tile edge: the periodic copy).
-    if (tx <= ty) {
-      if (d.x() > 0) {
-        ci = ci + 1 == esc_nbx_ ? 0 : ci + 1;
-        x0 = x1;
-        x1 = x0 + (ci == esc_nbx_ - 1 ? W - ci * esc_bw_ : esc_bw_);
-      } else {
-        ci = ci == 0 ? esc_nbx_ - 1 : ci - 1;
-        x1 = x0;
-        x0 = x1 - (ci == esc_nbx_ - 1 ? W - ci * esc_bw_ : esc_bw_);
-      }
-    }
-    if (ty <= tx) {
-      if (d.y() > 0) {
-        cj = cj + 1 == esc_nby_ ? 0 : cj + 1;
-        y0 = y1;
-        y1 = y0 + (cj == esc_nby_ - 1 ? H_tile - cj * esc_bh_ : esc_bh_);
-      } else {
-        cj = cj == 0 ? esc_nby_ - 1 : cj - 1;
-        y1 = y0;
-        y0 = y1 - (cj == esc_nby_ - 1 ? H_tile - cj * esc_bh_ : esc_bh_);
-      }
-    }
+    if (tx <= ty) next_block(d.x() > 0, ci, x0, x1, esc_nbx_, esc_bw_, W);
+    if (ty <= tx) next_block(d.y() > 0, cj, y0, y1, esc_nby_, esc_bh_, H_tile);
   }
   return false;
 }
