@@ -136,6 +136,8 @@ void parse_ris_candidates(const std::string& text, const std::string& flag, Rend
 
 /// Most variants render_variants takes.
 inline constexpr int kMaxRenderVariants = 8;
+/// Most light sets render_light_sets takes.
+inline constexpr int kMaxRenderLightSets = 4;
 
 struct RenderImage {
   int width = 0, height = 0;
@@ -177,6 +179,21 @@ std::vector<RenderImage> render_variants(
     const RenderScene& scene,
     const std::vector<std::vector<std::shared_ptr<const Svbrdf>>>& variants,
     const RenderLights& lights, const RenderOptions& options);
+
+/// render_variants under several light sets at once ("light sets": e.g. the same object under
+/// two environment maps): the camera rays, the BRDF-sampled directions and every variant's
+/// throughput are shared, and each light set has its own light samples, shadow rays and
+/// emission, combined with the (mixture) BRDF density by the power heuristic. Each image is an
+/// unbiased estimate of what render() gives for that variant under that set alone, at the cost
+/// of one path plus one light sample and shadow ray per extra set and bounce. Returns
+/// light_sets.size() x variants.size() images, image l * variants.size() + v for set l and
+/// variant v. 1..kMaxRenderLightSets sets; with several, environment maps and point lights
+/// only (InputError for sphere or disk lights, on which a path would end in one set only) and
+/// MIS for direct light. With one set this is render_variants bit for bit.
+std::vector<RenderImage> render_light_sets(
+    const RenderScene& scene,
+    const std::vector<std::vector<std::shared_ptr<const Svbrdf>>>& variants,
+    const std::vector<RenderLights>& light_sets, const RenderOptions& options);
 
 /// Linear EXR (half floats, RGB) with the render settings in the header; atomic.
 void write_render_exr(const RenderImage& img, const std::string& path);

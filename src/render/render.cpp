@@ -50,9 +50,15 @@ double power_heuristic(double a, double b) {
   return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0;
 }
 
+/// Most light sets render_light_sets takes.
+constexpr int kMaxSets = kMaxRenderLightSets;
+
 struct PathContext {
   const pt::PreviewGeometry& geo;
-  const pt::LightSet& lights;
+  /// The light sets (one world each; the first is the render's own lights). With several, none
+  /// has area lights (render_light_sets), so a ray never ends on an emitter in one set only.
+  const pt::LightSet* const* sets;
+  int nl;
   /// Per variant, its materials (one, or one per object).
   const std::vector<std::vector<pt::SpectralMaterial>>& variants;
   const RenderOptions& opt;
@@ -63,13 +69,15 @@ struct PathContext {
 };
 
 /// The direct-light estimator a render really uses (trace_path and the settings line): resampled
-/// direct light (direct_ris.hpp) needs one variant (with several, the light sample is shared by
-/// their MIS estimators), --mis mis, and a light other than a uniform environment alone (whose
-/// target would be the BRDF's own density: resampling would cost without lowering the noise).
-DirectLight direct_light_used(const RenderOptions& opt, const pt::LightSet& lights, int variants) {
+/// direct light (direct_ris.hpp) needs one variant and one light set (otherwise the light
+/// samples are shared by several MIS estimators), --mis mis, and a light other than a uniform
+/// environment alone (whose target would be the BRDF's own density: resampling would cost
+/// without lowering the noise).
+DirectLight direct_light_used(const RenderOptions& opt, const pt::LightSet& lights, int variants,
+                              int light_sets) {
   const bool uniform_env_only = lights.count() == 1 && lights.env() && lights.env()->is_uniform();
-  return variants == 1 && opt.direct == DirectLight::Ris && opt.mis == MisMode::Mis &&
-                 !uniform_env_only
+  return variants == 1 && light_sets == 1 && opt.direct == DirectLight::Ris &&
+                 opt.mis == MisMode::Mis && !uniform_env_only
              ? DirectLight::Ris
              : DirectLight::Mis;
 }
@@ -88,14 +96,18 @@ struct PathSpectrum {
 
 using Radiance = double[kMaxRenderVariants][pt::kMaxWavelengths];
 
-/// Radiance (relative to D65) at the n hero wavelengths along one camera path, added to L[v]
-/// for each variant v. With one variant this is the plain path tracer; with several, the
-/// geometry, the light samples and the shadow rays are shared, and each BRDF-sampled direction
-/// comes from the mixture of the variants' samplers (render_variants).
+/// Radiance (relative to D65) at the n hero wavelengths along one camera path, added to
+/// L[l][v] for each light set l and variant v. With one variant and one light set this is the
+/// plain path tracer; with several variants, the geometry, the light samples and the shadow rays
+/// are shared, and each BRDF-sampled direction comes from the mixture of the variants' samplers
+/// (render_variants); with several light sets, the path is shared and each set has its own light
+/// samples, shadow rays and emission (render_light_sets).
 std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt::PathSampler& rng,
-                         Radiance& L) {
+                         Radiance* L) {
   const int n = ps.n;
   const int nv = static_cast<int>(c.variants.size());
+  const int nl = c.nl;
+  const pt::LightSet& lights0 = *c.sets[0];
   double T[kMaxRenderVariants][pt::kMaxWavelengths];
   for (int v = 0; v < nv; ++v)
     for (int k = 0; k < n; ++k) T[v][k] = 1;
@@ -110,7 +122,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
   bool after_ris = false;
   pt::RisPending pending;  // direct light whose visibility is the continuation ray's
   const double eps = c.geo.epsilon();
-  auto add_emission = [&](const V3& rgb, double light_pdf) {
+  auto add_emission = [&](int l, const V3& rgb, double light_pdf) {
     double w = 1;
     if (!specular) {
       if (!use_brdf_emission || after_ris) return;
@@ -120,7 +132,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     double e[pt::kMaxWavelengths];  // (once for every variant)
     for (int k = 0; k < n; ++k) e[k] = ps.upsample(rgb, k);
     for (int v = 0; v < nv; ++v)
-      for (int k = 0; k < n; ++k) L[v][k] += T[v][k] * w * e[k];
+      for (int k = 0; k < n; ++k) L[l][v][k] += T[v][k] * w * e[k];
   };
 
   const pt::SpectralMaterial* mat[kMaxRenderVariants];
@@ -130,30 +142,37 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     // The light sample's numbers are drawn before the ray is traced (the same request order):
     // the environment map's tables and the radiance this ray meets if it escapes are then
     // loaded from memory while Embree works.
-    double nee_u1 = 0, nee_u2 = 0;
-    const bool nee = use_nee && c.lights.count() > 0;
-    if (nee) {
-      rng.get2d(nee_u1, nee_u2);
-      if (use_ris)
-        pt::ris_prefetch_light_candidates(c.lights, nee_u1, nee_u2, c.opt.ris_light_candidates);
-      else
-        c.lights.prefetch_sample(nee_u1, nee_u2);
-    }
-    const auto env_pixel = after_ris ? std::pair<int, int>{-1, -1} : c.lights.prefetch_env(d);
+    // (each light set its own numbers, drawn in set order: one set keeps the request order)
+    double nee_u[kMaxSets][2] = {};
+    const bool nee = use_nee && lights0.count() > 0;
+    if (nee)
+      for (int l = 0; l < nl; ++l) {
+        rng.get2d(nee_u[l][0], nee_u[l][1]);
+        if (use_ris)
+          pt::ris_prefetch_light_candidates(*c.sets[l], nee_u[l][0], nee_u[l][1],
+                                            c.opt.ris_light_candidates);
+        else
+          c.sets[l]->prefetch_sample(nee_u[l][0], nee_u[l][1]);
+      }
+    std::pair<int, int> env_pixel[kMaxSets];
+    for (int l = 0; l < nl; ++l)
+      env_pixel[l] = after_ris ? std::pair<int, int>{-1, -1} : c.sets[l]->prefetch_env(d);
     pt::ShadingPoint sp;
     ++rays;
     const double t = c.geo.intersect(o, d, 1e30, sp);
-    pending.resolve(t, n, L[0]);
-    const pt::LightHit lh = c.lights.hit_area(o, d, t > 0 ? t : 1e30);
+    pending.resolve(t, n, L[0][0]);
+    const pt::LightHit lh = lights0.hit_area(o, d, t > 0 ? t : 1e30);  // (one set only)
     if (lh.t > 0) {
-      add_emission(lh.rgb, lh.pdf);
+      add_emission(0, lh.rgb, lh.pdf);
       return rays;
     }
     if (t < 0) {
       if (after_ris) return rays;
-      double pdf;
-      const V3 rgb = c.lights.env_rgb(d, env_pixel, pdf);
-      if (c.lights.env()) add_emission(rgb, pdf);
+      for (int l = 0; l < nl; ++l) {
+        double pdf;
+        const V3 rgb = c.sets[l]->env_rgb(d, env_pixel[l], pdf);
+        if (c.sets[l]->env()) add_emission(l, rgb, pdf);
+      }
       return rays;
     }
     if (depth >= c.opt.max_depth) return rays;
@@ -181,10 +200,10 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     }
     const V3 origin = sp.p + eps * sp.ng;
 
-    // Next-event estimation.
+    // Next-event estimation, per light set.
     const bool ris = use_ris && nee;
-    if (nee && !ris) {
-      if (auto ls = c.lights.sample(origin, nee_u1, nee_u2)) {
+    for (int l = 0; nee && !ris && l < nl; ++l) {
+      if (auto ls = c.sets[l]->sample(origin, nee_u[l][0], nee_u[l][1])) {
         const V3 wl = sp.to_local(ls->dir);
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
           // f and the BRDF density before the shadow ray: no ray for a light sample the BRDF
@@ -216,7 +235,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
             // BRDF-sampled rays, which see the nearest emitter only).
             const double tmax = std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6);
             if (!c.geo.occluded(origin, ls->dir, tmax) &&
-                !(c.lights.hit_area(origin, ls->dir, tmax).t > 0)) {
+                !(c.sets[l]->hit_area(origin, ls->dir, tmax).t > 0)) {
               const double w = mis ? power_heuristic(ls->pdf, brdf_pdf) : 1.0;
               const double scale = w * wl.z() / ls->pdf;
               double e[pt::kMaxWavelengths];  // (once for every variant)
@@ -224,7 +243,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
               for (int v = 0; v < nv; ++v)
                 if (reflects[v])
                   for (int k = 0; k < n; ++k)
-                    if (f[v][k] != 0) L[v][k] += T[v][k] * f[v][k] * scale * e[k];
+                    if (f[v][k] != 0) L[l][v][k] += T[v][k] * f[v][k] * scale * e[k];
             }
           }
         }
@@ -246,7 +265,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     const bool sampled = mat[pick]->sample(sp.u, sp.v, view[pick], u1, u2, *wl_consts[pick], s);
     if (ris) {  // (one variant: use_ris)
       const pt::RisDirectInput in{c.geo,
-                                  c.lights,
+                                  lights0,
                                   *mat[0],
                                   view[0],
                                   *wl_consts[0],
@@ -255,8 +274,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
                                   ps.basis,
                                   c.opt.ris_brdf_candidates,
                                   c.opt.ris_light_candidates};
-      rays += pt::ris_direct_light(in, sampled ? &s : nullptr, u1, u2, nee_u1, nee_u2, rng.get1d(),
-                                   T[0], L[0], &pending);
+      rays += pt::ris_direct_light(in, sampled ? &s : nullptr, u1, u2, nee_u[0][0], nee_u[0][1],
+                                   rng.get1d(), T[0], L[0][0], &pending);
     }
     if (!sampled) return rays;
     after_ris = ris && !s.delta;
@@ -298,7 +317,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     if (d.dot(sp.ng) <= 0) return rays;  // below the geometric surface
     o = origin;
     // A path that ends here traces the pending direct light's shadow ray itself.
-    auto end = [&] { return rays + pending.resolve_by_shadow_ray(c.geo, o, d, n, L[0]); };
+    auto end = [&] { return rays + pending.resolve_by_shadow_ray(c.geo, o, d, n, L[0][0]); };
     // Russian roulette after three bounces (one decision for every variant).
     double tmax = 0;
     for (int v = 0; v < nv; ++v)
@@ -341,7 +360,7 @@ namespace {
 std::string settings_line(const RenderScene& scene,
                           const std::vector<std::shared_ptr<const Svbrdf>>& materials,
                           const RenderLights& lights, const RenderOptions& opt, int variants,
-                          DirectLight direct) {
+                          int light_sets, DirectLight direct) {
   std::ostringstream os;
   os << "scene " << preview_scene_name(scene.kind) << "; materials:";
   for (const auto& m : materials) os << " [" << m->describe() << "]";
@@ -362,6 +381,7 @@ std::string settings_line(const RenderScene& scene,
     os << " (" << opt.ris_brdf_candidates << " BRDF + " << opt.ris_light_candidates
        << " light candidates)";
   if (variants > 1) os << ", one of " << variants << " variants along shared paths";
+  if (light_sets > 1) os << ", one of " << light_sets << " light sets along shared paths";
   return os.str();
 }
 
@@ -379,6 +399,13 @@ std::vector<RenderImage> render_variants(
     const RenderScene& scene,
     const std::vector<std::vector<std::shared_ptr<const Svbrdf>>>& variants,
     const RenderLights& lights, const RenderOptions& opt) {
+  return render_light_sets(scene, variants, {lights}, opt);
+}
+
+std::vector<RenderImage> render_light_sets(
+    const RenderScene& scene,
+    const std::vector<std::vector<std::shared_ptr<const Svbrdf>>>& variants,
+    const std::vector<RenderLights>& light_sets, const RenderOptions& opt) {
   if (opt.width <= 0 || opt.height <= 0 || opt.width > 16384 || opt.height > 16384)
     throw InputError("render: image size must be 1..16384 pixels a side");
   if (opt.spp <= 0) throw InputError("render: samples per pixel must be > 0");
@@ -434,18 +461,35 @@ std::vector<RenderImage> render_variants(
                        std::to_string(materials.size()));
   }
   geo.set_texture_coordinates(!uniform);
-  const pt::LightSet ls(lights);
-  if (ls.count() == 0) throw InputError("render: no light (give an environment map or lights)");
+  const int nl = static_cast<int>(light_sets.size());
+  if (nl < 1 || nl > kMaxRenderLightSets)
+    throw InputError("render: give 1.." + std::to_string(kMaxRenderLightSets) +
+                     " light sets, not " + std::to_string(nl));
+  std::vector<std::unique_ptr<const pt::LightSet>> sets;
+  std::vector<const pt::LightSet*> set_ptrs;
+  for (int l = 0; l < nl; ++l) {
+    sets.push_back(std::make_unique<const pt::LightSet>(light_sets[l]));
+    set_ptrs.push_back(sets.back().get());
+    const std::string which = nl > 1 ? " in light set " + std::to_string(l + 1) : "";
+    if (sets.back()->count() == 0)
+      throw InputError("render: no light" + which + " (give an environment map or lights)");
+    // A ray that meets an area light ends there; in one set only, the other sets' paths would
+    // have to go on.
+    if (nl > 1 && sets.back()->has_area())
+      throw InputError("render: area lights (spheres, disks)" + which +
+                       ": with several light sets, give environment maps and point lights only");
+  }
+  const pt::LightSet& ls = *sets.front();
   const auto& spec = pt::SpectralTables::get();
   std::vector<std::vector<pt::SpectralMaterial>> mats(nv);
   for (int v = 0; v < nv; ++v)
     for (const auto& m : variants[v]) mats[v].emplace_back(m);
-  const DirectLight direct = direct_light_used(opt, ls, nv);
-  const PathContext ctx{geo,  ls,         mats,       opt,
-                        spec, mix.data(), cdf.data(), direct == DirectLight::Ris};
+  const DirectLight direct = direct_light_used(opt, ls, nv, nl);
+  const PathContext ctx{geo,        set_ptrs.data(),           nl, mats, opt, spec, mix.data(),
+                        cdf.data(), direct == DirectLight::Ris};
   const Eigen::Matrix3d to_rgb = xyz_to_linear_srgb_matrix();
 
-  std::vector<RenderImage> imgs(nv);
+  std::vector<RenderImage> imgs(nl * nv);  // light set l, variant v at l * nv + v
   const std::size_t values = std::size_t(opt.width) * opt.height * 3;
   const bool halves = opt.half_images;
   for (auto& img : imgs) {
@@ -469,16 +513,17 @@ std::vector<RenderImage> render_variants(
   for (int y = 0; y < opt.height; ++y) {
     for (int x = 0; x < opt.width; ++x) {
       const std::uint64_t pixel = std::uint64_t(y) * opt.width + x;
-      Eigen::Vector3d xyz[kMaxRenderVariants][2];
-      for (int v = 0; v < nv; ++v) xyz[v][0] = xyz[v][1] = Eigen::Vector3d::Zero();
+      Eigen::Vector3d xyz[kMaxSets * kMaxRenderVariants][2];
+      for (int i = 0; i < nl * nv; ++i) xyz[i][0] = xyz[i][1] = Eigen::Vector3d::Zero();
       for (int s = 0; s < opt.spp; ++s) {
         pt::PathSampler rng(kind, opt.seed, pixel, std::uint32_t(s), std::uint32_t(opt.spp));
         double jx, jy;
         rng.get2d(jx, jy);
         double lambda[pt::kMaxWavelengths];
-        Radiance L;
-        for (int v = 0; v < nv; ++v)
-          for (int k = 0; k < n; ++k) L[v][k] = 0;
+        Radiance L[kMaxSets];
+        for (int l = 0; l < nl; ++l)
+          for (int v = 0; v < nv; ++v)
+            for (int k = 0; k < n; ++k) L[l][v][k] = 0;
         double lweight[pt::kMaxWavelengths];
         pt::visible_hero_wavelengths(rng.get1d(), n, lambda, lweight);
         PathSpectrum ps;
@@ -489,14 +534,15 @@ std::vector<RenderImage> render_variants(
         }
         const V3 d = cam.direction(x + jx, y + jy, opt.width, opt.height);
         rays += trace_path(ctx, cam.position, d, ps, rng, L);
-        for (int v = 0; v < nv; ++v) {
+        for (int i = 0; i < nl * nv; ++i) {
+          const double* Li = L[i / nv][i % nv];
           Eigen::Vector3d sx = Eigen::Vector3d::Zero();
           for (int k = 0; k < n; ++k)
-            if (L[v][k] != 0) sx += (L[v][k] * lweight[k]) * spec.xyz_weight(lambda[k]);
-          if (sx.allFinite()) xyz[v][s < first_half ? 0 : 1] += sx / n;
+            if (Li[k] != 0) sx += (Li[k] * lweight[k]) * spec.xyz_weight(lambda[k]);
+          if (sx.allFinite()) xyz[i][s < first_half ? 0 : 1] += sx / n;
         }
       }
-      for (int v = 0; v < nv; ++v) {
+      for (int v = 0; v < nl * nv; ++v) {
         RenderImage& img = imgs[v];
         const Eigen::Vector3d rgb = to_rgb * ((xyz[v][0] + xyz[v][1]) / opt.spp);
         for (int ch = 0; ch < 3; ++ch) img.rgb[pixel * 3 + ch] = float(rgb[ch]);
@@ -514,12 +560,12 @@ std::vector<RenderImage> render_variants(
   if (opt.progress) opt.progress(1.0);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  for (int v = 0; v < nv; ++v) {
-    RenderImage& img = imgs[v];
+  for (int i = 0; i < nl * nv; ++i) {
+    RenderImage& img = imgs[i];
     img.seconds = seconds;
     img.samples_per_second = double(opt.width) * opt.height * opt.spp / std::max(seconds, 1e-9);
     img.rays = rays;
-    img.settings = settings_line(scene, variants[v], lights, opt, nv, direct);
+    img.settings = settings_line(scene, variants[i % nv], light_sets[i / nv], opt, nv, nl, direct);
   }
   return imgs;
 }

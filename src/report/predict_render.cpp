@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <stdexcept>
 
 #include "core/image_metrics.hpp"
 #include "microbrdf/render.hpp"
@@ -128,13 +130,18 @@ std::string studio_beside(const std::string& envmap) {
 // are two halves of one scrambled sequence, slightly anti-correlated, so this errs high (it is
 // the noise two independent half-sample renders would show). At one sample per pixel the image
 // is rendered again with seed + 1 and (Y_2 - Y_1) / sqrt 2 is used.
+// With `extra_lights`, those light sets too, along the same paths (render_light_sets): the
+// images of set l and variant v at l * variants.size() + v, the noise of the first.
 std::vector<RenderImage> render_split(
     const PredictScene& scene,
     const std::vector<std::vector<std::shared_ptr<const Svbrdf> > >& variants,
-    const RenderOptions& ro, std::vector<double>& noise) {
+    const RenderOptions& ro, std::vector<double>& noise,
+    const std::vector<RenderLights>& extra_lights) {
   const int n = ro.spp;
+  std::vector<RenderLights> sets{scene.lights};
+  sets.insert(sets.end(), extra_lights.begin(), extra_lights.end());
   if (n < 2) {
-    std::vector<RenderImage> a = render_variants(scene.geometry, variants, scene.lights, ro);
+    std::vector<RenderImage> a = render_light_sets(scene.geometry, variants, sets, ro);
     RenderOptions ob = ro;
     ob.seed = ro.seed + 1;
     ob.progress = nullptr;
@@ -150,7 +157,7 @@ std::vector<RenderImage> render_split(
   }
   RenderOptions o = ro;
   o.half_images = true;
-  std::vector<RenderImage> a = render_variants(scene.geometry, variants, scene.lights, o);
+  std::vector<RenderImage> a = render_light_sets(scene.geometry, variants, sets, o);
   const int n0 = n / 2, n1 = n - n0;
   const double k = std::sqrt(static_cast<double>(n0) * n1) / n;
   const std::vector<double> y0 = detail::luminance(a.front().half_rgb[0]),
@@ -159,6 +166,26 @@ std::vector<RenderImage> render_split(
   for (std::size_t i = 0; i < y0.size(); ++i) noise[i] = k * (y0[i] - y1[i]);
   for (auto& img : a) img.half_rgb = {};  // the report keeps only the noise
   return a;
+}
+
+RenderImage half_size(const RenderImage& img) {
+  if (img.width % 2 != 0 || img.height % 2 != 0)
+    throw std::invalid_argument("half_size: the width and height must be even");
+  RenderImage h = img;
+  h.width = img.width / 2;
+  h.height = img.height / 2;
+  h.rgb.assign(std::size_t(h.width) * h.height * 3, 0.0f);
+  h.half_rgb = {};
+  for (int y = 0; y < h.height; ++y)
+    for (int x = 0; x < h.width; ++x)
+      for (int ch = 0; ch < 3; ++ch) {
+        double sum = 0;  // (in double: the four floats' mean, rounded once)
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx)
+            sum += img.rgb[((std::size_t(2 * y + dy) * img.width) + 2 * x + dx) * 3 + ch];
+        h.rgb[(std::size_t(y) * h.width + x) * 3 + ch] = static_cast<float>(sum / 4);
+      }
+  return h;
 }
 
 nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>& measured,
@@ -176,6 +203,9 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
     bool compared;     ///< a reference of the comparison strip
     bool fixed_zero;   ///< exposure 0 instead of the automatic one (the swatch)
     std::string role;  ///< "scene", "studio", "swatch"
+    /// The compared scene whose pass renders this one too, as an extra light set at twice the
+    /// size and 1/4 of the samples, then halved (render_light_sets, half_size); "" = its own.
+    std::string shared_from = {};
   };
   std::vector<Job> jobs;
   for (const auto& s : predict_scenes(o))
@@ -192,10 +222,13 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
                   " under the neutral studio map (two softboxes, no colour cast): the "
                   "material's own colour";
       s.name += "_studio";
-      // Half size at 4x the samples (the cost of one full render, half the noise): context
-      // beside the compared scenes, not compared itself.
+      // Half size at 4x the samples (half the noise of the compared scenes): context beside
+      // them, not compared itself. Rendered along the paths of the same scene under the given
+      // map (a second light set at full size, 2 x 2 pixels averaged): the same image in
+      // distribution, for about a third of the cost of its own render.
+      const bool shared = w % 2 == 0 && w / 2 >= 16 && o.render_spp <= 65536 / 4;
       jobs.push_back({s, s.name, std::max(16, w / 2), std::min(65536, 4 * o.render_spp), false,
-                      false, "studio"});
+                      false, "studio", shared ? predict_scenes(o)[k].name : ""});
     }
   }
   if (o.render_models) {
@@ -214,9 +247,11 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
   }
 
   nlohmann::json out = nlohmann::json::array();
+  std::map<std::string, RenderImage> shared_images;  // key -> image from another job's pass
   for (const auto& j : jobs) {
     c.log("renders: " + j.key + " " + std::to_string(j.size) + " x " + std::to_string(j.size) +
-          ", " + std::to_string(j.spp) + " spp");
+          ", " + std::to_string(j.spp) + " spp" +
+          (j.shared_from.empty() ? "" : " (from the " + j.shared_from + " pass)"));
     RenderOptions ro = predict_render_options(o, j.size, j.size);
     ro.spp = j.spp;
     const std::string name = j.key;
@@ -242,18 +277,32 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
         ro.variant_weights.assign(variants.size(), 1.0);
         ro.variant_weights.front() = static_cast<double>(variants.size() - 1);
       }
-      std::vector<RenderImage> imgs = render_split(j.scene, variants, ro, noise);
+      std::vector<const Job*> riders;  // further light sets along these paths
+      std::vector<RenderLights> extra;
+      for (const auto& r : jobs)
+        if (r.shared_from == j.key) {
+          riders.push_back(&r);
+          extra.push_back(r.scene.lights);
+        }
+      std::vector<RenderImage> imgs = render_split(j.scene, variants, ro, noise, extra);
+      const std::size_t nv = variants.size();
+      for (std::size_t i = 0; i < riders.size(); ++i)
+        shared_images[riders[i]->key] = half_size(imgs[(i + 1) * nv]);  // its measured NDF
       img = std::move(imgs.front());
       model_images.assign(std::make_move_iterator(imgs.begin() + 1),
-                          std::make_move_iterator(imgs.end()));
+                          std::make_move_iterator(imgs.begin() + static_cast<long>(nv)));
+    } else if (!j.shared_from.empty()) {
+      img = std::move(shared_images.at(j.key));
     } else {
       img = render(j.scene.geometry, mats, j.scene.lights, ro);
     }
     const double exposure = j.fixed_zero ? 0.0 : auto_exposure_stops(img);
     const std::string file = "img/render_" + j.key + ".png";
     write_render_png(img, c.path(file), exposure);
-    timing["render_" + name + "_s"] = img.seconds;
-    timing["render_" + name + "_samples_per_s"] = img.samples_per_second;
+    if (j.shared_from.empty()) {  // (a shared pass's time is its scene's)
+      timing["render_" + name + "_s"] = img.seconds;
+      timing["render_" + name + "_samples_per_s"] = img.samples_per_second;
+    }
     out.push_back({{"scene", j.key},
                    {"geometry", preview_scene_name(j.scene.geometry.kind)},
                    {"role", j.role},
@@ -269,6 +318,8 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
                    {"rays", img.rays},
                    {"material", measured->describe()},
                    {"lights", j.scene.lights_text}});
+    // (spp: per pixel of this image, 4 pixels of the pass; rays: the whole pass's)
+    if (!j.shared_from.empty()) out.back()["rendered_in_pass_of"] = j.shared_from;
     if (j.compared) {
       nlohmann::json keys = nlohmann::json::array();
       for (const auto& m : models) keys.push_back(m.key);

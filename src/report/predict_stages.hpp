@@ -127,10 +127,16 @@ double auto_exposure_stops(const RenderImage& img);
 /// of the first variant's own Monte Carlo noise in linear luminance, k (Y_A - Y_B) with Y_A,
 /// Y_B its images of the first floor(spp/2) and the remaining samples and
 /// k = sqrt(nA nB) / spp (at spp = 1: a second render with seed + 1, and (Y_2 - Y_1) / sqrt 2).
+/// With `extra_lights`, also under those light sets along the same paths (render_light_sets):
+/// the images of set l (0 = scene.lights) and variant v at l * variants.size() + v.
 std::vector<RenderImage> render_split(
     const PredictScene& scene,
     const std::vector<std::vector<std::shared_ptr<const Svbrdf> > >& variants,
-    const RenderOptions& options, std::vector<double>& noise);
+    const RenderOptions& options, std::vector<double>& noise,
+    const std::vector<RenderLights>& extra_lights = {});
+/// The image at half the size, each pixel the mean of a 2 x 2 block (width and height even):
+/// a render at twice the size with N samples per pixel gives the half-size render with 4N.
+RenderImage half_size(const RenderImage& img);
 /// Renders; returns the "renders" array (or a "skipped" reason); seconds into `timing`. The
 /// renders of predict_scenes() (the references of the comparison strip) go into `references`
 /// when given, each with its noise from the two halves of its samples (render_split), so that
