@@ -534,11 +534,13 @@ std::vector<RenderImage> render_light_sets(
         }
         const V3 d = cam.direction(x + jx, y + jy, opt.width, opt.height);
         rays += trace_path(ctx, cam.position, d, ps, rng, L);
+        Eigen::Vector3d xyz_w[pt::kMaxWavelengths];  // (looked up once for every image)
+        for (int k = 0; k < n; ++k) xyz_w[k] = spec.xyz_weight(lambda[k]);
         for (int i = 0; i < nl * nv; ++i) {
           const double* Li = L[i / nv][i % nv];
           Eigen::Vector3d sx = Eigen::Vector3d::Zero();
           for (int k = 0; k < n; ++k)
-            if (Li[k] != 0) sx += (Li[k] * lweight[k]) * spec.xyz_weight(lambda[k]);
+            if (Li[k] != 0) sx += (Li[k] * lweight[k]) * xyz_w[k];
           if (sx.allFinite()) xyz[i][s < first_half ? 0 : 1] += sx / n;
         }
       }
