@@ -59,7 +59,7 @@ py::object render_image(const py::object& brdfs, const std::string& scene, int s
                         const py::object& obj, double uv_scale, const py::object& progress,
                         const std::string& direct, int ris_brdf_candidates,
                         int ris_light_candidates, const py::object& variants,
-                        const std::vector<double>& variant_weights) {
+                        const std::vector<double>& variant_weights, const py::object& light_sets) {
   RenderScene sc;
   sc.kind = parse_preview_scene(scene);
   if (!obj.is_none()) sc.obj_path = fspath(obj);
@@ -100,20 +100,48 @@ py::object render_image(const py::object& brdfs, const std::string& scene, int s
   o.ris_light_candidates = ris_light_candidates;
   o.variant_weights = variant_weights;
   o.progress = progress_hook<double>(progress);
-  const RenderLights l =
-      lights(sc.kind, envmap, env_scale, env_rotation, white_env, point, sphere_light, disk_light);
+  std::vector<RenderLights> sets{
+      lights(sc.kind, envmap, env_scale, env_rotation, white_env, point, sphere_light, disk_light)};
+  if (!light_sets.is_none())
+    for (auto item : light_sets.cast<py::sequence>()) {
+      const auto d = item.cast<py::dict>();
+      for (auto kv : d) {
+        const auto key = kv.first.cast<std::string>();
+        if (key != "envmap" && key != "env_scale" && key != "env_rotation" && key != "white_env" &&
+            key != "point")
+          throw py::value_error("light_sets: unknown key '" + key +
+                                "' (envmap, env_scale, env_rotation, white_env, point)");
+      }
+      auto get = [&](const char* k, py::object fallback) {
+        return d.contains(k) ? py::reinterpret_borrow<py::object>(d[k]) : fallback;
+      };
+      RenderLights extra = lights(
+          sc.kind, get("envmap", py::none()), get("env_scale", py::float_(1.0)).cast<double>(),
+          get("env_rotation", py::float_(0.0)).cast<double>(),
+          get("white_env", py::bool_(false)).cast<bool>(), get("point", py::list()), py::list(),
+          py::list());
+      sets.push_back(std::move(extra));
+    }
   auto* imgs = new std::vector<RenderImage>;
   py::capsule owner(imgs, [](void* p) { delete static_cast<std::vector<RenderImage>*>(p); });
   *imgs = call_released([&] {
-    if (variants.is_none()) return std::vector<RenderImage>{render(sc, all.front(), l, o)};
-    return render_variants(sc, all, l, o);
+    if (variants.is_none() && sets.size() == 1)
+      return std::vector<RenderImage>{render(sc, all.front(), sets.front(), o)};
+    return render_light_sets(sc, all, sets, o);
   });
   auto image = [&](const RenderImage& img) -> py::object {
     return view(img.rgb.data(), {img.height, img.width, 3}, owner);
   };
-  if (variants.is_none()) return image(imgs->front());
+  // One light set: an image or a list per variant; several: a list of those, one per set.
+  auto of_set = [&](std::size_t l) -> py::object {
+    if (variants.is_none()) return image((*imgs)[l * all.size()]);
+    py::list out;
+    for (std::size_t v = 0; v < all.size(); ++v) out.append(image((*imgs)[l * all.size() + v]));
+    return out;
+  };
+  if (light_sets.is_none()) return of_set(0);
   py::list out;
-  for (const auto& img : *imgs) out.append(image(img));
+  for (std::size_t l = 0; l < sets.size(); ++l) out.append(of_set(l));
   return out;
 }
 
@@ -197,6 +225,7 @@ void bind_render(py::module_& m) {
         py::arg("ris_brdf_candidates") = RenderOptions{}.ris_brdf_candidates,
         py::arg("ris_light_candidates") = RenderOptions{}.ris_light_candidates,
         py::arg("variants") = py::none(), py::arg("variant_weights") = std::vector<double>{},
+        py::arg("light_sets") = py::none(),
         R"(Renders a BRDF on preview objects, as `microbrdf render`; returns the image.
 
 brdf: a Brdf, or a list (one per object). scene: 'cylinders' (Dong Fig. 10) | 'plate' |
@@ -220,6 +249,12 @@ samplers, shares variant_weights, default equal): each image is an unbiased rend
 BRDF, and their noise is correlated, so differences between them are far cleaner than between
 separate renders (direct light by MIS; docs/render.md, "Variants"). Then a list of images is
 returned, `brdf`'s first.
+light_sets: further lights for the same paths, a list of dicts with the keys envmap,
+env_scale, env_rotation, white_env, point (as above; no area lights): each set has its own
+light samples and shadow rays, the paths and BRDF samples are shared, so the same object under
+two maps costs far less than two renders (direct light by MIS; docs/render.md, "Light sets").
+Then a list per set is returned (the lights given above first), each an image or, with
+variants, a list of images.
 Returns linear sRGB radiance, float32 (height, width, 3), row 0 at the top: a view on the
 renderer's buffer (no copy). Runs without the GIL; progress(fraction) is called from the
 calling thread; Ctrl-C is honoured when the image is finished.)");
