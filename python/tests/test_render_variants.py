@@ -1,8 +1,11 @@
 """mb.render(..., variants=[...]): several BRDFs along shared paths."""
+import pathlib
+
 import numpy as np
 
 import microbrdf as mb
-from conftest import ROOT
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 def _env(name):
