@@ -271,3 +271,30 @@ TEST(PathSampler, SobolDimensionOneTablesMatchTheLoop) {
   for (std::uint32_t i = 0; i < 70000; ++i)
     ASSERT_EQ(PathSampler::sobol_dim1(i), PathSampler::sobol_dim1_loop(i)) << i;
 }
+
+TEST(PathSampler, SharedPixelHashesGiveTheSameNumbers) {
+  // The pixel's request hashes made once (PixelHashes) and per sample: the same numbers, 1D and
+  // 2D requests mixed, past the cached range, for both kinds; the reversed Sobol' tables are the
+  // reversed values.
+  for (auto kind : {PathSamplerKind::Sobol, PathSamplerKind::Independent})
+    for (std::uint64_t pixel : {0ull, 5ull, 123456789ull}) {
+      microbrdf::pt::PixelHashes hashes(11, pixel);
+      for (std::uint32_t s = 0; s < 24; ++s) {
+        PathSampler a(kind, 11, pixel, s, 24), b(kind, hashes, s, 24);
+        for (int r = 0; r < 80; ++r) {
+          if ((r + s) % 3 == 0) {
+            ASSERT_EQ(a.get1d(), b.get1d()) << r;
+          } else {
+            double a1, a2, b1, b2;
+            a.get2d(a1, a2);
+            b.get2d(b1, b2);
+            ASSERT_EQ(a1, b1) << r;
+            ASSERT_EQ(a2, b2) << r;
+          }
+        }
+      }
+    }
+  for (std::uint32_t i : {0u, 1u, 2u, 77u, 0x12345678u, 0xFFFFFFFFu})
+    EXPECT_EQ(PathSampler::sobol_dim1_reversed(i),
+              PathSampler::reverse_bits(PathSampler::sobol_dim1(i)));
+}

@@ -35,16 +35,61 @@ constexpr std::uint32_t sobol_dim1_loop(std::uint32_t index) {
     if (index & 1) r ^= v;
   return r;
 }
-constexpr std::array<std::array<std::uint32_t, 256>, 4> sobol_dim1_tables() {
+constexpr std::uint32_t reverse_bits_loop(std::uint32_t x) {
+  std::uint32_t r = 0;
+  for (int k = 0; k < 32; ++k) r |= ((x >> k) & 1u) << (31 - k);
+  return r;
+}
+// reversed: the entries' bits in reverse order (reversal is linear over XOR, so the XOR of the
+// reversed entries is the reversed value).
+constexpr std::array<std::array<std::uint32_t, 256>, 4> sobol_dim1_tables(bool reversed) {
   std::array<std::array<std::uint32_t, 256>, 4> t{};
   for (int b = 0; b < 4; ++b)
-    for (std::uint32_t x = 0; x < 256; ++x) t[b][x] = sobol_dim1_loop(x << (8 * b));
+    for (std::uint32_t x = 0; x < 256; ++x) {
+      const std::uint32_t v = sobol_dim1_loop(x << (8 * b));
+      t[b][x] = reversed ? reverse_bits_loop(v) : v;
+    }
   return t;
 }
-inline constexpr auto kSobolDim1Tables = sobol_dim1_tables();
+inline constexpr auto kSobolDim1Tables = sobol_dim1_tables(false);
+inline constexpr auto kSobolDim1ReversedTables = sobol_dim1_tables(true);
 }  // namespace detail
 
 enum class PathSamplerKind { Sobol, Independent };
+
+/// The hashes of a pixel's requests, the same for all of its samples (they depend on the seed,
+/// the pixel and the request number only): made on first use and shared by the PathSamplers of
+/// the pixel's samples, which one thread traces in turn. Saves two of the three 64-bit hashes
+/// of a 2D request, which otherwise head its chain of dependent operations.
+class PixelHashes {
+ public:
+  PixelHashes(std::uint64_t seed, std::uint64_t pixel)
+      : key_(microbrdf::detail::splitmix64(
+            microbrdf::detail::splitmix64(seed * 0xD1B54A32D192ED03ull + 1) ^ pixel)) {}
+  std::uint64_t key() const { return key_; }
+  /// The hash of request r (1, 2, ...) and, for 2D requests, that of its second coordinate.
+  std::uint64_t first(std::uint64_t r) {
+    if (r >= kCached) return hash(r);
+    if (!(have_ >> r & 1)) {
+      h_[r] = hash(r);
+      h2_[r] = microbrdf::detail::splitmix64(h_[r] + 1);
+      have_ |= std::uint64_t(1) << r;
+    }
+    return h_[r];
+  }
+  std::uint64_t second(std::uint64_t r) const {  // (after first(r))
+    return r >= kCached ? microbrdf::detail::splitmix64(hash(r) + 1) : h2_[r];
+  }
+
+ private:
+  static constexpr std::uint64_t kCached = 64;
+  std::uint64_t hash(std::uint64_t r) const {
+    return microbrdf::detail::splitmix64(key_ ^ (0x9E3779B97F4A7C15ull * r));
+  }
+  std::uint64_t key_;
+  std::uint64_t have_ = 0;  // bit r: h_[r], h2_[r] are set
+  std::uint64_t h_[kCached], h2_[kCached];
+};
 
 class PathSampler {
  public:
@@ -55,10 +100,18 @@ class PathSampler {
         key_(mix(mix(seed * 0xD1B54A32D192ED03ull + 1) ^ pixel)),
         sample_(sample),
         bits_(index_bits(spp)) {}
+  /// The same numbers, with the pixel's request hashes shared with its other samples
+  /// (`hashes` made for the same seed and pixel; it must outlive the sampler).
+  PathSampler(PathSamplerKind kind, PixelHashes& hashes, std::uint32_t sample, std::uint32_t spp)
+      : kind_(kind),
+        key_(hashes.key()),
+        sample_(sample),
+        bits_(index_bits(spp)),
+        hashes_(&hashes) {}
 
   /// One uniform in [0,1).
   double get1d() {
-    const std::uint64_t h = mix(key_ ^ (0x9E3779B97F4A7C15ull * ++request_));
+    const std::uint64_t h = hash(++request_);
     if (kind_ == PathSamplerKind::Independent)
       return to_unit(std::uint32_t(mix(h ^ (std::uint64_t(sample_) << 32))));
     const std::uint32_t i = shuffle(sample_, std::uint32_t(h >> 32), bits_);
@@ -67,7 +120,7 @@ class PathSampler {
 
   /// Two uniforms in [0,1)^2 (one 2D request: stratified jointly).
   void get2d(double& u1, double& u2) {
-    const std::uint64_t h = mix(key_ ^ (0x9E3779B97F4A7C15ull * ++request_));
+    const std::uint64_t h = hash(++request_);
     if (kind_ == PathSamplerKind::Independent) {
       const std::uint64_t r = mix(h ^ (std::uint64_t(sample_) << 32));
       u1 = to_unit(std::uint32_t(r));
@@ -75,9 +128,10 @@ class PathSampler {
       return;
     }
     const std::uint32_t i = shuffle(sample_, std::uint32_t(h >> 32), bits_);
-    const std::uint64_t h2 = mix(h + 1);
+    const std::uint64_t h2 = hashes_ ? hashes_->second(request_) : mix(h + 1);
     u1 = to_unit(owen_of_reversed(i, std::uint32_t(h)));
-    u2 = to_unit(owen(sobol_dim1(i), std::uint32_t(h2)));
+    // owen(sobol_dim1(i), h2) with the first reversal in the tables
+    u2 = to_unit(reverse_bits(t_function(sobol_dim1_reversed(i), std::uint32_t(h2))));
   }
 
   // Exposed for the tests.
@@ -97,6 +151,12 @@ class PathSampler {
   /// index bits over GF(2)): no loop with a branch per index bit.
   static std::uint32_t sobol_dim1(std::uint32_t index) {
     const auto& t = detail::kSobolDim1Tables;
+    return t[0][index & 255u] ^ t[1][(index >> 8) & 255u] ^ t[2][(index >> 16) & 255u] ^
+           t[3][index >> 24];
+  }
+  /// reverse_bits(sobol_dim1(index)), from tables of reversed entries.
+  static std::uint32_t sobol_dim1_reversed(std::uint32_t index) {
+    const auto& t = detail::kSobolDim1ReversedTables;
     return t[0][index & 255u] ^ t[1][(index >> 8) & 255u] ^ t[2][(index >> 16) & 255u] ^
            t[3][index >> 24];
   }
@@ -134,6 +194,9 @@ class PathSampler {
     return x;
   }
   static std::uint64_t mix(std::uint64_t z) { return microbrdf::detail::splitmix64(z); }
+  std::uint64_t hash(std::uint64_t r) const {
+    return hashes_ ? hashes_->first(r) : mix(key_ ^ (0x9E3779B97F4A7C15ull * r));
+  }
   static double to_unit(std::uint32_t x) { return double(x) * 0x1.0p-32; }
   // m for the smallest 2^m >= spp: the shuffled indices stay inside the first block of 2^m
   // points, which is a (0,m,2)-net (an index bit k moves the leading output bits of the second
@@ -149,6 +212,7 @@ class PathSampler {
   std::uint32_t sample_;
   int bits_;
   std::uint64_t request_ = 0;
+  PixelHashes* hashes_ = nullptr;
 };
 
 }  // namespace microbrdf::pt

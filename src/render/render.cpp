@@ -515,8 +515,9 @@ std::vector<RenderImage> render_light_sets(
       const std::uint64_t pixel = std::uint64_t(y) * opt.width + x;
       Eigen::Vector3d xyz[kMaxSets * kMaxRenderVariants][2];
       for (int i = 0; i < nl * nv; ++i) xyz[i][0] = xyz[i][1] = Eigen::Vector3d::Zero();
+      pt::PixelHashes hashes(opt.seed, pixel);  // (shared by the pixel's samples)
       for (int s = 0; s < opt.spp; ++s) {
-        pt::PathSampler rng(kind, opt.seed, pixel, std::uint32_t(s), std::uint32_t(opt.spp));
+        pt::PathSampler rng(kind, hashes, std::uint32_t(s), std::uint32_t(opt.spp));
         double jx, jy;
         rng.get2d(jx, jy);
         double lambda[pt::kMaxWavelengths];
