@@ -48,6 +48,8 @@ void write_png(const std::string& path, const RgbImage& image) {
     png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
                  static_cast<png_uint_32>(image.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    // zlib level 3 instead of libpng's 6: a third of the CPU, files a few per cent larger.
+    png_set_compression_level(png, 3);
     png_write_info(png, info);
     for (std::size_t y = 0; y < image.height; ++y)
       png_write_row(png, const_cast<png_bytep>(&image.pixels[y * image.width * 3]));
