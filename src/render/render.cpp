@@ -66,6 +66,7 @@ struct PathContext {
   const double* mix_weight;  ///< per variant, its share of the BRDF-sampling mixture
   const double* mix_cdf;     ///< running sums of mix_weight (the last is 1)
   bool ris;                  ///< direct light by resampling (direct_light_used)
+  bool dark;                 ///< no set has environment light: an escaping ray carries nothing
 };
 
 /// The direct-light estimator a render really uses (trace_path and the settings line): resampled
@@ -135,6 +136,9 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       for (int k = 0; k < n; ++k) L[l][v][k] += T[v][k] * w * e[k];
   };
 
+  pt::ShadingPoint next_sp;  // the next ray's hit when it was traced early (have_next)
+  double next_t = -1;
+  bool have_next = false;
   const pt::SpectralMaterial* mat[kMaxRenderVariants];
   pt::SpectralMaterial::Wavelengths* wl_consts[kMaxRenderVariants];
   pt::SpectralMaterial::View view[kMaxRenderVariants];
@@ -158,8 +162,15 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     for (int l = 0; l < nl; ++l)
       env_pixel[l] = after_ris ? std::pair<int, int>{-1, -1} : c.sets[l]->prefetch_env(d);
     pt::ShadingPoint sp;
-    ++rays;
-    const double t = c.geo.intersect(o, d, 1e30, sp);
+    double t;
+    if (have_next) {  // (traced before the throughputs were updated, below)
+      sp = next_sp;
+      t = next_t;
+      have_next = false;
+    } else {
+      ++rays;
+      t = c.geo.intersect(o, d, 1e30, sp);
+    }
     pending.resolve(t, n, L[0][0]);
     const pt::LightHit lh = lights0.hit_area(o, d, t > 0 ? t : 1e30);  // (one set only)
     if (lh.t > 0) {
@@ -290,6 +301,18 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
           T[v][k] = v == pick ? T[v][k] * s.weight[k] / c.mix_weight[pick] : 0.0;
       prev_pdf = 0;
     } else {
+      // Without environment light a direction that meets neither geometry nor an area light
+      // carries nothing further (most continuations off the plate under its small light):
+      // trace it first, and only then pay for the other variants' BRDF values. The hit is kept
+      // for the next bounce, so the images are the same.
+      if (c.dark) {
+        const V3 dn = sp.to_world(wl).normalized();
+        if (dn.dot(sp.ng) <= 0) return rays;  // (as below)
+        ++rays;
+        next_t = c.geo.intersect(origin, dn, 1e30, next_sp);
+        if (next_t < 0 && !(lights0.hit_area(origin, dn, 1e30).t > 0)) return rays;
+        have_next = true;
+      }
       // f_v cos / p_mix for every variant, p_mix = sum_v w_v p_v(wl): the density with which
       // the mixture drew wl (the drawing sampler's own f cos is its weight times its pdf).
       double fc[kMaxRenderVariants][pt::kMaxWavelengths], p_mix = 0;
@@ -485,8 +508,11 @@ std::vector<RenderImage> render_light_sets(
   for (int v = 0; v < nv; ++v)
     for (const auto& m : variants[v]) mats[v].emplace_back(m);
   const DirectLight direct = direct_light_used(opt, ls, nv, nl);
-  const PathContext ctx{geo,        set_ptrs.data(),           nl, mats, opt, spec, mix.data(),
-                        cdf.data(), direct == DirectLight::Ris};
+  bool dark = true;
+  for (const auto* s : set_ptrs) dark &= s->env() == nullptr;
+  const PathContext ctx{
+      geo, set_ptrs.data(), nl, mats, opt, spec, mix.data(), cdf.data(), direct == DirectLight::Ris,
+      dark};
   const Eigen::Matrix3d to_rgb = xyz_to_linear_srgb_matrix();
 
   std::vector<RenderImage> imgs(nl * nv);  // light set l, variant v at l * nv + v
