@@ -115,6 +115,55 @@ void BM_RenderStrip(benchmark::State& state) {
 }
 BENCHMARK(BM_RenderStrip)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// predict's studio view: the strip's pass under the courtyard (the four variants of
+// BM_RenderStrip) and the measured NDF under the studio map at half the size with 4x the
+// samples. Arg 0: the pass and a separate studio render (the yardstick, same run); arg 1: one
+// render_light_sets pass with the studio as a second light set at the full size (predict then
+// averages 2 x 2 pixels: the same image in distribution). CPU seconds per set.
+void BM_RenderStudioSet(benchmark::State& state) {
+  RenderScene sc;
+  sc.kind = PreviewScene::Cylinders;
+  auto f = std::make_shared<ConductorFresnel>(metal("SS-austenitic"));
+  auto uniform = [&](std::shared_ptr<const MicrofacetDistribution> d) {
+    return std::vector<std::shared_ptr<const Svbrdf>>{
+        std::make_shared<UniformSvbrdf>(std::make_shared<MicrofacetBrdf>(std::move(d), f))};
+  };
+  const std::vector<std::vector<std::shared_ptr<const Svbrdf>>> variants = {
+      {material(true)},
+      uniform(std::make_shared<EllipsoidDistribution>(EllipsoidParams{0.006, 0.13})),
+      uniform(std::make_shared<BeckmannDistribution>(0.0075, 0.15)),
+      uniform(std::make_shared<GgxDistribution>(0.006, 0.12))};
+  RenderLights studio;
+  studio.envmap_path = std::string(MICROBRDF_DATA) + "/envmaps/blender_studio.exr";
+  RenderOptions o;
+  o.width = o.height = 256;
+  o.spp = kSpp;
+  o.threads = kThreads;
+  o.direct = DirectLight::Mis;
+  o.wavelengths = 4;  // as predict
+  o.variant_weights = {3, 1, 1, 1};
+  RenderOptions half = o;
+  half.width = half.height = 128;
+  half.spp = 4 * kSpp;
+  half.variant_weights.clear();
+  const bool shared = state.range(0) != 0;
+  const double c0 = cpu_seconds();
+  for (auto _ : state) {
+    if (shared) {
+      benchmark::DoNotOptimize(
+          render_light_sets(sc, variants, {courtyard(), studio}, o).back().rgb.data());
+    } else {
+      benchmark::DoNotOptimize(render_variants(sc, variants, courtyard(), o).back().rgb.data());
+      benchmark::DoNotOptimize(render(sc, variants.front(), studio, half).rgb.data());
+    }
+  }
+  state.counters["cpu_s_per_set"] = (cpu_seconds() - c0) / double(state.iterations());
+  state.SetLabel(std::string(shared ? "one pass, two light sets" : "strip pass + studio render") +
+                 ": tabulated Beckmann 0.007/0.14 + three fits, SS, courtyard and studio, "
+                 "256x256x4 (studio 128x128x16), 2 threads");
+}
+BENCHMARK(BM_RenderStudioSet)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // The reference: the same camera rays (jittered, same count), closest hit only.
 void BM_EmbreePrimaryRays(benchmark::State& state) {
   RenderScene sc;

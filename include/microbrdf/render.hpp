@@ -180,16 +180,19 @@ std::vector<RenderImage> render_variants(
     const std::vector<std::vector<std::shared_ptr<const Svbrdf>>>& variants,
     const RenderLights& lights, const RenderOptions& options);
 
-/// render_variants under several light sets at once ("light sets": e.g. the same object under
-/// two environment maps): the camera rays, the BRDF-sampled directions and every variant's
-/// throughput are shared, and each light set has its own light samples, shadow rays and
-/// emission, combined with the (mixture) BRDF density by the power heuristic. Each image is an
-/// unbiased estimate of what render() gives for that variant under that set alone, at the cost
-/// of one path plus one light sample and shadow ray per extra set and bounce. Returns
-/// light_sets.size() x variants.size() images, image l * variants.size() + v for set l and
-/// variant v. 1..kMaxRenderLightSets sets; with several, environment maps and point lights
-/// only (InputError for sphere or disk lights, on which a path would end in one set only) and
-/// MIS for direct light. With one set this is render_variants bit for bit.
+/// render_variants plus the first variant under further light sets ("light sets": e.g. a
+/// measured BRDF and its fits under the courtyard map, and the measured BRDF also under the
+/// studio map): the camera rays, the BRDF-sampled directions and every variant's throughput
+/// are shared. The first set lights every variant as render_variants does; each further set
+/// lights the first variant only, with its own light sample and shadow ray per bounce and its
+/// own emission, weighted by the power heuristic against w_0 p_0 (the first variant's share of
+/// the mixture that draws the directions; the two techniques' weights still sum to 1 wherever
+/// either can draw, so the image is unbiased). Returns variants.size() images for the first
+/// set, then one per further set (image variants.size() + l - 1 for set l). An extra set costs
+/// a light sample, the first variant's BRDF value and a shadow ray per bounce, not a path.
+/// 1..kMaxRenderLightSets sets; with several, environment maps and point lights only
+/// (InputError for sphere or disk lights, on which a path would end in one set only) and MIS
+/// for direct light. With one set this is render_variants bit for bit.
 std::vector<RenderImage> render_light_sets(
     const RenderScene& scene,
     const std::vector<std::vector<std::shared_ptr<const Svbrdf>>>& variants,

@@ -115,11 +115,11 @@ py::object render_image(const py::object& brdfs, const std::string& scene, int s
       auto get = [&](const char* k, py::object fallback) {
         return d.contains(k) ? py::reinterpret_borrow<py::object>(d[k]) : fallback;
       };
-      RenderLights extra = lights(
-          sc.kind, get("envmap", py::none()), get("env_scale", py::float_(1.0)).cast<double>(),
-          get("env_rotation", py::float_(0.0)).cast<double>(),
-          get("white_env", py::bool_(false)).cast<bool>(), get("point", py::list()), py::list(),
-          py::list());
+      RenderLights extra = lights(sc.kind, get("envmap", py::none()),
+                                  get("env_scale", py::float_(1.0)).cast<double>(),
+                                  get("env_rotation", py::float_(0.0)).cast<double>(),
+                                  get("white_env", py::bool_(false)).cast<bool>(),
+                                  get("point", py::list()), py::list(), py::list());
       sets.push_back(std::move(extra));
     }
   auto* imgs = new std::vector<RenderImage>;
@@ -132,16 +132,20 @@ py::object render_image(const py::object& brdfs, const std::string& scene, int s
   auto image = [&](const RenderImage& img) -> py::object {
     return view(img.rgb.data(), {img.height, img.width, 3}, owner);
   };
-  // One light set: an image or a list per variant; several: a list of those, one per set.
-  auto of_set = [&](std::size_t l) -> py::object {
-    if (variants.is_none()) return image((*imgs)[l * all.size()]);
-    py::list out;
-    for (std::size_t v = 0; v < all.size(); ++v) out.append(image((*imgs)[l * all.size() + v]));
-    return out;
-  };
-  if (light_sets.is_none()) return of_set(0);
+  // One light set: an image or a list per variant; several: that, then one image per further
+  // set (the first BRDF under it).
+  py::object first;
+  if (variants.is_none()) {
+    first = image(imgs->front());
+  } else {
+    py::list per_variant;
+    for (std::size_t v = 0; v < all.size(); ++v) per_variant.append(image((*imgs)[v]));
+    first = per_variant;
+  }
+  if (light_sets.is_none()) return first;
   py::list out;
-  for (std::size_t l = 0; l < sets.size(); ++l) out.append(of_set(l));
+  out.append(first);
+  for (std::size_t l = 1; l < sets.size(); ++l) out.append(image((*imgs)[all.size() + l - 1]));
   return out;
 }
 
@@ -249,12 +253,12 @@ samplers, shares variant_weights, default equal): each image is an unbiased rend
 BRDF, and their noise is correlated, so differences between them are far cleaner than between
 separate renders (direct light by MIS; docs/render.md, "Variants"). Then a list of images is
 returned, `brdf`'s first.
-light_sets: further lights for the same paths, a list of dicts with the keys envmap,
-env_scale, env_rotation, white_env, point (as above; no area lights): each set has its own
-light samples and shadow rays, the paths and BRDF samples are shared, so the same object under
-two maps costs far less than two renders (direct light by MIS; docs/render.md, "Light sets").
-Then a list per set is returned (the lights given above first), each an image or, with
-variants, a list of images.
+light_sets: further lights for `brdf` along the same paths, a list of dicts with the keys
+envmap, env_scale, env_rotation, white_env, point (as above; no area lights): each set has its
+own light samples and shadow rays, the paths and BRDF samples are shared, so the same object
+under two maps costs far less than two renders (direct light by MIS; docs/render.md, "Light
+sets"). Then a list is returned: what the lights above give (an image, or with variants a list
+of images), then `brdf`'s image under each further set.
 Returns linear sRGB radiance, float32 (height, width, 3), row 0 at the top: a view on the
 renderer's buffer (no copy). Runs without the GIL; progress(fraction) is called from the
 calling thread; Ctrl-C is honoured when the image is finished.)");

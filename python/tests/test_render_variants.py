@@ -58,10 +58,11 @@ def test_light_sets_share_paths_and_each_estimates_its_own_render():
         alone = mb.render(b[0], envmap=_env(name), **kw)
         assert img.shape == alone.shape == (16, 16, 3)
         np.testing.assert_allclose(img.mean(axis=(0, 1)), alone.mean(axis=(0, 1)), rtol=0.015)
-    # With variants: a list of images per set.
+    # With variants: the variants' images under the first lights, then the first BRDF's under
+    # each further set.
     both = mb.render(b[0], variants=b[1:2], light_sets=[{"white_env": True}], size=8, spp=2,
                      threads=1)
-    assert len(both) == 2 and all(len(v) == 2 for v in both)
+    assert len(both) == 2 and len(both[0]) == 2 and both[1].shape == (8, 8, 3)
     try:
         mb.render(b[0], light_sets=[{"envmap_path": "x.exr"}], size=8, spp=1)
     except ValueError as e:

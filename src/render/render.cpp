@@ -115,6 +115,9 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
   std::uint64_t rays = 0;
   bool specular = true;  // camera ray or a delta bounce: emission counts fully
   double prev_pdf = 0;   // BRDF-sampling (mixture) density of the current ray direction
+  // The first variant's part of it, w_0 p_0: the BRDF density in the MIS weights of the light
+  // sets after the first, which light the first variant only (render_light_sets).
+  double prev_q = 0;
   const bool use_nee = c.opt.mis != MisMode::BrdfOnly;
   const bool use_brdf_emission = c.opt.mis != MisMode::LightOnly;
   // Resampled direct light where the material allows (direct_light_used); its continuation then
@@ -127,12 +130,12 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     double w = 1;
     if (!specular) {
       if (!use_brdf_emission || after_ris) return;
-      if (use_nee) w = power_heuristic(prev_pdf, light_pdf);
+      if (use_nee) w = power_heuristic(l == 0 ? prev_pdf : prev_q, light_pdf);
     }
     if (!(w > 0)) return;
     double e[pt::kMaxWavelengths];  // (once for every variant)
     for (int k = 0; k < n; ++k) e[k] = ps.upsample(rgb, k);
-    for (int v = 0; v < nv; ++v)
+    for (int v = 0; v < (l == 0 ? nv : 1); ++v)
       for (int k = 0; k < n; ++k) L[l][v][k] += T[v][k] * w * e[k];
   };
 
@@ -211,7 +214,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     }
     const V3 origin = sp.p + eps * sp.ng;
 
-    // Next-event estimation, per light set.
+    // Next-event estimation, per light set: the first set for every variant, the others for
+    // the first variant only.
     const bool ris = use_ris && nee;
     for (int l = 0; nee && !ris && l < nl; ++l) {
       if (auto ls = c.sets[l]->sample(origin, nee_u[l][0], nee_u[l][1])) {
@@ -222,7 +226,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
           double f[kMaxRenderVariants][pt::kMaxWavelengths], pdf[kMaxRenderVariants];
           bool reflects[kMaxRenderVariants], any = false;
           const bool mis = !ls->delta && c.opt.mis == MisMode::Mis;
-          for (int v = 0; v < nv; ++v) {
+          const int lit = l == 0 ? nv : 1;  // the variants this set lights
+          for (int v = 0; v < lit; ++v) {
             pdf[v] = 0;
             // (a variant that never draws needs no density)
             reflects[v] = mat[v]->eval(sp.u, sp.v, view[v], wl, *wl_consts[v], f[v],
@@ -232,8 +237,11 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
           if (any) {
             // The BRDF technique's density here: with variants, the mixture's, which needs
             // every sampler's density, also where its own f is 0.
-            double brdf_pdf = pdf[0];
-            if (nv > 1 && mis) {
+            // The other sets weigh their light sample against w_0 p_0 alone (prev_q): they
+            // need no other variant's density, and the weights of the two techniques still
+            // sum to 1 wherever the first variant's sampler or the light's can draw.
+            double brdf_pdf = l == 0 ? pdf[0] : c.mix_weight[0] * pdf[0];
+            if (l == 0 && nv > 1 && mis) {
               brdf_pdf = 0;
               for (int v = 0; v < nv; ++v)
                 if (c.mix_weight[v] > 0)
@@ -251,7 +259,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
               const double scale = w * wl.z() / ls->pdf;
               double e[pt::kMaxWavelengths];  // (once for every variant)
               for (int k = 0; k < n; ++k) e[k] = ps.upsample(ls->rgb, k);
-              for (int v = 0; v < nv; ++v)
+              for (int v = 0; v < lit; ++v)
                 if (reflects[v])
                   for (int k = 0; k < n; ++k)
                     if (f[v][k] != 0) L[l][v][k] += T[v][k] * f[v][k] * scale * e[k];
@@ -293,13 +301,13 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     const V3 wl = s.wo;
     if (nv == 1) {
       for (int k = 0; k < n; ++k) T[0][k] *= s.weight[k];
-      prev_pdf = s.pdf;
+      prev_pdf = prev_q = s.pdf;
     } else if (s.delta) {
       // A delta lobe carries only the variant that drew it, chosen with its mixture weight.
       for (int v = 0; v < nv; ++v)
         for (int k = 0; k < n; ++k)
           T[v][k] = v == pick ? T[v][k] * s.weight[k] / c.mix_weight[pick] : 0.0;
-      prev_pdf = 0;
+      prev_pdf = prev_q = 0;
     } else {
       // Without environment light a direction that meets neither geometry nor an area light
       // carries nothing further (most continuations off the plate under its small light):
@@ -316,9 +324,11 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       // f_v cos / p_mix for every variant, p_mix = sum_v w_v p_v(wl): the density with which
       // the mixture drew wl (the drawing sampler's own f cos is its weight times its pdf).
       double fc[kMaxRenderVariants][pt::kMaxWavelengths], p_mix = 0;
+      prev_q = 0;
       for (int v = 0; v < nv; ++v) {
         if (v == pick) {
           p_mix += c.mix_weight[v] * s.pdf;
+          if (v == 0) prev_q = c.mix_weight[0] * s.pdf;
           for (int k = 0; k < n; ++k) fc[v][k] = s.weight[k] * s.pdf;
           continue;
         }
@@ -328,6 +338,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
             draws)
           p = mat[v]->sampling_pdf(sp.u, sp.v, view[v], wl);
         p_mix += c.mix_weight[v] * p;
+        if (v == 0) prev_q = c.mix_weight[0] * p;
         for (int k = 0; k < n; ++k) fc[v][k] *= wl.z();
       }
       if (!(p_mix > 0 && std::isfinite(p_mix))) return rays;
@@ -515,7 +526,11 @@ std::vector<RenderImage> render_light_sets(
       dark};
   const Eigen::Matrix3d to_rgb = xyz_to_linear_srgb_matrix();
 
-  std::vector<RenderImage> imgs(nl * nv);  // light set l, variant v at l * nv + v
+  // Every variant under the first light set, then the first variant under each other set.
+  const int ni = nv + nl - 1;
+  auto set_of = [nv](int i) { return i < nv ? 0 : i - nv + 1; };
+  auto variant_of = [nv](int i) { return i < nv ? i : 0; };
+  std::vector<RenderImage> imgs(ni);
   const std::size_t values = std::size_t(opt.width) * opt.height * 3;
   const bool halves = opt.half_images;
   for (auto& img : imgs) {
@@ -539,8 +554,8 @@ std::vector<RenderImage> render_light_sets(
   for (int y = 0; y < opt.height; ++y) {
     for (int x = 0; x < opt.width; ++x) {
       const std::uint64_t pixel = std::uint64_t(y) * opt.width + x;
-      Eigen::Vector3d xyz[kMaxSets * kMaxRenderVariants][2];
-      for (int i = 0; i < nl * nv; ++i) xyz[i][0] = xyz[i][1] = Eigen::Vector3d::Zero();
+      Eigen::Vector3d xyz[kMaxSets + kMaxRenderVariants][2];
+      for (int i = 0; i < ni; ++i) xyz[i][0] = xyz[i][1] = Eigen::Vector3d::Zero();
       pt::PixelHashes hashes(opt.seed, pixel);  // (shared by the pixel's samples)
       for (int s = 0; s < opt.spp; ++s) {
         pt::PathSampler rng(kind, hashes, std::uint32_t(s), std::uint32_t(opt.spp));
@@ -563,15 +578,15 @@ std::vector<RenderImage> render_light_sets(
         rays += trace_path(ctx, cam.position, d, ps, rng, L);
         Eigen::Vector3d xyz_w[pt::kMaxWavelengths];  // (looked up once for every image)
         for (int k = 0; k < n; ++k) xyz_w[k] = spec.xyz_weight(lambda[k]);
-        for (int i = 0; i < nl * nv; ++i) {
-          const double* Li = L[i / nv][i % nv];
+        for (int i = 0; i < ni; ++i) {
+          const double* Li = L[set_of(i)][variant_of(i)];
           Eigen::Vector3d sx = Eigen::Vector3d::Zero();
           for (int k = 0; k < n; ++k)
             if (Li[k] != 0) sx += (Li[k] * lweight[k]) * xyz_w[k];
           if (sx.allFinite()) xyz[i][s < first_half ? 0 : 1] += sx / n;
         }
       }
-      for (int v = 0; v < nl * nv; ++v) {
+      for (int v = 0; v < ni; ++v) {
         RenderImage& img = imgs[v];
         const Eigen::Vector3d rgb = to_rgb * ((xyz[v][0] + xyz[v][1]) / opt.spp);
         for (int ch = 0; ch < 3; ++ch) img.rgb[pixel * 3 + ch] = float(rgb[ch]);
@@ -589,12 +604,13 @@ std::vector<RenderImage> render_light_sets(
   if (opt.progress) opt.progress(1.0);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  for (int i = 0; i < nl * nv; ++i) {
+  for (int i = 0; i < ni; ++i) {
     RenderImage& img = imgs[i];
     img.seconds = seconds;
     img.samples_per_second = double(opt.width) * opt.height * opt.spp / std::max(seconds, 1e-9);
     img.rays = rays;
-    img.settings = settings_line(scene, variants[i % nv], light_sets[i / nv], opt, nv, nl, direct);
+    img.settings =
+        settings_line(scene, variants[variant_of(i)], light_sets[set_of(i)], opt, nv, nl, direct);
   }
   return imgs;
 }

@@ -130,8 +130,8 @@ std::string studio_beside(const std::string& envmap) {
 // are two halves of one scrambled sequence, slightly anti-correlated, so this errs high (it is
 // the noise two independent half-sample renders would show). At one sample per pixel the image
 // is rendered again with seed + 1 and (Y_2 - Y_1) / sqrt 2 is used.
-// With `extra_lights`, those light sets too, along the same paths (render_light_sets): the
-// images of set l and variant v at l * variants.size() + v, the noise of the first.
+// With `extra_lights`, the first variant under those light sets too, along the same paths
+// (render_light_sets; their images after the variants'), the noise of the first image.
 std::vector<RenderImage> render_split(
     const PredictScene& scene,
     const std::vector<std::vector<std::shared_ptr<const Svbrdf> > >& variants,
@@ -287,7 +287,7 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
       std::vector<RenderImage> imgs = render_split(j.scene, variants, ro, noise, extra);
       const std::size_t nv = variants.size();
       for (std::size_t i = 0; i < riders.size(); ++i)
-        shared_images[riders[i]->key] = half_size(imgs[(i + 1) * nv]);  // its measured NDF
+        shared_images[riders[i]->key] = half_size(imgs[nv + i]);  // the measured NDF under it
       img = std::move(imgs.front());
       model_images.assign(std::make_move_iterator(imgs.begin() + 1),
                           std::make_move_iterator(imgs.begin() + static_cast<long>(nv)));

@@ -127,8 +127,8 @@ double auto_exposure_stops(const RenderImage& img);
 /// of the first variant's own Monte Carlo noise in linear luminance, k (Y_A - Y_B) with Y_A,
 /// Y_B its images of the first floor(spp/2) and the remaining samples and
 /// k = sqrt(nA nB) / spp (at spp = 1: a second render with seed + 1, and (Y_2 - Y_1) / sqrt 2).
-/// With `extra_lights`, also under those light sets along the same paths (render_light_sets):
-/// the images of set l (0 = scene.lights) and variant v at l * variants.size() + v.
+/// With `extra_lights`, the first variant also under those light sets along the same paths
+/// (render_light_sets): their images follow the variants', one per set.
 std::vector<RenderImage> render_split(
     const PredictScene& scene,
     const std::vector<std::vector<std::shared_ptr<const Svbrdf> > >& variants,
