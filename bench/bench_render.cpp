@@ -75,6 +75,20 @@ void BM_RenderCylinders(benchmark::State& state) {
 }
 BENCHMARK(BM_RenderCylinders)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The comparison strip's materials: a 1025^2 tabulated Beckmann (0.007, 0.14) and ellipsoid,
+// Beckmann and GGX fits of it, stainless steel.
+std::vector<std::vector<std::shared_ptr<const Svbrdf>>> strip_variants() {
+  auto f = std::make_shared<ConductorFresnel>(metal("SS-austenitic"));
+  auto uniform = [&](std::shared_ptr<const MicrofacetDistribution> d) {
+    return std::vector<std::shared_ptr<const Svbrdf>>{
+        std::make_shared<UniformSvbrdf>(std::make_shared<MicrofacetBrdf>(std::move(d), f))};
+  };
+  return {{material(true)},
+          uniform(std::make_shared<EllipsoidDistribution>(EllipsoidParams{0.006, 0.13})),
+          uniform(std::make_shared<BeckmannDistribution>(0.0075, 0.15)),
+          uniform(std::make_shared<GgxDistribution>(0.006, 0.12))};
+}
+
 // The comparison strip of `predict`: a measured (tabulated) NDF and three analytic fits of it on
 // the cylinder pair. Arg 0: four separate renders (the yardstick, same run); arg 1: one
 // render_variants pass with the weights predict uses (the tabulated NDF half of the draws).
@@ -82,16 +96,7 @@ BENCHMARK(BM_RenderCylinders)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Us
 void BM_RenderStrip(benchmark::State& state) {
   RenderScene sc;
   sc.kind = PreviewScene::Cylinders;
-  auto f = std::make_shared<ConductorFresnel>(metal("SS-austenitic"));
-  auto uniform = [&](std::shared_ptr<const MicrofacetDistribution> d) {
-    return std::vector<std::shared_ptr<const Svbrdf>>{
-        std::make_shared<UniformSvbrdf>(std::make_shared<MicrofacetBrdf>(std::move(d), f))};
-  };
-  const std::vector<std::vector<std::shared_ptr<const Svbrdf>>> variants = {
-      {material(true)},
-      uniform(std::make_shared<EllipsoidDistribution>(EllipsoidParams{0.006, 0.13})),
-      uniform(std::make_shared<BeckmannDistribution>(0.0075, 0.15)),
-      uniform(std::make_shared<GgxDistribution>(0.006, 0.12))};
+  const auto variants = strip_variants();
   const auto lights = courtyard();
   RenderOptions o;
   o.width = o.height = 256;
@@ -123,16 +128,7 @@ BENCHMARK(BM_RenderStrip)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRea
 void BM_RenderStudioSet(benchmark::State& state) {
   RenderScene sc;
   sc.kind = PreviewScene::Cylinders;
-  auto f = std::make_shared<ConductorFresnel>(metal("SS-austenitic"));
-  auto uniform = [&](std::shared_ptr<const MicrofacetDistribution> d) {
-    return std::vector<std::shared_ptr<const Svbrdf>>{
-        std::make_shared<UniformSvbrdf>(std::make_shared<MicrofacetBrdf>(std::move(d), f))};
-  };
-  const std::vector<std::vector<std::shared_ptr<const Svbrdf>>> variants = {
-      {material(true)},
-      uniform(std::make_shared<EllipsoidDistribution>(EllipsoidParams{0.006, 0.13})),
-      uniform(std::make_shared<BeckmannDistribution>(0.0075, 0.15)),
-      uniform(std::make_shared<GgxDistribution>(0.006, 0.12))};
+  const auto variants = strip_variants();
   RenderLights studio;
   studio.envmap_path = std::string(MICROBRDF_DATA) + "/envmaps/blender_studio.exr";
   RenderOptions o;
