@@ -16,6 +16,7 @@
 #include "microbrdf/tabulated_distribution.hpp"
 #include "render/distribution2d.hpp"
 #include "render/envmap.hpp"
+#include "render/path_sampler.hpp"
 #include "render/scene.hpp"
 
 using namespace microbrdf;
@@ -285,5 +286,37 @@ void BM_EnvmapDrawBinarySearch(benchmark::State& state) {
   state.SetLabel("reference: binary searches, separate density and radiance arrays");
 }
 BENCHMARK(BM_EnvmapDrawBinarySearch)->Unit(benchmark::kMillisecond);
+
+// The renderer's random numbers: 2D requests of 32-sample pixels (8 per path, one thread), each
+// sampler hashing its own requests (arg 0: how every path drew before, the yardstick) or the
+// pixel's hashes shared by its samples (arg 1: PixelHashes, what render does). The same numbers
+// either way (tests/test_path_sampler.cpp); the counter is nanoseconds per 2D request.
+void BM_PathSampler2d(benchmark::State& state) {
+  const bool shared = state.range(0) != 0;
+  constexpr int kPixels = 1 << 14, kRequests = 8, kPerPixel = 32;
+  double sum = 0;
+  const double c0 = cpu_seconds();
+  for (auto _ : state) {
+    for (int p = 0; p < kPixels; ++p) {
+      pt::PixelHashes hashes(1, std::uint64_t(p));
+      for (std::uint32_t s = 0; s < kPerPixel; ++s) {
+        pt::PathSampler r =
+            shared ? pt::PathSampler(pt::PathSamplerKind::Sobol, hashes, s, kPerPixel)
+                   : pt::PathSampler(pt::PathSamplerKind::Sobol, 1, std::uint64_t(p), s, kPerPixel);
+        for (int k = 0; k < kRequests; ++k) {
+          double u1, u2;
+          r.get2d(u1, u2);
+          sum += u1 + u2;
+        }
+      }
+    }
+  }
+  benchmark::DoNotOptimize(sum);
+  state.counters["ns_per_request"] =
+      (cpu_seconds() - c0) * 1e9 / (double(state.iterations()) * kPixels * kPerPixel * kRequests);
+  state.counters["checksum"] = sum / double(state.iterations());
+  state.SetLabel(shared ? "pixel hashes shared by its samples" : "each sample hashes its own");
+}
+BENCHMARK(BM_PathSampler2d)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
