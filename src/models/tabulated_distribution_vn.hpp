@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/tabulated_distribution.hpp"
 #include "microbrdf/tabulated_ndf.hpp"
 
 namespace microbrdf::detail {
@@ -38,20 +39,33 @@ class VisibleNormalTables {
  public:
   VisibleNormalTables(const TabulatedNdf& t, std::size_t coarse, std::size_t theta_steps,
                       std::size_t phi_steps, double defensive);
+  using Mix = TabulatedViewMix;
   /// u1, u2 uniform in [0,1). A unit m with m_z > 0.
-  Vec3 sample(const Vec3& v, double u1, double u2) const;
+  Vec3 sample(const Vec3& v, double u1, double u2) const { return sample(mix(v), u1, u2); }
+  /// The same for x = view_mix(v).
+  Vec3 sample(const Mix& x, double u1, double u2) const;
   /// Density of sample(v, ...) per steradian of m.
   double pdf(const Vec3& v, const Vec3& m) const;
+  /// The same from the view's mix and pdf's own table look-up: e = eval_disk(m_x/|m|, m_y/|m|)
+  /// > 0 in cell (cx, cy), mz = m_z / |m|.
+  double pdf_at(const Mix& x, std::size_t cx, std::size_t cy, double e, double mz) const {
+    const std::size_t c = coarse_of(cx, cy);
+    if (!(mass_[c] > 0)) return 0.0;
+    return coarse_probability(x, c) * e / mass_[c] * mz;
+  }
+  /// Hints the memory pdf_at(x, cx, cy, ...) reads.
+  void prefetch(const Mix& x, std::size_t cx, std::size_t cy) const;
+  /// The view tables' weights for v (the memo-free mix).
+  Mix view_mix(const Vec3& v) const { return mix_uncached(v); }
   /// Sum of the interpolant's masses inside the disk (Z).
   double total_mass() const { return total_; }
   std::size_t memory_bytes() const;
   std::size_t coarse() const { return nc_; }
 
  private:
-  struct Mix {
-    std::size_t table[4];
-    double w[4];  // (1 - eps) w_k; component 4 is the defensive Q with weight eps
-  };
+  std::size_t coarse_of(std::size_t cx, std::size_t cy) const {
+    return (cy * nc_ / cells_) * nc_ + cx * nc_ / cells_;
+  }
   Mix mix(const Vec3& v) const;  // with a per-thread memo of the last v
   Mix mix_uncached(const Vec3& v) const;
   double coarse_probability(const Mix& x, std::size_t c) const;
