@@ -4,6 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "core/bilinear_cell.hpp"
 #include "microbrdf/error.hpp"
@@ -15,15 +19,65 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxTries = 256;  // redraws inside one rim cell before giving up
 
-// detail::pick (the same index and numbers) after asking for every cache line of the CDF at
-// once: the binary search's loads depend on each other, the prefetches do not, so a CDF out of
-// the caches costs about one memory latency instead of one per halving step.
+// The number of entries <= u of a CDF: for a non-decreasing one, std::upper_bound's index.
+// Every entry is compared (SSE2: four floats or two doubles per instruction): the loads do not
+// depend on each other, so a CDF out of the caches costs about one memory latency, where the
+// binary search waits for each halving step's load and mispredicts about every other branch.
+inline std::size_t count_le(const float* a, std::size_t n, double u) {
+  // entry <= u  <=>  entry <= the largest float <= u (entries are floats)
+  float f = static_cast<float>(u);
+  if (static_cast<double>(f) > u) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  std::size_t i = 0, c = 0;
+#ifdef __SSE2__
+  const __m128 vf = _mm_set1_ps(f);
+  __m128i acc = _mm_setzero_si128();
+  for (; i + 4 <= n; i += 4)  // (a true lane is -1)
+    acc = _mm_sub_epi32(acc, _mm_castps_si128(_mm_cmple_ps(_mm_loadu_ps(a + i), vf)));
+  alignas(16) std::uint32_t lanes[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), acc);
+  c = std::size_t{lanes[0]} + lanes[1] + lanes[2] + lanes[3];
+#endif
+  for (; i < n; ++i) c += a[i] <= f;
+  return c;
+}
+
+inline std::size_t count_le(const double* a, std::size_t n, double u) {
+  std::size_t i = 0, c = 0;
+#ifdef __SSE2__
+  const __m128d vu = _mm_set1_pd(u);
+  __m128i acc = _mm_setzero_si128();
+  for (; i + 2 <= n; i += 2)
+    acc = _mm_sub_epi64(acc, _mm_castpd_si128(_mm_cmple_pd(_mm_loadu_pd(a + i), vu)));
+  alignas(16) std::uint64_t lanes[2];
+  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), acc);
+  c = lanes[0] + lanes[1];
+#endif
+  for (; i < n; ++i) c += a[i] <= u;
+  return c;
+}
+
+// detail::pick with the binary search replaced by count_le (the same index, hence the same
+// numbers, for the non-decreasing CDFs these tables hold; `sorted` false: detail::pick).
 template <class T>
-std::size_t pick_prefetched(const T* cdf, std::size_t n, double u, double& rescaled) {
-  const char* p = reinterpret_cast<const char*>(cdf);
-  const char* end = reinterpret_cast<const char*>(cdf + n);
-  for (; p < end; p += 64) __builtin_prefetch(p);
-  return pick(cdf, n, u, rescaled);
+std::size_t pick_counted(const T* cdf, std::size_t n, double u, double& rescaled, bool sorted) {
+  if (!sorted || !(u == u)) return pick(cdf, n, u, rescaled);  // (NaN: as upper_bound)
+  std::size_t i = count_le(cdf, n, u);
+  if (i >= n) i = n - 1;
+  double lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
+  while (i > 0 && static_cast<double>(cdf[i]) <= lo) {  // u >= last entry (rounding only)
+    --i;
+    lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
+  }
+  const double w = static_cast<double>(cdf[i]) - lo;
+  rescaled = w > 0 ? std::clamp((u - lo) / w, 0.0, std::nextafter(1.0, 0.0)) : 0.0;
+  return i;
+}
+
+template <class T>
+bool non_decreasing(const T* a, std::size_t n) {
+  for (std::size_t i = 1; i < n; ++i)
+    if (!(a[i - 1] <= a[i])) return false;
+  return true;
 }
 
 template <class T>
@@ -194,6 +248,21 @@ VisibleNormalTables::VisibleNormalTables(const TabulatedNdf& t, std::size_t coar
         for (std::size_t i = 0; i < block; ++i) out[i] = static_cast<float>(q_cdf_[i]);
     }
   }
+
+  // The samplers' searches count entries (pick_counted), which equals the binary search's
+  // answer for non-decreasing CDFs; they are by construction (running sums, rounded
+  // monotonically), and this keeps the binary search should one not be.
+  auto segments_sorted = [&](const auto* cdf) {
+    if (!non_decreasing(cdf, nc_)) return false;
+    for (std::size_t r = 0; r < nc_; ++r)
+      if (!non_decreasing(cdf + nc_ + row_off_[r], row_off_[r + 1] - row_off_[r])) return false;
+    return true;
+  };
+  sorted_ = segments_sorted(q_cdf_.data());
+  for (std::size_t k = 0; sorted_ && k < tables; ++k)
+    sorted_ = segments_sorted(view_cdf_.data() + k * block);
+  for (std::size_t c = 0; sorted_ && c < ncc; ++c)
+    sorted_ = non_decreasing(fine_cdf_.data() + offset_[c], offset_[c + 1] - offset_[c]);
 }
 
 std::size_t VisibleNormalTables::memory_bytes() const {
@@ -283,19 +352,20 @@ Vec3 VisibleNormalTables::sample(const Mix& x, double u1, double u2) const {
   double r1 = 0, r2 = 0;
   std::size_t row = 0, col = 0;
   if (cdf_k) {
-    row = pick_prefetched(cdf_k, nc_, u1, r1);
+    row = pick_counted(cdf_k, nc_, u1, r1, sorted_);
   } else {
-    row = pick_prefetched(q_cdf_.data(), nc_, u1, r1);
+    row = pick_counted(q_cdf_.data(), nc_, u1, r1, sorted_);
   }
   // (the row drawn has mass, so its span is not empty)
   const std::size_t cond = nc_ + row_off_[row], len = row_off_[row + 1] - row_off_[row];
-  col = row_lo_[row] + (cdf_k ? pick_prefetched(cdf_k + cond, len, u2, r2)
-                              : pick_prefetched(&q_cdf_[cond], len, u2, r2));
+  col = row_lo_[row] + (cdf_k ? pick_counted(cdf_k + cond, len, u2, r2, sorted_)
+                              : pick_counted(&q_cdf_[cond], len, u2, r2, sorted_));
   const std::size_t c = row * nc_ + col;
   u2 = r2;
   const std::uint32_t b = offset_[c], e = offset_[c + 1];
-  __builtin_prefetch(&fine_id_[b]);
-  const std::size_t j = b + pick_prefetched(&fine_cdf_[b], e - b, u2, r2);  // (e > b: C has mass)
+  __builtin_prefetch(fine_id_.data() + b);
+  const std::size_t j =
+      b + pick_counted(fine_cdf_.data() + b, e - b, u2, r2, sorted_);  // (e > b: C has mass)
   const std::size_t f = fine_id_[j], cx = f % cells_, cy = f / cells_;
   const TabulatedNdf& t = *t_;
   const double h = t.spacing(), a = t.at(cx, cy), bb = t.at(cx + 1, cy), cc = t.at(cx, cy + 1),

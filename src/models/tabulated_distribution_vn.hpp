@@ -89,6 +89,7 @@ class VisibleNormalTables {
   // nc + row_off_[r], all inclusive, last = 1.
   std::vector<std::uint32_t> row_lo_, row_off_;  // nc and nc + 1 entries
   std::size_t block_ = 0;
+  bool sorted_ = false;  // every CDF non-decreasing (the samplers may count instead of search)
   std::vector<double> q_cdf_;  // defensive: M_C / total
   // (nt + 1) * np view tables, block_ entries each, in float: they only choose the coarse
   // cell, and the pdf uses the very same (float) CDF differences, so it stays exact; half the
