@@ -4,10 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
 
 #include "core/bilinear_cell.hpp"
 #include "microbrdf/error.hpp"
@@ -18,60 +14,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxTries = 256;  // redraws inside one rim cell before giving up
-
-// The number of entries <= u of a CDF: for a non-decreasing one, std::upper_bound's index.
-// Every entry is compared (SSE2: four floats or two doubles per instruction): the loads do not
-// depend on each other, so a CDF out of the caches costs about one memory latency, where the
-// binary search waits for each halving step's load and mispredicts about every other branch.
-inline std::size_t count_le(const float* a, std::size_t n, double u) {
-  // entry <= u  <=>  entry <= the largest float <= u (entries are floats)
-  float f = static_cast<float>(u);
-  if (static_cast<double>(f) > u) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  std::size_t i = 0, c = 0;
-#ifdef __SSE2__
-  const __m128 vf = _mm_set1_ps(f);
-  __m128i acc = _mm_setzero_si128();
-  for (; i + 4 <= n; i += 4)  // (a true lane is -1)
-    acc = _mm_sub_epi32(acc, _mm_castps_si128(_mm_cmple_ps(_mm_loadu_ps(a + i), vf)));
-  alignas(16) std::uint32_t lanes[4];
-  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), acc);
-  c = std::size_t{lanes[0]} + lanes[1] + lanes[2] + lanes[3];
-#endif
-  for (; i < n; ++i) c += a[i] <= f;
-  return c;
-}
-
-inline std::size_t count_le(const double* a, std::size_t n, double u) {
-  std::size_t i = 0, c = 0;
-#ifdef __SSE2__
-  const __m128d vu = _mm_set1_pd(u);
-  __m128i acc = _mm_setzero_si128();
-  for (; i + 2 <= n; i += 2)
-    acc = _mm_sub_epi64(acc, _mm_castpd_si128(_mm_cmple_pd(_mm_loadu_pd(a + i), vu)));
-  alignas(16) std::uint64_t lanes[2];
-  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), acc);
-  c = lanes[0] + lanes[1];
-#endif
-  for (; i < n; ++i) c += a[i] <= u;
-  return c;
-}
-
-// detail::pick with the binary search replaced by count_le (the same index, hence the same
-// numbers, for the non-decreasing CDFs these tables hold; `sorted` false: detail::pick).
-template <class T>
-std::size_t pick_counted(const T* cdf, std::size_t n, double u, double& rescaled, bool sorted) {
-  if (!sorted || !(u == u)) return pick(cdf, n, u, rescaled);  // (NaN: as upper_bound)
-  std::size_t i = count_le(cdf, n, u);
-  if (i >= n) i = n - 1;
-  double lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
-  while (i > 0 && static_cast<double>(cdf[i]) <= lo) {  // u >= last entry (rounding only)
-    --i;
-    lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
-  }
-  const double w = static_cast<double>(cdf[i]) - lo;
-  rescaled = w > 0 ? std::clamp((u - lo) / w, 0.0, std::nextafter(1.0, 0.0)) : 0.0;
-  return i;
-}
 
 template <class T>
 bool non_decreasing(const T* a, std::size_t n) {
