@@ -1,7 +1,10 @@
 // A TabulatedNdf as a microfacet distribution: projected-area G1 against the analytic Smith G1,
 // weak white furnace, BRDF reciprocity, sampling pdf, agreement with the analytic BRDF.
+#include <cmath>
 #include <cstdio>
+#include <random>
 #include <utility>
+#include <vector>
 
 #include "microbrdf/brdf.hpp"
 #include "microbrdf/brdf_albedo.hpp"
@@ -9,7 +12,10 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/svbrdf.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
+#include "models/tabulated_distribution_vn.hpp"
+#include "render/material.hpp"
 #include "test_microfacet_common.hpp"
 
 using namespace microbrdf;
@@ -462,4 +468,140 @@ TEST(tabulated_distribution, SamplingOptionsParseAndValidate) {
   const Vec3 wi = direction(60, 0);
   const Vec3 m = small.sample_visible(wi, 0.25, 0.75);
   EXPECT_GT(small.sampling_pdf(wi, m), 0);
+}
+
+// The renderer's split calls (lookup, view_mix, sample_visible / sampling_pdf with the view's mix
+// and the look-up) give bit for bit what D, sample_visible and sampling_pdf give, and D what the
+// table's own bilinear evaluation gives: on a whole-disk table with large regions of exact zeros
+// (a narrow lobe: the skipped cells), on a zoomed window, and with the plain sampler.
+TEST(tabulated_distribution, RendererLookupsEqualTheDefinitions) {
+  const auto narrow = make_distribution(NdfSpec{"beckmann", 0.06, 0.2, 0.4});
+  TabulatedNdf zoomed(129, zoom_window(0.1, -0.05, 0.4));
+  for (std::size_t iy = 0; iy < 129; ++iy)
+    for (std::size_t ix = 0; ix < 129; ++ix) {
+      const double x = zoomed.node_x(ix), y = zoomed.node_y(iy), r2 = x * x + y * y;
+      if (r2 < 1) zoomed.at(ix, iy) = narrow->D(Vec3(x, y, std::sqrt(1 - r2)));
+    }
+  TabulatedNdf sparse = tabulate(*narrow, "beckmann", 257);
+  for (double& v : sparse.values())
+    if (v < 1e-3) v = 0;  // exact zeros over most of the disk
+  TabulatedDistributionOptions small;
+  small.sigma_bins = 64;
+  TabulatedDistributionOptions plain = small;
+  plain.sampling = TabulatedSampling::Ndf;
+  const TabulatedDistribution dists[] = {TabulatedDistribution(sparse, small),
+                                         TabulatedDistribution(zoomed, small),
+                                         TabulatedDistribution(sparse, plain)};
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const auto& d : dists) {
+    const double inv_z = 1 / d.normalisation();
+    int nonzero = 0, zero = 0, sampled = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const Vec3 v = direction(89.9 * std::sqrt(u(rng)), 360 * u(rng));
+      // Normals over the whole hemisphere, not all of unit length, a few below the horizon.
+      const Vec3 m = direction(92 * u(rng), 360 * u(rng)) * (0.5 + u(rng));
+      TabulatedLookup q;
+      const double dm = d.lookup(m, q);
+      ASSERT_EQ(dm, d.table().eval(m) * inv_z) << i;
+      ASSERT_EQ(dm, d.D(m));
+      (dm != 0 ? nonzero : zero)++;
+      const TabulatedViewMix x = d.view_mix(v);
+      d.prefetch_pdf(x, q);
+      ASSERT_EQ(d.sampling_pdf(x, m, q), d.sampling_pdf(v, m)) << i;
+      const double u1 = u(rng), u2 = u(rng);
+      const Vec3 s = d.sample_visible(x, v, u1, u2);
+      ASSERT_EQ(s, d.sample_visible(v, u1, u2)) << i;
+      TabulatedLookup qs;
+      d.lookup(s, qs);
+      const double ps = d.sampling_pdf(x, s, qs);
+      ASSERT_EQ(ps, d.sampling_pdf(v, s));
+      sampled += ps > 0;
+    }
+    EXPECT_GT(nonzero, 1000);
+    EXPECT_GT(zero, 1000);
+    EXPECT_GT(sampled, 19000);
+  }
+}
+
+// The visible-normal sampler's searches count entries (SSE2) instead of halving: the same index
+// and the same rescaled number as detail::pick's binary search, for float and double CDFs with
+// ties, zero-width intervals and numbers on and next to the entries.
+template <class T>
+void expect_counted_pick_equals_pick(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 400; ++trial) {
+    const std::size_t n = 1 + trial % 131;
+    std::vector<double> w(n);
+    for (double& x : w) x = u(rng) < 0.3 ? 0.0 : std::floor(8 * u(rng));  // ties and zeros
+    w[n - 1] += 1;
+    double total = 0;
+    for (double x : w) total += x;
+    std::vector<T> cdf(n);
+    double run = 0;
+    for (std::size_t i = 0; i < n; ++i) cdf[i] = static_cast<T>((run += w[i]) / total);
+    cdf[n - 1] = 1;
+    std::vector<double> us = {0.0, std::nextafter(1.0, 0.0)};
+    for (int k = 0; k < 20; ++k) us.push_back(u(rng));
+    for (T c : cdf) {
+      const double e = static_cast<double>(c);
+      for (double x : {e, std::nextafter(e, 0.0), std::nextafter(e, 2.0)})
+        if (x >= 0 && x < 1) us.push_back(x);
+    }
+    for (double x : us) {
+      double r0 = -1, r1 = -2;
+      const std::size_t i0 = detail::pick(cdf.data(), n, x, r0);
+      const std::size_t i1 = detail::pick_counted(cdf.data(), n, x, r1, true);
+      ASSERT_EQ(i0, i1) << n << " " << x;
+      ASSERT_EQ(r0, r1) << n << " " << x;
+    }
+  }
+}
+
+TEST(tabulated_distribution, CountedSearchEqualsTheBinarySearch) {
+  std::mt19937_64 rng(9);
+  expect_counted_pick_equals_pick<float>(rng);
+  expect_counted_pick_equals_pick<double>(rng);
+}
+
+// The renderer's material on a tabulated NDF: the MIS density of a light direction and of the
+// BRDF sample is exactly the distribution's sampling_pdf(wv, h) / (4 wv.h) (computed from the
+// look-up shared with D(h) and the view's mix), and the sample is sample_visible's.
+TEST(tabulated_distribution, RendererMaterialDensitiesEqualTheDistributions) {
+  auto d = std::make_shared<TabulatedDistribution>(
+      tabulate(*make_distribution(NdfSpec{"beckmann", 0.25, 0.1, 0.3}), "beckmann", 257));
+  auto b = std::make_shared<MicrofacetBrdf>(d, std::make_shared<ConductorFresnel>(metal("Cu")));
+  const pt::SpectralMaterial mat(std::make_shared<UniformSvbrdf>(b));
+  ASSERT_TRUE(mat.fast());
+  const double lambda[4] = {400e-9, 500e-9, 600e-9, 700e-9};
+  pt::SpectralMaterial::Wavelengths w;
+  mat.prepare(lambda, 4, w);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  int lit = 0, sampled = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Vec3 wv = direction(88 * std::sqrt(u(rng)), 360 * u(rng));
+    const Vec3 wl = direction(89 * u(rng), 360 * u(rng));
+    const auto view = mat.view(wv);
+    const Vec3 hs = wl + wv, h = hs / hs.norm();
+    const double ref = d->sampling_pdf(wv, h) / (4 * wv.dot(h));
+    double f[4], pdf = 0;
+    if (mat.eval(0, 0, view, wl, w, f, &pdf)) {
+      ++lit;
+      ASSERT_EQ(pdf, ref) << i;
+    }
+    ASSERT_EQ(mat.sampling_pdf(0, 0, view, wl), ref) << i;
+    const double u1 = u(rng), u2 = u(rng);
+    pt::SpectralMaterial::Sample s;
+    if (mat.sample(0, 0, view, u1, u2, w, s)) {
+      ++sampled;
+      const Vec3 m = d->sample_visible(wv, u1, u2);
+      const double im = wv.dot(m);
+      ASSERT_EQ(s.wo, 2 * im * m - wv);
+      ASSERT_EQ(s.pdf, d->sampling_pdf(wv, m) / (4 * im));
+      ASSERT_EQ(s.target, d->D(m) / (4 * view.pa));
+    }
+  }
+  EXPECT_GT(lit, 1000);
+  EXPECT_GT(sampled, 2000);
 }

@@ -42,6 +42,7 @@
 //    pdf_visible(v, m) gives the true visible-normal density D_v in both cases.
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -55,6 +56,24 @@ namespace microbrdf {
 namespace detail {
 class VisibleNormalTables;
 }
+
+/// What the visible-normal sampler and its density share for one viewer direction v: the four
+/// view tables around v and their weights (TabulatedDistribution::view_mix). A path tracer
+/// computes it once per shading point; the calls that take it give the same numbers as
+/// sample_visible(v, ...) and sampling_pdf(v, ...).
+struct TabulatedViewMix {
+  std::size_t table[4] = {0, 0, 0, 0};
+  double w[4] = {0, 0, 0, 0};  ///< (1 - eps) w_k; the defensive Q has weight eps
+};
+
+/// One look-up of the table at a microfacet normal m (TabulatedDistribution::lookup): the
+/// interpolant's value and the cell it came from, shared by D(m) and sampling_pdf(v, m).
+struct TabulatedLookup {
+  double e = 0;        ///< TabulatedNdf::eval(m) (D(m) = e / Z)
+  double mz = 0;       ///< m_z / |m|
+  std::size_t cx = 0;  ///< the cell of the bilinear interpolation (valid when e != 0)
+  std::size_t cy = 0;
+};
 
 /// How sample_visible draws microfacet normals (see the header comment).
 enum class TabulatedSampling {
@@ -95,6 +114,19 @@ class TabulatedDistribution final : public MicrofacetDistribution {
   double sampling_pdf(const Vec3& v, const Vec3& m) const override;
   std::string describe() const override;
 
+  /// The hot paths of a renderer, split so that one viewer direction and one table look-up
+  /// serve several calls; each gives exactly (bit for bit) the number of the call it stands for.
+  /// The view tables' weights for v (any v; for sampling ndf, zeros).
+  TabulatedViewMix view_mix(const Vec3& v) const;
+  /// = sample_visible(v, u1, u2) for x = view_mix(v).
+  Vec3 sample_visible(const TabulatedViewMix& x, const Vec3& v, double u1, double u2) const;
+  /// = D(m); fills q for sampling_pdf(x, m, q).
+  double lookup(const Vec3& m, TabulatedLookup& q) const;
+  /// Hints the memory sampling_pdf(x, m, q) will read (no effect on any result).
+  void prefetch_pdf(const TabulatedViewMix& x, const TabulatedLookup& q) const;
+  /// = sampling_pdf(v, m) for x = view_mix(v) and q from lookup(m, q).
+  double sampling_pdf(const TabulatedViewMix& x, const Vec3& m, const TabulatedLookup& q) const;
+
   /// sigma+(k) interpolated from the grid, for a unit k with k.z > 0.
   double sigma_plus(const Vec3& k) const;
   /// sigma+(k) summed over the slope bins directly (no grid interpolation; slow).
@@ -116,6 +148,15 @@ class TabulatedDistribution final : public MicrofacetDistribution {
   std::size_t bins_ = 0;
   std::vector<double> bm_, bp_, bq_;  // bin masses (sum 1) and mean slopes
   std::vector<double> sigma_;         // (theta_steps + 1) x phi_steps, row = theta
+  // TabulatedNdf::eval_disk's constants (the same expressions, so the same numbers) and one bit
+  // per cell: set where a corner is not +0 (cells of +0 corners interpolate to +0 without
+  // reading the table).
+  const double* d_ = nullptr;
+  std::size_t n_ = 0;
+  double inv_h_ = 1, x0_ = -1, y0_ = -1, last_ = 0, top_ = 0;
+  bool full_ = true;
+  std::vector<std::uint64_t> live_;  // cells x words_ words, row-major by cell row
+  std::size_t words_ = 0;
 };
 
 }  // namespace microbrdf

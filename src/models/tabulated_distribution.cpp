@@ -2,6 +2,7 @@
 #include "microbrdf/tabulated_distribution.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -149,6 +150,71 @@ TabulatedDistribution::TabulatedDistribution(TabulatedNdf ndf,
   if (opt_.sampling == TabulatedSampling::Visible)
     vn_ = std::make_unique<detail::VisibleNormalTables>(*ndf_, opt_.vn_coarse, opt_.vn_theta_steps,
                                                         opt_.vn_phi_steps, opt_.vn_defensive);
+
+  // lookup(): TabulatedNdf::eval_disk's constants, and the cells whose corners are all +0.
+  d_ = ndf_->values().data();
+  n_ = n;
+  inv_h_ = 1.0 / ndf_->spacing();
+  x0_ = ndf_->window().x0();
+  y0_ = ndf_->window().y0();
+  last_ = static_cast<double>(n - 1);
+  top_ = static_cast<double>(n - 2);
+  full_ = ndf_->window().full();
+  words_ = (cells + 63) / 64;
+  live_.assign(cells * words_, 0);
+  auto nonzero = [](double v) { return std::bit_cast<std::uint64_t>(v) != 0; };
+  for (std::size_t cy = 0; cy < cells; ++cy)
+    for (std::size_t cx = 0; cx < cells; ++cx)
+      if (nonzero(ndf_->at(cx, cy)) || nonzero(ndf_->at(cx + 1, cy)) ||
+          nonzero(ndf_->at(cx, cy + 1)) || nonzero(ndf_->at(cx + 1, cy + 1)))
+        live_[cy * words_ + cx / 64] |= std::uint64_t{1} << (cx % 64);
+}
+
+double TabulatedDistribution::lookup(const Vec3& m, TabulatedLookup& q) const {
+  // TabulatedNdf::eval(m) * inv_z_ written out (the same operations in the same order), keeping
+  // the cell for sampling_pdf; a cell of +0 corners gives +0 from its bit alone.
+  q.e = 0;
+  const double len = m.norm();
+  q.mz = 0;
+  if (!(len > 0) || m.z() <= 0) return 0.0;
+  const double mx = m.x() / len, my = m.y() / len;
+  if (!(mx * mx + my * my <= 1.0)) return 0.0;  // also rejects NaN
+  const double fx = (mx - x0_) * inv_h_, fy = (my - y0_) * inv_h_;
+  if (!full_ && !(fx >= 0 && fx <= last_ && fy >= 0 && fy <= last_)) return 0.0;
+  const auto ix = static_cast<std::size_t>(std::clamp(std::floor(fx), 0.0, top_));
+  const auto iy = static_cast<std::size_t>(std::clamp(std::floor(fy), 0.0, top_));
+  if (!((live_[iy * words_ + ix / 64] >> (ix % 64)) & 1)) return 0.0;
+  const double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
+  const double* r0 = d_ + iy * n_ + ix;
+  const double* r1 = r0 + n_;
+  const double e =
+      (1 - ty) * ((1 - tx) * r0[0] + tx * r0[1]) + ty * ((1 - tx) * r1[0] + tx * r1[1]);
+  q.e = e;
+  q.mz = m.z() / len;
+  q.cx = ix;
+  q.cy = iy;
+  return e * inv_z_;
+}
+
+TabulatedViewMix TabulatedDistribution::view_mix(const Vec3& v) const {
+  return vn_ ? vn_->view_mix(v) : TabulatedViewMix{};
+}
+
+Vec3 TabulatedDistribution::sample_visible(const TabulatedViewMix& x, const Vec3& /*v*/, double u1,
+                                           double u2) const {
+  return vn_ ? vn_->sample(x, u1, u2) : sampler_->sample(u1, u2);
+}
+
+void TabulatedDistribution::prefetch_pdf(const TabulatedViewMix& x,
+                                         const TabulatedLookup& q) const {
+  if (vn_ && q.e > 0) vn_->prefetch(x, q.cx, q.cy);
+}
+
+double TabulatedDistribution::sampling_pdf(const TabulatedViewMix& x, const Vec3& m,
+                                           const TabulatedLookup& q) const {
+  // (VisibleNormalTables::pdf returns 0 wherever lookup left e at 0 or below)
+  if (vn_) return q.e > 0 ? vn_->pdf_at(x, q.cx, q.cy, q.e, q.mz) : 0.0;
+  return m.z() > 0 ? q.e * inv_z_ * m.z() : 0.0;
 }
 
 double TabulatedDistribution::sigma_plus_direct(const Vec3& k) const {
@@ -210,7 +276,10 @@ double TabulatedDistribution::sigma_plus(const Vec3& k) const {
   return (1 - ft) * ((1 - fp) * r0[ip] + fp * r0[ip1]) + ft * ((1 - fp) * r1[ip] + fp * r1[ip1]);
 }
 
-double TabulatedDistribution::D(const Vec3& m) const { return ndf_->eval(m) * inv_z_; }
+double TabulatedDistribution::D(const Vec3& m) const {
+  TabulatedLookup q;
+  return lookup(m, q);  // = ndf_->eval(m) * inv_z_
+}
 
 double TabulatedDistribution::lambda(const Vec3& v) const {
   if (!(v.z() > 0)) return std::numeric_limits<double>::infinity();

@@ -41,12 +41,14 @@ SpectralMaterial::SpectralMaterial(std::shared_ptr<const Svbrdf> m) : m_(std::mo
   visible_exact_ = dynamic_cast<const BeckmannDistribution*>(d_) ||
                    dynamic_cast<const GgxDistribution*>(d_) ||
                    dynamic_cast<const EllipsoidDistribution*>(d_);
+  tab_ = dynamic_cast<const TabulatedDistribution*>(d_);
   if ((ggx_ = dynamic_cast<const GgxDistribution*>(d_))) {
     ggx_c_ = std::cos(ggx_->params().phi);
     ggx_s_ = std::sin(ggx_->params().phi);
   }
   if (!self_check()) {
     ggx_ = nullptr;
+    tab_ = nullptr;
     mf_ = nullptr;
     d_ = nullptr;
     conductor_ = false;
@@ -102,6 +104,10 @@ SpectralMaterial::View SpectralMaterial::view(const Vec3& wv) const {
     const double lam = d_->lambda(wv);
     v.g1 = std::min(1.0, 1.0 / (1.0 + lam));  // MicrofacetDistribution::G1
     v.pa = wv.z() * (1.0 + lam);              // projected_area
+    if (tab_) {
+      v.mix = tab_->view_mix(wv);
+      v.tab = true;
+    }
   }
   return v;
 }
@@ -182,8 +188,10 @@ bool SpectralMaterial::eval(double u, double v, const View& vw, const Vec3& wl,
   const Vec3 h = hs / len;
   // f = 0 (no NDF mass at h, or shadowed): nothing more is needed, the caller drops the sample
   // (tabulated NDFs are 0 over much of the disk, and their sampling density is the costly part).
-  const double dh = d_->D(h);
+  TabulatedLookup q;
+  const double dh = d_of(vw, h, q);
   if (dh == 0) return false;
+  if (pdf && tab_ && vw.tab) tab_->prefetch_pdf(vw.mix, q);  // (loads while G2 is computed)
   const double g = g2(vw, wl, h);
   if (g == 0) return false;
   const double geo = dh * g / (4 * wl.z() * wv.z());
@@ -193,7 +201,7 @@ bool SpectralMaterial::eval(double u, double v, const View& vw, const Vec3& wl,
     const double vh = wv.dot(h);
     if (vh > 0)
       *pdf = visible_exact_ ? (vw.pa > 0 ? dh / (4 * vw.pa) : 0.0)
-                            : d_->sampling_pdf(wv, h) / (4 * vh);
+                            : sampling_pdf_of(vw, h, q) / (4 * vh);
   }
   fresnel_all(wl.dot(h), w, geo, f);
   return true;
@@ -210,8 +218,10 @@ double SpectralMaterial::sampling_pdf(double u, double v, const View& vw, const 
   const double vh = wv.dot(h);
   if (!(vh > 0)) return 0;
   // As in eval(): MicrofacetBrdf::pdf(wv, wl) = sampling_pdf(wv, h) / (4 wv.h).
-  return visible_exact_ ? (vw.pa > 0 ? d_->D(h) / (4 * vw.pa) : 0.0)
-                        : d_->sampling_pdf(wv, h) / (4 * vh);
+  if (visible_exact_) return vw.pa > 0 ? d_->D(h) / (4 * vw.pa) : 0.0;
+  TabulatedLookup q;
+  if (tab_ && vw.tab) tab_->lookup(h, q);
+  return sampling_pdf_of(vw, h, q) / (4 * vh);
 }
 
 bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, double u2,
@@ -246,16 +256,21 @@ bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, dou
   }
   // MicrofacetBrdf::sample with D and G2 evaluated once for all wavelengths.
   if (wv.z() <= 0) return false;
-  const Vec3 m = d_->sample_visible(wv, u1, u2);
+  const Vec3 m =
+      tab_ && vw.tab ? tab_->sample_visible(vw.mix, wv, u1, u2) : d_->sample_visible(wv, u1, u2);
   const double im = wv.dot(m);
   if (im <= 0) return false;
   const Vec3 wo = 2 * im * m - wv;
   if (wo.z() <= 0) return false;
-  const double dm = d_->D(m);
-  const double q = visible_exact_ ? (vw.pa > 0 ? im * dm / vw.pa : 0.0) : d_->sampling_pdf(wv, m);
+  TabulatedLookup look;
+  const double dm = d_of(vw, m, look);
+  if (tab_ && vw.tab) tab_->prefetch_pdf(vw.mix, look);
+  // (G2 before the density, which it does not change: the density's memory arrives meanwhile)
+  const double g = g2(vw, wo, m);
+  const double q =
+      visible_exact_ ? (vw.pa > 0 ? im * dm / vw.pa : 0.0) : sampling_pdf_of(vw, m, look);
   const double pdf = q / (4 * im);
   if (!(pdf > 0 && std::isfinite(pdf))) return false;
-  const double g = g2(vw, wo, m);
   // f cos / pdf = F D G2 / (4 wv.z) / pdf.
   const double geo = dm * g / (4 * wv.z() * pdf);
   if (!(geo > 0)) return false;
@@ -284,14 +299,15 @@ bool SpectralMaterial::ris_terms(double u, double v, const View& vw, const Vec3&
   const double len = hs.norm();
   if (len == 0) return false;
   const Vec3 h = hs / len;
-  const double dh = d_->D(h);
+  TabulatedLookup q;
+  const double dh = d_of(vw, h, q);
   if (!(dh > 0)) return false;
   target = dh / (4 * vw.pa);
   if (visible_exact_) {
     pdf = target;
   } else {
     const double vh = wv.dot(h);
-    pdf = vh > 0 ? d_->sampling_pdf(wv, h) / (4 * vh) : 0.0;
+    pdf = vh > 0 ? sampling_pdf_of(vw, h, q) / (4 * vh) : 0.0;
   }
   return true;
 }
@@ -309,14 +325,16 @@ bool SpectralMaterial::sample_direction(double u, double v, const View& vw, doub
     return target > 0;
   }
   if (wv.z() <= 0 || !(vw.pa > 0)) return false;
-  const Vec3 m = d_->sample_visible(wv, u1, u2);
+  const Vec3 m =
+      tab_ && vw.tab ? tab_->sample_visible(vw.mix, wv, u1, u2) : d_->sample_visible(wv, u1, u2);
   const double im = wv.dot(m);
   if (im <= 0) return false;
   wl = 2 * im * m - wv;
   if (wl.z() <= 0) return false;
-  const double dm = d_->D(m);
+  TabulatedLookup q;
+  const double dm = d_of(vw, m, q);
   target = dm / (4 * vw.pa);
-  pdf = visible_exact_ ? target : d_->sampling_pdf(wv, m) / (4 * im);
+  pdf = visible_exact_ ? target : sampling_pdf_of(vw, m, q) / (4 * im);
   return pdf > 0 && std::isfinite(pdf) && target > 0;
 }
 

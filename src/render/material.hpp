@@ -11,7 +11,8 @@
 //  - per direction: D(h) and G2 once, the Fresnel term per wavelength (the formula of
 //    MicrofacetBrdf::eval), and the density with which the BRDF sampler draws that direction
 //    (MIS). For the analytic distributions, whose sampler draws the visible normals exactly,
-//    that density is D(h) / (4 sigma+(v)) and reuses D(h); otherwise sampling_pdf() is called.
+//    that density is D(h) / (4 sigma+(v)) and reuses D(h); otherwise sampling_pdf() is called
+//    (a tabulated NDF: from the table look-up of D(h), with the view tables' weights of view()).
 //  - sample(): the visible normal, the reflected direction, its density and f at every
 //    wavelength with one evaluation of D and G2 (MicrofacetBrdf::sample and a separate eval
 //    would compute them twice).
@@ -26,6 +27,7 @@
 
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/svbrdf.hpp"
+#include "microbrdf/tabulated_distribution.hpp"
 #include "render/spectral.hpp"
 
 namespace microbrdf::pt {
@@ -70,6 +72,10 @@ class SpectralMaterial {
     Vec3 wv = Vec3(0, 0, 1);
     double g1 = 0;  ///< Smith G1(wv) (fast path)
     double pa = 0;  ///< projected area sigma+(wv) = wv.z (1 + Lambda(wv)) (fast path)
+    /// Tabulated NDFs: the visible-normal sampler's view tables for wv, once per shading point
+    /// (valid when `tab` is set).
+    TabulatedViewMix mix;
+    bool tab = false;
   };
   /// A BRDF sample (sample()).
   struct Sample {
@@ -143,6 +149,18 @@ class SpectralMaterial {
   FastSpectrum n_, k_;
   bool separable_ = false;
   bool visible_exact_ = false;  // sampling_pdf = the visible-normal density (analytic models)
+  /// A tabulated NDF: D(h) and the sampling density from one table look-up, the view tables'
+  /// weights once per shading point (View::mix), the density's memory requested before G2 is
+  /// computed (the same numbers as D() and sampling_pdf()).
+  const TabulatedDistribution* tab_ = nullptr;
+  /// D(m) (with the look-up for sampling_pdf_of when tabulated).
+  double d_of(const View& vw, const Vec3& m, TabulatedLookup& q) const {
+    return tab_ && vw.tab ? tab_->lookup(m, q) : d_->D(m);
+  }
+  /// d_->sampling_pdf(wv, m) with d_of's look-up.
+  double sampling_pdf_of(const View& vw, const Vec3& m, const TabulatedLookup& q) const {
+    return tab_ && vw.tab ? tab_->sampling_pdf(vw.mix, m, q) : d_->sampling_pdf(vw.wv, m);
+  }
   const GgxDistribution* ggx_ = nullptr;  // lattice_directions' GGX path
   double ggx_c_ = 1, ggx_s_ = 0;          // cos, sin of its phi
 };
