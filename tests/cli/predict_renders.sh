@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # `predict --renders measured`: the measured NDF's three scenes only (no comparison strip, studio
 # renders or swatch), a report that still reads; a bad value fails before any work and leaves no
-# folder.
+# folder. Under a map with the studio map beside it, the studio views come from their scenes'
+# passes (a second light set, 2 x 2 pixels averaged).
 set -u
-BIN=$1
+BIN=$1 REPO_DATA=$3
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
@@ -36,6 +37,24 @@ assert s["settings"]["renders"] == "all"
 scenes = [r for r in s["renders"] if r["role"] == "scene"]
 assert all(r["shared_paths_with"] == ["ellipsoid", "beckmann", "ggx"] for r in scenes), scenes
 assert len(s["render_comparison"]["scenes"]) == 3
+PY
+
+$BIN predict "$T/b.x3p" --level none --resolution 129 --render-width 32 --spp 2 \
+  --envmap "$REPO_DATA/envmaps/blender_courtyard.exr" -o "$T/env" --quiet >/dev/null ||
+  fail "renders under a map"
+python3 - "$T/env" <<'PY' || fail "studio views"
+import json, os, struct, sys
+d = sys.argv[1]
+s = json.load(open(os.path.join(d, "summary.json")))
+studio = {r["scene"]: r for r in s["renders"] if r["role"] == "studio"}
+assert sorted(studio) == ["cylinders_studio", "sphere_studio"], studio
+for name, r in studio.items():
+    assert r["rendered_in_pass_of"] == name[: -len("_studio")], r
+    assert (r["width"], r["height"], r["spp"]) == (16, 16, 8), r
+    with open(os.path.join(d, r["file"]), "rb") as f:
+        head = f.read(24)
+    assert struct.unpack(">II", head[16:24]) == (16, 16), head  # the PNG's IHDR size
+    assert "render_" + name + "_s" not in s["timing"]  # (the pass's time is its scene's)
 PY
 
 $BIN predict "$T/b.x3p" --renders some -o "$T/bad" 2>"$T/err.txt"; rc=$?
