@@ -11,10 +11,13 @@
 //    DRAM access per step, the latency-bound kind of access a BVH traversal makes), all threads
 //    walking the same buffer from different starting points.
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <fstream>
 #include <numeric>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -26,6 +29,21 @@ inline double process_cpu() {
   getrusage(RUSAGE_SELF, &u);
   return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Busy CPU seconds of the whole machine since boot, all processes (/proc/stat: user, nice,
+// system, irq, softirq, steal); -1 where /proc is not available. Its growth over a run less the
+// process's own CPU is what other processes took meanwhile: a sharper note of the load than the
+// load average, which lags by a minute and counts this process too.
+inline double machine_busy_cpu() {
+  std::ifstream f("/proc/stat");
+  std::string cpu;
+  double user = 0, nice = 0, system = 0, idle = 0, iowait = 0, irq = 0, softirq = 0, steal = 0;
+  if (!(f >> cpu >> user >> nice >> system >> idle >> iowait >> irq >> softirq >> steal) ||
+      cpu != "cpu")
+    return -1;
+  const long hz = sysconf(_SC_CLK_TCK);
+  return (user + nice + system + irq + softirq + steal) / static_cast<double>(hz > 0 ? hz : 100);
 }
 
 // Runs body(t, share) on `threads` new threads, t = 0..threads-1, share = total / threads, and

@@ -263,6 +263,7 @@ void BM_SimulateSummary(benchmark::State& state) {
   const double load0 = microbrdf::bench::load_average();
   const MicroScene& sc = scene(false);
   const Recording& rec = recorded(sc);
+  const double busy0 = microbrdf::bench::machine_busy_cpu(), own0 = process_cpu(), wall0 = wall();
   static const microbrdf::bench::PointerChase chase(std::size_t{128} << 20);
   const std::int64_t batch = 1 << 17;
   const std::uint64_t compute_steps = std::uint64_t{1} << 26, chase_steps = std::uint64_t{1} << 21;
@@ -386,6 +387,9 @@ void BM_SimulateSummary(benchmark::State& state) {
   state.counters["chase_ns_per_step_1t"] = 1e9 * chased[0].cpu / chased[0].work;
   state.counters["chase_ns_per_step_2t"] = 1e9 * chased[1].cpu / chased[1].work;
   state.counters["compute_ns_per_step_1t"] = 1e9 * compute[0].cpu / compute[0].work;
+  // Cores' worth of CPU that other processes took during the repetitions (0 = none, 2 = both).
+  state.counters["others_cores"] =
+      (microbrdf::bench::machine_busy_cpu() - busy0 - (process_cpu() - own0)) / (wall() - wall0);
   state.counters["reps"] = reps;
   state.counters["load_before"] = load0;
   state.counters["load_after"] = microbrdf::bench::load_average();
