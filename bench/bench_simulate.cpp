@@ -12,17 +12,19 @@
 // BM_SimulateSummary is the acceptance figure: in one run, interleaved, with 1 and 2 threads, the
 // replay of the rays of exactly the estimator's paths, the tracer on the same paths and the
 // estimator itself (lmax 15, 16 points), rates per second of CPU time of the whole process
-// (getrusage, all threads), the load average before and after.
+// (getrusage, all threads), the load average before and after; and the CPU of one thread over
+// two for the estimator, the bare replay and two machine loops (compute, DRAM pointer chase).
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 #include <omp.h>
-#include <sys/resource.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <memory>
 #include <vector>
 
+#include "bench_cpu.hpp"
 #include "bench_load.hpp"
 #include "core/embree_ray.hpp"
 #include "microbrdf/generate.hpp"
@@ -33,12 +35,7 @@ using namespace microbrdf;
 
 namespace {
 
-double process_cpu() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
+using microbrdf::bench::process_cpu;
 
 double wall() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -253,12 +250,24 @@ BENCHMARK(BM_SimulateEstimator)->Arg(15)->Arg(8)->Arg(1)->Unit(benchmark::kMilli
 // pooled over the repetitions; ratio_cpu_min / _max: the spread of the ratio of each
 // repetition's back-to-back pair (the machine's load moves the rates by 10-20 % within a run).
 // ratio_cpu_queried: the same against a replay of only the queries the tracer still sends.
+//
+// CPU of one thread over two for the same work, X_cpu_1t_over_2t (pooled; _med, _min, _max over
+// the repetitions), for the estimator (est), the bare replay (bare) and two machine yardsticks
+// (bench_cpu.hpp) timed in the same repetitions: a register-only loop (compute) and a dependent
+// random walk over 128 MiB, four times the L3 (chase). est_excess_over_chase / _over_bare: the
+// estimator's ratio over the machine's, pooled, with the spread of the per-repetition quotients:
+// what one thread costs the estimator beyond what it costs a loop of DRAM reads or bare Embree.
+// Each repetition runs both thread counts back to back, 1 then 2 in even repetitions, 2 then 1
+// in odd ones.
 void BM_SimulateSummary(benchmark::State& state) {
   const double load0 = microbrdf::bench::load_average();
   const MicroScene& sc = scene(false);
   const Recording& rec = recorded(sc);
+  const double busy0 = microbrdf::bench::machine_busy_cpu(), own0 = process_cpu(), wall0 = wall();
+  static const microbrdf::bench::PointerChase chase(std::size_t{128} << 20);
   const std::int64_t batch = 1 << 17;
-  const int reps = 5;
+  const std::uint64_t compute_steps = std::uint64_t{1} << 26, chase_steps = std::uint64_t{1} << 21;
+  const int reps = static_cast<int>(state.range(0));
   struct Rate {
     double cpu = 0, best_wall = 1e30, work = 0, rays = 0;
     std::vector<double> per_rep;  // work per CPU second of each repetition
@@ -270,14 +279,22 @@ void BM_SimulateSummary(benchmark::State& state) {
       per_rep.push_back(done / c);
     }
   };
-  Rate replayed[2], queried[2], random[2], est[2], tracer[2];
+  Rate replayed[2], queried[2], random[2], est[2], tracer[2], compute[2], chased[2];
   std::uint64_t round = 0;
   for (auto _ : state) {
     for (int rep = 0; rep < reps; ++rep)
-      for (int nt : {1, 2}) {
+      for (int nt : rep % 2 == 0 ? std::array{1, 2} : std::array{2, 1}) {
+        double c0 = process_cpu(), w0 = wall();
+        benchmark::DoNotOptimize(microbrdf::bench::compute_loop(nt, compute_steps));
+        compute[nt - 1].add(process_cpu() - c0, wall() - w0, double(compute_steps));
+        c0 = process_cpu();
+        w0 = wall();
+        benchmark::DoNotOptimize(chase.run(nt, chase_steps));
+        chased[nt - 1].add(process_cpu() - c0, wall() - w0, double(chase_steps));
         const int before = omp_get_max_threads();
         omp_set_num_threads(nt);
-        double c0 = process_cpu(), w0 = wall();
+        c0 = process_cpu();
+        w0 = wall();
         const double n = double(replay(sc, rec.rays, 15));
         replayed[nt - 1].add(process_cpu() - c0, wall() - w0, double(rec.counters.exits), n);
         c0 = process_cpu();
@@ -337,12 +354,47 @@ void BM_SimulateSummary(benchmark::State& state) {
   state.counters["queries_per_exit"] = double(rec.counters.segments) / double(rec.counters.exits);
   state.counters["exits_without_query"] =
       double(rec.counters.escapes_bounded) / double(rec.counters.exits);
-  // CPU for the same estimator run with one thread over two (the goal: never above 1).
-  state.counters["est_cpu_1t_over_2t"] = est[0].cpu / est[1].cpu;
+  // CPU per unit of work with one thread over two: pooled, and the per-repetition ratios.
+  auto per_rep = [](const Rate* r) {
+    std::vector<double> q(r[0].per_rep.size());
+    for (std::size_t k = 0; k < q.size(); ++k) q[k] = r[1].per_rep[k] / r[0].per_rep[k];
+    return q;
+  };
+  auto put_spread = [&](const std::string& name, double pooled, std::vector<double> q) {
+    state.counters[name] = pooled;
+    std::sort(q.begin(), q.end());
+    const std::size_t m = q.size();
+    state.counters[name + "_med"] = m % 2 ? q[m / 2] : 0.5 * (q[m / 2 - 1] + q[m / 2]);
+    state.counters[name + "_min"] = q.front();
+    state.counters[name + "_max"] = q.back();
+  };
+  auto pooled = [](const Rate* r) { return (r[1].work / r[1].cpu) / (r[0].work / r[0].cpu); };
+  const std::vector<double> q_est = per_rep(est), q_bare = per_rep(replayed),
+                            q_chase = per_rep(chased);
+  // The goal: est_cpu_1t_over_2t never above 1, or no higher than the machine's own ratios.
+  put_spread("est_cpu_1t_over_2t", pooled(est), q_est);
+  put_spread("bare_cpu_1t_over_2t", pooled(replayed), q_bare);
+  put_spread("chase_cpu_1t_over_2t", pooled(chased), q_chase);
+  put_spread("compute_cpu_1t_over_2t", pooled(compute), per_rep(compute));
+  std::vector<double> over_chase(q_est.size()), over_bare(q_est.size());
+  for (std::size_t k = 0; k < q_est.size(); ++k) {
+    over_chase[k] = q_est[k] / q_chase[k];
+    over_bare[k] = q_est[k] / q_bare[k];
+  }
+  put_spread("est_excess_over_chase", pooled(est) / pooled(chased), over_chase);
+  put_spread("est_excess_over_bare", pooled(est) / pooled(replayed), over_bare);
+  // Nanoseconds of CPU per step of the two machine loops (one thread, two threads).
+  state.counters["chase_ns_per_step_1t"] = 1e9 * chased[0].cpu / chased[0].work;
+  state.counters["chase_ns_per_step_2t"] = 1e9 * chased[1].cpu / chased[1].work;
+  state.counters["compute_ns_per_step_1t"] = 1e9 * compute[0].cpu / compute[0].work;
+  // Cores' worth of CPU that other processes took during the repetitions (0 = none, 2 = both).
+  state.counters["others_cores"] =
+      (microbrdf::bench::machine_busy_cpu() - busy0 - (process_cpu() - own0)) / (wall() - wall0);
+  state.counters["reps"] = reps;
   state.counters["load_before"] = load0;
   state.counters["load_after"] = microbrdf::bench::load_average();
   state.SetLabel("lmax 15, 16 points, 524288 triangles; rates per process CPU second");
 }
-BENCHMARK(BM_SimulateSummary)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SimulateSummary)->Arg(40)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
