@@ -69,11 +69,11 @@ inline double rim_mass(double x0, double y0, double h, double a, double b, doubl
   return sum * dy;
 }
 
-// Index i of the interval [cdf[i-1], cdf[i]) of an inclusive CDF (last entry 1) holding u in
-// [0, 1), skipping zero-width intervals; writes u rescaled to [0, 1) within it.
+// pick's second half: from i, the count of entries <= u, the interval holding u (skipping
+// zero-width intervals) and u rescaled to [0, 1) within it.
 template <class T>
-std::size_t pick(const T* cdf, std::size_t n, double u, double& rescaled) {
-  auto i = static_cast<std::size_t>(std::upper_bound(cdf, cdf + n, u) - cdf);
+std::size_t pick_from_count(const T* cdf, std::size_t n, std::size_t i, double u,
+                            double& rescaled) {
   if (i >= n) i = n - 1;
   double lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
   while (i > 0 && static_cast<double>(cdf[i]) <= lo) {  // u >= last entry (rounding only)
@@ -83,6 +83,14 @@ std::size_t pick(const T* cdf, std::size_t n, double u, double& rescaled) {
   const double w = static_cast<double>(cdf[i]) - lo;
   rescaled = w > 0 ? std::clamp((u - lo) / w, 0.0, std::nextafter(1.0, 0.0)) : 0.0;
   return i;
+}
+
+// Index i of the interval [cdf[i-1], cdf[i]) of an inclusive CDF (last entry 1) holding u in
+// [0, 1), skipping zero-width intervals; writes u rescaled to [0, 1) within it.
+template <class T>
+std::size_t pick(const T* cdf, std::size_t n, double u, double& rescaled) {
+  return pick_from_count(cdf, n, static_cast<std::size_t>(std::upper_bound(cdf, cdf + n, u) - cdf),
+                         u, rescaled);
 }
 
 // Fallback point when every redraw fell outside the disk: the centre of the cell with corner

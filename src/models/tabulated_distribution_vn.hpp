@@ -84,16 +84,7 @@ inline std::size_t count_le(const double* a, std::size_t n, double u) {
 template <class T>
 std::size_t pick_counted(const T* cdf, std::size_t n, double u, double& rescaled, bool sorted) {
   if (!sorted || !(u == u)) return pick(cdf, n, u, rescaled);  // (NaN: as upper_bound)
-  std::size_t i = count_le(cdf, n, u);
-  if (i >= n) i = n - 1;
-  double lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
-  while (i > 0 && static_cast<double>(cdf[i]) <= lo) {  // u >= last entry (rounding only)
-    --i;
-    lo = i ? static_cast<double>(cdf[i - 1]) : 0.0;
-  }
-  const double w = static_cast<double>(cdf[i]) - lo;
-  rescaled = w > 0 ? std::clamp((u - lo) / w, 0.0, std::nextafter(1.0, 0.0)) : 0.0;
-  return i;
+  return pick_from_count(cdf, n, count_le(cdf, n, u), u, rescaled);
 }
 
 class VisibleNormalTables {
