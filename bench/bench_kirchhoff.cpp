@@ -25,6 +25,7 @@
 #include <functional>
 #include <random>
 
+#include "bench_cpu.hpp"
 #include "bench_load.hpp"
 #include "core/fft.hpp"
 #include "microbrdf/generate.hpp"
@@ -239,11 +240,7 @@ void BM_KirchhoffSummary(benchmark::State& state) {
 // sums on the 64 random disk nodes. The same ratio in process CPU time (all threads; a loaded
 // machine inflates wall times, and FFTW's threads wait for each other more than the table's
 // helpers do) is reported next to it.
-double process_cpu() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
+using microbrdf::bench::process_cpu;  // (bench_cpu.hpp: all threads)
 
 void BM_KirchhoffMidpointSummary(benchmark::State& state) {
   const double load0 = load_average();

@@ -22,6 +22,7 @@
 #include <map>
 #include <vector>
 
+#include "bench_cpu.hpp"
 #include "bench_load.hpp"
 #include "core/helper_pool.hpp"
 #include "microbrdf/generate.hpp"
@@ -223,13 +224,7 @@ void BM_NdfNaive1025(benchmark::State& state) {
                                                      benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// CPU seconds of the whole process (every thread) so far.
-double process_cpu() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
+using microbrdf::bench::process_cpu;  // (bench_cpu.hpp: all threads)
 
 // Best wall time of `reps` calls (the least disturbed by other processes).
 double best_seconds(const std::function<void()>& f, int reps) {
