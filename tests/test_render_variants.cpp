@@ -253,15 +253,16 @@ TEST(RenderLightSets, EachSetEstimatesItsOwnRender) {
   }
 }
 
-TEST(RenderLightSets, OneSetIsRenderVariantsAndThreadsDoNotMatter) {
+TEST(RenderLightSets, ASecondSetAtTwiceTheRadianceAndThreadsDoNotMatter) {
   RenderScene sc;
   sc.kind = PreviewScene::Sphere;
   const auto b = metal_brdf(std::make_shared<GgxDistribution>(0.15, 0.3), "Cu");
   const auto c = metal_brdf(std::make_shared<BeckmannDistribution>(0.2), "Al");
   auto o = options(12, 4);
   const RenderLights court = envmap("blender_courtyard.exr");
-  EXPECT_EQ(render_light_sets(sc, {one(b), one(c)}, {court}, o)[1].rgb,
-            render_variants(sc, {one(b), one(c)}, court, o)[1].rgb);
+  // (one set: render_variants is this function; tests/cli/render_golden.sh pins single renders
+  // to the images of earlier builds)
+  EXPECT_EQ(render_light_sets(sc, {one(b), one(c)}, {court}, o).size(), 2u);
   // A second set at twice the first's radiance: BRDF-sampled emission is the same along the
   // same paths, light samples differ; both images agree in the mean, and neither depends on the
   // thread count.

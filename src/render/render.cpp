@@ -130,7 +130,9 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     double w = 1;
     if (!specular) {
       if (!use_brdf_emission || after_ris) return;
-      if (use_nee) w = power_heuristic(l == 0 ? prev_pdf : prev_q, light_pdf);
+      // (a direction the light cannot draw is the BRDF technique's alone: weight 1, also
+      // where a further set's w_0 p_0 is 0 there)
+      if (use_nee && light_pdf > 0) w = power_heuristic(l == 0 ? prev_pdf : prev_q, light_pdf);
     }
     if (!(w > 0)) return;
     double e[pt::kMaxWavelengths];  // (once for every variant)
@@ -504,7 +506,9 @@ std::vector<RenderImage> render_light_sets(
   for (int l = 0; l < nl; ++l) {
     sets.push_back(std::make_unique<const pt::LightSet>(light_sets[l]));
     set_ptrs.push_back(sets.back().get());
-    const std::string which = nl > 1 ? " in light set " + std::to_string(l + 1) : "";
+    const std::string which =
+        nl > 1 ? " in light set " + std::to_string(l + 1) + (l == 0 ? " (the render's own)" : "")
+               : "";
     if (sets.back()->count() == 0)
       throw InputError("render: no light" + which + " (give an environment map or lights)");
     // A ray that meets an area light ends there; in one set only, the other sets' paths would

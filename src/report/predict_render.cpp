@@ -286,8 +286,11 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
         }
       std::vector<RenderImage> imgs = render_split(j.scene, variants, ro, noise, extra);
       const std::size_t nv = variants.size();
-      for (std::size_t i = 0; i < riders.size(); ++i)
-        shared_images[riders[i]->key] = half_size(imgs[nv + i]);  // the measured NDF under it
+      if (imgs.size() != nv + riders.size())
+        throw std::logic_error("predict: a shared pass returned " + std::to_string(imgs.size()) +
+                               " images for " + std::to_string(nv + riders.size()));
+      for (std::size_t i = 0; i < riders.size(); ++i)  // the measured NDF under each further set
+        shared_images[riders[i]->key] = half_size(imgs[nv + i]);
       img = std::move(imgs.front());
       model_images.assign(std::make_move_iterator(imgs.begin() + 1),
                           std::make_move_iterator(imgs.begin() + static_cast<long>(nv)));
