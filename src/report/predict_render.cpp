@@ -224,8 +224,9 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
       s.name += "_studio";
       // Half size at 4x the samples (half the noise of the compared scenes): context beside
       // them, not compared itself. Rendered along the paths of the same scene under the given
-      // map (a second light set at full size, 2 x 2 pixels averaged): the same image in
-      // distribution, for about a third of the cost of its own render.
+      // map (a second light set at full size, 2 x 2 pixels averaged): an unbiased estimate of
+      // the same image with about 7% more noise, for less than half the cost of its own render
+      // (docs/render.md, "Light sets").
       const bool shared = w % 2 == 0 && w / 2 >= 16 && o.render_spp <= 65536 / 4;
       jobs.push_back({s, s.name, std::max(16, w / 2), std::min(65536, 4 * o.render_spp), false,
                       false, "studio", shared ? predict_scenes(o)[k].name : ""});
