@@ -125,7 +125,7 @@ BENCHMARK(BM_RenderStrip)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRea
 // BM_RenderStrip) and the measured NDF under the studio map at half the size with 4x the
 // samples. Arg 0: the pass and a separate studio render (the yardstick, same run); arg 1: one
 // render_light_sets pass with the studio as a second light set at the full size (predict then
-// averages 2 x 2 pixels: the same image in distribution). CPU seconds per set.
+// averages 2 x 2 pixels: an unbiased estimate of the same image). CPU seconds per set.
 void BM_RenderStudioSet(benchmark::State& state) {
   RenderScene sc;
   sc.kind = PreviewScene::Cylinders;

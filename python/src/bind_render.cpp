@@ -19,7 +19,7 @@ Eigen::Vector3d vec3(const py::handle& obj, const char* what) {
 
 RenderLights lights(PreviewScene kind, const py::object& envmap, double env_scale,
                     double env_rotation, bool white_env, const py::list& points,
-                    const py::list& spheres, const py::list& disks) {
+                    const py::list& spheres, const py::list& disks, bool defaults = true) {
   RenderLights l;
   if (!envmap.is_none()) l.envmap_path = fspath(envmap);
   l.envmap_scale = env_scale;
@@ -46,7 +46,7 @@ RenderLights lights(PreviewScene kind, const py::object& envmap, double env_scal
     l.disks.push_back({vec3(t[0], "disk_light centre"), vec3(t[1], "disk_light normal"), r,
                        vec3(t[3], "disk_light rgb")});
   }
-  add_default_light_if_none(l, kind);  // (as the CLI)
+  if (defaults) add_default_light_if_none(l, kind);  // (as the CLI)
   return l;
 }
 
@@ -119,7 +119,8 @@ py::object render_image(const py::object& brdfs, const std::string& scene, int s
                                   get("env_scale", py::float_(1.0)).cast<double>(),
                                   get("env_rotation", py::float_(0.0)).cast<double>(),
                                   get("white_env", py::bool_(false)).cast<bool>(),
-                                  get("point", py::list()), py::list(), py::list());
+                                  get("point", py::list()), py::list(), py::list(),
+                                  false);  // (an empty set is an error, not a white sky)
       sets.push_back(std::move(extra));
     }
   auto* imgs = new std::vector<RenderImage>;
@@ -257,8 +258,8 @@ light_sets: further lights for `brdf` along the same paths, a list of dicts with
 envmap, env_scale, env_rotation, white_env, point (as above; no area lights): each set has its
 own light samples and shadow rays, the paths and BRDF samples are shared, so the same object
 under two maps costs far less than two renders (direct light by MIS; docs/render.md, "Light
-sets"). Then a list is returned: what the lights above give (an image, or with variants a list
-of images), then `brdf`'s image under each further set.
+sets"). A set gets no default light. Then a list is returned: what the lights above give (an
+image, or with variants a list of images), then `brdf`'s image under each further set.
 Returns linear sRGB radiance, float32 (height, width, 3), row 0 at the top: a view on the
 renderer's buffer (no copy). Runs without the GIL; progress(fraction) is called from the
 calling thread; Ctrl-C is honoured when the image is finished.)");

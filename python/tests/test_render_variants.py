@@ -63,6 +63,12 @@ def test_light_sets_share_paths_and_each_estimates_its_own_render():
     both = mb.render(b[0], variants=b[1:2], light_sets=[{"white_env": True}], size=8, spp=2,
                      threads=1)
     assert len(both) == 2 and len(both[0]) == 2 and both[1].shape == (8, 8, 3)
+    try:  # a further set without light: no white sky made up for it
+        mb.render(b[0], light_sets=[{}], size=8, spp=1)
+    except mb.InputError as e:
+        assert "light set 2" in str(e)
+    else:
+        raise AssertionError("an empty light set was accepted")
     try:
         mb.render(b[0], light_sets=[{"envmap_path": "x.exr"}], size=8, spp=1)
     except ValueError as e:

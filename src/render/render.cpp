@@ -57,7 +57,7 @@ struct PathContext {
   const pt::PreviewGeometry& geo;
   /// The light sets (one world each; the first is the render's own lights). With several, none
   /// has area lights (render_light_sets), so a ray never ends on an emitter in one set only.
-  const pt::LightSet* const* sets;
+  const pt::LightSet* sets;
   int nl;
   /// Per variant, its materials (one, or one per object).
   const std::vector<std::vector<pt::SpectralMaterial>>& variants;
@@ -108,7 +108,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
   const int n = ps.n;
   const int nv = static_cast<int>(c.variants.size());
   const int nl = c.nl;
-  const pt::LightSet& lights0 = *c.sets[0];
+  const pt::LightSet& lights0 = c.sets[0];
   double T[kMaxRenderVariants][pt::kMaxWavelengths];
   for (int v = 0; v < nv; ++v)
     for (int k = 0; k < n; ++k) T[v][k] = 1;
@@ -158,14 +158,14 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       for (int l = 0; l < nl; ++l) {
         rng.get2d(nee_u[l][0], nee_u[l][1]);
         if (use_ris)
-          pt::ris_prefetch_light_candidates(*c.sets[l], nee_u[l][0], nee_u[l][1],
+          pt::ris_prefetch_light_candidates(c.sets[l], nee_u[l][0], nee_u[l][1],
                                             c.opt.ris_light_candidates);
         else
-          c.sets[l]->prefetch_sample(nee_u[l][0], nee_u[l][1]);
+          c.sets[l].prefetch_sample(nee_u[l][0], nee_u[l][1]);
       }
     std::pair<int, int> env_pixel[kMaxSets];
     for (int l = 0; l < nl; ++l)
-      env_pixel[l] = after_ris ? std::pair<int, int>{-1, -1} : c.sets[l]->prefetch_env(d);
+      env_pixel[l] = after_ris ? std::pair<int, int>{-1, -1} : c.sets[l].prefetch_env(d);
     pt::ShadingPoint sp;
     double t;
     if (have_next) {  // (traced before the throughputs were updated, below)
@@ -186,8 +186,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       if (after_ris) return rays;
       for (int l = 0; l < nl; ++l) {
         double pdf;
-        const V3 rgb = c.sets[l]->env_rgb(d, env_pixel[l], pdf);
-        if (c.sets[l]->env()) add_emission(l, rgb, pdf);
+        const V3 rgb = c.sets[l].env_rgb(d, env_pixel[l], pdf);
+        if (c.sets[l].env()) add_emission(l, rgb, pdf);
       }
       return rays;
     }
@@ -220,7 +220,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     // the first variant only.
     const bool ris = use_ris && nee;
     for (int l = 0; nee && !ris && l < nl; ++l) {
-      if (auto ls = c.sets[l]->sample(origin, nee_u[l][0], nee_u[l][1])) {
+      if (auto ls = c.sets[l].sample(origin, nee_u[l][0], nee_u[l][1])) {
         const V3 wl = sp.to_local(ls->dir);
         if (wl.z() > 0 && ls->dir.dot(sp.ng) > 0) {
           // f and the BRDF density before the shadow ray: no ray for a light sample the BRDF
@@ -256,7 +256,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
             // BRDF-sampled rays, which see the nearest emitter only).
             const double tmax = std::isinf(ls->distance) ? 1e30 : ls->distance * (1 - 1e-6);
             if (!c.geo.occluded(origin, ls->dir, tmax) &&
-                !(c.sets[l]->hit_area(origin, ls->dir, tmax).t > 0)) {
+                !(c.sets[l].hit_area(origin, ls->dir, tmax).t > 0)) {
               const double w = mis ? power_heuristic(ls->pdf, brdf_pdf) : 1.0;
               const double scale = w * wl.z() / ls->pdf;
               double e[pt::kMaxWavelengths];  // (once for every variant)
@@ -301,6 +301,8 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
     if (!sampled) return rays;
     after_ris = ris && !s.delta;
     const V3 wl = s.wo;
+    const V3 next_d = sp.to_world(wl).normalized();
+    if (next_d.dot(sp.ng) <= 0) return rays;  // below the geometric surface
     if (nv == 1) {
       for (int k = 0; k < n; ++k) T[0][k] *= s.weight[k];
       prev_pdf = prev_q = s.pdf;
@@ -316,11 +318,9 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       // trace it first, and only then pay for the other variants' BRDF values. The hit is kept
       // for the next bounce, so the images are the same.
       if (c.dark) {
-        const V3 dn = sp.to_world(wl).normalized();
-        if (dn.dot(sp.ng) <= 0) return rays;  // (as below)
         ++rays;
-        next_t = c.geo.intersect(origin, dn, 1e30, next_sp);
-        if (next_t < 0 && !(lights0.hit_area(origin, dn, 1e30).t > 0)) return rays;
+        next_t = c.geo.intersect(origin, next_d, 1e30, next_sp);
+        if (next_t < 0 && !(lights0.hit_area(origin, next_d, 1e30).t > 0)) return rays;
         have_next = true;
       }
       // f_v cos / p_mix for every variant, p_mix = sum_v w_v p_v(wl): the density with which
@@ -349,8 +349,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       prev_pdf = p_mix;
     }
     specular = s.delta;
-    d = sp.to_world(wl).normalized();
-    if (d.dot(sp.ng) <= 0) return rays;  // below the geometric surface
+    d = next_d;
     o = origin;
     // A path that ends here traces the pending direct light's shadow ray itself.
     auto end = [&] { return rays + pending.resolve_by_shadow_ray(c.geo, o, d, n, L[0][0]); };
@@ -501,32 +500,31 @@ std::vector<RenderImage> render_light_sets(
   if (nl < 1 || nl > kMaxRenderLightSets)
     throw InputError("render: give 1.." + std::to_string(kMaxRenderLightSets) +
                      " light sets, not " + std::to_string(nl));
-  std::vector<std::unique_ptr<const pt::LightSet>> sets;
-  std::vector<const pt::LightSet*> set_ptrs;
+  std::vector<pt::LightSet> sets;
+  sets.reserve(nl);
   for (int l = 0; l < nl; ++l) {
-    sets.push_back(std::make_unique<const pt::LightSet>(light_sets[l]));
-    set_ptrs.push_back(sets.back().get());
+    sets.emplace_back(light_sets[l]);
     const std::string which =
         nl > 1 ? " in light set " + std::to_string(l + 1) + (l == 0 ? " (the render's own)" : "")
                : "";
-    if (sets.back()->count() == 0)
+    if (sets.back().count() == 0)
       throw InputError("render: no light" + which + " (give an environment map or lights)");
     // A ray that meets an area light ends there; in one set only, the other sets' paths would
     // have to go on.
-    if (nl > 1 && sets.back()->has_area())
+    if (nl > 1 && sets.back().has_area())
       throw InputError("render: area lights (spheres, disks)" + which +
                        ": with several light sets, give environment maps and point lights only");
   }
-  const pt::LightSet& ls = *sets.front();
+  const pt::LightSet& ls = sets.front();
   const auto& spec = pt::SpectralTables::get();
   std::vector<std::vector<pt::SpectralMaterial>> mats(nv);
   for (int v = 0; v < nv; ++v)
     for (const auto& m : variants[v]) mats[v].emplace_back(m);
   const DirectLight direct = direct_light_used(opt, ls, nv, nl);
   bool dark = true;
-  for (const auto* s : set_ptrs) dark &= s->env() == nullptr;
+  for (const auto& s : sets) dark &= s.env() == nullptr;
   const PathContext ctx{
-      geo, set_ptrs.data(), nl, mats, opt, spec, mix.data(), cdf.data(), direct == DirectLight::Ris,
+      geo, sets.data(), nl, mats, opt, spec, mix.data(), cdf.data(), direct == DirectLight::Ris,
       dark};
   const Eigen::Matrix3d to_rgb = xyz_to_linear_srgb_matrix();
 

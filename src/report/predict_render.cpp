@@ -214,6 +214,7 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
   if (const std::string studio = studio_beside(o.envmap_path); o.render_models && !studio.empty()) {
     for (int k = 0; k < 2; ++k) {
       PredictScene s = predict_scenes(o)[k];
+      const std::string pass = s.name;  // the compared scene whose pass can carry this view
       s.lights = RenderLights{};
       s.lights.envmap_path = studio;
       s.lights.envmap_scale = o.envmap_scale;
@@ -229,7 +230,7 @@ nlohmann::json stage_render(const Context& c, const std::shared_ptr<const Brdf>&
       // (docs/render.md, "Light sets").
       const bool shared = w % 2 == 0 && w / 2 >= 16 && o.render_spp <= 65536 / 4;
       jobs.push_back({s, s.name, std::max(16, w / 2), std::min(65536, 4 * o.render_spp), false,
-                      false, "studio", shared ? predict_scenes(o)[k].name : ""});
+                      false, "studio", shared ? pass : ""});
     }
   }
   if (o.render_models) {
