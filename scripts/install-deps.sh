@@ -46,6 +46,7 @@ PACKAGES=(
   libembree-dev        # ray tracing: Westin micro-scenes and the preview renderer (Embree 3)
   libtinyobjloader-dev # OBJ meshes for the renderer
   libgtest-dev libgmock-dev libbenchmark-dev
+  dpkg-dev file        # make package: dpkg-shlibdeps (its Depends), file (CPack finds binaries)
   ccache               # compiler cache (used by CMake when present; speeds rebuilds)
   time                 # /usr/bin/time: max RSS of each hostile-input case in the CLI tests
   libopenmpi-dev openmpi-bin # scale-out: the same binary alone or under mpirun

@@ -44,6 +44,7 @@ from ._microbrdf import (  # noqa: F401
     statistics,
     tabulate,
 )
+from ._microbrdf import __version__  # noqa: F401  (the library's, as `microbrdf --version`)
 
 __all__ = [
     "Brdf",

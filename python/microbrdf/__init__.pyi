@@ -11,6 +11,8 @@ Directions = npt.ArrayLike  # (N, 3) or (3,)
 ScanLike = Union["Surface", PathLike]
 Scans = Union[ScanLike, Sequence[ScanLike]]
 
+__version__: str  # "MAJOR.MINOR.PATCH" of the library, as `microbrdf --version` prints
+
 class FileError(OSError):
     """A file that cannot be read or written, or is corrupt; filename names it."""
     def __init__(self, filename: str, problem: str, errno: Optional[int] = ...) -> None: ...

@@ -1,6 +1,7 @@
 // The extension module microbrdf._microbrdf; the package microbrdf re-exports it
 // (python/microbrdf).
 #include "bindings.hpp"
+#include "microbrdf/version.hpp"
 
 namespace microbrdf::python {
 
@@ -70,6 +71,7 @@ PYBIND11_MODULE(_microbrdf, m) {
   m.doc() =
       "microbrdf: how a metal surface reflects light, predicted from its measured "
       "microgeometry.\n\nSI units throughout (metres, radians); see docs/python.md.";
+  m.attr("__version__") = microbrdf::version();
   bind_errors(m);
   bind_surface(m);
   bind_ndf(m);

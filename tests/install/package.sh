@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# The Debian package: built with CPack from the build tree, installed with dpkg -i, its CLI and
+# Python module run from /usr, then removed with dpkg -r leaving none of its files behind.
+# Needs root and dpkg; exits 77 (skipped) otherwise, or when a microbrdf package is already
+# installed (the test does not touch a system's own installation).
+#   bash package.sh BUILD_DIR VERSION WORK_DIR
+set -u
+BUILD=$1 VERSION=$2 WORK=$3
+fail() { echo "FAIL: $*"; exit 1; }
+skip() { echo "SKIP: $*"; exit 77; }
+now() { date +%s.%N; }
+secs() { python3 -c "import sys; print(f'{float(sys.argv[2]) - float(sys.argv[1]):.1f}')" "$1" "$(now)"; }
+
+[ "$(id -u)" -eq 0 ] || skip "dpkg -i needs root"
+command -v dpkg >/dev/null && command -v dpkg-shlibdeps >/dev/null || skip "needs dpkg and dpkg-shlibdeps (dpkg-dev)"
+if dpkg-query -W -f='${Status}' microbrdf 2>/dev/null | grep -q "install ok"; then
+  skip "a microbrdf package is already installed"
+fi
+for f in /usr/bin/microbrdf /usr/lib/python3/dist-packages/microbrdf /usr/include/microbrdf; do
+  [ ! -e "$f" ] || skip "$f exists (an installation outside dpkg)"
+done
+
+# dpkg refuses to run while apt or another dpkg holds its lock: wait for it (up to 5 min).
+dpkg_wait() {
+  local i out
+  for i in $(seq 60); do
+    if out=$("$@" 2>&1); then printf '%s\n' "$out"; return 0; fi
+    printf '%s\n' "$out" | grep -q "lock" || { printf '%s\n' "$out"; return 1; }
+    sleep 5
+  done
+  printf '%s\n' "$out"
+  return 1
+}
+
+rm -rf "$WORK" && mkdir -p "$WORK" || fail "cannot make $WORK"
+t=$(now)
+cpack -G DEB --config "$BUILD/CPackConfig.cmake" -B "$WORK" >"$WORK/cpack.log" 2>&1 ||
+  fail "cpack: $(tail -20 "$WORK/cpack.log")"
+DEB=$(ls "$WORK"/microbrdf_"$VERSION"_*.deb 2>/dev/null | head -1)
+[ -n "$DEB" ] || fail "no microbrdf_${VERSION}_*.deb in $WORK: $(ls "$WORK")"
+echo "package: $(secs "$t") s, $(basename "$DEB") $(du -h "$DEB" | cut -f1), installed size $(dpkg-deb -f "$DEB" Installed-Size) KiB"
+
+# The control fields: name, version, section, maintainer, and Depends from dpkg-shlibdeps (the
+# C library and the libraries of the dependencies) plus python3 and numpy for the module.
+dpkg-deb -f "$DEB" Package Version Section Maintainer Depends | tee "$WORK/control.txt"
+[ "$(dpkg-deb -f "$DEB" Package)" = microbrdf ] || fail "Package field"
+[ "$(dpkg-deb -f "$DEB" Version)" = "$VERSION" ] || fail "Version field"
+[ -n "$(dpkg-deb -f "$DEB" Section)" ] && [ -n "$(dpkg-deb -f "$DEB" Maintainer)" ] || fail "Section/Maintainer"
+DEPENDS=$(dpkg-deb -f "$DEB" Depends)
+for p in libc6 libstdc++6 libgomp1 libfftw3-double3 libzip4 libhdf5 libembree3 libceres python3-numpy "python3 (>="; do
+  echo "$DEPENDS" | grep -q "$p" || fail "Depends lacks $p: $DEPENDS"
+done
+cleanup() { dpkg-query -W microbrdf >/dev/null 2>&1 && dpkg_wait dpkg -r microbrdf >/dev/null; }
+trap cleanup EXIT
+dpkg_wait dpkg -i "$DEB" >"$WORK/dpkg-i.log" || fail "dpkg -i: $(tail -20 "$WORK/dpkg-i.log")"
+dpkg -L microbrdf >"$WORK/files.txt" || fail "dpkg -L"
+grep -qx /usr/lib/python3/dist-packages/microbrdf/__init__.py "$WORK/files.txt" ||
+  fail "the Python module is not in /usr/lib/python3/dist-packages: $(grep -m3 python "$WORK/files.txt")"
+
+# From /usr, with no trace of the build tree in the environment.
+cd "$WORK" || fail "cd $WORK"
+out=$(env -u PYTHONPATH -u LD_LIBRARY_PATH /usr/bin/microbrdf --version) || fail "/usr/bin/microbrdf --version"
+[ "$out" = "microbrdf $VERSION" ] || fail "/usr/bin/microbrdf --version: $out"
+# Without -B: as root, python3 writes bytecode beside the module, which the prerm must remove.
+out=$(env -u PYTHONPATH /usr/bin/python3 -c "import microbrdf; print(microbrdf.__version__, microbrdf.__file__)") ||
+  fail "python3 -c 'import microbrdf' from the package"
+[ "$out" = "$VERSION /usr/lib/python3/dist-packages/microbrdf/__init__.py" ] || fail "import microbrdf: $out"
+# Every shared library the installed binaries load belongs to a package named in Depends.
+while read -r f; do
+  [ -f "$f" ] && head -c 4 "$f" | grep -q ELF || continue
+  ldd "$f" | grep -q "not found" && fail "$f: $(ldd "$f" | grep 'not found')"
+  for lib in $(ldd "$f" | awk '$2 == "=>" && $3 ~ /^\// {print $3}'); do
+    pkg=$(dpkg -S "$lib" 2>/dev/null | head -1 | cut -d: -f1)
+    [ -n "$pkg" ] || pkg=$(dpkg -S "$(realpath "$lib")" 2>/dev/null | head -1 | cut -d: -f1)
+    echo "$DEPENDS" | grep -q "\b$pkg\b" || fail "$f loads $lib of package '$pkg', not in Depends"
+  done
+done <"$WORK/files.txt"
+
+dpkg_wait dpkg -r microbrdf >"$WORK/dpkg-r.log" || fail "dpkg -r: $(tail -20 "$WORK/dpkg-r.log")"
+trap - EXIT
+grep -i "warning" "$WORK/dpkg-r.log" && fail "dpkg -r warned"
+left=""
+while read -r f; do
+  # Folders other packages share (/usr, /usr/lib, ...) stay; the package's own files and folders go.
+  if [ -f "$f" ] || [ -L "$f" ]; then left="$left $f"; fi
+  case "$f" in */microbrdf) [ -e "$f" ] && left="$left $f" ;; esac
+done <"$WORK/files.txt"
+[ -z "$left" ] || fail "left after dpkg -r:$left"
+echo "files in the package: $(wc -l <"$WORK/files.txt") paths, none left after dpkg -r"
+echo "OK"
