@@ -23,10 +23,9 @@ set(MICROBRDF_DEB_MAINTAINER "microbrdf maintainers <maintainers@users.noreply.h
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${MICROBRDF_DEB_MAINTAINER}")
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # microbrdf_0.1.0_amd64.deb
+# CPack's DEB generator runs the install scripts with this prefix itself (staged through
+# DESTDIR), so the Python rule sees /usr and picks lib/python3/dist-packages (python/CMakeLists.txt).
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
-# Run the install scripts with the prefix /usr itself (staged through DESTDIR), so the Python
-# rule sees /usr and picks Debian's lib/python3/dist-packages (python/CMakeLists.txt).
-set(CPACK_SET_DESTDIR ON)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # A shlibs file for libmicrobrdf.so.<soversion> (programs built on it get the right Depends) and
