@@ -65,14 +65,17 @@ out=$(env -u PYTHONPATH -u LD_LIBRARY_PATH /usr/bin/microbrdf --version) || fail
 out=$(env -u PYTHONPATH /usr/bin/python3 -c "import microbrdf; print(microbrdf.__version__, microbrdf.__file__)") ||
   fail "python3 -c 'import microbrdf' from the package"
 [ "$out" = "$VERSION /usr/lib/python3/dist-packages/microbrdf/__init__.py" ] || fail "import microbrdf: $out"
-# Every shared library the installed binaries load belongs to a package named in Depends.
+# Every library an installed binary links directly (DT_NEEDED) comes from a package in Depends.
 while read -r f; do
   [ -f "$f" ] && head -c 4 "$f" | grep -q ELF || continue
-  ldd "$f" | grep -q "not found" && fail "$f: $(ldd "$f" | grep 'not found')"
-  for lib in $(ldd "$f" | awk '$2 == "=>" && $3 ~ /^\// {print $3}'); do
+  ldd "$f" >"$WORK/ldd.txt" 2>&1
+  grep -q "not found" "$WORK/ldd.txt" && fail "$f: $(grep 'not found' "$WORK/ldd.txt")"
+  for soname in $(readelf -d "$f" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p'); do
+    lib=$(awk -v s="$soname" '$1 == s && $2 == "=>" {print $3}' "$WORK/ldd.txt")
+    [ -n "$lib" ] || fail "$f: ldd does not resolve $soname"
     pkg=$(dpkg -S "$lib" 2>/dev/null | head -1 | cut -d: -f1)
     [ -n "$pkg" ] || pkg=$(dpkg -S "$(realpath "$lib")" 2>/dev/null | head -1 | cut -d: -f1)
-    echo "$DEPENDS" | grep -q "\b$pkg\b" || fail "$f loads $lib of package '$pkg', not in Depends"
+    echo "$DEPENDS" | grep -q "\b$pkg\b" || fail "$f needs $soname ($lib, package '$pkg'), not in Depends"
   done
 done <"$WORK/files.txt"
 
