@@ -15,6 +15,7 @@ secs() { python3 -c "import sys; print(f'{float(sys.argv[2]) - float(sys.argv[1]
 CCACHE=$(command -v ccache || true)
 
 rm -rf "$WORK" && mkdir -p "$WORK" || fail "cannot make $WORK"
+WORK=$(cd "$WORK" && pwd) BUILD=$(cd "$BUILD" && pwd) DATA=$(cd "$DATA" && pwd)
 P=$WORK/prefix
 
 # --- the install itself: layout, SONAME, the version in every place it is written

@@ -33,6 +33,7 @@ dpkg_wait() {
 }
 
 rm -rf "$WORK" && mkdir -p "$WORK" || fail "cannot make $WORK"
+WORK=$(cd "$WORK" && pwd) BUILD=$(cd "$BUILD" && pwd)
 t=$(now)
 cpack -G DEB --config "$BUILD/CPackConfig.cmake" -B "$WORK" >"$WORK/cpack.log" 2>&1 ||
   fail "cpack: $(tail -20 "$WORK/cpack.log")"
