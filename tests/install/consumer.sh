@@ -90,8 +90,11 @@ export PKG_CONFIG_PATH=$P/lib/pkgconfig
   fail "pkg-config prefix $(pkg-config --variable=prefix microbrdf) is not $P"
 t=$(now)
 # shellcheck disable=SC2046  # pkg-config's output is a list of flags
-$CCACHE g++ -std=c++20 -O2 "$HERE/main.cpp" -o "$WORK/consumer-pc" $(pkg-config --cflags --libs microbrdf) \
-  -Wl,-rpath,"$P/lib" >"$WORK/pc.log" 2>&1 || fail "build with pkg-config flags: $(tail -20 "$WORK/pc.log")"
+$CCACHE g++ -std=c++20 -O2 $(pkg-config --cflags microbrdf) -c "$HERE/main.cpp" -o "$WORK/consumer-pc.o" \
+  >"$WORK/pc.log" 2>&1 || fail "compile with pkg-config --cflags: $(tail -20 "$WORK/pc.log")"
+# shellcheck disable=SC2046
+g++ "$WORK/consumer-pc.o" -o "$WORK/consumer-pc" $(pkg-config --libs microbrdf) -Wl,-rpath,"$P/lib" \
+  >"$WORK/pc.log" 2>&1 || fail "link with pkg-config --libs: $(tail -20 "$WORK/pc.log")"
 echo "consumer (pkg-config): build $(secs "$t") s"
 "$WORK/consumer-pc" "$SCAN" 257 >"$WORK/consumer-pc.txt" 2>&1 || fail "pkg-config consumer run: $(cat "$WORK/consumer-pc.txt")"
 cmp -s "$WORK/consumer.txt" "$WORK/consumer-pc.txt" || fail "pkg-config consumer printed other numbers"
