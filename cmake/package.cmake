@@ -11,13 +11,13 @@ set(CPACK_PACKAGE_NAME microbrdf)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_VENDOR "microbrdf maintainers")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "surface reflectance predicted from measured microgeometry")
-set(CPACK_PACKAGE_DESCRIPTION
-    "microbrdf predicts how a surface reflects light from its measured microgeometry: it reads\n"
-    "height maps from profilometers (x3p, Zygo, Sensofar, Digital Surf, Gwyddion, ...), estimates\n"
-    "normal distribution functions (geometric and Kirchhoff), fits microfacet models, builds\n"
-    "BRDFs, renders and exports them and writes HTML reports. This package holds the command\n"
-    "line tool, the Python module, the shared library with its headers, CMake package and\n"
-    "pkg-config file.")
+string(CONCAT CPACK_PACKAGE_DESCRIPTION
+       "microbrdf predicts how a surface reflects light from its measured microgeometry: it reads\n"
+       "height maps from profilometers (x3p, Zygo, Sensofar, Digital Surf, Gwyddion, ...), estimates\n"
+       "normal distribution functions (geometric and Kirchhoff), fits microfacet models, builds\n"
+       "BRDFs, renders and exports them and writes HTML reports. This package holds the command\n"
+       "line tool, the Python module, and the shared library with its headers, CMake package and\n"
+       "pkg-config file.")
 set(MICROBRDF_DEB_MAINTAINER "microbrdf maintainers <maintainers@users.noreply.h-seed-ec9e3186.example>"
     CACHE STRING "Maintainer field of the Debian package (make package)")
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${MICROBRDF_DEB_MAINTAINER}")
