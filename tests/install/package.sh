@@ -48,10 +48,10 @@ dpkg-deb -f "$DEB" Package Version Section Maintainer Depends | tee "$WORK/contr
 [ "$(dpkg-deb -f "$DEB" Version)" = "$VERSION" ] || fail "Version field"
 [ -n "$(dpkg-deb -f "$DEB" Section)" ] && [ -n "$(dpkg-deb -f "$DEB" Maintainer)" ] || fail "Section/Maintainer"
 DEPENDS=$(dpkg-deb -f "$DEB" Depends)
-for p in libc6 libstdc++6 libgomp1 libfftw3-double3 libzip4 libhdf5 libembree3 libceres python3-numpy "python3 (>="; do
+for p in libc6 libstdc++6 libgomp1 libfftw3-double3 libzip4 libhdf5 libembree3 libopenmpi3 python3-numpy "python3 (>="; do
   echo "$DEPENDS" | grep -q "$p" || fail "Depends lacks $p: $DEPENDS"
 done
-cleanup() { dpkg-query -W microbrdf >/dev/null 2>&1 && dpkg_wait dpkg -r microbrdf >/dev/null; }
+cleanup() { dpkg-query -W microbrdf >/dev/null 2>&1 && dpkg_wait dpkg --purge microbrdf >/dev/null; }
 trap cleanup EXIT
 dpkg_wait dpkg -i "$DEB" >"$WORK/dpkg-i.log" || fail "dpkg -i: $(tail -20 "$WORK/dpkg-i.log")"
 dpkg -L microbrdf >"$WORK/files.txt" || fail "dpkg -L"
@@ -67,18 +67,33 @@ out=$(env -u PYTHONPATH /usr/bin/python3 -c "import microbrdf; print(microbrdf._
   fail "python3 -c 'import microbrdf' from the package"
 [ "$out" = "$VERSION /usr/lib/python3/dist-packages/microbrdf/__init__.py" ] || fail "import microbrdf: $out"
 # Every library an installed binary links directly (DT_NEEDED) comes from a package in Depends.
+: >"$WORK/needed.txt"
 while read -r f; do
   [ -f "$f" ] && head -c 4 "$f" | grep -q ELF || continue
   ldd "$f" >"$WORK/ldd.txt" 2>&1
   grep -q "not found" "$WORK/ldd.txt" && fail "$f: $(grep 'not found' "$WORK/ldd.txt")"
   for soname in $(readelf -d "$f" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p'); do
-    lib=$(awk -v s="$soname" '$1 == s && $2 == "=>" {print $3}' "$WORK/ldd.txt")
+    # "libx.so.1 => /path (addr)", or "/path/ld-linux-x86-64.so.2 (addr)" for the loader
+    lib=$(awk -v s="$soname" '$1 == s && $2 == "=>" {print $3} substr($1, length($1) - length(s)) == "/" s {print $1}' "$WORK/ldd.txt")
     [ -n "$lib" ] || fail "$f: ldd does not resolve $soname"
-    pkg=$(dpkg -S "$lib" 2>/dev/null | head -1 | cut -d: -f1)
-    [ -n "$pkg" ] || pkg=$(dpkg -S "$(realpath "$lib")" 2>/dev/null | head -1 | cut -d: -f1)
-    echo "$DEPENDS" | grep -q "\b$pkg\b" || fail "$f needs $soname ($lib, package '$pkg'), not in Depends"
+    echo "$lib" >>"$WORK/needed.txt"
   done
 done <"$WORK/files.txt"
+# One dpkg -S for all (it reads the whole database each time). dpkg knows a library by the path
+# its package ships, /lib/... or /usr/lib/... (merged /usr): try the path ldd printed, then the
+# resolved one.
+sort -u "$WORK/needed.txt" -o "$WORK/needed.txt"
+dpkg -S $(cat "$WORK/needed.txt") 2>/dev/null >"$WORK/owners.txt"
+while read -r lib; do
+  grep -q ": $lib\$" "$WORK/owners.txt" || realpath "$lib"
+done <"$WORK/needed.txt" >"$WORK/needed-real.txt"
+[ -s "$WORK/needed-real.txt" ] && dpkg -S $(cat "$WORK/needed-real.txt") 2>/dev/null >>"$WORK/owners.txt"
+[ "$(wc -l <"$WORK/owners.txt")" -ge "$(wc -l <"$WORK/needed.txt")" ] ||
+  fail "dpkg -S does not know every library: $(cat "$WORK/needed.txt")"
+for pkg in $(cut -d: -f1 "$WORK/owners.txt" | sort -u); do
+  echo "$DEPENDS" | grep -q "\b$pkg\b" || fail "a binary needs a library of package '$pkg', not in Depends"
+done
+echo "Depends covers the $(wc -l <"$WORK/needed.txt") libraries the binaries need ($(cut -d: -f1 "$WORK/owners.txt" | sort -u | wc -l) packages)"
 
 dpkg_wait dpkg -r microbrdf >"$WORK/dpkg-r.log" || fail "dpkg -r: $(tail -20 "$WORK/dpkg-r.log")"
 trap - EXIT
@@ -91,4 +106,7 @@ while read -r f; do
 done <"$WORK/files.txt"
 [ -z "$left" ] || fail "left after dpkg -r:$left"
 echo "files in the package: $(wc -l <"$WORK/files.txt") paths, none left after dpkg -r"
+# dpkg -r keeps the package's record (state config-files: its postrm, for a purge); --purge drops it.
+dpkg_wait dpkg --purge microbrdf >"$WORK/dpkg-purge.log" || fail "dpkg --purge: $(tail -20 "$WORK/dpkg-purge.log")"
+! dpkg-query -W microbrdf >/dev/null 2>&1 || fail "dpkg still lists microbrdf after --purge"
 echo "OK"
