@@ -41,7 +41,7 @@ test-slow: build
 	ctest --test-dir build -L slow --output-on-failure -j $(JOBS)
 
 # The Debian package built, installed with dpkg -i, run and removed with dpkg -r (root).
-test-package: build
+test-package: build-installed
 	ctest --test-dir build -L package --output-on-failure
 
 # predict on a real scan and a synthetic brushed surface -> HTML reports, screenshot in Chromium
