@@ -29,7 +29,8 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # A shlibs file for libmicrobrdf.so.<soversion> (programs built on it get the right Depends) and
-# the ldconfig trigger that makes the new library known.
+# the ldconfig calls that make the new library known. CPack warns that the Python extension has
+# no SONAME: true, and it is rightly left out of the shlibs file.
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
 if(MICROBRDF_PYTHON_VERSION)  # set by python/CMakeLists.txt
   string(REPLACE "." ";" v ${MICROBRDF_PYTHON_VERSION})
