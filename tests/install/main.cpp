@@ -18,8 +18,9 @@
 #include <numbers>
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: consumer SCAN RESOLUTION\n");
+  const long resolution = argc == 3 ? std::atol(argv[2]) : 0;
+  if (resolution < 3) {
+    std::fprintf(stderr, "usage: consumer SCAN RESOLUTION (table nodes per side, >= 3)\n");
     return 2;
   }
   try {
@@ -27,7 +28,7 @@ int main(int argc, char** argv) {
     microbrdf::level_surface(s, microbrdf::LevelingSpec{});  // plane, as the CLI does by default
     microbrdf::NdfEstimateOptions options;
     options.method = microbrdf::NdfMethod::Naive;
-    options.resolution = static_cast<std::size_t>(std::atol(argv[2]));
+    options.resolution = static_cast<std::size_t>(resolution);
     const microbrdf::TabulatedNdf ndf = microbrdf::estimate_ndf(s, options);
 
     const std::size_t n = options.resolution;

@@ -66,6 +66,7 @@ out=$(env -u PYTHONPATH -u LD_LIBRARY_PATH /usr/bin/microbrdf --version) || fail
 out=$(env -u PYTHONPATH /usr/bin/python3 -c "import microbrdf; print(microbrdf.__version__, microbrdf.__file__)") ||
   fail "python3 -c 'import microbrdf' from the package"
 [ "$out" = "$VERSION /usr/lib/python3/dist-packages/microbrdf/__init__.py" ] || fail "import microbrdf: $out"
+[ -d /usr/lib/python3/dist-packages/microbrdf/__pycache__ ] && echo "python3 wrote bytecode beside the module (the prerm removes it)"
 # Every library an installed binary links directly (DT_NEEDED) comes from a package in Depends.
 : >"$WORK/needed.txt"
 while read -r f; do
