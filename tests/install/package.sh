@@ -62,11 +62,12 @@ grep -qx /usr/lib/python3/dist-packages/microbrdf/__init__.py "$WORK/files.txt" 
 cd "$WORK" || fail "cd $WORK"
 out=$(env -u PYTHONPATH -u LD_LIBRARY_PATH /usr/bin/microbrdf --version) || fail "/usr/bin/microbrdf --version"
 [ "$out" = "microbrdf $VERSION" ] || fail "/usr/bin/microbrdf --version: $out"
-# Without -B: as root, python3 writes bytecode beside the module, which the prerm must remove.
-out=$(env -u PYTHONPATH /usr/bin/python3 -c "import microbrdf; print(microbrdf.__version__, microbrdf.__file__)") ||
+# Bytecode on (no -B, no PYTHONDONTWRITEBYTECODE): as root python3 writes it beside the module,
+# where dpkg does not know it; the prerm must remove it for dpkg -r to leave nothing.
+out=$(env -u PYTHONPATH -u PYTHONDONTWRITEBYTECODE /usr/bin/python3 -c "import microbrdf; print(microbrdf.__version__, microbrdf.__file__)") ||
   fail "python3 -c 'import microbrdf' from the package"
 [ "$out" = "$VERSION /usr/lib/python3/dist-packages/microbrdf/__init__.py" ] || fail "import microbrdf: $out"
-[ -d /usr/lib/python3/dist-packages/microbrdf/__pycache__ ] && echo "python3 wrote bytecode beside the module (the prerm removes it)"
+[ -d /usr/lib/python3/dist-packages/microbrdf/__pycache__ ] || fail "python3 wrote no bytecode: the prerm is not tested"
 # Every library an installed binary links directly (DT_NEEDED) comes from a package in Depends.
 : >"$WORK/needed.txt"
 while read -r f; do
@@ -97,7 +98,6 @@ done
 echo "Depends covers the $(wc -l <"$WORK/needed.txt") libraries the binaries need ($(cut -d: -f1 "$WORK/owners.txt" | sort -u | wc -l) packages)"
 
 dpkg_wait dpkg -r microbrdf >"$WORK/dpkg-r.log" || fail "dpkg -r: $(tail -20 "$WORK/dpkg-r.log")"
-trap - EXIT
 grep -i "warning" "$WORK/dpkg-r.log" && fail "dpkg -r warned"
 left=""
 while read -r f; do
@@ -105,9 +105,10 @@ while read -r f; do
   if [ -f "$f" ] || [ -L "$f" ]; then left="$left $f"; fi
   case "$f" in */microbrdf) [ -e "$f" ] && left="$left $f" ;; esac
 done <"$WORK/files.txt"
-[ -z "$left" ] || fail "left after dpkg -r:$left"
+[ -z "$left" ] || fail "left after dpkg -r (remove by hand before the next run):$left"
 echo "files in the package: $(wc -l <"$WORK/files.txt") paths, none left after dpkg -r"
 # dpkg -r keeps the package's record (state config-files: its postrm, for a purge); --purge drops it.
 dpkg_wait dpkg --purge microbrdf >"$WORK/dpkg-purge.log" || fail "dpkg --purge: $(tail -20 "$WORK/dpkg-purge.log")"
 ! dpkg-query -W microbrdf >/dev/null 2>&1 || fail "dpkg still lists microbrdf after --purge"
+trap - EXIT
 echo "OK"
