@@ -1,10 +1,11 @@
 # What `cmake --install build [--prefix P]` writes (docs/architecture.md, "Using microbrdf from C++"):
-#   bin/microbrdf                                    the command line (static: no library path needed)
+#   bin/microbrdf                                    the command line (the library linked in)
 #   lib/libmicrobrdf.so.<soversion>                  the library, for other programs
 #   include/microbrdf/*.hpp                          its public headers
 #   lib/cmake/microbrdf/                             find_package(microbrdf CONFIG) -> microbrdf::microbrdf
 #   lib/pkgconfig/microbrdf.pc                       pkg-config --cflags --libs microbrdf
-#   lib/python3.X/dist-packages/microbrdf/           the Python module (python/CMakeLists.txt)
+#   lib/python3.X/dist-packages/microbrdf/           the Python module, the library linked in
+#                                                    (lib/python3/dist-packages under /usr; python/)
 # Everything is relocatable: the CMake package and the .pc file find the prefix from where they lie.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
