@@ -36,7 +36,7 @@ run ellipsoid.glb --model ellipsoid --alpha-x 0.1 --alpha-y 0.25 --theta-x 5deg 
 # A small parameter texture: texels fitted on a generated brushed scan, then synthesised.
 "$BIN" generate brushed --preset stainless4 --nx 384 --ny 256 --seed 1 -o "$T/s.x3p" \
   >/dev/null 2>&1 || fail "generate"
-"$BIN" texture "$T/s.x3p" --texel 14um -o "$T/ex.exr" --no-preview >/dev/null 2>&1 ||
+"$BIN" texture "$T/s.x3p" --texel 7um -o "$T/ex.exr" --no-preview >/dev/null 2>&1 ||
   fail "texture fit"
 "$BIN" texture "$T/ex.exr" --size 32 --seed 1 -o "$T/tex.exr" --no-preview >/dev/null 2>&1 ||
   fail "texture synthesis"
@@ -45,7 +45,7 @@ run texture.gltf --texture "$T/tex.exr" --metal Fe
 [ -s "$T/texture_anisotropy.png" ] && [ -s "$T/texture_roughness.png" ] && [ -s "$T/texture.bin" ] ||
   fail ".gltf without its .bin and PNGs"
 # Every built-in metal: the names the tool lists when it is given an unknown one.
-METALS=$("$BIN" brdf color --metal unobtainium 2>&1 | sed -n 's/.*known: *//p' | tr -d ',' )
+METALS=$("$BIN" brdf color --metal unobtainium 2>&1 | sed -n 's/.*known: *//p' | tr -d ',)')
 [ "$(echo "$METALS" | wc -w)" -ge 12 ] || fail "could not list the metals: $METALS"
 for m in $METALS; do
   run "metal_$m.glb" --model ggx --alpha-x 0.1 --alpha-y 0.2 --phi 45deg --metal "$m"
