@@ -106,7 +106,7 @@ AnisotropicAlpha ggx_fit(const TabulatedNdf& table, const std::string& what,
       "shape: glTF's microfacet distribution is GGX; {} becomes the GGX fit alpha_x {:.4g}, "
       "alpha_y {:.4g}, phi {:.4g} deg (Hellinger distance {:.3g}, relative L2 error {:.3g}), "
       "with GGX's Smith shadowing",
-      what, r.params.alpha_x, r.params.alpha_y, r.phi * 180 / M_PI, r.hellinger,
+      what, r.params.alpha_x, r.params.alpha_y, r.phi * 180 / M_PI + 0.0, r.hellinger,
       r.relative_l2_error));
   return {r.params.alpha_x, r.params.alpha_y, r.phi};
 }
