@@ -15,6 +15,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/gltf_export.hpp"
 #include "microbrdf/image.hpp"
+#include "microbrdf/memory_budget.hpp"
 
 namespace microbrdf {
 namespace {
@@ -89,7 +90,9 @@ struct TextureImages {
   double roughness_factor = 1, strength_factor = 0;
 };
 
-TextureImages texture_images(const GltfTextureMaps& t) {
+TextureImages texture_images(const GltfTextureMaps& t, const std::string& path) {
+  // The per-texel parameters and two RGB images, before anything is allocated.
+  check_memory(path, mul_sat(t.texel.size(), sizeof(GltfAnisotropy) + 6), "the glTF textures");
   std::vector<GltfAnisotropy> g(t.texel.size());
   TextureImages out;
   out.roughness_factor = 0;
@@ -173,7 +176,7 @@ std::vector<std::string> write_gltf(const GltfMaterial& m, const std::string& pa
   json aniso = {{"anisotropyStrength", a.strength}, {"anisotropyRotation", a.rotation}};
   std::vector<std::pair<std::string, std::vector<std::uint8_t>>> images;  // file name, PNG
   if (!m.texture.empty()) {
-    const TextureImages ti = texture_images(m.texture.front());
+    const TextureImages ti = texture_images(m.texture.front(), path);
     images.emplace_back(stem + "_roughness.png", encode_png(ti.roughness, path));
     images.emplace_back(stem + "_anisotropy.png", encode_png(ti.anisotropy, path));
     pbr["roughnessFactor"] = ti.roughness_factor;
