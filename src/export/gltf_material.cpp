@@ -108,6 +108,8 @@ AnisotropicAlpha ggx_fit(const TabulatedNdf& table, const std::string& what,
       "with GGX's Smith shadowing",
       what, r.params.alpha_x, r.params.alpha_y, r.phi * 180 / M_PI + 0.0, r.hellinger,
       r.relative_l2_error));
+  if (!r.at_bound.empty())
+    warn.back() += "; the fit ended on " + r.at_bound + " (its optimum may lie beyond that bound)";
   return {r.params.alpha_x, r.params.alpha_y, r.phi};
 }
 
