@@ -54,7 +54,7 @@ PUBLIC_HEADERS = {
     # experiments and products built on BRDFs
     "fit": "fit", "microscene": "simulate", "simulate": "simulate", "goniometer": "simulate",
     "render": "render", "envmap_image": "render", "sun_svbrdf": "render", "texture": "texture", "measured_compare": "fit", "export": "export",
-    "scene_export": "export",
+    "scene_export": "export", "gltf_export": "export",
     "predict": "report",
 }
 
