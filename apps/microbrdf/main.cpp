@@ -3,9 +3,11 @@
 #include <cstdio>
 #include <exception>
 
+#include "cli_checks.hpp"
 #include "commands.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/interrupt.hpp"
 #include "microbrdf/memory_budget.hpp"
 
@@ -13,6 +15,9 @@ int main(int argc, char** argv) {
   // First, before any thread exists (MPI's included): SIGINT / SIGTERM remove temporaries and
   // exit 130 / 143.
   microbrdf::install_interrupt_cleanup();
+  // Writes past `ulimit -f` fail with EFBIG and are reported like a full disk, instead of
+  // SIGXFSZ ending the process silently with its temporaries left behind.
+  microbrdf::install_file_size_limit_handler();
   // MPI only under mpirun (docs/scale.md); finalised when main returns.
   microbrdf::MpiSession mpi(argc, argv);
   CLI::App app{
@@ -36,6 +41,7 @@ int main(int argc, char** argv) {
       ->trigger_on_parse();
   app.fallthrough();
   microbrdf::cli::register_all(app);
+  microbrdf::cli::guard_integer_options(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -327,6 +327,7 @@ MicroSceneDesc parse_scene_objects(const json& j, const std::string& base_dir,
             type + "')");
       }
     }
+    check_scene_geometry(d);
   } catch (const InputError& e) {
     c.fail(e.what());
   }

@@ -1,0 +1,39 @@
+#include "microbrdf/file_size_limit.hpp"
+
+#include <sys/resource.h>
+
+#include <atomic>
+#include <csignal>
+
+#include "microbrdf/memory_budget.hpp"
+
+namespace microbrdf {
+
+namespace {
+// Set from the signal handler: a lock-free atomic store is async-signal-safe.
+std::atomic<bool> g_reached{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void on_sigxfsz(int) { g_reached.store(true, std::memory_order_relaxed); }
+}  // namespace
+
+void install_file_size_limit_handler() {
+  struct sigaction sa {};
+  sa.sa_handler = on_sigxfsz;
+  sigemptyset(&sa.sa_mask);
+  // No SA_RESTART: the write that crossed the limit must fail with EFBIG, not be retried.
+  sa.sa_flags = 0;
+  sigaction(SIGXFSZ, &sa, nullptr);
+}
+
+bool file_size_limit_reached() { return g_reached.load(std::memory_order_relaxed); }
+
+std::string file_size_limit_problem() {
+  std::string limit;
+  struct rlimit r {};
+  if (getrlimit(RLIMIT_FSIZE, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
+    limit = " (ulimit -f: " + format_bytes(static_cast<std::uint64_t>(r.rlim_cur)) + ")";
+  return "the file size limit" + limit + " was reached; as on a full disk, no output was written";
+}
+
+}  // namespace microbrdf
