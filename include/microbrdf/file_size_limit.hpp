@@ -18,5 +18,8 @@ bool file_size_limit_reached();
 /// "the file size limit (ulimit -f: 100 KiB) was reached; as on a full disk, no output was
 /// written" (the limit read at the call).
 std::string file_size_limit_problem();
+/// The problem to report for a write that failed with errno `err`: the file-size limit (EFBIG, or
+/// the limit reached earlier), a full disk (ENOSPC), else the system's message.
+std::string write_failure_problem(int err);
 
 }  // namespace microbrdf

@@ -122,7 +122,7 @@ void write_file_atomic(const std::string& path, std::span<const std::uint8_t> by
     out.write(reinterpret_cast<const char*>(bytes.data()),
               static_cast<std::streamsize>(bytes.size()));
     out.flush();
-    if (!out) throw FileError(path, "write failed (disk full?)");
+    if (!out) throw FileError(path, write_failure_problem(errno));
   }
   f.commit();
 }

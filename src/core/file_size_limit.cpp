@@ -3,9 +3,9 @@
 #include <sys/resource.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
-
-#include "microbrdf/memory_budget.hpp"
+#include <cstring>
 
 namespace microbrdf {
 
@@ -32,8 +32,18 @@ std::string file_size_limit_problem() {
   std::string limit;
   struct rlimit r {};
   if (getrlimit(RLIMIT_FSIZE, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
-    limit = " (ulimit -f: " + format_bytes(static_cast<std::uint64_t>(r.rlim_cur)) + ")";
+    limit = " (ulimit -f: " +
+            (r.rlim_cur % 1024 == 0 ? std::to_string(r.rlim_cur / 1024) + " KiB"
+                                    : std::to_string(r.rlim_cur) + " bytes") +
+            ")";
   return "the file size limit" + limit + " was reached; as on a full disk, no output was written";
+}
+
+std::string write_failure_problem(int err) {
+  if (err == EFBIG || file_size_limit_reached()) return file_size_limit_problem();
+  if (err == ENOSPC) return "the disk is full; no output was written";
+  return err != 0 ? std::string("write failed: ") + std::strerror(err)
+                  : "write failed (disk full?)";
 }
 
 }  // namespace microbrdf

@@ -10,6 +10,7 @@
 
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_size_limit.hpp"
 
 namespace microbrdf {
 
@@ -42,7 +43,7 @@ void write_png(const std::string& path, const RgbImage& image) {
     }
     if (setjmp(png_jmpbuf(png))) {
       png_destroy_write_struct(&png, &info);
-      throw FileError(path, "PNG write failed (disk full?)");
+      throw FileError(path, write_failure_problem(errno));
     }
     png_init_io(png, fp.get());
     png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),

@@ -24,11 +24,11 @@
 
 #include "core/aligned_array.hpp"
 #include "core/helper_pool.hpp"
+#include "core/length_text.hpp"
 #include "core/simd_clones.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/memory_budget.hpp"
 #include "microbrdf/ndf_estimate.hpp"
-#include "microbrdf/units.hpp"
 #include "ndf/filtered_normals_core.hpp"
 
 namespace microbrdf {
@@ -269,10 +269,11 @@ void check_args(const Surface& s, double sigma, double truncate) {
   // and memory. This bound also keeps the tap count finite whatever the spacing.
   const double side = longest_side(s);
   if (!(sigma <= side))
-    data_error(s, "filter sigma " + format_length(sigma) + " is longer than the scan (" +
-                      std::to_string(s.nx) + " x " + std::to_string(s.ny) + " samples of " +
-                      format_length(s.dx) + " x " + format_length(s.dy) + ", longest side " +
-                      format_length(side) +
+    data_error(s, "filter sigma " + detail::format_length_any(sigma) +
+                      " is longer than the scan (" + std::to_string(s.nx) + " x " +
+                      std::to_string(s.ny) + " samples of " + detail::format_length_any(s.dx) +
+                      " x " + detail::format_length_any(s.dy) + ", longest side " +
+                      detail::format_length_any(side) +
                       "): every plane fit would span the whole scan; use a filter sigma of at "
                       "most the scan's side (a few sample spacings to a few microns is usual), "
                       "or check --spacing");

@@ -30,11 +30,11 @@
 
 #include "core/fft.hpp"
 #include "core/helper_pool.hpp"
+#include "core/length_text.hpp"
 #include "core/simd_clones.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/memory_budget.hpp"
-#include "microbrdf/units.hpp"
 #include "ndf/kirchhoff_transform.hpp"
 
 namespace microbrdf {
@@ -337,7 +337,8 @@ void check_series_memory(double zmax, double range, double lambda_q) {
       "Kirchhoff: the heights of a patch span %s, %.3g wavelengths (lambda_q %s): its "
       "series needs about %s, over the memory budget of %s (--max-memory); level the "
       "scan (--level plane) or check its height unit",
-      format_length(range).c_str(), range / lambda_q, format_length(lambda_q).c_str(),
+      detail::format_length_any(range).c_str(), range / lambda_q,
+      detail::format_length_any(lambda_q).c_str(),
       bytes >= 1.8e19 ? "over 16 EiB" : format_bytes(static_cast<std::uint64_t>(bytes)).c_str(),
       format_bytes(memory_budget()).c_str());
   throw InputError(b);

@@ -11,11 +11,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/length_text.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/json_read.hpp"
 #include "microbrdf/memory_budget.hpp"
-#include "microbrdf/units.hpp"
 #include "surface/formats.hpp"
 
 namespace microbrdf {
@@ -244,7 +244,8 @@ Surface read_surface_bytes(std::span<const std::uint8_t> data, SurfaceFormat for
     throw FileError(name, "spacing " + std::to_string(s.dx) + " x " + std::to_string(s.dy) +
                               " m is absurd (over 1 m); wrong unit? pass --spacing");
   if (s.dx < kMinSpacing || s.dy < kMinSpacing)
-    throw FileError(name, "spacing " + format_length(s.dx) + " x " + format_length(s.dy) +
+    throw FileError(name, "spacing " + detail::format_length_any(s.dx) + " x " +
+                              detail::format_length_any(s.dy) +
                               " is absurd (below 1 pm); wrong unit? pass --spacing");
   s.sync_mask();
   if (s.valid_count() == 0) throw FileError(name, "contains no valid height sample");
