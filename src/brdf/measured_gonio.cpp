@@ -57,7 +57,7 @@ GonioData parse_gonio_csv(std::string_view text, const std::string& name) {
   // Estimated before any point is stored: a row per line at most.
   const auto rows = static_cast<std::uint64_t>(std::count(text.begin(), text.end(), '\n')) + 1;
   check_memory(name, text.size() + mul_sat(rows, kBytesPerRow),
-               std::to_string(rows) + " goniometer rows (the text and the points)");
+               "up to " + std::to_string(rows) + " goniometer rows (the text and the points)");
   d.points.reserve(static_cast<std::size_t>(rows));
   int col[6];
   int sigma_col = -1;
