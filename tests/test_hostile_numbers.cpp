@@ -182,10 +182,27 @@ TEST(HostileNumbers, GoniometerRowsAreCheckedAgainstTheBudgetBeforeParsing) {
     FAIL() << "100000 rows were parsed under a 4 MiB budget";
   } catch (const FileError& e) {
     EXPECT_EQ(e.path(), "many.csv");
-    EXPECT_NE(std::string(e.what()).find("up to 100002 goniometer rows"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("up to 100002 goniometer rows"), std::string::npos)
+        << e.what();
   }
   set_memory_budget(1ull << 30);
   EXPECT_EQ(parse_gonio_csv(csv, "many.csv").points.size(), 100000u);
+}
+
+// In a child process (the limit and the handler stay there): writes 256 KiB under a 64 KiB
+// limit; 0 when the error names the file and the limit and the handler saw the signal.
+int write_past_the_limit(const std::string& out) {
+  install_file_size_limit_handler();
+  const rlimit r{64 * 1024, 64 * 1024};
+  setrlimit(RLIMIT_FSIZE, &r);
+  int code = 3;  // no error at all
+  try {
+    write_file_atomic(out, std::string(256 * 1024, 'x'));
+  } catch (const FileError& e) {
+    const std::string m = e.what();
+    code = m.find(out + ": the file size limit (ulimit -f: 64 KiB) was reached") == 0 ? 0 : 4;
+  }
+  return file_size_limit_reached() ? code : 5;
 }
 
 TEST(HostileNumbers, FileSizeLimitIsReportedLikeAFullDiskWithNothingLeft) {
@@ -193,22 +210,7 @@ TEST(HostileNumbers, FileSizeLimitIsReportedLikeAFullDiskWithNothingLeft) {
       fs::temp_directory_path() / ("microbrdf-fsize-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string out = (dir / "big.bin").string();
-  // In a child process: the limit and the handler stay there.
-  EXPECT_EXIT(
-      {
-        install_file_size_limit_handler();
-        rlimit r{64 * 1024, 64 * 1024};
-        setrlimit(RLIMIT_FSIZE, &r);
-        int code = 3;
-        try {
-          write_file_atomic(out, std::string(256 * 1024, 'x'));
-        } catch (const FileError& e) {
-          const std::string m = e.what();
-          code = m.find(out + ": the file size limit (ulimit -f: 64 KiB) was reached") == 0 ? 0 : 4;
-        }
-        std::_Exit(file_size_limit_reached() ? code : 5);
-      },
-      ::testing::ExitedWithCode(0), "");
+  EXPECT_EXIT(std::_Exit(write_past_the_limit(out)), ::testing::ExitedWithCode(0), "");
   // Nothing written, no temporary left.
   EXPECT_TRUE(fs::is_empty(dir));
   fs::remove_all(dir);

@@ -189,39 +189,37 @@ CLI::Validator number_in(double lo, double hi) {
 }
 
 namespace {
-// A plain decimal integer ("-" only when `is_signed`) that fits 64 bits; leading zeros are
-// dropped so that CLI11's base-0 conversion cannot read the rest as octal.
-CLI::Validator decimal_integer(bool is_signed) {
+// A count or a size: plain decimal digits that fit 64 bits, no sign. Leading zeros are dropped,
+// so that CLI11's base-0 conversion cannot read the rest as octal.
+CLI::Validator decimal_count() {
   return CLI::Validator(
-      [is_signed](std::string& text) -> std::string {
-        const bool negative = !text.empty() && text[0] == '-';
-        const std::size_t start = !text.empty() && (text[0] == '+' || negative) ? 1 : 0;
+      [](std::string& text) -> std::string {
+        const std::size_t start = !text.empty() && text[0] == '+' ? 1 : 0;
         const auto digits = std::string_view(text).substr(start);
         const bool plain = !digits.empty() && std::all_of(digits.begin(), digits.end(), [](char c) {
           return c >= '0' && c <= '9';
         });
-        const std::string want =
-            is_signed ? "a whole number" : "a whole number >= 0 (a count or a size)";
-        if (!plain || (negative && !is_signed)) return "must be " + want + " (got " + text + ")";
-        std::uint64_t u = 0;
-        std::int64_t i = 0;
-        const char* first = text.data() + (negative ? 0 : start);
-        const char* last = text.data() + text.size();
-        const bool fits = is_signed ? std::from_chars(first, last, i).ec == std::errc()
-                                    : std::from_chars(first, last, u).ec == std::errc();
-        if (!fits) return "must be " + want + " that fits in 64 bits (got " + text + ")";
-        const std::size_t nz = std::min(digits.find_first_not_of('0'), digits.size() - 1);
-        text = (negative ? "-" : "") + std::string(digits.substr(nz));
+        std::uint64_t v = 0;
+        const bool fits =
+            plain &&
+            std::from_chars(digits.data(), digits.data() + digits.size(), v).ec == std::errc();
+        if (!fits)
+          return "must be a whole number >= 0 (a count or a size) that fits in 64 bits (got " +
+                 text + ")";
+        text =
+            std::string(digits.substr(std::min(digits.find_first_not_of('0'), digits.size() - 1)));
         return {};
       },
-      "", "DECIMAL_INTEGER");
+      "", "DECIMAL_COUNT");
 }
 }  // namespace
 
 void guard_integer_options(CLI::App& app) {
+  // Every integer option of the command line is a count or a size (threads, rays, samples,
+  // pixels, orders, seeds): none takes a negative value.
   for (CLI::Option* o : app.get_options()) {
     const std::string type = o->get_type_name();
-    if (type == "UINT" || type == "INT") o->check(decimal_integer(type == "INT"));
+    if (type == "UINT" || type == "INT") o->transform(decimal_count());  // it rewrites "010"
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
     guard_integer_options(*sub);
