@@ -189,6 +189,8 @@ TEST(HostileNumbers, GoniometerRowsAreCheckedAgainstTheBudgetBeforeParsing) {
   EXPECT_EQ(parse_gonio_csv(csv, "many.csv").points.size(), 100000u);
 }
 
+namespace {
+
 // In a child process (the limit and the handler stay there): writes 256 KiB under a 64 KiB
 // limit; 0 when the error names the file and the limit and the handler saw the signal.
 int write_past_the_limit(const std::string& out) {
@@ -204,6 +206,8 @@ int write_past_the_limit(const std::string& out) {
   }
   return file_size_limit_reached() ? code : 5;
 }
+
+}  // namespace
 
 TEST(HostileNumbers, FileSizeLimitIsReportedLikeAFullDiskWithNothingLeft) {
   const fs::path dir =
