@@ -51,3 +51,28 @@ def test_scene_geometry_far_outside_the_tile_is_refused(tmp_path, obj):
     with pytest.raises(mb.FileError, match=r"must lie within 10 mm \(100 x the tile's shorter side") as info:
         mb.simulate(path, rays=1000, lmax=2)
     assert info.value.filename == str(path)
+
+
+def test_file_size_limit_is_reported_like_a_full_disk(tmp_path):
+    # In a child interpreter under `ulimit -f 64` (64 KiB): Python ignores SIGXFSZ, so the write
+    # fails with EFBIG and the error names the file and the limit; nothing is left behind.
+    import subprocess
+    import sys
+    code = (
+        "import resource, sys, microbrdf as mb\n"
+        "resource.setrlimit(resource.RLIMIT_FSIZE, (65536, 65536))\n"
+        "t = mb.ndf(mb.Surface(__import__('numpy').zeros((16, 16)), spacing=1e-6), resolution=257)\n"
+        "try:\n"
+        "    t.save(sys.argv[1])\n"
+        "except mb.FileError as e:\n"
+        "    print(e.filename); print(e)\n"
+        "    sys.exit(0)\n"
+        "sys.exit(3)\n")
+    out = tmp_path / "big.npy"
+    r = subprocess.run([sys.executable, "-c", code, str(out)], capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode == 0, r.stdout + r.stderr
+    name, message = r.stdout.splitlines()[:2]
+    assert name == str(out)
+    assert "the file size limit (ulimit -f: 64 KiB) was reached" in message
+    assert list(tmp_path.iterdir()) == []
