@@ -225,6 +225,20 @@ TabulatedNdf convolve_angular_gaussian(const TabulatedNdf& ndf, double fwhm_rad)
   // Disk circle radius in nodes; the chord never exceeds the angle, and the disk distance
   // never exceeds the chord.
   const double r_nodes = std::min(cut, 2.0) / g.h;
+  // Each node gathers from a square of (2 r + 1)^2 nodes, twice: the work grows as FWHM^2 N^4.
+  // An instrument resolves a few degrees; past 2e10 kernel terms (about a minute) the width is
+  // not an instrument's and the run would look hung: refused.
+  constexpr double kMaxKernelTerms = 2e10;
+  const double side = 2 * std::floor(r_nodes) + 1;
+  const double terms = 2 * side * side * std::numbers::pi / 4 * double(n) * double(n);
+  if (!(terms <= kMaxKernelTerms)) {
+    char why[240];
+    std::snprintf(why, sizeof why,
+                  "--instrument-fwhm %.4g deg on a %zu x %zu table needs %.2g kernel terms (over "
+                  "%.0g): an instrument resolves a few degrees; give a smaller FWHM or resolution",
+                  fwhm_rad * 180 / std::numbers::pi, n, n, terms, kMaxKernelTerms);
+    throw InputError(why);
+  }
 
   // W'_j = sum_i k_ij / m_z,i for the source nodes.
   std::vector<double> w;

@@ -63,14 +63,24 @@ for f in sphere plane fibre cyl weave; do
 done
 gen() { printf '{"materials": {"m": {"type": "mirror"}}, "objects": [{"type": "heightfield", "generate": {"kind": "gaussian", "nx": 32, "spacing": "1um", "sigma": "%s", "tau": "4um"}%s, "material": "m"}]}' "$1" "$2" >"$3"; }
 gen 1e300m '' sigma.json
+expect 1 "sigma.json: sigma must lie in 0 .. 1 m" -- $BIN simulate sigma.json --rays 1000 -o s.shbrdf
 gen 0.1um ', "z_scale": 1e300' zscale.json
 gen 0.1um ', "z_scale": 1e9' ztall.json
-for f in sigma zscale ztall; do
+for f in zscale ztall; do
   expect 1 "$f.json: height field 1: height .* must lie within 3.2 mm" -- \
     $BIN simulate $f.json --rays 1000 -o s.shbrdf
 done
 gen 0.1um '' tiny.json; sed -i 's/"spacing": "1um"/"spacing": "1e-300m"/' tiny.json
-expect 1 "tiny.json: tile .* both sides must be at least 1 nm" -- $BIN simulate tiny.json --rays 1000 -o s.shbrdf
+expect 1 "tiny.json: spacing must lie in 1 pm .. 1 m" -- $BIN simulate tiny.json --rays 1000 -o s.shbrdf
+# A tile below 1 nm (given, not generated).
+scene '{"type": "plane", "material": "m"}' tile.json; sed -i 's/100x100um/1x1pm/' tile.json
+expect 1 "tile.json: tile 1 pm x 1 pm: both sides must be at least 1 nm" -- $BIN simulate tile.json --rays 1000 -o s.shbrdf
+# Generated scans and the instrument blur: the same ranges on the command line.
+expect 2 "spacing must lie in 1 pm .. 1 m" -- $BIN generate gaussian --nx 64 --ny 64 --spacing 1e-300m -o g.npy
+expect 2 "sigma must lie in 0 .. 1 m" -- $BIN generate gaussian --nx 64 --ny 64 --sigma 1e300m -o g.npy
+expect 2 "correlation lengths must lie in" -- $BIN generate gaussian --nx 64 --ny 64 --tau 1e300m -o g.npy
+expect 2 "\-\-instrument-fwhm 1e+300 deg on a 1025 x 1025 table needs" -- $BIN ndf scan.npy --instrument-fwhm 1e300deg -o x.npy
+[ -e g.npy ] && fail "generate wrote a refused surface"
 [ -e s.shbrdf ] && fail "simulate wrote output from a refused scene"
 
 # 2. The file-size limit (100 KiB): reported like a full disk, exit 1, nothing left behind.
