@@ -3,10 +3,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <string_view>
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
@@ -183,6 +186,43 @@ CLI::Validator number_in(double lo, double hi) {
         return {};
       },
       "in [" + shown(lo) + ", " + shown(hi) + "]", "RANGE");
+}
+
+namespace {
+// A count or a size: plain decimal digits that fit 64 bits, no sign. Leading zeros are dropped,
+// so that CLI11's base-0 conversion cannot read the rest as octal.
+CLI::Validator decimal_count() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const std::size_t start = !text.empty() && text[0] == '+' ? 1 : 0;
+        const auto digits = std::string_view(text).substr(start);
+        const bool plain = !digits.empty() && std::all_of(digits.begin(), digits.end(), [](char c) {
+          return c >= '0' && c <= '9';
+        });
+        std::uint64_t v = 0;
+        const bool fits =
+            plain &&
+            std::from_chars(digits.data(), digits.data() + digits.size(), v).ec == std::errc();
+        if (!fits)
+          return "must be a whole number >= 0 (a count or a size) that fits in 64 bits (got " +
+                 text + ")";
+        text =
+            std::string(digits.substr(std::min(digits.find_first_not_of('0'), digits.size() - 1)));
+        return {};
+      },
+      "", "DECIMAL_COUNT");
+}
+}  // namespace
+
+void guard_integer_options(CLI::App& app) {
+  // Every integer option of the command line is a count or a size (threads, rays, samples,
+  // pixels, orders, seeds): none takes a negative value.
+  for (CLI::Option* o : app.get_options()) {
+    const std::string type = o->get_type_name();
+    if (type == "UINT" || type == "INT") o->transform(decimal_count());  // it rewrites "010"
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    guard_integer_options(*sub);
 }
 
 std::string number_or_na(double v, const char* format) {

@@ -50,6 +50,12 @@ class Preflight {
 CLI::Validator positive_number();
 CLI::Validator number_in(double lo, double hi);
 
+/// Every integer option of `app` and its subcommands (CLI11 type INT or UINT; all are counts or
+/// sizes) takes plain decimal digits only: CLI11 2.1 reads "-1" for an unsigned count as
+/// 2^64 - 1, saturates a value beyond 64 bits silently and reads "010" as octal. Call after
+/// every option is added.
+void guard_integer_options(CLI::App& app);
+
 /// printf-style formatting of a number, or "n/a" when it does not exist (NaN or infinite).
 std::string number_or_na(double v, const char* format = "%.4g");
 

@@ -4,9 +4,11 @@
 #include <exception>
 #include <string>
 
+#include "cli_checks.hpp"
 #include "commands.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/interrupt.hpp"
 #include "microbrdf/memory_budget.hpp"
 #include "microbrdf/version.hpp"
@@ -15,6 +17,9 @@ int main(int argc, char** argv) {
   // First, before any thread exists (MPI's included): SIGINT / SIGTERM remove temporaries and
   // exit 130 / 143.
   microbrdf::install_interrupt_cleanup();
+  // Writes past `ulimit -f` fail with EFBIG and are reported like a full disk, instead of
+  // SIGXFSZ ending the process silently with its temporaries left behind.
+  microbrdf::install_file_size_limit_handler();
   // MPI only under mpirun (docs/scale.md); finalised when main returns.
   microbrdf::MpiSession mpi(argc, argv);
   CLI::App app{
@@ -38,6 +43,7 @@ int main(int argc, char** argv) {
       ->trigger_on_parse();
   app.fallthrough();
   microbrdf::cli::register_all(app);
+  microbrdf::cli::guard_integer_options(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -7,6 +7,7 @@
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/memory_budget.hpp"
 
 namespace microbrdf::cli {
@@ -26,7 +27,9 @@ int report(const char* command, std::string* message) {
   try {
     throw;
   } catch (const FileError& e) {
-    *message = e.what();
+    // After a write went past the file-size limit, every later failure is that one (the
+    // writer's own message says at best "write failed").
+    *message = file_size_limit_reached() ? e.path() + ": " + file_size_limit_problem() : e.what();
     std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
     *message = buf + *message;
     // An input file that is not there is a usage error (2), like a wrong flag: the user named

@@ -126,6 +126,18 @@ struct WeaveParams {
 };
 void add_weave(MicroSceneDesc& d, const WeaveParams& p);
 
+/// How far the geometry may reach from the tile, in multiples of the tile's shorter side: every
+/// coordinate, radius and height within that many sides of the tile (see check_scene_geometry).
+inline constexpr double kMaxSceneReach = 100;
+
+/// Refuses geometry the tracer cannot follow: a tile side under 1 nm, or any capsule end, radius,
+/// plane or height that is not finite or lies more than kMaxSceneReach tile sides (the shorter
+/// side) from the tile. The bound keeps Embree's single-precision rays valid and every ray's
+/// walk across the periodic tiles short (a ray crossing the scene's height range at elevation
+/// e wraps across at most about kMaxSceneReach / tan(e) tiles). Throws InputError naming the
+/// object and the numbers. MicroScene's constructor and the JSON reader call it.
+void check_scene_geometry(const MicroSceneDesc& d);
+
 /// A mirror-tiled copy (2 nx x 2 ny, reflected) that is periodic and continuous.
 Surface mirror_tile(const Surface& s);
 

@@ -1,6 +1,7 @@
 // Gonioreflectometer point sets as CSV (include/microbrdf/measured.hpp; docs/measured.md).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -8,6 +9,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/measured.hpp"
+#include "microbrdf/memory_budget.hpp"
 
 namespace microbrdf {
 namespace {
@@ -46,8 +48,17 @@ Vec3 direction(double theta, double phi) {
 Vec3 GonioPoint::wi() const { return direction(theta_i, phi_i); }
 Vec3 GonioPoint::wo() const { return direction(theta_o, phi_o); }
 
+// What one data row costs in memory: its GonioPoint here and, in effective_ndf, a working copy
+// (three directions and a value, 80 bytes, in a vector that may double) and an 8-byte index.
+constexpr std::uint64_t kBytesPerRow = sizeof(GonioPoint) + 2 * 80 + 8;
+
 GonioData parse_gonio_csv(std::string_view text, const std::string& name) {
   GonioData d;
+  // Estimated before any point is stored: a row per line at most.
+  const auto rows = static_cast<std::uint64_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+  check_memory(name, text.size() + mul_sat(rows, kBytesPerRow),
+               "up to " + std::to_string(rows) + " goniometer rows (the text and the points)");
+  d.points.reserve(static_cast<std::size_t>(rows));
   int col[6];
   int sigma_col = -1;
   std::size_t ncols = 0;

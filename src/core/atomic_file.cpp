@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/interrupt.hpp"
 
 namespace microbrdf {
@@ -37,6 +38,12 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::commit() {
+  // A write of this process was cut short by the file-size limit: whatever the writer did with
+  // the error, this output may be truncated.
+  if (file_size_limit_reached()) {
+    remove_temporary(temp_);
+    throw FileError(path_, file_size_limit_problem());
+  }
   {
     std::lock_guard lock(g_group_mutex);
     if (OutputGroup* g = g_group.load()) {
@@ -80,6 +87,10 @@ void OutputGroup::commit() {
     if (g_group.load() == this) g_group.store(nullptr);
   }
   done_ = true;
+  if (file_size_limit_reached() && !staged_.empty()) {
+    for (const auto& staged : staged_) remove_temporary(staged.first);
+    throw FileError(staged_.front().second, file_size_limit_problem());
+  }
   without_interrupts([&] {
     for (std::size_t i = 0; i < staged_.size(); ++i) {
       const auto& [temp, path] = staged_[i];
@@ -111,7 +122,7 @@ void write_file_atomic(const std::string& path, std::span<const std::uint8_t> by
     out.write(reinterpret_cast<const char*>(bytes.data()),
               static_cast<std::streamsize>(bytes.size()));
     out.flush();
-    if (!out) throw FileError(path, "write failed (disk full?)");
+    if (!out) throw FileError(path, write_failure_problem(errno));
   }
   f.commit();
 }

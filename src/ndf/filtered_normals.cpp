@@ -18,12 +18,16 @@
 #include <limits>
 #include <memory>
 #include <new>
+#include <numbers>
+#include <string>
 #include <vector>
 
 #include "core/aligned_array.hpp"
 #include "core/helper_pool.hpp"
+#include "core/length_text.hpp"
 #include "core/simd_clones.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "ndf/filtered_normals_core.hpp"
 
@@ -36,17 +40,31 @@ struct Kernel {
   double sum = 0;                // sum of g
 };
 
-Kernel make_kernel(double spacing, double sigma, double truncate) {
+// Taps |k| <= floor(truncate sigma / spacing), of which only |k| <= max_half are stored: a tap
+// farther than the scan is long reads only the zero padding outside it, so dropping it changes
+// no output bit, but `sum` (the support rule's reference mass) is that of the whole kernel.
+Kernel make_kernel(double spacing, double sigma, double truncate, long max_half) {
   Kernel k;
-  k.half = static_cast<long>(std::floor(truncate * sigma / spacing));
-  for (long i = -k.half; i <= k.half; ++i) {
+  const double reach = std::floor(truncate * sigma / spacing);
+  // A kernel of more than 2^20 taps each way is far longer than the scan: its sum is the
+  // integral of the Gaussian over the taps' span (the Riemann sum of a Gaussian sampled finer
+  // than its sigma equals the integral to double precision).
+  constexpr double kSummedTaps = 1 << 20;
+  const bool summed = reach <= kSummedTaps;
+  const long full = summed ? static_cast<long>(reach) : max_half;
+  k.half = std::min(full, max_half);
+  for (long i = -full; i <= full; ++i) {
     double u = static_cast<double>(i) * spacing / sigma;
     double g = std::exp(-0.5 * u * u);
+    if (summed) k.sum += g;
+    if (i < -k.half || i > k.half) continue;
     k.g.push_back(g);
     k.u.push_back(g * u);
     k.u2.push_back(g * u * u);
-    k.sum += g;
   }
+  if (!summed)
+    k.sum = sigma / spacing * std::sqrt(2 * std::numbers::pi) *
+            std::erf((reach + 0.5) * spacing / sigma / std::sqrt(2.0));
   return k;
 }
 
@@ -224,10 +242,53 @@ void solve_row(const double* __restrict m, std::size_t stride, std::size_t n, do
   }
 }
 
+// Beyond 38.6 sigma the Gaussian weight exp(-u^2/2) is 0 in double precision: a wider
+// truncation only adds zero taps.
+constexpr double kMaxTruncate = 40;
+
+// The scan's longest side in metres (the largest distance a kernel tap can usefully reach).
+double longest_side(const Surface& s) {
+  return std::max(static_cast<double>(s.nx) * s.dx, static_cast<double>(s.ny) * s.dy);
+}
+
+// The error about the data of `s`: naming its file when it has one.
+[[noreturn]] void data_error(const Surface& s, const std::string& problem) {
+  if (s.meta.source_path.empty()) throw InputError(problem);
+  throw FileError(s.meta.source_path, problem);
+}
+
 void check_args(const Surface& s, double sigma, double truncate) {
-  if (!(sigma > 0)) throw InputError("filter sigma must be positive");
-  if (!(truncate >= 1)) throw InputError("kernel truncation must be >= 1 sigma");
+  if (!(sigma > 0) || !std::isfinite(sigma)) throw InputError("filter sigma must be positive");
+  if (!(truncate >= 1 && truncate <= kMaxTruncate))
+    throw InputError("kernel truncation must lie in 1..40 sigma");
   if (s.size() == 0) throw InputError("empty surface");
+  if (!(s.dx > 0 && s.dy > 0 && std::isfinite(s.dx) && std::isfinite(s.dy)))
+    data_error(s, "sample spacing must be positive and finite");
+  // A sigma longer than the scan makes every window the whole scan (one plane, one normal): the
+  // NDF says nothing, and the kernel's taps (truncate sigma / spacing each way) only cost time
+  // and memory. This bound also keeps the tap count finite whatever the spacing.
+  const double side = longest_side(s);
+  if (!(sigma <= side))
+    data_error(s, "filter sigma " + detail::format_length_any(sigma) +
+                      " is longer than the scan (" + std::to_string(s.nx) + " x " +
+                      std::to_string(s.ny) + " samples of " + detail::format_length_any(s.dx) +
+                      " x " + detail::format_length_any(s.dy) + ", longest side " +
+                      detail::format_length_any(side) +
+                      "): every plane fit would span the whole scan; use a filter sigma of at "
+                      "most the scan's side (a few sample spacings to a few microns is usual), "
+                      "or check --spacing");
+}
+
+// The working memory of one pass (per-thread column-block buffers and the kernels), checked
+// against the memory budget before anything is allocated.
+void check_pass_memory(const Surface& s, std::size_t hx, std::size_t hy, std::size_t threads) {
+  const std::uint64_t w4 = 128, padded = w4 + 2 * hx;
+  const std::uint64_t per_thread = 2 * padded + 5 * w4 + (2 * hy + 1) * 5 * w4 + 13 * w4;
+  const std::uint64_t doubles = mul_sat(per_thread, threads) + 3 * (2 * hx + 1) + 3 * (2 * hy + 1);
+  check_memory(s.meta.source_path.empty() ? std::string("filtered normals") : s.meta.source_path,
+               mul_sat(doubles, sizeof(double)),
+               "the filtered normals' working buffers (kernel of " + std::to_string(2 * hy + 1) +
+                   " rows x " + std::to_string(threads) + " threads)");
 }
 
 }  // namespace
@@ -244,7 +305,8 @@ void filtered_normals_into(const Surface& s, double sigma, double truncate, doub
                            std::size_t& skipped) {
   check_args(s, sigma, truncate);
   const std::size_t nx = s.nx, ny = s.ny;
-  const Kernel kx = make_kernel(s.dx, sigma, truncate), ky = make_kernel(s.dy, sigma, truncate);
+  const Kernel kx = make_kernel(s.dx, sigma, truncate, static_cast<long>(nx) - 1),
+               ky = make_kernel(s.dy, sigma, truncate, static_cast<long>(ny) - 1);
   const double mean = s.valid_mean();
   const double min_mass = min_support * kx.sum * ky.sum;
   const auto hx = static_cast<std::size_t>(kx.half), hy = static_cast<std::size_t>(ky.half);
@@ -255,6 +317,7 @@ void filtered_normals_into(const Surface& s, double sigma, double truncate, doub
   // thread the scheduler holds back delays the end by one small block at most; widths multiple
   // of 8.
   const int threads = omp_get_max_threads();
+  check_pass_memory(s, hx, hy, static_cast<std::size_t>(threads));
   std::size_t blocks =
       std::max<std::size_t>((nx + 127) / 128, 16 * static_cast<std::size_t>(threads));
   std::size_t width = (nx + blocks - 1) / blocks;
@@ -388,7 +451,8 @@ bool filtered_normal_direct(const Surface& s, std::size_t ix, std::size_t iy, do
                             double truncate, double min_support, double out[3]) {
   check_args(s, sigma, truncate);
   if (!s.valid[iy * s.nx + ix]) return false;
-  const Kernel kx = make_kernel(s.dx, sigma, truncate), ky = make_kernel(s.dy, sigma, truncate);
+  const Kernel kx = make_kernel(s.dx, sigma, truncate, static_cast<long>(s.nx) - 1),
+               ky = make_kernel(s.dy, sigma, truncate, static_cast<long>(s.ny) - 1);
   // Heights relative to the centre sample (slopes do not depend on the offset; it only keeps
   // the sums well conditioned) so the reference costs just its window.
   const double mean = s.z[iy * s.nx + ix];

@@ -56,6 +56,17 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
   std::size_t cx, lx, cy, ly;
   tiling(s.nx, s.dx, opt_.patch_x, cx, lx);
   tiling(s.ny, s.dy, opt_.patch_y, cy, ly);
+  // A patch of a few samples resolves no slope, and a scan cut into one-sample patches runs a
+  // whole D_K table per sample (a 1e-30 m patch once meant hours): at least 4 samples a side.
+  constexpr std::size_t kMinPatchSamples = 4;
+  if ((cx > 1 && lx < kMinPatchSamples) || (cy > 1 && ly < kMinPatchSamples)) {
+    char why[200];
+    std::snprintf(why, sizeof why,
+                  "Kirchhoff patch %.4g x %.4g um cuts the scan into patches of %zu x %zu samples; "
+                  "a patch needs at least %zu samples a side (--patch)",
+                  opt_.patch_x * 1e6, opt_.patch_y * 1e6, lx, ly, kMinPatchSamples);
+    throw InputError(why);
+  }
   char buf[160];
   std::snprintf(buf, sizeof buf, "%zux%zu tiles of %zux%zu samples (%.4g x %.4g um)", cx, cy, lx,
                 ly, static_cast<double>(lx) * s.dx * 1e6, static_cast<double>(ly) * s.dy * 1e6);

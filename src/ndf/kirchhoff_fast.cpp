@@ -22,6 +22,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -29,9 +30,11 @@
 
 #include "core/fft.hpp"
 #include "core/helper_pool.hpp"
+#include "core/length_text.hpp"
 #include "core/simd_clones.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "ndf/kirchhoff_transform.hpp"
 
 namespace microbrdf {
@@ -320,6 +323,27 @@ void fill_row_midpoint(std::size_t nx, std::size_t n, const BesselTable& bt, con
   }
 }
 
+// The Bessel series of a patch whose heights span `range` (zmax = pi range / lambda_q radians of
+// phase): about zmax terms, each tabulated at 32 zmax points (BesselTable), so its memory grows
+// as the square of the height range in wavelengths. An unlevelled form or a wrong z unit asks for
+// terabytes: refused against the memory budget before anything is allocated.
+void check_series_memory(double zmax, double range, double lambda_q) {
+  const double terms = zmax + 10 * std::cbrt(zmax + 1) + 42;
+  const double bytes = terms * (32 * zmax + 3) * 2 * sizeof(double);
+  if (bytes <= static_cast<double>(memory_budget())) return;
+  char b[320];
+  std::snprintf(
+      b, sizeof b,
+      "Kirchhoff: the heights of a patch span %s, %.3g wavelengths (lambda_q %s): its "
+      "series needs about %s, over the memory budget of %s (--max-memory); level the "
+      "scan (--level plane) or check its height unit",
+      detail::format_length_any(range).c_str(), range / lambda_q,
+      detail::format_length_any(lambda_q).c_str(),
+      bytes >= 1.8e19 ? "over 16 EiB" : format_bytes(static_cast<std::uint64_t>(bytes)).c_str(),
+      format_bytes(memory_budget()).c_str());
+  throw InputError(b);
+}
+
 std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::size_t resolution,
                                double accuracy, KirchhoffFastInfo* info, bool chirp_z,
                                KirchhoffIntegration method, double band_x, double band_y) {
@@ -344,6 +368,8 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
       hmax = std::max(hmax, p.h[i]);
     }
   const double hc = 0.5 * (hmin + hmax), H = 0.5 * (hmax - hmin), zmax = r * H;
+
+  check_series_memory(zmax, hmax - hmin, lambda_q);
 
   // Number of terms: the smallest count whose dropped tail 2 sum_{n >= terms} |J_n(zmax)| is
   // below `accuracy` (terms >= zmax, where |J_n| grows monotonically in z up to zmax).

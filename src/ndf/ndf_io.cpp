@@ -33,6 +33,7 @@
 #include "core/npy.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/json_read.hpp"
 
@@ -255,7 +256,7 @@ void write_npy_ndf(const TabulatedNdf& ndf, const std::string& path) {
     if (!f) throw FileError(target, "cannot create file");
     f.write(data, static_cast<std::streamsize>(size));
     f.flush();
-    if (!f) throw FileError(target, "write failed (disk full?)");
+    if (!f) throw FileError(target, write_failure_problem(errno));
   };
   put(path, out.temp_path(), reinterpret_cast<const char*>(bytes.data()), bytes.size());
   put(side, out_side.temp_path(), json.data(), json.size());

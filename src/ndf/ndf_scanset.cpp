@@ -171,7 +171,9 @@ std::optional<KirchhoffAccumulator> accumulate_kirchhoff_scans(
           o.progress = [&, i](double f) {
             options.progress((static_cast<double>(i) + f) / static_cast<double>(paths.size()));
           };
-        return pack_partial(KirchhoffAccumulator(o).estimate(s), scan_info(s));
+        // Errors about the data (a height range the series cannot hold) name the scan.
+        return about_file(
+            path, [&] { return pack_partial(KirchhoffAccumulator(o).estimate(s), scan_info(s)); });
       },
       [&](std::size_t i, WorkResult&& r) {
         report(set, i, paths, r);

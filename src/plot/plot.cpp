@@ -17,6 +17,7 @@
 #include "core/markup_escape.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_size_limit.hpp"
 #include "plot/ticks.hpp"
 
 namespace microbrdf {
@@ -611,7 +612,7 @@ void render(const std::vector<const Plot*>& plots, const std::vector<Prepared>& 
     std::ofstream o(out.temp_path(), std::ios::binary | std::ios::trunc);
     o << svg;
     o.flush();
-    if (!o) throw FileError(path, "write failed (disk full?)");
+    if (!o) throw FileError(path, write_failure_problem(errno));
   }
   out.commit();
 }

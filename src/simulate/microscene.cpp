@@ -177,6 +177,11 @@ MicroScene::MicroScene(MicroSceneDesc desc) : desc_(std::move(desc)) {
   const double W = desc_.width, H = desc_.height;
   if (!(W > 0) || !(H > 0)) throw InputError("micro-scene: the tile needs a positive size");
   if (desc_.materials.empty()) throw InputError("micro-scene: no materials");
+  try {
+    check_scene_geometry(desc_);
+  } catch (const InputError& e) {
+    throw InputError(std::string("micro-scene: ") + e.what());
+  }
   cos_rot_ = std::cos(desc_.rotation);
   sin_rot_ = std::sin(desc_.rotation);
   auto check_mat = [&](int m) {

@@ -205,7 +205,7 @@ Surface heightfield_surface(const Ctx& c, const json& o) {
       p.angle = angle(c, g, "angle", 0);
       p.seed = static_cast<std::uint64_t>(integer(c, g, "seed", 1));
       p.exact_spectrum = g.value("exact_spectrum", true);
-      s = generate_gaussian(p);
+      s = about_file(c.origin, [&] { return generate_gaussian(p); });
     } else {
       c.fail("heightfield generate.kind must be \"gaussian\" (got '" + kind + "')");
     }
@@ -327,6 +327,7 @@ MicroSceneDesc parse_scene_objects(const json& j, const std::string& base_dir,
             type + "')");
       }
     }
+    check_scene_geometry(d);
   } catch (const InputError& e) {
     c.fail(e.what());
   }

@@ -48,6 +48,7 @@
 
 #include "core/byte_reader.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/units.hpp"
 #include "surface/formats.hpp"
 
@@ -452,7 +453,7 @@ class TextOut {
     flush();
     std::FILE* f = f_;
     f_ = nullptr;
-    if (std::fclose(f) != 0 || failed_) throw FileError(path_, "write error (disk full?)");
+    if (std::fclose(f) != 0 || failed_) throw FileError(path_, write_failure_problem(errno));
   }
 
  private:

@@ -28,6 +28,7 @@
 
 #include "core/byte_reader.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/units.hpp"
 #include "surface/formats.hpp"
 
@@ -455,8 +456,10 @@ void write_gwy(const Surface& s, const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) throw FileError(path, std::string("cannot create: ") + std::strerror(errno));
   const bool ok = std::fwrite(w.out.data(), 1, w.out.size(), f) == w.out.size();
+  int err = ok ? 0 : errno;
   const bool closed = std::fclose(f) == 0;
-  if (!ok || !closed) throw FileError(path, "write error (disk full?)");
+  if (!closed && ok) err = errno;
+  if (!ok || !closed) throw FileError(path, write_failure_problem(err));
 }
 
 }  // namespace microbrdf::detail

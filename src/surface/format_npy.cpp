@@ -18,6 +18,7 @@
 
 #include "core/npy.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/file_size_limit.hpp"
 #include "surface/formats.hpp"
 
 namespace microbrdf::detail {
@@ -51,8 +52,10 @@ void write_npy(const Surface& s, const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) throw FileError(path, std::string("cannot create: ") + std::strerror(errno));
   const bool ok = std::fwrite(out.data(), 1, out.size(), f) == out.size();
+  int err = ok ? 0 : errno;
   const bool closed = std::fclose(f) == 0;
-  if (!ok || !closed) throw FileError(path, "write error (disk full?)");
+  if (!closed && ok) err = errno;
+  if (!ok || !closed) throw FileError(path, write_failure_problem(err));
 }
 
 }  // namespace microbrdf::detail

@@ -21,6 +21,8 @@ void check_grid(std::size_t nx, std::size_t ny, double dx, double dy) {
   require(nx >= 1 && ny >= 1, "grid must have at least 1 x 1 samples");
   require(nx * ny <= (std::size_t{1} << 28), "grid too large (more than 2^28 samples)");
   require(dx > 0 && dy > 0 && std::isfinite(dx) && std::isfinite(dy), "spacing must be positive");
+  // The range a scan's spacing must lie in when it is read (surface/io.cpp).
+  require(dx >= 1e-12 && dy >= 1e-12 && dx <= 1 && dy <= 1, "spacing must lie in 1 pm .. 1 m");
 }
 
 // White Gaussian noise, reproducible from the seed.
@@ -66,8 +68,11 @@ void base_metadata(Surface& s, const std::string& kind) {
 
 Surface generate_gaussian(const GaussianSurfaceParams& p) {
   check_grid(p.nx, p.ny, p.dx, p.dy);
-  require(p.sigma >= 0, "sigma must be >= 0");
-  require(p.tau_x > 0 && p.tau_y > 0, "correlation lengths must be positive");
+  // A micro-surface: an rms height or a correlation length beyond 1 m is a unit mistake (and
+  // 1e300 m makes every height non-finite).
+  require(p.sigma >= 0 && p.sigma <= 1, "sigma must lie in 0 .. 1 m");
+  require(p.tau_x > 0 && p.tau_y > 0 && p.tau_x <= 1 && p.tau_y <= 1,
+          "correlation lengths must lie in (0, 1 m]");
   Surface s(p.nx, p.ny, p.dx, p.dy);
   auto spec = detail::fft2_r2c(p.nx, p.ny, white_noise(p.nx * p.ny, p.seed));
   // Filter with sqrt(PSD): PSD ~ exp(-(ku^2 tau_x^2 + kv^2 tau_y^2)/4), so the filter is

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/length_text.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/json_read.hpp"
@@ -97,6 +98,9 @@ void write_npy_sidecar(const Surface& s, const std::string& path) {
 // that store raw counts (up to 2^32) as heights.
 constexpr double kMaxAbsHeight = 1e12;
 constexpr double kMaxSpacing = 1.0;
+// No instrument samples a surface finer than 1 pm (a hundredth of an atom); with heights bounded
+// by 1e12 m this also keeps every slope (height difference / spacing) and its square finite.
+constexpr double kMinSpacing = 1e-12;
 
 void check_heights(const Surface& s, const std::string& name) {
   for (std::size_t iy = 0; iy < s.ny; ++iy)
@@ -239,6 +243,10 @@ Surface read_surface_bytes(std::span<const std::uint8_t> data, SurfaceFormat for
   if (s.dx > kMaxSpacing || s.dy > kMaxSpacing)
     throw FileError(name, "spacing " + std::to_string(s.dx) + " x " + std::to_string(s.dy) +
                               " m is absurd (over 1 m); wrong unit? pass --spacing");
+  if (s.dx < kMinSpacing || s.dy < kMinSpacing)
+    throw FileError(name, "spacing " + detail::format_length_any(s.dx) + " x " +
+                              detail::format_length_any(s.dy) +
+                              " is absurd (below 1 pm); wrong unit? pass --spacing");
   s.sync_mask();
   if (s.valid_count() == 0) throw FileError(name, "contains no valid height sample");
   check_heights(s, name);
