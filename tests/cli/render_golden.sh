@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
-# The renderer's images pinned: the mean of small renders, bit for bit, as this build's
-# predecessors made them (the values below came from the build before the path sampler's pixel
-# hashes, the light sets and the tabulated NDF's split look-ups, all meant to change no image).
+# The renderer's images pinned: the mean of small renders to 1e-5 relative (the ray counts
+# exactly), as this build's predecessors made them. Not bit for bit: the last digits follow the
+# CPU (Embree and the vectorised loops pick their kernels by instruction set; an AMD EPYC gives
+# means 2e-7 to 9e-7 relative away from the pinned ones, with the same rays), while a changed
+# estimator moves a 16 x 16 x 4 render's mean by the noise, about 1e-2. The values came from
+# the build before the path sampler's pixel
+# hashes, the light sets and the tabulated NDF's split look-ups, all meant to change no image.
 # Plain and resampled direct light, Sobol' and independent numbers, 4 and 8 wavelengths, an
 # analytic and a tabulated NDF, map and area light. When an estimator changes on purpose, render
 # the five lines with the new build, check the images, and replace the values with a note why.
@@ -21,7 +25,8 @@ run() {  # run EXPECTED_JSON_MEAN EXPECTED_RAYS RENDER_ARGS...
 import json, sys
 got = json.load(open(sys.argv[1]))
 want = json.loads(sys.argv[2])
-if got["mean_linear_srgb"] != want or got["rays"] != int(sys.argv[3]):
+close = all(abs(g - w) <= 1e-5 * abs(w) for g, w in zip(got["mean_linear_srgb"], want))
+if len(want) != 3 or not close or got["rays"] != int(sys.argv[3]):
     print("FAIL: render %s: mean %r rays %d, pinned %r rays %s"
           % (sys.argv[4], got["mean_linear_srgb"], got["rays"], want, sys.argv[3]))
     sys.exit(1)
