@@ -183,7 +183,8 @@ void run_scene(const ExportArgs& a, bool mitsuba) {
     const std::string name = fs::path(a.bsdf).filename().string();
     files = mitsuba ? export_mitsuba_measured(name, a.output, so)
                     : export_pbrt_measured(name, a.output, so);
-    if (fs::absolute(a.bsdf) != fs::absolute(fs::path(a.output) / name)) {
+    std::error_code ec;  // (equivalent: the same file under another spelling is not copied)
+    if (!fs::equivalent(a.bsdf, fs::path(a.output) / name, ec)) {
       write_file_atomic((fs::path(a.output) / name).string(),
                         read_file_bytes(a.bsdf, std::uint64_t{1} << 32));
       files.push_back(name);
