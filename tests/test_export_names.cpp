@@ -3,6 +3,7 @@
 // pbrt files by a tokenizer written here from pbrt-v4's rules (a string ends at an unescaped
 // `"`, a raw newline inside one is an error, `\` escapes b f n r t \ ' "; `#` comments run to
 // the end of the line). A name XML cannot hold is refused, naming it, before anything is written.
+#include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -126,7 +127,9 @@ TEST(ExportNames, PbrtNamesReadBackByteForByte) {
     for (const char* f : {"material.pbrt", "scene.pbrt"}) {
       const auto tok = pbrt_tokens(slurp(fs::path(dir) / f));
       EXPECT_EQ(pbrt_measured_filename(tok), name) << f;
-      if (std::string(f) == "scene.pbrt") EXPECT_EQ(tok.size(), plain.size()) << name;
+      if (std::string(f) == "scene.pbrt") {
+        EXPECT_EQ(tok.size(), plain.size()) << name;
+      }
     }
   }
   // Bytes that are not UTF-8 are a file name like any other for pbrt.

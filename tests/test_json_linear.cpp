@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -30,10 +30,18 @@ std::string flat(const std::string& open, const std::string& item, std::size_t c
   return s + close;
 }
 
+// CPU seconds of this process (the parser is single-threaded): wall time would measure the
+// load of the machine the tests share as much as the parser.
+double cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
 double seconds_to_parse(const std::string& text, nlohmann::json* out = nullptr) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const double t0 = cpu_seconds();
   nlohmann::json j = parse_json_text(text, "flat.json", true);
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double s = cpu_seconds() - t0;
   if (out) *out = std::move(j);
   return s;
 }
@@ -46,7 +54,7 @@ TEST(JsonLinear, ThreeMegabytesOfEmptyObjectsParseInWellUnderASecond) {
   ASSERT_GE(text.size(), 3000000u);
   nlohmann::json j;
   const double s = seconds_to_parse(text, &j);
-  std::printf("3 MB of [{},{},...]: %.3f s\n", s);
+  std::printf("3 MB of [{},{},...]: %.3f s CPU\n", s);
   EXPECT_LT(s, 0.5);
   ASSERT_TRUE(j.is_array());
   EXPECT_EQ(j.size(), 1000000u);
@@ -61,10 +69,10 @@ TEST(JsonLinear, OtherFlatShapesAreLinearToo) {
   std::string keys = "{";
   for (int i = 0; i < 250000; ++i) keys += (i ? ",\"k" : "\"k") + std::to_string(i) + "\":{}";
   keys += "}";
-  for (const std::string* t : {&arrays, &in_object, &keys}) {
+  for (const std::string* t : {&arrays, &in_object, static_cast<const std::string*>(&keys)}) {
     nlohmann::json j;
     const double s = seconds_to_parse(*t, &j);
-    std::printf("%zu bytes: %.3f s\n", t->size(), s);
+    std::printf("%zu bytes: %.3f s CPU\n", t->size(), s);
     EXPECT_LT(s, 0.5);
   }
   // Twice the input takes about twice the time, not four times (a loose bound: timing noise).
@@ -102,9 +110,9 @@ TEST(JsonLinear, DepthLimitIsKept) {
   }
   // Ten million levels: refused at the 65th, in no time and without growing a stack.
   const std::string million = std::string(10000000, '[') + std::string(10000000, ']');
-  const auto t0 = std::chrono::steady_clock::now();
+  const double t0 = cpu_seconds();
   EXPECT_THROW(parse_json_text(million, "deep.json"), FileError);
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.5);
+  EXPECT_LT(cpu_seconds() - t0, 0.5);
 }
 
 TEST(JsonLinear, BuildsTheDocumentNlohmannBuilds) {
@@ -146,10 +154,10 @@ TEST(JsonLinear, FlatSidecarOfThreeMegabytesReadsQuickly) {
     std::ofstream f(dir / "h.json");
     f << "{\"dx_m\": 2e-6, \"dy_m\": 3e-6, \"junk\": " << flat("[", "{}", 1000000, "]") << "}";
   }
-  const auto t0 = std::chrono::steady_clock::now();
+  const double t0 = cpu_seconds();
   const Surface r = read_surface((dir / "h.npy").string());
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("read_surface with a 3 MB sidecar: %.3f s\n", secs);
+  const double secs = cpu_seconds() - t0;
+  std::printf("read_surface with a 3 MB sidecar: %.3f s CPU\n", secs);
   EXPECT_LT(secs, 1.0);
   EXPECT_DOUBLE_EQ(r.dx, 2e-6);
   EXPECT_DOUBLE_EQ(r.dy, 3e-6);

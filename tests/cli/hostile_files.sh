@@ -237,4 +237,32 @@ printf 'caf\xe9.bsdf' | cmp -s - "$T/got" || fail "pbrt: latin-1 name read back 
 expect 1 "caf.*\.bsdf: the name holds bytes that are not UTF-8" -- $BIN export mitsuba --bsdf "$T/caf"$'\xe9'".bsdf" -o "$T/xm"
 [ -e "$T/xm/scene.xml" ] && fail "mitsuba scene written with a name XML cannot hold"
 rm -rf "$T/xp" "$T/xm"
+# 5. Signals and limits that end a run say so.
+# SIGINT: exit 130 with one line saying so, no output, no temporary.
+$PY - "$BIN" "$T" <<'PY' || fail "SIGINT"
+import os, signal, subprocess, sys, time
+bin, t = sys.argv[1:3]
+p = subprocess.Popen([bin, "render", "--alpha", "0.3", "--size", "512", "--spp", "100000",
+                      "-o", t + "/int.png"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+time.sleep(1.0)
+p.send_signal(signal.SIGINT)
+err = p.communicate(timeout=30)[1].decode(errors="replace")
+assert p.returncode == 130, (p.returncode, err)
+assert err.count("microbrdf: interrupted (SIGINT)") == 1, err
+left = [f for f in os.listdir(t) if f.startswith("int.png")]
+assert not left, left
+print("case: SIGINT: exit 130, said once, nothing left")
+PY
+# Address space too small for the renderer's Embree device: said as such, with the limit.
+for kib in 400000 600000 800000; do
+  (ulimit -v $kib; $BIN render --alpha 0.3 --size 8 --spp 1 -o "$T/v.png") >/dev/null 2>"$T/err"
+  rc=$?
+  [ $rc -eq 0 ] && break
+  grep -q "internal error\|std::" "$T/err" && fail "ulimit -v $kib: $(cat "$T/err")"
+  grep -q "out of memory" "$T/err" || fail "ulimit -v $kib: no out-of-memory message: $(cat "$T/err")"
+  grep -q "Embree" "$T/err" && { grep -q "ulimit -v) is" "$T/err" || fail "ulimit -v $kib: limit not said: $(cat "$T/err")"; }
+  echo "case: ulimit -v $kib: exit $rc: $(cat "$T/err")"
+done
+rm -f "$T/v.png"
+
 echo ok
