@@ -22,10 +22,18 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::vector<std::string> kNames = {
-    "plain.bsdf",        "q\"uote.bsdf",    "back\\slash.bsdf", "new\nline.bsdf",
-    "cr\r\nlf.bsdf",     "tab\t.bsdf",      "amp&amp;lt<gt>.bsdf", "apos'.bsdf",
+    "plain.bsdf",
+    "q\"uote.bsdf",
+    "back\\slash.bsdf",
+    "new\nline.bsdf",
+    "cr\r\nlf.bsdf",
+    "tab\t.bsdf",
+    "amp&amp;lt<gt>.bsdf",
+    "apos'.bsdf",
     "\xC3\xA9t\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x98\x80.bsdf",  // été 日本 😀
-    "dash -- --> end-",  "all \" \\ \n & < > ' \\n \\\" \xC3\xBC.bsdf",  "trailing\\"};
+    "dash -- --> end-",
+    "all \" \\ \n & < > ' \\n \\\" \xC3\xBC.bsdf",
+    "trailing\\"};
 
 std::string dir_for(const std::string& tag) {
   const auto d = fs::path(::testing::TempDir()) /
@@ -73,15 +81,32 @@ std::vector<Token> pbrt_tokens(const std::string& t) {
             return out;
           }
           switch (t[i]) {
-            case 'b': s += '\b'; break;
-            case 'f': s += '\f'; break;
-            case 'n': s += '\n'; break;
-            case 'r': s += '\r'; break;
-            case 't': s += '\t'; break;
-            case '\\': s += '\\'; break;
-            case '\'': s += '\''; break;
-            case '"': s += '"'; break;
-            default: ADD_FAILURE() << "unexpected escaped character " << t[i];
+            case 'b':
+              s += '\b';
+              break;
+            case 'f':
+              s += '\f';
+              break;
+            case 'n':
+              s += '\n';
+              break;
+            case 'r':
+              s += '\r';
+              break;
+            case 't':
+              s += '\t';
+              break;
+            case '\\':
+              s += '\\';
+              break;
+            case '\'':
+              s += '\'';
+              break;
+            case '"':
+              s += '"';
+              break;
+            default:
+              ADD_FAILURE() << "unexpected escaped character " << t[i];
           }
         } else {
           s += t[i];
@@ -158,8 +183,8 @@ TEST(ExportNames, MitsubaNamesReadBackByteForByte) {
     export_mitsuba_measured(name, dir, o, {"the BRDF (" + name + ") as a table: " + name});
     for (const char* f : {"material.xml", "scene.xml"}) {
       pugi::xml_document doc;
-      const auto r = doc.load_file((fs::path(dir) / f).c_str(),
-                                   pugi::parse_default | pugi::parse_comments);
+      const auto r =
+          doc.load_file((fs::path(dir) / f).c_str(), pugi::parse_default | pugi::parse_comments);
       ASSERT_TRUE(r) << f << ": " << r.description() << " for " << name;
       const auto bsdf = doc.child("scene").find_child_by_attribute("bsdf", "id", "microbrdf");
       EXPECT_EQ(std::string(bsdf.child("string").attribute("value").value()), name) << f;
@@ -179,9 +204,9 @@ TEST(ExportNames, MitsubaNamesReadBackByteForByte) {
 
 TEST(ExportNames, MitsubaRefusesWhatXmlCannotHoldBeforeWriting) {
   const auto dir = dir_for("refused");
-  for (const std::string& name : {std::string("caf\xE9.bsdf"), std::string("\xFF\xFE.bsdf"),
-                                  std::string("over\xC0\xAF.bsdf"), std::string("bell\x07.bsdf"),
-                                  std::string("esc\x1B[0m.bsdf")}) {
+  for (const std::string& name :
+       {std::string("caf\xE9.bsdf"), std::string("\xFF\xFE.bsdf"), std::string("over\xC0\xAF.bsdf"),
+        std::string("bell\x07.bsdf"), std::string("esc\x1B[0m.bsdf")}) {
     try {
       export_mitsuba_measured(name, dir, {});
       ADD_FAILURE() << "accepted " << name;

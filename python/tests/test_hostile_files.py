@@ -13,8 +13,8 @@ HEADER = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,wavelength_nm,brdf_per_sr\
 
 
 def rows(wavelength=550):
-    return "".join(f"{ti},0,{to},180,{wavelength},2.5\n" for ti in (0, 10, 20, 30)
-                   for to in (5, 15, 25, 35))
+    return "".join(f"{ti},0,{to},{po},{wavelength},2.5\n" for ti in (0, 10, 20, 30)
+                   for to in (5, 15, 25, 35) for po in (160, 180, 200))
 
 
 def test_three_megabyte_sidecar_reads_in_well_under_a_second(tmp_path):
@@ -40,7 +40,7 @@ def test_negative_brdf_names_the_csv_and_its_line(tmp_path):
     with pytest.raises(mb.FileError) as info:
         mb.measured_ndf(path, resolution=65)
     assert info.value.filename == str(path)
-    assert "line 18: brdf_per_sr is negative" in str(info.value)
+    assert "line 50: brdf_per_sr is negative" in str(info.value)
 
 
 @pytest.mark.parametrize("body, message", [

@@ -197,6 +197,11 @@ TabulatedNdf effective_ndf(const GonioData& data, const Fresnel& fresnel,
       }
     if (o.smith && pass < 2) g = distribution_of(t);
   }
+  if (measured_nodes(t) == 0)
+    throw InputError(fmt::format(
+        "no node of the {} x {} table lies within two kernel widths ({:.3g} deg) of a goniometer "
+        "point: nothing is measured (a wider --kernel or a finer --resolution)",
+        n, n, s * 180 / kPi));
   t.meta.method = "measured";
   t.meta.wavelength_m = best;
   t.meta.samples_used = pts.size();
@@ -256,11 +261,6 @@ TabulatedNdf measured_ndf_file(const std::string& path, const Fresnel& fresnel,
     const GonioData data = read_gonio_csv(path);
     // What the points cannot give (none above the horizon, one half vector) is the file's.
     t = about_file(path, [&] { return effective_ndf(data, fresnel, options); });
-    if (measured_nodes(t) == 0)
-      throw FileError(
-          path, fmt::format("no node of the table lies within two kernel widths "
-                            "({:.3g} deg) of a goniometer point; nothing is measured",
-                            (options.kernel_sigma > 0 ? options.kernel_sigma : 0) * 180 / kPi));
   } else if (e == ".binary" || e == ".bsdf") {
     t = effective_ndf(*read_measured_brdf(path), fresnel, options);
     if (measured_nodes(t) == 0)
