@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "core/markup_escape.hpp"
 #include "microbrdf/error.hpp"
 
 namespace microbrdf::detail {
@@ -102,43 +103,12 @@ std::string xml_attribute(std::string_view s, const std::string& file) {
     throw FileError(file,
                     "the name holds bytes that are not UTF-8, which a Mitsuba XML file cannot "
                     "hold; rename the file");
-  std::string out;
-  out.reserve(s.size());
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      case '\t':
-        out += "&#9;";
-        break;
-      case '\n':
-        out += "&#10;";
-        break;
-      case '\r':
-        out += "&#13;";
-        break;
-      default:
-        if (xml_forbidden(static_cast<unsigned char>(c)))
-          throw FileError(file, fmt::format("the name holds the control character 0x{:02X}, which "
-                                            "XML cannot hold; rename the file",
-                                            static_cast<unsigned char>(c)));
-        out += c;
-    }
-  }
-  return out;
+  for (char c : s)
+    if (xml_forbidden(static_cast<unsigned char>(c)))
+      throw FileError(file, fmt::format("the name holds the control character 0x{:02X}, which "
+                                        "XML cannot hold; rename the file",
+                                        static_cast<unsigned char>(c)));
+  return markup_escape(s, /*attribute=*/true);
 }
 
 std::string xml_comment(std::string_view s) {
