@@ -87,13 +87,6 @@ Source source_of(const ExportArgs& a, const char* cmd) {
   return s;
 }
 
-/// The distribution the export grids follow; a measured file without a lobe is that file's
-/// problem (named), a BRDF of the flags is the flags'.
-std::shared_ptr<const MicrofacetDistribution> lobe_of(const ExportArgs& a, const Source& s) {
-  if (a.input.empty()) return export_distribution(s.brdf);
-  return about_file(a.input, [&] { return export_distribution(s.brdf); });
-}
-
 RglExportOptions grid_options(const GridArgs& g, const Brdf& brdf, const std::string& what,
                               const char* cmd) {
   for (auto [v, name] : {std::pair{g.theta_i, "--theta-i"},
@@ -145,7 +138,7 @@ void run_bsdf(const ExportArgs& a) {
   Progress progress("export bsdf", false, 0.25, "spectra");
   o.progress = progress.fraction_callback();
   // The grids follow the BRDF's own NDF (microfacet BRDFs) or its lobe (eq. 9 shape).
-  const auto d = lobe_of(a, s);
+  const auto d = export_distribution(s.brdf, a.input);
   {
     // One output file, renamed into place at once: it may commit now, so its size can be read.
     OutputGroup::Bypass direct;
@@ -183,8 +176,7 @@ void run_scene(const ExportArgs& a, bool mitsuba) {
     const std::string name = fs::path(a.bsdf).filename().string();
     files = mitsuba ? export_mitsuba_measured(name, a.output, so)
                     : export_pbrt_measured(name, a.output, so);
-    std::error_code ec;  // (equivalent: the same file under another spelling is not copied)
-    if (!fs::equivalent(a.bsdf, fs::path(a.output) / name, ec)) {
+    if (std::error_code ec; !fs::equivalent(a.bsdf, fs::path(a.output) / name, ec)) {
       write_file_atomic((fs::path(a.output) / name).string(),
                         read_file_bytes(a.bsdf, std::uint64_t{1} << 32));
       files.push_back(name);
@@ -203,7 +195,8 @@ void run_scene(const ExportArgs& a, bool mitsuba) {
       notes.push_back("the BRDF (" + s.what + ") as an RGL .bsdf table: " + name);
       files = mitsuba ? export_mitsuba_measured(name, a.output, so, notes)
                       : export_pbrt_measured(name, a.output, so, notes);
-      write_rgl_bsdf(*s.brdf, *lobe_of(a, s), o, (fs::path(a.output) / name).string());
+      write_rgl_bsdf(*s.brdf, *export_distribution(s.brdf, a.input), o,
+                     (fs::path(a.output) / name).string());
       files.push_back(name);
     }
   }
