@@ -33,7 +33,7 @@ LAYERS = {
 # include/microbrdf/<name>.hpp -> the layer it belongs to.
 PUBLIC_HEADERS = {
     # core: errors, units, files, images, numbers
-    "error": "core", "units": "core", "atomic_file": "core", "image": "core", "vec3": "core",
+    "error": "core", "units": "core", "atomic_file": "core", "run_inputs": "core", "image": "core", "vec3": "core",
     "quadrature": "core", "plot": "plot", "distribute": "core", "json_read": "core",
     "file_read": "core", "memory_budget": "core", "interrupt": "core", "threads": "core",
     "version": "core",

@@ -102,7 +102,19 @@ void emit_text(const std::string& path, const std::string& text) {
   write_file_atomic(path, text);
 }
 
-void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
+void print_json(const nlohmann::json& j) {
+  std::string text;
+  try {
+    text = j.dump(2);
+  } catch (const nlohmann::json::type_error& e) {
+    // JSON text is UTF-8: a name with other bytes cannot be written into it (refused, not
+    // mangled). The outputs of the run are not committed either.
+    throw InputError(std::string("--json: a file name holds bytes that are not UTF-8, which JSON "
+                                 "cannot hold; rename the file or leave out --json (") +
+                     e.what() + ")");
+  }
+  std::cout << text << std::endl;
+}
 
 void progress(const char* command, std::size_t index, std::size_t total, const std::string& what) {
   Progress(command).item(index, total, what);

@@ -138,7 +138,7 @@ void run_bsdf(const ExportArgs& a) {
   Progress progress("export bsdf", false, 0.25, "spectra");
   o.progress = progress.fraction_callback();
   // The grids follow the BRDF's own NDF (microfacet BRDFs) or its lobe (eq. 9 shape).
-  const auto d = export_distribution(s.brdf);
+  const auto d = export_distribution(s.brdf, a.input);
   {
     // One output file, renamed into place at once: it may commit now, so its size can be read.
     OutputGroup::Bypass direct;
@@ -176,7 +176,7 @@ void run_scene(const ExportArgs& a, bool mitsuba) {
     const std::string name = fs::path(a.bsdf).filename().string();
     files = mitsuba ? export_mitsuba_measured(name, a.output, so)
                     : export_pbrt_measured(name, a.output, so);
-    if (fs::absolute(a.bsdf) != fs::absolute(fs::path(a.output) / name)) {
+    if (std::error_code ec; !fs::equivalent(a.bsdf, fs::path(a.output) / name, ec)) {
       write_file_atomic((fs::path(a.output) / name).string(),
                         read_file_bytes(a.bsdf, std::uint64_t{1} << 32));
       files.push_back(name);
@@ -195,7 +195,7 @@ void run_scene(const ExportArgs& a, bool mitsuba) {
       notes.push_back("the BRDF (" + s.what + ") as an RGL .bsdf table: " + name);
       files = mitsuba ? export_mitsuba_measured(name, a.output, so, notes)
                       : export_pbrt_measured(name, a.output, so, notes);
-      write_rgl_bsdf(*s.brdf, *export_distribution(s.brdf), o,
+      write_rgl_bsdf(*s.brdf, *export_distribution(s.brdf, a.input), o,
                      (fs::path(a.output) / name).string());
       files.push_back(name);
     }

@@ -1,5 +1,7 @@
 // `microbrdf measured ndf|compare`: effective NDFs from measured BRDFs (Dong 2015 section 7,
 // eq. 9) and predicted-versus-measured comparisons (docs/measured.md).
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -36,7 +38,12 @@ void run_ndf(const NdfArgs& a) {
   if (a.shadowing != "none" && a.shadowing != "smith")
     throw InputError("--shadowing must be none or smith");
   o.smith = a.shadowing == "smith";
-  if (!a.kernel.empty()) o.kernel_sigma = parse_angle(a.kernel);  // disk units ~ rad near the pole
+  if (!a.kernel.empty()) {
+    o.kernel_sigma = parse_angle(a.kernel);  // disk units ~ rad near the pole
+    if (!(o.kernel_sigma > 0 && o.kernel_sigma <= kMaxKernelSigma))
+      throw InputError(fmt::format("--kernel must lie in (0, {:.0f}] deg (got {})",
+                                   kMaxKernelSigma * kDeg, a.kernel));
+  }
   // Fresnel: the material's when given (the table then has the NDF's own scale, G aside), else
   // F = 1 (the NDF's shape: at fixed theta_d, F(wi.h) is one constant for full BRDFs).
   const bool has_f = has_material(a.material.keys());
@@ -46,6 +53,8 @@ void run_ndf(const NdfArgs& a) {
       has_f ? make_fresnel(material_spec(a.material, std::nullopt))
             : std::make_shared<PerfectMirrorFresnel>();
   TabulatedNdf t = measured_ndf_file(a.input, *fresnel, o);
+  if (const std::string w = wavelength_warning(t, o.wavelength_m, a.input); !w.empty())
+    std::fprintf(stderr, "microbrdf measured ndf: %s\n", w.c_str());
   if (has_f)
     t.meta.notes += "; F = " + material_spec(a.material, std::nullopt).describe();
   else
@@ -92,7 +101,9 @@ void run_compare(const CompareArgs& a) {
   nlohmann::json all = nlohmann::json::array();
   for (std::size_t k = 0; k < a.predicted.size(); ++k) {
     const TabulatedNdf p = read_ndf(a.predicted[k]);
-    const NdfComparison c = compare_ndfs(measured, p, fwhm, sig.get());
+    // A measured table without a measured node is that file's problem.
+    const NdfComparison c =
+        about_file(a.measured, [&] { return compare_ndfs(measured, p, fwhm, sig.get()); });
     if (!a.report.empty()) {
       const std::string dir =
           a.predicted.size() == 1

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "cli_common.hpp"
@@ -107,7 +108,11 @@ void run(const SimArgs& a) {
     if (!mpi_is_root()) return;
     mpi_set_solo(true);
   }
-  MicroScene scene(load_micro_scene(a.scene));
+  // The scene's own inconsistencies (a height field that does not fit the tile, no geometry)
+  // are the scene file's: named as such.
+  std::optional<MicroScene> built;
+  about_file(a.scene, [&] { built.emplace(load_micro_scene(a.scene)); });
+  MicroScene& scene = *built;
   if (!a.quiet)
     std::fprintf(stderr,
                  "microbrdf simulate: scene '%s': tile %s x %s, %zu triangles, %zu analytic "

@@ -9,6 +9,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/memory_budget.hpp"
+#include "microbrdf/run_inputs.hpp"
 
 namespace microbrdf::cli {
 namespace {
@@ -40,6 +41,10 @@ int report(const char* command, std::string* message) {
     std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
     *message = buf + std::string(e.what());
     return 2;
+  } catch (const OutOfMemory& e) {
+    std::snprintf(buf, sizeof buf, "microbrdf %s: error: ", command);
+    *message = buf + std::string(e.what());
+    return 1;
   } catch (const std::bad_alloc&) {
     // Readers check the memory budget before they allocate; this is what is left (a large
     // but legitimate job on a small machine).
@@ -87,7 +92,8 @@ void run_guarded(const char* command, const std::function<void()>& body) {
     mpi_set_solo(true);  // library calls that could spread work keep it on this rank
   }
   try {
-    OutputGroup outputs;  // every file the command writes: all committed at the end, or none
+    const RunInputs inputs;  // every file read: no output of the command may replace one
+    OutputGroup outputs;     // every file the command writes: all committed at the end, or none
     body();
     outputs.commit();
   } catch (...) {

@@ -1,8 +1,10 @@
 #pragma once
 // Error types. Every message a user sees names the file (when there is one) and what is wrong.
 
+#include <new>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace microbrdf {
 
@@ -33,6 +35,18 @@ class FileError : public std::runtime_error {
   std::string path_;
   std::string problem_;
   bool missing_ = false;
+};
+
+/// Memory or address space ran out where the memory budget could not be checked first (in a
+/// library that allocates by itself, such as Embree). what() says what needed it and the
+/// limit; it is a std::bad_alloc for code that catches those.
+class OutOfMemory : public std::bad_alloc {
+ public:
+  explicit OutOfMemory(std::string message) : message_(std::move(message)) {}
+  const char* what() const noexcept override { return message_.c_str(); }
+
+ private:
+  std::string message_;
 };
 
 /// Runs `f` on the data of the file at `path`: an InputError it raises (a property of that

@@ -53,9 +53,10 @@ TensorFile rgl_tensor(const Brdf& brdf, const MicrofacetDistribution& ndf,
 /// largest value seen. MERL tables are isotropic by construction; RGL files say which they are.
 bool brdf_is_isotropic(const Brdf& brdf, double wavelength_m = 550e-9);
 /// The distribution that parameterises the export of `brdf`: a microfacet BRDF's own NDF
-/// (analytic or tabulated), else lobe_distribution(brdf, 257) (measured_ndf.hpp).
+/// (analytic or tabulated), else lobe_distribution(brdf, 257) (measured_ndf.hpp). `file`, when
+/// given, is the file the BRDF was read from: a BRDF without a lobe is then a FileError naming it.
 std::shared_ptr<const MicrofacetDistribution> export_distribution(
-    const std::shared_ptr<const Brdf>& brdf);
+    const std::shared_ptr<const Brdf>& brdf, const std::string& file = "");
 /// rgl_tensor written atomically to `path`.
 void write_rgl_bsdf(const Brdf& brdf, const MicrofacetDistribution& ndf,
                     const RglExportOptions& options, const std::string& path);

@@ -9,6 +9,8 @@ namespace microbrdf {
 
 /// Throws FileError unless `path` names an existing regular file (symbolic links followed):
 /// "no such file", "is a directory", "is not a regular file (a FIFO, socket or device)".
+/// Records the file as an input of the open run (microbrdf/run_inputs.hpp): every reader calls
+/// this first, so no output of the run can replace a file it read.
 void require_regular_file(const std::string& path);
 
 /// Reads a whole regular file into memory, refusing files over `max_bytes`. Throws FileError.

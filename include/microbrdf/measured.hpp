@@ -103,8 +103,9 @@ struct GonioData {
   bool has_sigma = false;
 };
 
-/// Parses CSV text. Throws FileError(name, "line N: ...") for a missing column, a malformed
-/// number, an angle out of range or a non-positive wavelength.
+/// Parses CSV text (a leading UTF-8 byte-order mark is skipped). Throws FileError(name,
+/// "line N: ...") for a missing column, a malformed number, an angle out of range, a
+/// non-positive wavelength or a negative BRDF value.
 GonioData parse_gonio_csv(std::string_view text, const std::string& name);
 GonioData read_gonio_csv(const std::string& path);
 std::string encode_gonio_csv(const GonioData& d);

@@ -30,12 +30,17 @@
 
 namespace microbrdf {
 
+/// Widest point-set kernel (std in disk coordinates, ~rad near the pole): 30 deg. A wider one
+/// averages the whole lobe into one value (and costs a pass over the whole table per point).
+inline constexpr double kMaxKernelSigma = 30 * 3.14159265358979323846 / 180;
+
 struct EffectiveNdfOptions {
   double theta_d = 14.14 * 3.14159265358979323846 / 180;  ///< angle between wi and wo, rad
   std::size_t resolution = 1025;
   double wavelength_m = 550e-9;
   bool smith = false;       ///< divide by the Smith G2 of the estimate (default G = 1)
-  double kernel_sigma = 0;  ///< point sets: kernel std in disk coordinates; 0 = automatic
+  double kernel_sigma = 0;  ///< point sets: kernel std in disk coordinates, (0, kMaxKernelSigma];
+                            ///< 0 = automatic
 };
 
 /// Eq. 9 on a full BRDF read at the fixed theta_d. Throws InputError for theta_d outside
@@ -64,8 +69,12 @@ std::unique_ptr<Brdf> read_measured_brdf(const std::string& path);
 /// Eq. 9 on any measured file, by its extension: `.csv` (goniometer points), `.binary` (MERL) or
 /// `.bsdf` (RGL). meta.sources = {path}. `fresnel` is the material's Fresnel term (a
 /// PerfectMirrorFresnel gives the NDF's shape, F = 1). Throws as the readers and
-/// effective_ndf do.
+/// effective_ndf do (InputError for `options`); FileError naming the file for what is wrong with
+/// its data: no point usable, no node measured (all NaN), or a negative BRDF anywhere.
 TabulatedNdf measured_ndf_file(const std::string& path, const Fresnel& fresnel,
                                const EffectiveNdfOptions& options);
+/// "<path>: warning: measured at X nm, not at the requested Y nm ..." when the table `t` (from
+/// measured_ndf_file) is at a wavelength more than 0.5 nm from `requested_m`; "" otherwise.
+std::string wavelength_warning(const TabulatedNdf& t, double requested_m, const std::string& path);
 
 }  // namespace microbrdf

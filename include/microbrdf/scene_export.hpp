@@ -44,7 +44,11 @@ struct SceneExportOptions {
 /// Throws FileError.
 std::vector<std::string> export_mitsuba(const RoughConductor& m, const std::string& dir,
                                         const SceneExportOptions& o);
-/// `bsdf_file` is the `.bsdf` file's name inside `dir`.
+/// `bsdf_file` is the `.bsdf` file's name inside `dir`. File names are escaped for each format
+/// (pbrt-v4 string escapes; XML character entities and references) and read back as the same
+/// bytes; a name an XML attribute cannot hold (bytes that are not UTF-8, control characters
+/// other than tab, newline and carriage return) throws FileError naming it before anything is
+/// written (Mitsuba only: pbrt takes any bytes).
 std::vector<std::string> export_mitsuba_measured(const std::string& bsdf_file,
                                                  const std::string& dir,
                                                  const SceneExportOptions& o,

@@ -67,6 +67,7 @@ GonioData parse_gonio_csv(std::string_view text, const std::string& name) {
   auto fail = [&](const std::string& what) {
     throw FileError(name, "line " + std::to_string(line_no) + ": " + what);
   };
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") pos = 3;  // a UTF-8 byte-order mark (spreadsheets)
   while (pos < text.size()) {
     const std::size_t nl = text.find('\n', pos);
     const std::string_view line =
@@ -111,6 +112,11 @@ GonioData parse_gonio_csv(std::string_view text, const std::string& name) {
           fmt::format("polar angles must lie in [0, 90] deg (theta_i {}, theta_o {})", v[0], v[2]));
     if (!(v[4] > 0) || v[4] > 1e6) fail(fmt::format("wavelength {} nm is not positive", v[4]));
     if (sigma_col >= 0 && v[6] < 0) fail(fmt::format("negative brdf_sigma_per_sr {}", v[6]));
+    if (v[5] < 0)
+      fail(
+          fmt::format("brdf_per_sr is negative ({}): a BRDF cannot be negative (a background "
+                      "subtracted too far? clip the file's values at 0)",
+                      v[5]));
     GonioPoint p;
     p.theta_i = v[0] * kDeg;
     p.phi_i = v[1] * kDeg;

@@ -23,6 +23,9 @@ void check(const EffectiveNdfOptions& o) {
   if (!(o.theta_d > 0 && o.theta_d < kPi)) throw InputError("theta_d must lie in (0, 180) deg");
   if (o.resolution < 5) throw InputError("resolution must be at least 5");
   if (!(o.wavelength_m > 0)) throw InputError("wavelength must be positive");
+  if (!(o.kernel_sigma == 0 || (o.kernel_sigma > 0 && o.kernel_sigma <= kMaxKernelSigma)))
+    throw InputError(fmt::format("the kernel width must lie in (0, {:.0f}] deg (got {:.4g} deg)",
+                                 kMaxKernelSigma * 180 / kPi, o.kernel_sigma * 180 / kPi));
 }
 
 // The light and view directions at half vector h, theta_d apart, at equal elevation.
@@ -194,6 +197,11 @@ TabulatedNdf effective_ndf(const GonioData& data, const Fresnel& fresnel,
       }
     if (o.smith && pass < 2) g = distribution_of(t);
   }
+  if (measured_nodes(t) == 0)
+    throw InputError(fmt::format(
+        "no node of the {} x {} table lies within two kernel widths ({:.3g} deg) of a goniometer "
+        "point: nothing is measured (a wider --kernel or a finer --resolution)",
+        n, n, s * 180 / kPi));
   t.meta.method = "measured";
   t.meta.wavelength_m = best;
   t.meta.samples_used = pts.size();
@@ -246,19 +254,47 @@ std::unique_ptr<Brdf> read_measured_brdf(const std::string& path) {
 
 TabulatedNdf measured_ndf_file(const std::string& path, const Fresnel& fresnel,
                                const EffectiveNdfOptions& options) {
+  check(options);  // the options' errors are the caller's, not the file's
   const std::string e = lower_extension(path);
   TabulatedNdf t;
   if (e == ".csv") {
-    t = effective_ndf(read_gonio_csv(path), fresnel, options);
+    const GonioData data = read_gonio_csv(path);
+    // What the points cannot give (none above the horizon, one half vector) is the file's.
+    t = about_file(path, [&] { return effective_ndf(data, fresnel, options); });
   } else if (e == ".binary" || e == ".bsdf") {
     t = effective_ndf(*read_measured_brdf(path), fresnel, options);
+    if (measured_nodes(t) == 0)
+      throw FileError(path, fmt::format("the file holds no valid BRDF value at theta_d = {:.4g} "
+                                        "deg (every node of the table would be NaN: unmeasured)",
+                                        options.theta_d * 180 / kPi));
   } else {
     throw InputError(path +
                      ": unknown measured-BRDF type (use .csv goniometer points, .binary MERL or "
                      ".bsdf RGL)");
   }
+  // A BRDF is never negative: negative values (a background subtracted too far) are the
+  // file's, and an NDF made of them could not be written.
+  std::size_t negative = 0, measured = 0;
+  double lowest = 0;
+  for (double v : t.values())
+    if (std::isfinite(v)) {
+      ++measured;
+      if (v < 0) ++negative, lowest = std::min(lowest, v);
+    }
+  if (negative > 0)
+    throw FileError(path, fmt::format("the BRDF is negative at {} of the {} table nodes it gives "
+                                      "(down to D = {:.4g}): a BRDF cannot be negative",
+                                      negative, measured, lowest));
   t.meta.sources = {path};
   return t;
+}
+
+std::string wavelength_warning(const TabulatedNdf& t, double requested_m, const std::string& path) {
+  if (!(std::abs(t.meta.wavelength_m - requested_m) > 0.5e-9)) return "";
+  return fmt::format(
+      "{}: warning: measured at {:.1f} nm, not at the requested {:.1f} nm; the "
+      "table is the {:.1f} nm measurement (--wavelength chooses)",
+      path, t.meta.wavelength_m * 1e9, requested_m * 1e9, t.meta.wavelength_m * 1e9);
 }
 
 }  // namespace microbrdf

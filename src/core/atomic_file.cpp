@@ -13,6 +13,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/interrupt.hpp"
+#include "microbrdf/run_inputs.hpp"
 
 namespace microbrdf {
 
@@ -52,6 +53,7 @@ void AtomicFile::commit() {
       return;
     }
   }
+  refuse_replacing_input(path_);  // the destructor removes the temporary
   without_interrupts([&] {
     if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
       std::string why = std::strerror(errno);
@@ -82,6 +84,8 @@ void OutputGroup::adopt(const std::string& temp, const std::string& path) {
 }
 
 void OutputGroup::commit() {
+  // Before any rename: an output that would replace an input refuses the whole group.
+  for (const auto& staged : staged_) refuse_replacing_input(staged.second);
   {
     std::lock_guard lock(g_group_mutex);
     if (g_group.load() == this) g_group.store(nullptr);

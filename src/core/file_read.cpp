@@ -7,6 +7,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/memory_budget.hpp"
+#include "microbrdf/run_inputs.hpp"
 
 namespace microbrdf {
 namespace fs = std::filesystem;
@@ -19,6 +20,7 @@ void require_regular_file(const std::string& path) {
   if (st.type() == fs::file_type::directory) throw FileError(path, "is a directory, not a file");
   if (st.type() != fs::file_type::regular)
     throw FileError(path, "is not a regular file (a FIFO, socket or device): give a file on disk");
+  record_input(path);  // no output of this run may replace it (microbrdf/run_inputs.hpp)
 }
 
 std::vector<std::uint8_t> read_file_bytes(const std::string& path, std::uint64_t max_bytes) {

@@ -9,6 +9,8 @@
 #include <set>
 #include <thread>
 
+#include "microbrdf/distribute.hpp"
+
 namespace microbrdf {
 
 namespace {
@@ -46,6 +48,13 @@ sigset_t interrupt_signals() {
       std::error_code ec;
       std::filesystem::remove_all(p, ec);
     }
+  }
+  // Said once per run: under mpirun every rank gets the signal, and rank 0 alone speaks.
+  if (mpi_rank() == 0) {
+    const char* name = sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
+    const std::string m = std::string("microbrdf: interrupted (") + name +
+                          "); no output written, temporaries removed\n";
+    (void)!::write(STDERR_FILENO, m.data(), m.size());
   }
   ::_exit(128 + sig);
 }

@@ -194,10 +194,11 @@ bool brdf_is_isotropic(const Brdf& brdf, double wavelength_m) {
 }
 
 std::shared_ptr<const MicrofacetDistribution> export_distribution(
-    const std::shared_ptr<const Brdf>& brdf) {
+    const std::shared_ptr<const Brdf>& brdf, const std::string& file) {
   if (const auto m = std::dynamic_pointer_cast<const MicrofacetBrdf>(brdf))
     return std::shared_ptr<const MicrofacetDistribution>(m, &m->distribution());
-  return lobe_distribution(*brdf, 257);
+  if (file.empty()) return lobe_distribution(*brdf, 257);
+  return about_file(file, [&] { return lobe_distribution(*brdf, 257); });
 }
 
 }  // namespace microbrdf

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "core/markup_escape.hpp"
+#include "export/format_strings.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fit.hpp"
@@ -23,15 +23,21 @@ void ensure_dir(const std::string& dir) {
   if (ec || !fs::is_directory(dir)) throw FileError(dir, "cannot create the output directory");
 }
 
-std::string xml_escape(const std::string& s) { return detail::markup_escape(s); }
-// XML comments may not contain "--".
-std::string xml_comment(const std::string& s) {
-  std::string out = s;
-  for (std::size_t p; (p = out.find("--")) != std::string::npos;) out.replace(p, 2, "- -");
-  return "<!-- " + out + " -->";
+using detail::pbrt_comment;
+using detail::pbrt_string;
+using detail::xml_attribute;
+using detail::xml_comment;
+
+// The file name of the environment map as the scene names it, checked before anything is
+// written (an XML attribute cannot hold every file name).
+std::string envmap_name(const SceneExportOptions& o) {
+  if (o.envmap.empty()) return "";
+  const std::string name = fs::path(o.envmap).filename().string();
+  (void)xml_attribute(name, o.envmap);
+  return name;
 }
 
-std::string mitsuba_scene(const std::string& bsdf_xml, const std::string& envmap_name,
+std::string mitsuba_scene(const std::string& bsdf_xml, const std::string& env,
                           const SceneExportOptions& o, const std::vector<std::string>& notes) {
   std::string s = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
   s += xml_comment("Written by microbrdf: the material on a unit sphere.") + "\n";
@@ -50,11 +56,11 @@ std::string mitsuba_scene(const std::string& bsdf_xml, const std::string& envmap
       "      <integer name=\"height\" value=\"{}\"/>\n    </film>\n",
       o.width, o.height);
   s += "  </sensor>\n";
-  if (envmap_name.empty())
+  if (env.empty())
     s += "  <emitter type=\"constant\"/>\n";
   else
     s += "  <emitter type=\"envmap\">\n    <string name=\"filename\" value=\"" +
-         xml_escape(envmap_name) + "\"/>\n  </emitter>\n";
+         xml_attribute(env, env) + "\"/>\n  </emitter>\n";
   s += bsdf_xml;
   s += "  <shape type=\"sphere\">\n    <ref id=\"microbrdf\"/>\n  </shape>\n";
   s += "</scene>\n";
@@ -63,7 +69,7 @@ std::string mitsuba_scene(const std::string& bsdf_xml, const std::string& envmap
 
 std::string copy_envmap(const std::string& dir, const SceneExportOptions& o) {
   if (o.envmap.empty()) return "";
-  const std::string name = fs::path(o.envmap).filename().string();
+  const std::string name = envmap_name(o);
   const auto bytes = read_file_bytes(o.envmap, std::uint64_t{1} << 31);
   write_file_atomic((fs::path(dir) / name).string(), bytes);
   return name;
@@ -75,8 +81,6 @@ void write_material_xml(const std::string& dir, const std::string& bsdf) {
                     "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<scene version=\"3.0.0\">\n" +
                         bsdf + "</scene>\n");
 }
-
-std::string pbrt_comment(const std::string& s) { return "# " + s + "\n"; }
 
 std::string pbrt_scene(const std::string& material_block, const SceneExportOptions& o,
                        const std::vector<std::string>& notes) {
@@ -174,6 +178,7 @@ std::string spectrum_file_text(const Spectrum& s, const std::string& comment) {
 
 std::vector<std::string> export_mitsuba(const RoughConductor& m, const std::string& dir,
                                         const SceneExportOptions& o) {
+  (void)envmap_name(o);
   ensure_dir(dir);
   auto files = conductor_spectra(m, dir);
   std::string bsdf = "  <bsdf type=\"roughconductor\" id=\"microbrdf\">\n";
@@ -197,10 +202,12 @@ std::vector<std::string> export_mitsuba_measured(const std::string& bsdf_file,
                                                  const std::string& dir,
                                                  const SceneExportOptions& o,
                                                  const std::vector<std::string>& notes) {
+  const std::string filename = xml_attribute(bsdf_file, bsdf_file);
+  (void)envmap_name(o);
   ensure_dir(dir);
   std::string bsdf = "  <bsdf type=\"measured\" id=\"microbrdf\">\n";
   for (const auto& n : notes) bsdf += "    " + xml_comment(n) + "\n";
-  bsdf += "    <string name=\"filename\" value=\"" + xml_escape(bsdf_file) + "\"/>\n  </bsdf>\n";
+  bsdf += "    <string name=\"filename\" value=\"" + filename + "\"/>\n  </bsdf>\n";
   std::vector<std::string> files;
   write_material_xml(dir, bsdf);
   files.push_back("material.xml");
@@ -235,7 +242,7 @@ std::vector<std::string> export_pbrt_measured(const std::string& bsdf_file, cons
   ensure_dir(dir);
   std::string mat;
   for (const auto& n : notes) mat += "  " + pbrt_comment(n);
-  mat += "  Material \"measured\" \"string filename\" \"" + bsdf_file + "\"\n";
+  mat += "  Material \"measured\" \"string filename\" " + pbrt_string(bsdf_file) + "\n";
   write_file_atomic((fs::path(dir) / "material.pbrt").string(), mat);
   write_file_atomic((fs::path(dir) / "scene.pbrt").string(), pbrt_scene(mat, o, notes));
   return {"material.pbrt", "scene.pbrt"};

@@ -152,8 +152,13 @@ template <std::size_t V>
     // Two vectors' sums per V4: [re, im] of the even taps plus those of the odd taps.
     V4* o = reinterpret_cast<V4*>(od + 2 * (k - k0) * V);
     for (std::size_t v = 0; v < V; v += 2) {
+#if defined(__clang__)  // the fuzz preset builds with clang, which spells the shuffle so
+      const V4 lo = __builtin_shufflevector(acc[v], acc[v + 1], 0, 1, 4, 5),
+               hi = __builtin_shufflevector(acc[v], acc[v + 1], 2, 3, 6, 7);
+#else
       const V4 lo = __builtin_shuffle(acc[v], acc[v + 1], V4i{0, 1, 4, 5}),
                hi = __builtin_shuffle(acc[v], acc[v + 1], V4i{2, 3, 6, 7});
+#endif
       o[v / 2] = lo + hi;
     }
   }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "core/embree_device.hpp"
 #include "core/embree_ray.hpp"
 #include "microbrdf/error.hpp"
 
@@ -63,8 +64,7 @@ Camera preview_camera(PreviewScene s) {
 }
 
 PreviewGeometry::PreviewGeometry(const RenderScene& scene) : scene_(scene) {
-  device_ = rtcNewDevice("threads=1");
-  if (!device_) throw std::runtime_error("Embree: cannot create a device");
+  device_ = detail::new_embree_device("threads=1", "the preview renderer");
   try {
     rtc_ = rtcNewScene(device_);
     rtcSetSceneFlags(rtc_, RTC_SCENE_FLAG_ROBUST);

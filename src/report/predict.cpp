@@ -21,6 +21,7 @@
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/interrupt.hpp"
 #include "microbrdf/material_spec.hpp"
+#include "microbrdf/run_inputs.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
 #include "microbrdf/version.hpp"
@@ -90,6 +91,7 @@ class Staging {
     std::error_code ec;
     if (!replaceable(target_))
       throw FileError(target_.string(), "exists and is not a predict output; not replaced");
+    refuse_replacing_inputs_under(target_.string());  // an earlier report holding a scan read now
     fs::path old;
     if (fs::exists(target_)) {
       old = target_;

@@ -70,6 +70,12 @@ nlohmann::json stage_measured(const Context& c, const NdfSet& ndfs) {
   TabulatedNdf measured = is_table(o.measured_path)
                               ? read_ndf(o.measured_path)
                               : measured_ndf_file(o.measured_path, PerfectMirrorFresnel(), eo);
+  if (!is_table(o.measured_path))
+    if (const std::string w = wavelength_warning(measured, eo.wavelength_m, o.measured_path);
+        !w.empty())
+      c.warn("measured_wavelength", w,
+             "the measured NDF is compared as it is; give a file measured at the prediction's "
+             "wavelength, or predict at the measured one (--wavelength)");
   write_ndf(measured, c.path("ndf_measured.npy"));
   nlohmann::json out = {{"file", o.measured_path},
                         {"table", "ndf_measured.npy"},
@@ -86,7 +92,9 @@ nlohmann::json stage_measured(const Context& c, const NdfSet& ndfs) {
       {"filtered", ndfs.filtered.get()}, {"kirchhoff", ndfs.kirchhoff.get()}};
   for (const auto& [name, table] : predictions) {
     if (!table) continue;
-    const NdfComparison cmp = compare_ndfs(measured, *table, o.instrument_fwhm_rad, sig.get());
+    const NdfComparison cmp = about_file(o.measured_path, [&] {
+      return compare_ndfs(measured, *table, o.instrument_fwhm_rad, sig.get());
+    });
     const std::string rel = std::string("measured/") + name;
     write_compare_report(
         measured, instrument_view(*table, measured.resolution(), o.instrument_fwhm_rad, sig.get()),

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/embree_device.hpp"
 #include "core/embree_ray.hpp"
 #include "microbrdf/error.hpp"
 
@@ -217,8 +218,7 @@ MicroScene::MicroScene(MicroSceneDesc desc) : desc_(std::move(desc)) {
     zmax_ = std::max(zmax_, p.z);
   }
 
-  auto* device = rtcNewDevice("verbose=0");
-  if (!device) throw InputError("micro-scene: cannot create the Embree device");
+  auto* device = detail::new_embree_device("verbose=0", "micro-scene");
   rtcSetDeviceErrorFunction(device, embree_error, nullptr);
   device_ = device;
   RTCScene scene = rtcNewScene(device);
