@@ -5,9 +5,11 @@
 
 #include "commands.hpp"
 #include "microbrdf/distribute.hpp"
+#include "microbrdf/duration.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/interrupt.hpp"
 #include "microbrdf/memory_budget.hpp"
+#include "microbrdf/mpi_watchdog.hpp"
 
 int main(int argc, char** argv) {
   // First, before any thread exists (MPI's included): SIGINT / SIGTERM remove temporaries and
@@ -33,6 +35,19 @@ int main(int argc, char** argv) {
          "physical memory, and at most 64x the size of the file (or 256 MiB) for what a file "
          "expands to")
       ->envname("MICROBRDF_MAX_MEMORY")
+      ->trigger_on_parse();
+  app.add_option_function<std::string>(
+         "--mpi-timeout",
+         [](const std::string& v) {
+           try {
+             microbrdf::mpi_set_timeout(microbrdf::parse_duration(v, "--mpi-timeout"));
+           } catch (const microbrdf::InputError& e) {
+             throw CLI::ValidationError("--mpi-timeout", e.what());
+           }
+         },
+         "Under mpirun: end the run when a rank has not responded for this long (stopped or "
+         "hung), naming it (e.g. 10min, 90s; 0 = never; default 30min); busy ranks respond")
+      ->envname("MICROBRDF_MPI_TIMEOUT")
       ->trigger_on_parse();
   app.fallthrough();
   microbrdf::cli::register_all(app);

@@ -8,6 +8,7 @@
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/memory_budget.hpp"
+#include "microbrdf/mpi_watchdog.hpp"
 
 namespace microbrdf::cli {
 namespace {
@@ -78,6 +79,7 @@ void register_all(CLI::App& app) {
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {
+  mpi_set_command(command);  // the watchdog's message names it
   if (!distributed(command)) {
     if (!mpi_is_root()) return;
     mpi_set_solo(true);  // library calls that could spread work keep it on this rank

@@ -8,8 +8,10 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <utility>
@@ -114,18 +116,34 @@ auto call_released(F&& f) -> decltype(f()) {
   }
 }
 
-/// os.fspath(obj) as a string: a str or any os.PathLike (pathlib.Path).
-std::string fspath(const py::handle& obj);
-/// Whether obj names a file (str or os.PathLike).
+/// The path `obj` names (str, bytes or os.PathLike) as the bytes os.fsencode gives: names
+/// with undecodable bytes (surrogate escapes) keep their bytes. `what` names the argument in
+/// the errors: InputError (a ValueError) for a NUL character or a str that cannot be
+/// encoded; TypeError for anything that is not a path.
+std::string fspath(const py::handle& obj, const std::string& what);
+/// Whether obj names a file (str, bytes or os.PathLike).
 bool is_path(const py::handle& obj);
-/// One path, or a sequence of paths, as strings.
-std::vector<std::string> path_list(const py::handle& obj);
+/// One path, or a sequence of paths, as fspath gives them.
+std::vector<std::string> path_list(const py::handle& obj, const std::string& what);
+
+/// Text from the library or from a file (a message, a comment, a metadata value) as a str;
+/// bytes that are not UTF-8 are shown as \xNN escapes instead of raising UnicodeDecodeError.
+py::str text(const std::string& s);
+/// A path as a str, as os.fsdecode gives it (undecodable bytes as surrogate escapes, so the
+/// str names the same file).
+py::str path_text(const std::string& s);
+
+/// Refuses a count argument whose arrays would exceed the memory budget (memory_budget.hpp):
+/// InputError "<what>: needs 24 TiB for <purpose>, over the memory budget of ...".
+void check_count(const std::string& what, std::uint64_t count, std::uint64_t bytes_each,
+                 const std::string& purpose);
 
 /// Lengths: a float in metres, or a (dx, dy) pair; nothing for None.
 std::optional<std::pair<double, double>> length_pair(const py::object& obj, const char* what);
 
-/// A JSON text as Python objects (dicts, lists, numbers, strings, None, bools).
-py::object json_to_py(const std::string& dumped);
+/// A JSON value as Python objects (dicts, lists, numbers, strings, None, bools); strings that
+/// are not UTF-8 get U+FFFD replacement characters.
+py::object json_to_py(const nlohmann::json& j);
 
 // ---- scans: Surface objects or paths -------------------------------------------------------
 
