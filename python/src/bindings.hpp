@@ -68,6 +68,19 @@ py::array view(const T* data, std::vector<py::ssize_t> shape, py::handle owner,
 /// call has unwound and the GIL is back (call_released).
 struct Interrupted {};
 
+/// Text from the library or from a file (a message, a comment, a metadata value) as a str;
+/// bytes that are not UTF-8 are shown as \xNN escapes instead of raising UnicodeDecodeError.
+py::str text(const std::string& s);
+/// A path as a str, as os.fsdecode gives it (undecodable bytes as surrogate escapes, so the
+/// str names the same file).
+py::str path_text(const std::string& s);
+/// An argument of a Python callback: text (a progress line naming a file) decoded with escapes.
+inline py::str callback_arg(const std::string& s) { return text(s); }
+template <class T>
+T callback_arg(T v) {
+  return v;
+}
+
 /// Progress for the library: a std::function that, when called from the thread running the
 /// call, takes the GIL, calls the user's callback (if any) with the arguments, and checks for
 /// Ctrl-C; either failing throws Interrupted (the Python error stays set). Inside an OpenMP
@@ -87,7 +100,7 @@ std::function<void(Args...)> progress_hook(const py::object& callback) {
     if (!*failed) {
       if (!cb->is_none()) {
         try {
-          (*cb)(args...);
+          (*cb)(callback_arg(args)...);
         } catch (py::error_already_set& e) {
           e.restore();
           *failed = true;
@@ -125,13 +138,6 @@ std::string fspath(const py::handle& obj, const std::string& what);
 bool is_path(const py::handle& obj);
 /// One path, or a sequence of paths, as fspath gives them.
 std::vector<std::string> path_list(const py::handle& obj, const std::string& what);
-
-/// Text from the library or from a file (a message, a comment, a metadata value) as a str;
-/// bytes that are not UTF-8 are shown as \xNN escapes instead of raising UnicodeDecodeError.
-py::str text(const std::string& s);
-/// A path as a str, as os.fsdecode gives it (undecodable bytes as surrogate escapes, so the
-/// str names the same file).
-py::str path_text(const std::string& s);
 
 /// Refuses a count argument whose arrays would exceed the memory budget (memory_budget.hpp):
 /// InputError "<what>: needs 24 TiB for <purpose>, over the memory budget of ...".

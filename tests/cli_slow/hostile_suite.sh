@@ -405,10 +405,13 @@ v 3 "threads 1e6" said "threads" -- $BIN render --alpha 0.3 --size 8 --spp 1 --t
 for f in flat_scene flat_extra flat_arrays flat_numbers flat_keys deep_scene; do
   v 4 "simulate $f" said "$f.json" -- $BIN simulate "$IN/$f.json" --rays 2000 --lmax 4 -o out.shbrdf
 done
-for f in flat_side deep_side long_side utf8_side; do
+for f in flat_side deep_side long_side; do
   v 4 "info $f" said "${f}.json|${f}.npy" -- $BIN info "$IN/$f.npy"
   v 4 "ndf $f" said "${f}.json|${f}.npy" -- $BIN ndf "$IN/$f.npy" --resolution 65 -o out.npy
 done
+# JSON must be UTF-8: a byte that is not is refused, naming the file (NUL-free, so not binary).
+v 4 "info sidecar not UTF-8" refuse "utf8_side.json" -- $BIN info "$IN/utf8_side.npy"
+v 4 "simulate scene not UTF-8" refuse "utf8_scene.json" -- bash -c "printf '{\"name\": \"caf\\xe9\", \"tile\": \"1x1mm\", \"materials\": {\"m\": {\"type\": \"mirror\"}}, \"objects\": [{\"type\": \"plane\", \"material\": \"m\"}]}' >utf8_scene.json && exec $BIN simulate utf8_scene.json --rays 1000 --lmax 4 -o out.shbrdf"
 v 4 "flat sidecar as --ndf" said "flat_side" -- $BIN render --ndf "$IN/flat_side.npy" --size 8 --spp 1 -o out.png
 
 # ---- 5. messages -----------------------------------------------------------------------------
