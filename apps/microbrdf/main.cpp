@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "commands.hpp"
 #include "microbrdf/distribute.hpp"
@@ -42,7 +43,10 @@ int main(int argc, char** argv) {
            try {
              microbrdf::mpi_set_timeout(microbrdf::parse_duration(v, "--mpi-timeout"));
            } catch (const microbrdf::InputError& e) {
-             throw CLI::ValidationError("--mpi-timeout", e.what());
+             // CLI11 puts the flag in front itself.
+             const std::string what = e.what(), prefix = "--mpi-timeout: ";
+             throw CLI::ValidationError(
+                 "--mpi-timeout", what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
            }
          },
          "Under mpirun: end the run when a rank has not responded for this long (stopped or "

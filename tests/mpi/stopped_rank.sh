@@ -77,16 +77,23 @@ stopped_case() {  # stopped_case RANK WHAT
 stopped_case 2 "worker stopped"
 stopped_case 0 "rank 0 stopped"
 
-# Busy is not stopped. Items that each take longer than the 1 s timeout: the run completes, with
-# the table of a plain run.
-$BIN ndf "${SCANS[@]:0:3}" --method filtered --filter-sigma 4um --resolution 257 -o "$T/plain.npy" \
+# Busy is not stopped. Items that each take longer than the 1 s timeout (the JSON's seconds per
+# scan say so): the run completes, with the table of a plain run.
+$BIN ndf "${SCANS[@]:0:3}" --method filtered --filter-sigma 12um --resolution 257 -o "$T/plain.npy" \
   >/dev/null 2>&1 || fail "plain ndf"
 t0=$SECONDS
 timeout 120 "${MPI[@]}" $BIN --mpi-timeout 1s ndf "${SCANS[@]:0:3}" --method filtered \
-  --filter-sigma 4um --resolution 257 -o "$T/busy.npy" >/dev/null 2>"$T/err.txt" \
+  --filter-sigma 12um --resolution 257 -o "$T/busy.npy" --json >"$T/out.txt" 2>"$T/err.txt" \
   || { cat "$T/err.txt"; fail "busy ranks taken for stopped ones (ndf, --mpi-timeout 1s)"; }
 cmp -s "$T/plain.npy" "$T/busy.npy" || fail "busy run: not the plain run's table"
-echo "ndf with items longer than the 1 s timeout: completed in $((SECONDS - t0)) s, same table"
+per_scan=$(/usr/bin/python3 -c "
+import json, sys
+m = json.load(open(sys.argv[1]))['mpi']
+print(min(s / n for s, n in zip(m['seconds_per_rank'], m['scans_per_rank']) if n))" "$T/out.txt") \
+  || fail "busy run: no JSON"
+/usr/bin/python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > 1 else 1)" "$per_scan" \
+  || fail "busy run: scans took $per_scan s each, not longer than the 1 s timeout (machine too fast?)"
+echo "ndf with scans of $per_scan s each (timeout 1 s): completed in $((SECONDS - t0)) s, same table"
 # A command rank 0 runs alone (render) while ranks 1-2 wait at the end for longer than the timeout.
 t0=$SECONDS
 MICROBRDF_MPI_TIMEOUT=1s timeout 120 "${MPI[@]}" $BIN render --alpha 0.3 --size 96 --spp 64 \
