@@ -116,7 +116,7 @@ def nul_calls(path, tmp_path):
         "simulate": lambda: mb.simulate(path, lmax=2, rays=64, points=4),
         "measured_ndf": lambda: mb.measured_ndf(path, resolution=33),
         "export_bsdf": lambda: mb.export_bsdf(path, model="ggx", alpha=0.3, n=1.2, k=3.5),
-        "render envmap": lambda: mb.render(mb.brdf(model="ggx", alpha=0.3), envmap=path, size=4, spp=1),
+        "render envmap": lambda: mb.render(mb.brdf(model="ggx", alpha=0.3, metal="Al"), envmap=path, size=4, spp=1),
         "predict": lambda: mb.predict(path, tmp_path / "out", no_render=True, resolution=65),
         "predict out_dir": lambda: mb.predict(tmp_path / "x.npy", path, no_render=True),
     }
@@ -179,7 +179,7 @@ def test_counts_beyond_the_memory_budget_are_refused_before_allocating():
     with pytest.raises(mb.InputError, match="resolution must be >= 3"):
         D.resampled(2)
     with pytest.raises(mb.InputError, match="albedo: n must lie in 2..4096"):
-        mb.brdf(model="ggx", alpha=0.3).albedo([0, 0, 1.0], n=10**6)
+        mb.brdf(model="ggx", alpha=0.3, metal="Al").albedo([0, 0, 1.0], n=10**6)
     with pytest.raises(mb.InputError, match="^wavelengths: needs .* for the .bsdf tensors"):
         mb.export_bsdf("never.bsdf", model="ggx", alpha=0.3, n=1.2, k=3.5, isotropic=False,
                        theta_i=512, phi_i=512, samples=512, wavelengths=512)
@@ -198,6 +198,6 @@ def test_huge_or_negative_counts_are_errors_not_crashes():
     with pytest.raises(ValueError):
         mb.tabulate(resolution=2**40)
     with pytest.raises(ValueError):
-        mb.render(mb.brdf(model="ggx", alpha=0.3), size=2**20, spp=1)
+        mb.render(mb.brdf(model="ggx", alpha=0.3, metal="Al"), size=2**20, spp=1)
     with pytest.raises(ValueError):
-        mb.render(mb.brdf(model="ggx", alpha=0.3), size=8, spp=0)
+        mb.render(mb.brdf(model="ggx", alpha=0.3, metal="Al"), size=8, spp=0)

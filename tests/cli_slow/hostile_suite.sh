@@ -518,7 +518,7 @@ except (mb.FileError, mb.InputError) as e:
   pyv "scene flat 3 MB" refuse "FileError: .*flat_scene.json" "mb.simulate(IN + '/flat_scene.json', rays=100, lmax=2)"
   pyv "slice samples 2**40" refuse "InputError: samples: needs" "mb.tabulate(resolution=33).slice(samples=2**40)"
   pyv "resampled 2**24" refuse "InputError: resolution: needs" "mb.tabulate(resolution=33).resampled(2**24)"
-  pyv "albedo n 10**6" refuse "InputError: albedo: n must" "mb.brdf(model='ggx', alpha=0.3).albedo([0, 0, 1.0], n=10**6)"
+  pyv "albedo n 10**6" refuse "InputError: albedo: n must" "mb.brdf(model='ggx', alpha=0.3, metal='Al').albedo([0, 0, 1.0], n=10**6)"
   pyv "export_bsdf grids" refuse "InputError: wavelengths: needs" "mb.export_bsdf('o.bsdf', model='ggx', alpha=0.3, n=1.2, k=3.5, isotropic=False, theta_i=512, phi_i=512, samples=512, wavelengths=512)"
   pyv "ndf spacing 1e-30" either "spacing|scan.npy" "mb.ndf(IN + '/scan.npy', spacing=1e-30, resolution=33)"
   pyv "ndf filter_sigma 1e3" either "filter_sigma|scan.npy|memory" "mb.ndf(IN + '/scan.npy', filter_sigma=1e3, resolution=33)"
@@ -526,7 +526,7 @@ except (mb.FileError, mb.InputError) as e:
   pyv "simulate plane z 1e300" refuse "absurd_plane_z.json" "mb.simulate(IN + '/absurd_plane_z.json', rays=2000, lmax=4)"
   pyv "measured negative CSV" refuse "neg.csv" "mb.measured_ndf(IN + '/neg.csv', resolution=33)"
   pyv "truncated x3p" refuse "FileError: .*cut.x3p" "mb.read_surface(IN + '/cut.x3p')"
-  pyv "render size 2**20" refuse "InputError: (size|render)" "mb.render(mb.brdf(model='ggx', alpha=0.3), size=2**20, spp=1)"
+  pyv "render size 2**20" refuse "InputError: (size|render)" "mb.render(mb.brdf(model='ggx', alpha=0.3, metal='Al'), size=2**20, spp=1)"
   pyv "tabulate resolution 2**40" refuse "InputError: resolution" "mb.tabulate(resolution=2**40)"
   pyv "predict NUL out_dir" refuse "InputError: out_dir: .*NUL" "mb.predict(IN + '/scan.x3p', 'out\x00dir', no_render=True)"
 else
