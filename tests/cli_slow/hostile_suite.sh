@@ -130,12 +130,12 @@ import json, struct, sys
 import numpy as np
 t = sys.argv[1]
 scene = lambda objs, tile="100x100um": json.dumps(
-    {"tile": tile, "materials": {"m": {"type": "mirror"}, "d": {"type": "lambertian", "albedo": 0.5}},
+    {"tile": tile, "materials": {"m": {"type": "mirror"}, "d": {"type": "lambert", "albedo": 0.5}},
      "objects": objs})
 open(t + "/scene.json", "w").write(scene([{"type": "plane", "material": "d"}]))
 # Geometry of absurd size, one field at a time (Embree asserts on rays it cannot represent).
 absurd = {
-    "sphere_r": {"type": "sphere", "radius": "1e308um", "center": ["0um", "0um", "0um"], "material": "m"},
+    "sphere_r": {"type": "spheres", "radius": "1e308um", "pitch": "50um", "material": "m"},
     "plane_z": {"type": "plane", "z": "1e300m", "material": "m"},
     "plane_far": {"type": "plane", "z": "1e6m", "material": "m"},
     "fibre_len": {"type": "fibers", "radius": "1um", "length": "1e300m", "count": 3, "material": "m"},
@@ -147,7 +147,9 @@ absurd = {
                "sigma": "0.1um", "tau": "1e300m"}, "material": "m"},
     "hf_spacing": {"type": "heightfield", "generate": {"kind": "gaussian", "nx": 32, "spacing": "1e-300m",
                    "sigma": "0.1um", "tau": "5um"}, "material": "m"},
-    "nan_r": {"type": "sphere", "radius": "nanum", "center": ["0um", "0um", "0um"], "material": "m"},
+    "nan_r": {"type": "spheres", "radius": "nanum", "pitch": "50um", "material": "m"},
+    "sphere_z": {"type": "spheres", "radius": "5um", "pitch": "50um", "z": "-1e300m", "material": "m"},
+    "weave_crimp": {"type": "weave", "pitch": "20um", "radius": "4um", "crimp": "1e300m", "material": "m"},
     "neg_r": {"type": "cylinders", "radius": "-1um", "count": 2, "material": "m"},
 }
 for k, o in absurd.items():
@@ -155,7 +157,7 @@ for k, o in absurd.items():
 open(t + "/tile_huge.json", "w").write(scene([{"type": "plane", "material": "d"}], "1e300x1e300m"))
 open(t + "/tile_tiny.json", "w").write(scene([{"type": "plane", "material": "d"}], "1e-300x1e-300m"))
 open(t + "/albedo_nan.json", "w").write(scene([{"type": "plane", "material": "n"}]).replace(
-    '"d": {', '"n": {"type": "lambertian", "albedo": NaN}, "d": {'))
+    '"d": {', '"n": {"type": "lambert", "albedo": NaN}, "d": {'))
 # Large flat JSON: 3 MB of {} (and of []) where an array belongs, and a sidecar likewise.
 flat = ", ".join(["{}"] * 750000)
 open(t + "/flat_scene.json", "w").write(
@@ -172,6 +174,8 @@ open(t + "/flat_numbers.json", "w").write(
 open(t + "/flat_keys.json", "w").write(
     '{"tile": "100x100um", "materials": {"m": {"type": "mirror"}}, "objects": [{"type": "plane", '
     '"material": "m"}], "notes": {' + ", ".join(f'"k{i}": {{}}' for i in range(200000)) + "}}")
+open(t + "/albedo_big.json", "w").write(scene([{"type": "plane", "material": "n"}]).replace(
+    '"d": {', '"n": {"type": "lambert", "albedo": 1e300}, "d": {'))
 open(t + "/deep_scene.json", "w").write('{"tile": "100x100um", "x": ' + "[" * 100000 + "]" * 100000 + "}")
 z = np.random.default_rng(5).normal(0, 1e-7, (32, 32))
 for name, side in {
@@ -335,12 +339,13 @@ v 1 "ndf filtered --spacing 1e-30m" said "--spacing|scan.npy" -- $BIN ndf "$IN/s
 v 1 "predict --spacing 1e-30m" said "--spacing|scan.npy" -- $BIN predict "$IN/scan.npy" --spacing 1e-30m --no-render --resolution 65 -o outdir
 v 1 "info --spacing 1e-30m" said "--spacing|scan.npy" -- $BIN info "$IN/scan.npy" --spacing 1e-30m
 v 1 "convert --spacing 1e300m" said "--spacing|scan.npy" -- $BIN convert "$IN/scan.npy" out.x3p --spacing 1e300m
-for k in sphere_r plane_z fibre_len cyl_r hf_zscale hf_sigma hf_tau hf_spacing nan_r neg_r; do
+for k in sphere_r sphere_z weave_crimp plane_z fibre_len cyl_r hf_zscale hf_sigma hf_tau hf_spacing nan_r neg_r; do
   v 1 "simulate absurd $k" said "absurd_$k.json" -- bash -c "cp '$IN/scan.npy' '$IN/scan.json' . && cp '$IN/absurd_$k.json' . && exec '$BIN' simulate absurd_$k.json --rays 2000 --lmax 4 -o out.shbrdf"
 done
 v 1 "simulate tile 1e300 m" said "tile_huge.json" -- $BIN simulate "$IN/tile_huge.json" --rays 2000 --lmax 4 -o out.shbrdf
 v 1 "simulate tile 1e-300 m" said "tile_tiny.json" -- $BIN simulate "$IN/tile_tiny.json" --rays 2000 --lmax 4 -o out.shbrdf
 v 1 "simulate albedo NaN" refuse "albedo_nan.json" -- $BIN simulate "$IN/albedo_nan.json" --rays 2000 --lmax 4 -o out.shbrdf
+v 1 "simulate albedo 1e300" refuse "albedo_big.json" -- $BIN simulate "$IN/albedo_big.json" --rays 2000 --lmax 4 -o out.shbrdf
 # Corrupt and truncated files: refused naming them.
 for f in cut.x3p cut.npy bom.npy zeros.x3p; do
   v 1 "info $f" refuse "$f" -- $BIN info "$IN/$f"
@@ -367,7 +372,7 @@ fsz() {  # fsz NAME NEEDLE -- command...
   v 2 "ulimit -f: $name" fail "$needle" -- bash -c 'ulimit -f 20; exec "$@"' _ "$@"
 }
 fsz "ndf" "out.npy" -- $BIN ndf "$IN/big.x3p" --resolution 257 -o out.npy
-fsz "ndf exr" "out.exr" -- $BIN ndf "$IN/big.x3p" --resolution 513 -o out.exr
+fsz "ndf exr" "out.exr" -- $BIN ndf "$IN/big.x3p" --resolution 1025 -o out.exr
 fsz "tabulate" "out.npy" -- $BIN tabulate --model ggx --alpha 0.3 --resolution 257 -o out.npy
 fsz "convert" "out.npy" -- $BIN convert "$IN/big.x3p" out.npy
 fsz "convert xyz" "out.xyz" -- $BIN convert "$IN/big.x3p" out.xyz
@@ -489,7 +494,7 @@ sigrun() {  # sigrun SIG DELAY NAME -- command...
   v 6 "$sig mid-run: $name" "sig:$(kill -l "$sig")" - -- bash -c 'cp "$0"/ndf.npy out.npy; set -m; "${@:3}" & p=$!; sleep "$2"; kill -s "$1" $p; wait $p' "$IN" "$sig" "$delay" "$@"
 }
 for sig in INT TERM HUP; do
-  sigrun $sig 0.5 "ndf" -- $BIN ndf "$IN/big.x3p" --method kirchhoff --resolution 513 -o out.npy
+  sigrun $sig 0.5 "ndf" -- $BIN ndf "$IN/big.x3p" "$IN/big.x3p" "$IN/big.x3p" "$IN/big.x3p" --method kirchhoff --resolution 1025 -o out.npy
   sigrun $sig 0.5 "predict" -- $BIN predict "$IN/big.x3p" --resolution 257 --spp 16 -o outdir
   sigrun $sig 0.3 "render" -- $BIN render --alpha 0.3 --size 512 --spp 64 -o out.png
 done
@@ -542,18 +547,18 @@ if [ -n "$MPIRUN" ]; then
   mpistop() {  # mpistop RANK
     local r=$1
     CHECK="[ ! -e out.npy ]"
+    # Rank R is stopped once rank 0 has printed its first line: every rank is then past
+    # MPI_Init and runs its watchdog (started before any command output).
     v 8 "stopped rank $r" fail "--mpi-timeout: MPI rank $r \(pid [0-9]+ on .*\) has not responded" -- bash -c '
-      "$@" & job=$!
-      for k in $(seq 1 100); do
-        for p in $(pgrep -f -- "$PWD/out.npy"); do
-          [ "$(cat /proc/$p/comm 2>/dev/null)" = microbrdf ] || continue
-          tr "\0" "\n" </proc/$p/environ 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK='"$r"'" && pid=$p
-        done
-        [ -n "${pid:-}" ] && break; sleep 0.05
+      "$@" 2>run.err & job=$!
+      for k in $(seq 1 200); do [ -s run.err ] && break; sleep 0.05; done
+      for p in $(pgrep -f -- "$PWD/out.npy"); do
+        [ "$(cat /proc/$p/comm 2>/dev/null)" = microbrdf ] || continue
+        tr "\0" "\n" </proc/$p/environ 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK='"$r"'" && pid=$p
       done
-      sleep 1.5; kill -STOP "$pid"; wait $job; rc=$?; kill -KILL "$pid" 2>/dev/null; exit $rc' _ \
+      kill -STOP "$pid"; wait $job; rc=$?; kill -KILL "$pid" 2>/dev/null; cat run.err >&2; exit $rc' _ \
       "${MPI[@]}" "$BIN" --mpi-timeout 2s ndf "$IN/big.x3p" "$IN/big.x3p" "$IN/big.x3p" "$IN/big.x3p" \
-      "$IN/big.x3p" "$IN/big.x3p" --method kirchhoff --resolution 513 -o "$W/out.npy"
+      "$IN/big.x3p" "$IN/big.x3p" --method kirchhoff --resolution 1025 -o "$W/out.npy"
   }
   mpistop 1
   mpistop 2

@@ -55,7 +55,10 @@ stopped_case() {  # stopped_case RANK WHAT
   local job=$!
   local pid; pid=$(rank_pid "$out" "$r")
   [ -n "$pid" ] || fail "$what: rank $r never started"
-  sleep 2  # past MPI_Init: the watchdog runs
+  # Once rank 0 has printed its first line, every rank is past MPI_Init and runs its watchdog
+  # (started before any command output).
+  local k
+  for ((k = 0; k < 400; k++)); do [ -s "$T/err.txt" ] && break; sleep 0.05; done
   kill -STOP "$pid" || fail "$what: could not stop rank $r"
   STOPPED+=("$pid")
   local t_stop=$SECONDS
