@@ -82,11 +82,11 @@ stopped_case 0 "rank 0 stopped"
 
 # Busy is not stopped. Items that each take longer than the 1 s timeout (the JSON's seconds per
 # scan say so): the run completes, with the table of a plain run.
-$BIN ndf "${SCANS[@]:0:3}" --method filtered --filter-sigma 12um --resolution 257 -o "$T/plain.npy" \
+$BIN ndf "${SCANS[@]:0:3}" --method kirchhoff --resolution 513 -o "$T/plain.npy" \
   >/dev/null 2>&1 || fail "plain ndf"
 t0=$SECONDS
-timeout 120 "${MPI[@]}" $BIN --mpi-timeout 1s ndf "${SCANS[@]:0:3}" --method filtered \
-  --filter-sigma 12um --resolution 257 -o "$T/busy.npy" --json >"$T/out.txt" 2>"$T/err.txt" \
+timeout 120 "${MPI[@]}" $BIN --mpi-timeout 1s ndf "${SCANS[@]:0:3}" --method kirchhoff \
+  --resolution 513 -o "$T/busy.npy" --json >"$T/out.txt" 2>"$T/err.txt" \
   || { cat "$T/err.txt"; fail "busy ranks taken for stopped ones (ndf, --mpi-timeout 1s)"; }
 cmp -s "$T/plain.npy" "$T/busy.npy" || fail "busy run: not the plain run's table"
 per_scan=$(/usr/bin/python3 -c "
