@@ -6,7 +6,7 @@ FUZZ_SECONDS ?= 60
 DEMO_OUT ?= demo-out
 BIN := build/bin/microbrdf
 
-.PHONY: deps build install test test-slow demo bench asan fuzz fuzz-build format clean
+.PHONY: deps build build-installed install package test test-slow test-package demo bench asan fuzz fuzz-build format clean
 
 deps:
 	@scripts/install-deps.sh
@@ -15,11 +15,23 @@ build: deps
 	@cmake --preset release >/dev/null
 	@cmake --build --preset release -j $(JOBS)
 
-# The CLI into $(PREFIX)/bin and the Python module into $(PREFIX)/lib/python3.X/dist-packages
-# (DESTDIR for staging, as usual).
+# What others build on (docs/architecture.md, "Using microbrdf from C++"): the CLI, the shared
+# library and its headers, the CMake package (find_package(microbrdf CONFIG)), microbrdf.pc and the
+# Python module (lib/python3.X/dist-packages) under $(PREFIX); DESTDIR for staging, as usual.
+# Builds only what is installed.
 PREFIX ?= /usr/local
-install: build
+INSTALLED_TARGETS := microbrdf_cli microbrdf_shared microbrdf_python
+build-installed: deps
+	@cmake --preset release >/dev/null
+	@cmake --build --preset release -j $(JOBS) --target $(INSTALLED_TARGETS)
+
+install: build-installed
 	cmake --install build --prefix $(PREFIX)
+
+# A Debian package of the same (build/microbrdf_<version>_<arch>.deb, under /usr; the Python
+# module in /usr/lib/python3/dist-packages); Depends from dpkg-shlibdeps.
+package: build-installed
+	cd build && cpack -G DEB
 
 test: build
 	ctest --preset release -j $(JOBS)
@@ -27,6 +39,10 @@ test: build
 # Long-running physics checks (larger surfaces, more seeds).
 test-slow: build
 	ctest --test-dir build -L slow --output-on-failure -j $(JOBS)
+
+# The Debian package built, installed with dpkg -i, run and removed with dpkg -r (root).
+test-package: build-installed
+	ctest --test-dir build -L package --output-on-failure
 
 # predict on a real scan and a synthetic brushed surface -> HTML reports, screenshot in Chromium
 # (install-deps --report adds chromium; `make test` and CI do not need it).

@@ -36,6 +36,7 @@ PUBLIC_HEADERS = {
     "error": "core", "units": "core", "atomic_file": "core", "image": "core", "vec3": "core",
     "quadrature": "core", "plot": "plot", "distribute": "core", "json_read": "core",
     "file_read": "core", "memory_budget": "core", "interrupt": "core", "threads": "core",
+    "version": "core",
     # surface: height maps, their files, statistics, levelling, generators, previews
     "surface": "surface", "io": "surface", "level": "surface", "generate": "surface",
     "statistics": "surface", "scanset": "surface", "ndf_scanset": "ndf", "height_preview": "surface",
@@ -53,7 +54,7 @@ PUBLIC_HEADERS = {
     # experiments and products built on BRDFs
     "fit": "fit", "microscene": "simulate", "simulate": "simulate", "goniometer": "simulate",
     "render": "render", "envmap_image": "render", "sun_svbrdf": "render", "texture": "texture", "measured_compare": "fit", "export": "export",
-    "scene_export": "export",
+    "scene_export": "export", "gltf_export": "export",
     "predict": "report",
 }
 

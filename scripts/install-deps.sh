@@ -9,6 +9,8 @@
 #                                      and the browser test (label "browser" of `make test`,
 #                                      skipped without them) drives Chromium with puppeteer-core,
 #                                      installed from npm by scripts/install-browser-test.sh
+# Wherever npm is available, the Khronos glTF-Validator for the glTF test (tests/gltf/run.sh) is
+# installed from npm too (scripts/install-gltf-validator.sh); without it that test is skipped.
 set -euo pipefail
 
 REPORT=0
@@ -46,6 +48,7 @@ PACKAGES=(
   libembree-dev        # ray tracing: Westin micro-scenes and the preview renderer (Embree 3)
   libtinyobjloader-dev # OBJ meshes for the renderer
   libgtest-dev libgmock-dev libbenchmark-dev
+  dpkg-dev file        # make package: dpkg-shlibdeps (its Depends), file (CPack finds binaries)
   ccache               # compiler cache (used by CMake when present; speeds rebuilds)
   time                 # /usr/bin/time: max RSS of each hostile-input case in the CLI tests
   libopenmpi-dev openmpi-bin # scale-out: the same binary alone or under mpirun
@@ -80,8 +83,16 @@ browser_test() {
       echo "install-deps: puppeteer-core not installed; the browser test will be skipped" >&2
   fi
 }
+# The glTF-Validator, whenever npm is there (its own node_modules; a failure only skips the test).
+gltf_validator() {
+  if command -v npm >/dev/null; then
+    "$(dirname "$0")/install-gltf-validator.sh" ||
+      echo "install-deps: gltf-validator not installed; the glTF test will be skipped" >&2
+  fi
+}
 if [ ${#missing[@]} -eq 0 ]; then
   browser_test
+  gltf_validator
   exit 0
 fi
 
@@ -97,4 +108,5 @@ export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 browser_test
+gltf_validator
 echo "install-deps: done" >&2

@@ -319,6 +319,17 @@ TEST(Predict, StripsGiveASynthesisedTexture) {
   EXPECT_LT(tx["along"]["channels"]["alpha_x"]["mean"].get<double>(),
             tx["along"]["channels"]["alpha_y"]["mean"].get<double>());
   EXPECT_TRUE(fs::exists(t / "out/img/render_texture.png"));
+  // glTF 2.0 of the texture and of each fit, beside the report (docs/gltf.md).
+  ASSERT_TRUE(tx.contains("gltf"));
+  EXPECT_EQ(tx["gltf"]["file"], "export/texture.glb");
+  EXPECT_GT(fs::file_size(t / "out/export/texture.glb"), 1000u);
+  ASSERT_FALSE(r.summary["exports"]["materials"].empty());
+  for (const auto& m : r.summary["exports"]["materials"]) {
+    const std::string f = m["gltf"]["file"];
+    EXPECT_EQ(f, "export/gltf_" + m["model"].get<std::string>() + ".glb");
+    EXPECT_TRUE(fs::exists(t / ("out/" + f))) << f;
+    EXPECT_NE(slurp(t / "out/report.html").find("href=\"" + f + "\""), std::string::npos) << f;
+  }
 }
 
 // A real Zygo MetroPro scan (tests/data/metropro-1.dat, provenance in tests/data/README.md):

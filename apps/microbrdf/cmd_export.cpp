@@ -229,7 +229,7 @@ void add_source_flags(CLI::App* c, ExportArgs& a) {
 }  // namespace
 
 void register_export(CLI::App& app) {
-  auto* e = app.add_subcommand("export", "Renderer-ready materials: .bsdf, Mitsuba 3, pbrt-v4");
+  auto* e = app.add_subcommand("export", "Materials for renderers: .bsdf, Mitsuba, pbrt, glTF");
   e->require_subcommand(1);
   auto a = std::make_shared<ExportArgs>();
   auto* b = e->add_subcommand("bsdf", "Write a BRDF as an RGL .bsdf tensor file");

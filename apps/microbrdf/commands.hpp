@@ -24,6 +24,7 @@ void register_texture(CLI::App& app);
 void register_simulate(CLI::App& app);
 void register_measured(CLI::App& app);
 void register_export(CLI::App& app);
+void register_export_gltf(CLI::App* export_cmd);  ///< `export gltf`
 
 /// Runs `body`, turning microbrdf errors into "microbrdf <cmd>: error: <message>" on stderr and
 /// a non-zero exit code.

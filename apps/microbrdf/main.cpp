@@ -11,6 +11,7 @@
 #include "microbrdf/interrupt.hpp"
 #include "microbrdf/memory_budget.hpp"
 #include "microbrdf/mpi_watchdog.hpp"
+#include "microbrdf/version.hpp"
 
 int main(int argc, char** argv) {
   // First, before any thread exists (MPI's included): SIGINT / SIGTERM remove temporaries and
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
       "microbrdf: predicts how a surface reflects light from its measured microgeometry.\n"
       "Lengths take units (110nm, 1um); angles are degrees unless marked (0.05rad)."};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "microbrdf 0.1.0");
+  app.set_version_flag("--version", std::string("microbrdf ") + microbrdf::version());
   app.add_option_function<std::string>(
          "--max-memory",
          [](const std::string& v) {

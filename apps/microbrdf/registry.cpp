@@ -76,6 +76,7 @@ void register_all(CLI::App& app) {
   register_simulate(app);
   register_measured(app);
   register_export(app);
+  register_export_gltf(app.get_subcommand("export"));  // its own file: cmd_export_gltf.cpp
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {

@@ -23,6 +23,9 @@ struct RgbImage {
   }
 };
 
+/// The PNG file of an image (8-bit RGB), in memory. `what` names it in errors. Throws FileError
+/// for an empty image.
+std::vector<std::uint8_t> encode_png(const RgbImage& image, const std::string& what);
 /// Writes a PNG atomically. Throws FileError.
 void write_png(const std::string& path, const RgbImage& image);
 

@@ -11,6 +11,7 @@ radians), with the keyword names of the CLI flags (``--filter-sigma`` -> ``filte
     b = mb.brdf(ndf=D, metal="Al")
     b.eval(wi, wo, wavelength=555e-9)          # (N, 3), (N, 3) -> (N,), 1/sr
     mb.export_bsdf("g.bsdf", model="ggx", alpha=0.3, n=1.2, k=3.5)   # RGL .bsdf for renderers
+    mb.export_gltf("al.glb", model="ggx", alpha_x=0.1, alpha_y=0.3, metal="Al")  # glTF 2.0
     E = mb.measured_ndf("goni.csv", n=1.6, k=3.2)                   # Dong eq. 9, NaN = unmeasured
 
 Arrays returned are views on the library's own buffers (no copies); long calls release the
@@ -30,6 +31,7 @@ from ._microbrdf import (  # noqa: F401
     TabulatedNdf,
     brdf,
     export_bsdf,
+    export_gltf,
     filter_sigma_auto,
     fit,
     hellinger_distance,
@@ -44,6 +46,7 @@ from ._microbrdf import (  # noqa: F401
     statistics,
     tabulate,
 )
+from ._microbrdf import __version__  # noqa: F401  (the library's, as `microbrdf --version`)
 
 __all__ = [
     "Brdf",
@@ -57,6 +60,7 @@ __all__ = [
     "TabulatedNdf",
     "brdf",
     "export_bsdf",
+    "export_gltf",
     "filter_sigma_auto",
     "fit",
     "hellinger_distance",

@@ -11,6 +11,8 @@ Directions = npt.ArrayLike  # (N, 3) or (3,)
 ScanLike = Union["Surface", PathLike]
 Scans = Union[ScanLike, Sequence[ScanLike]]
 
+__version__: str  # "MAJOR.MINOR.PATCH" of the library, as `microbrdf --version` prints
+
 class FileError(OSError):
     """A file that cannot be read or written, or is corrupt; filename names it."""
     def __init__(self, filename: str, problem: str, errno: Optional[int] = ...) -> None: ...
@@ -209,6 +211,11 @@ def export_bsdf(
     """Writes a BRDF (measured=, brdf= or the keywords of brdf()) as an RGL .bsdf file for
     Mitsuba 3 / pbrt-v4. wavelengths: a count over 360-830 nm or metres. Returns a summary
     dict (output, source, isotropic, theta_i, phi_i, ndf_grid, samples, wavelengths [m], bytes)."""
+def export_gltf(output: PathLike, *, uv_scale: float = 1.0, **flags: Any) -> dict[str, Any]:
+    """Writes the material of the keywords of brdf() (tables as paths) as glTF 2.0 (.glb, or
+    .gltf + .bin + PNGs) with KHR_materials_anisotropy on a sphere and a plate. Returns a
+    summary dict (output, files, source, ggx, base_color_linear_srgb, roughness,
+    anisotropy_strength, anisotropy_rotation, warnings)."""
 def simulate(
     scene: PathLike,
     lmax: int = 15,

@@ -1,6 +1,7 @@
 // Measured BRDFs and renderer-ready files: mb.measured_ndf (Dong 2015 eq. 9 on a goniometer CSV,
-// a MERL .binary or an RGL .bsdf) and mb.export_bsdf (an RGL .bsdf tensor file of any BRDF), the
-// library calls behind `microbrdf measured ndf` and `microbrdf export bsdf` (docs/measured.md).
+// a MERL .binary or an RGL .bsdf), mb.export_bsdf (an RGL .bsdf tensor file of any BRDF) and
+// mb.export_gltf (glTF 2.0), the library calls behind `microbrdf measured ndf` and `microbrdf
+// export bsdf|gltf` (docs/measured.md, docs/gltf.md).
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -9,8 +10,11 @@
 
 #include "bindings.hpp"
 #include "brdf_factory.hpp"
+#include "microbrdf/atomic_file.hpp"
+#include "microbrdf/brdf_spec.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/export.hpp"
+#include "microbrdf/gltf_export.hpp"
 #include "microbrdf/material_spec.hpp"
 #include "microbrdf/measured_ndf.hpp"
 #include "microbrdf/memory_budget.hpp"
@@ -147,6 +151,37 @@ py::dict export_bsdf(const py::object& output, const py::object& measured,
   return r;
 }
 
+py::object export_gltf(const py::object& output, double uv_scale, const py::kwargs& kwargs) {
+  const std::string out = fspath(output);
+  const nlohmann::json keys = file_spec_keys(kwargs, "export_gltf");
+  const BrdfSpec spec = parse_brdf(keys, std::nullopt, KeyStyle::Python);
+  if (!spec.uses_material() && has_material(keys))
+    throw InputError("export_gltf: " + spec.describe() + " takes no material");
+  const MaterialSpec material =
+      spec.uses_material() ? parse_material(keys, std::nullopt, KeyStyle::Python) : MaterialSpec{};
+  GltfExportOptions o;
+  o.uv_scale = uv_scale;
+  const auto [m, files] = call_released([&] {
+    const GltfMaterial mat = gltf_material(spec, material);
+    OutputGroup group;  // the .gltf, .bin and PNGs together, or none
+    auto written = write_gltf(mat, out, o);
+    group.commit();
+    return std::pair{mat, written};
+  });
+  const GltfAnisotropy g = gltf_anisotropy(m.ggx);
+  nlohmann::json j = {
+      {"output", out},
+      {"files", files},
+      {"source", m.describe},
+      {"ggx", {{"alpha_x", m.ggx.alpha_x}, {"alpha_y", m.ggx.alpha_y}, {"phi", m.ggx.phi}}},
+      {"base_color_linear_srgb", m.base_color},
+      {"roughness", g.roughness},
+      {"anisotropy_strength", g.strength},
+      {"anisotropy_rotation", g.rotation},
+      {"warnings", m.warnings}};
+  return json_to_py(j.dump());
+}
+
 }  // namespace
 
 void bind_measured(py::module_& m) {
@@ -196,6 +231,29 @@ progress: optional callable(fraction in [0, 1]), called from the calling thread;
 Defaults: about 3.0 MB isotropic, 50 MB anisotropic; median error of f cos(theta_o) on the lobe
 0.07-0.25 % for GGX lobes (docs/measured.md). Returns a dict: output, source, isotropic,
 theta_i, phi_i, ndf_grid, samples, wavelengths (metres), bytes.)");
+  m.def("export_gltf", &export_gltf, py::arg("output"), py::kw_only(), py::arg("uv_scale") = 1.0,
+        R"(Writes a material as glTF 2.0 for real-time viewers, as `microbrdf export gltf` does.
+
+The material is given by the keywords of mb.brdf, the CLI flags with '_' (model='ggx',
+alpha_x=0.1, alpha_y=0.3, phi=0.5 (radians), metal='Al'; ndf='table.npy'; texture='tex.exr';
+kirchhoff=, sun=, sh=; n= and k=, nk_csv=, r0=, color=, fresnel=); ndf= and kirchhoff= take
+paths here. Not lambertian= or mirror= (glTF's metals have no equivalent).
+output: a .glb (one binary file) or a .gltf (with <stem>.bin and, for a texture,
+  <stem>_roughness.png and <stem>_anisotropy.png beside it), written atomically, all together.
+uv_scale: texture repeats per scene unit (KHR_texture_transform), as render's uv_scale.
+
+The file holds a metallic-roughness material (metallic 1, baseColorFactor = the material's
+normal-incidence reflectance in linear sRGB, as `brdf color`) with roughness and
+KHR_materials_anisotropy from the GGX widths (docs/gltf.md):
+  roughness = sqrt(min alpha), anisotropyStrength = sqrt((max - min) / (1 - min)),
+  anisotropyRotation = the azimuth of the wider axis,
+on a unit sphere (scene 0) and a 2 x 2 plate (scene 1). Beckmann, the ellipsoid, tabulated,
+Kirchhoff, Sun and SH BRDFs become their GGX fit.
+
+Returns a dict: output, files, source, ggx {alpha_x, alpha_y, phi (rad)},
+base_color_linear_srgb, roughness, anisotropy_strength, anisotropy_rotation (rad), warnings
+(what glTF cannot represent: its Schlick Fresnel, its GGX shape and Smith term, with the
+errors). Raises InputError for bad keywords, FileError for unreadable inputs.)");
 }
 
 }  // namespace microbrdf::python

@@ -61,20 +61,34 @@ TabulatedNdf table(const std::string& name, const InMemory& mem) {
   return read_ndf(name);
 }
 
-}  // namespace
-
-py::object make_brdf(const py::kwargs& kwargs) {
+/// The spec keys of the keywords (BRDF and material vocabulary only); `who` names the caller.
+nlohmann::json collect_keys(const py::kwargs& kwargs, InMemory& mem, const std::string& who) {
   const auto& bk = brdf_keys();
   const auto& mk = material_keys();
   nlohmann::json keys = nlohmann::json::object();
-  InMemory mem;
   for (auto item : kwargs) {
     const std::string k = item.first.cast<std::string>();
     if (std::find(bk.begin(), bk.end(), k) == bk.end() &&
         std::find(mk.begin(), mk.end(), k) == mk.end())
-      throw InputError("brdf: unknown keyword '" + k + "'");
+      throw InputError(who + ": unknown keyword '" + k + "'");
     if (!item.second.is_none()) keys[k] = value_json(k, item.second, mem);
   }
+  return keys;
+}
+
+}  // namespace
+
+nlohmann::json file_spec_keys(const py::kwargs& kwargs, const std::string& who) {
+  InMemory mem;
+  nlohmann::json keys = collect_keys(kwargs, mem, who);
+  if (!mem.tables.empty())
+    throw InputError(who + ": give ndf= and kirchhoff= as paths (save a TabulatedNdf first)");
+  return keys;
+}
+
+py::object make_brdf(const py::kwargs& kwargs) {
+  InMemory mem;
+  const nlohmann::json keys = collect_keys(kwargs, mem, "brdf");
   const BrdfSpec spec = parse_brdf(keys, std::nullopt, KeyStyle::Python);
   if (!spec.uses_material() && has_material(keys))
     throw InputError("brdf: " + spec.describe() + " takes no material");

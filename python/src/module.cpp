@@ -3,6 +3,7 @@
 #include "bindings.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/memory_budget.hpp"
+#include "microbrdf/version.hpp"
 
 namespace microbrdf::python {
 
@@ -115,6 +116,7 @@ PYBIND11_MODULE(_microbrdf, m) {
   m.doc() =
       "microbrdf: how a metal surface reflects light, predicted from its measured "
       "microgeometry.\n\nSI units throughout (metres, radians); see docs/python.md.";
+  m.attr("__version__") = microbrdf::version();
   bind_errors(m);
   bind_surface(m);
   bind_ndf(m);

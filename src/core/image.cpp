@@ -5,8 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <memory>
 
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
@@ -27,36 +25,48 @@ void false_colour(double t, std::uint8_t rgb[3]) {
         std::lround(255 * ((1 - f) * kAnchors[i][c] + f * kAnchors[i + 1][c])));
 }
 
-void write_png(const std::string& path, const RgbImage& image) {
-  if (image.width == 0 || image.height == 0) throw FileError(path, "cannot write an empty image");
-  AtomicFile out(path);
-  {
-    std::unique_ptr<FILE, int (*)(FILE*)> fp(std::fopen(out.temp_path().c_str(), "wb"),
-                                             &std::fclose);
-    if (!fp) throw FileError(path, "cannot create file");
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    png_infop info = png ? png_create_info_struct(png) : nullptr;
-    if (!png || !info) {
-      png_destroy_write_struct(&png, &info);
-      throw FileError(path, "libpng initialisation failed");
-    }
-    if (setjmp(png_jmpbuf(png))) {
-      png_destroy_write_struct(&png, &info);
-      throw FileError(path, "PNG write failed (disk full?)");
-    }
-    png_init_io(png, fp.get());
-    png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
-                 static_cast<png_uint_32>(image.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    // zlib level 3 instead of libpng's 6: a third of the CPU, files a few per cent larger.
-    png_set_compression_level(png, 3);
-    png_write_info(png, info);
-    for (std::size_t y = 0; y < image.height; ++y)
-      png_write_row(png, const_cast<png_bytep>(&image.pixels[y * image.width * 3]));
-    png_write_end(png, nullptr);
+namespace {
+void append_bytes(png_structp png, png_bytep data, png_size_t n) {
+  auto* out = static_cast<std::vector<std::uint8_t>*>(png_get_io_ptr(png));
+  out->insert(out->end(), data, data + n);
+}
+void no_flush(png_structp) {}
+
+// The libpng calls, apart: nothing in this frame lives across setjmp but the two handles.
+void encode_into(const RgbImage& image, const std::string& what, std::vector<std::uint8_t>& out) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
     png_destroy_write_struct(&png, &info);
+    throw FileError(what, "libpng initialisation failed");
   }
-  out.commit();
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw FileError(what, "PNG encoding failed");
+  }
+  png_set_write_fn(png, &out, &append_bytes, &no_flush);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
+               static_cast<png_uint_32>(image.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  // zlib level 3 instead of libpng's 6: a third of the CPU, files a few per cent larger.
+  png_set_compression_level(png, 3);
+  png_write_info(png, info);
+  for (std::size_t y = 0; y < image.height; ++y)
+    png_write_row(png, const_cast<png_bytep>(&image.pixels[y * image.width * 3]));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+}
+}  // namespace
+
+std::vector<std::uint8_t> encode_png(const RgbImage& image, const std::string& what) {
+  if (image.width == 0 || image.height == 0) throw FileError(what, "cannot write an empty image");
+  std::vector<std::uint8_t> out;
+  encode_into(image, what, out);
+  return out;
+}
+
+void write_png(const std::string& path, const RgbImage& image) {
+  write_file_atomic(path, encode_png(image, path));
 }
 
 }  // namespace microbrdf

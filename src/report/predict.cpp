@@ -23,6 +23,7 @@
 #include "microbrdf/material_spec.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
+#include "microbrdf/version.hpp"
 #include "report/predict_measured.hpp"
 #include "report/predict_ndf_compare.hpp"
 #include "report/predict_stages.hpp"
@@ -31,8 +32,6 @@ namespace fs = std::filesystem;
 
 namespace microbrdf {
 namespace {
-
-constexpr const char* kVersion = "0.1.0";  // keep in step with CMakeLists.txt project()
 
 using Clock = std::chrono::steady_clock;
 // CPU seconds of the whole process (all threads, user + system): what a stage costs whatever
@@ -196,7 +195,7 @@ nlohmann::json versions() {
   char eigen[32];
   std::snprintf(eigen, sizeof eigen, "%d.%d.%d", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION,
                 EIGEN_MINOR_VERSION);
-  return {{"microbrdf", kVersion},
+  return {{"microbrdf", version()},
           {"compiler", std::string("gcc/clang ") + __VERSION__},
           {"eigen", eigen},
           {"ceres", CERES_VERSION_STRING},

@@ -1,11 +1,12 @@
 // predict: renderer-ready materials of the fits (Mitsuba 3 and pbrt-v4 rough conductors, the
-// nearest GGX of each fitted NDF with the run's optical constants), written into export/ of the
-// output folder; the report links them. The tabulated (measured) BRDF as an RGL .bsdf table is
-// left to `microbrdf export bsdf` (minutes for a fine anisotropic table): the summary gives
-// the command.
+// nearest GGX of each fitted NDF with the run's optical constants; a glTF 2.0 .glb of each fit,
+// docs/gltf.md), written into export/ of the output folder; the report links them. The tabulated
+// (measured) BRDF as an RGL .bsdf table is left to `microbrdf export bsdf` (minutes for a fine
+// anisotropic table): the summary gives the command.
 #include <filesystem>
 
 #include "microbrdf/fit.hpp"
+#include "microbrdf/gltf_export.hpp"
 #include "microbrdf/material_spec.hpp"
 #include "microbrdf/scene_export.hpp"
 #include "report/predict_stages.hpp"
@@ -33,7 +34,35 @@ std::string material_flags(const MaterialSpec& m) {
   return f;
 }
 
+/// The analytic BRDF of a fit (its parameters in the model's own convention).
+BrdfSpec fit_spec(const FitResult& r) {
+  BrdfSpec spec;
+  spec.kind = BrdfSpec::Kind::Analytic;
+  spec.model_given = true;
+  spec.model.model = fit_model_name(r.model);
+  spec.model.alpha_x = r.params.alpha_x;
+  spec.model.alpha_y = r.params.alpha_y;
+  if (r.model == FitModel::Ellipsoid) {
+    spec.model.theta_x = r.params.theta_x;
+    spec.model.theta_y = r.params.theta_y;
+    spec.model.theta_z = r.params.theta_z;
+  } else {
+    spec.model.phi = r.phi;
+  }
+  return spec;
+}
+
 }  // namespace
+
+nlohmann::json write_glb(const Context& c, const BrdfSpec& spec, const std::string& rel,
+                         double uv_scale) {
+  std::filesystem::create_directories(c.path("export"));
+  const GltfMaterial m = gltf_material(spec, c.opt.material);
+  GltfExportOptions go;
+  go.uv_scale = uv_scale;
+  write_gltf(m, c.path(rel), go);
+  return {{"file", rel}, {"warnings", m.warnings}};
+}
 
 nlohmann::json stage_exports(const Context& c, const std::vector<FitResult>& fits) {
   const auto& o = c.opt;
@@ -54,6 +83,8 @@ nlohmann::json stage_exports(const Context& c, const std::vector<FitResult>& fit
       for (const auto& f : files) paths.push_back(rel + "/" + f);
       e[kind] = std::move(paths);
     }
+    c.log("exports: " + model + " fit as glTF 2.0");
+    e["gltf"] = write_glb(c, fit_spec(r), "export/gltf_" + model + ".glb", 1);
     list.push_back(std::move(e));
   }
   return {{"materials", std::move(list)},

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "microbrdf/brdf.hpp"
+#include "microbrdf/brdf_spec.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
@@ -163,6 +164,10 @@ RenderOptions predict_render_options(const PredictOptions& o, int width, int hei
 /// The fits as Mitsuba 3 and pbrt-v4 rough-conductor materials (each with a sphere scene) in
 /// export/ of the output folder; returns the "exports" object.
 nlohmann::json stage_exports(const Context& c, const std::vector<FitResult>& fits);
+/// The glTF 2.0 .glb of a BRDF spec with the run's material at `rel` (inside export/), with
+/// `uv_scale` texture repeats per scene unit: {"file": rel, "warnings": [what glTF cannot hold]}.
+nlohmann::json write_glb(const Context& c, const BrdfSpec& spec, const std::string& rel,
+                         double uv_scale);
 /// Texture synthesis from strips; returns the "texture" object.
 nlohmann::json stage_texture(const Context& c, const std::shared_ptr<const Fresnel>& fresnel,
                              nlohmann::json& timing);

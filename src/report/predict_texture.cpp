@@ -88,6 +88,13 @@ nlohmann::json stage_texture(const Context& c, const std::shared_ptr<const Fresn
   c.log("texture: synthesis " + std::to_string(so.size) + " x " + std::to_string(so.size));
   auto synth = std::make_shared<ParamTexture>(synthesize_texture(along, across, so));
   write_param_texture(*synth, c.path("texture.exr"));
+  // Scene units read as 5 cm of real surface (as the 10 cm plate of Dong Fig. 13, 2 units).
+  const double uv_scale = 0.05 / std::max(1e-12, synth->texel_m * static_cast<double>(synth->nx));
+  BrdfSpec texture_spec;
+  texture_spec.kind = BrdfSpec::Kind::Texture;
+  texture_spec.texture = c.path("texture.exr");
+  c.log("texture: glTF 2.0 with its anisotropy texture");
+  nlohmann::json glb = write_glb(c, texture_spec, "export/texture.glb", uv_scale);
   nlohmann::json out = {{"strips_along", o.strips_along},
                         {"strips_across", o.strips_across},
                         {"texel_m", o.texel_m},
@@ -95,6 +102,7 @@ nlohmann::json stage_texture(const Context& c, const std::shared_ptr<const Fresn
                         {"size", o.texture_size},
                         {"seed", o.seed},
                         {"file", "texture.exr"},
+                        {"gltf", std::move(glb)},
                         {"along", describe_texture(c, along, "along")},
                         {"across", describe_texture(c, across, "across")},
                         {"synthesised", describe_texture(c, *synth, "synthesised")}};
@@ -103,8 +111,7 @@ nlohmann::json stage_texture(const Context& c, const std::shared_ptr<const Fresn
     auto svbrdf = std::make_shared<EllipsoidTextureSvbrdf>(synth, fresnel);
     RenderScene scene;
     scene.kind = PreviewScene::Cylinders;
-    // Scene units read as 5 cm of real surface (as the 10 cm plate of Dong Fig. 13, 2 units).
-    scene.uv_scale = 0.05 / std::max(1e-12, synth->texel_m * static_cast<double>(synth->nx));
+    scene.uv_scale = uv_scale;
     const RenderOptions ro = predict_render_options(o, o.render_width, o.render_width);
     const RenderImage img = render(scene, {svbrdf}, predict_lights(o), ro);
     write_render_png(img, c.path("img/render_texture.png"), 0);

@@ -409,9 +409,13 @@ void exports_block(Page& p, json& s) {
   if (!s.contains("exports") || !s["exports"].is_object()) return;
   json& e = s["exports"];
   p << "<h3 id=\"exports\">Renderer-ready materials</h3>\n<p>Each fit as a GGX rough conductor "
-       "with this run's optical constants, with a sphere scene under a constant white emitter "
-       "(in <code>export/</code> beside this page; the links open the files):</p>\n<table>\n"
-    << row({"fit", "GGX alpha_u", "GGX alpha_v", "Mitsuba 3", "pbrt-v4", "approximations"}, true);
+       "with this run's optical constants, with a sphere scene under a constant white emitter, "
+       "and as glTF 2.0 (<code>KHR_materials_anisotropy</code> on a sphere and a plate, for "
+       "real-time viewers; docs/gltf.md) (in <code>export/</code> beside this page; the links "
+       "open the files):</p>\n<table>\n"
+    << row({"fit", "GGX alpha_u", "GGX alpha_v", "Mitsuba 3", "pbrt-v4", "glTF 2.0",
+            "approximations"},
+           true);
   for (auto& m : e["materials"]) {
     auto links = [&](json& files) {
       std::string l;
@@ -425,8 +429,14 @@ void exports_block(Page& p, json& s) {
     };
     std::string notes;
     for (auto& n : m["notes"]) notes += (notes.empty() ? "" : "; ") + escape(str(n));
+    json glb = json::array();
+    if (m.contains("gltf")) {
+      glb.push_back(m["gltf"]["file"]);
+      for (auto& n : m["gltf"]["warnings"])
+        notes += (notes.empty() ? "" : "; ") + std::string("glTF: ") + escape(str(n));
+    }
     p << row({escape(str(m["model"])), n4(m["alpha_u"]), n4(m["alpha_v"]), links(m["mitsuba"]),
-              links(m["pbrt"]), notes.empty() ? "none (the fit is a GGX)" : notes});
+              links(m["pbrt"]), links(glb), notes.empty() ? "none (the fit is a GGX)" : notes});
   }
   p << "</table>\n<p class=\"cap\">The measured (tabulated) BRDF as an RGL <code>.bsdf</code> "
        "table, for Mitsuba's and pbrt's <code>measured</code> material, is not written here (a "
@@ -805,7 +815,13 @@ void section_texture(Page& p, json& s) {
   p << "<p>Per-texel ellipsoid fits of filtered NDFs of texels " << len(t["texel_m"])
     << " wide, separable spectrum synthesis (Dong 2015 sec. 9), seed "
     << std::to_string(t["seed"].get<long>()) << "; parameter texture in <code>"
-    << escape(str(t["file"])) << "</code>.</p>\n";
+    << escape(str(t["file"])) << "</code>";
+  if (t.contains("gltf"))
+    p << "; as glTF 2.0 (a spatially varying <code>KHR_materials_anisotropy</code> on a sphere "
+         "and a plate, for real-time viewers, docs/gltf.md): <a href=\""
+      << escape(str(t["gltf"]["file"])) << "\"><code>" << escape(str(t["gltf"]["file"]))
+      << "</code></a>";
+  p << ".</p>\n";
   texture_block(p, t["along"], "Exemplar strip along the brushing");
   texture_block(p, t["across"], "Exemplar strip across the brushing");
   texture_block(p, t["synthesised"], "Synthesised texture");
