@@ -450,8 +450,8 @@ v 5 "--kernel 1e300deg" refuse "--kernel" -- $BIN measured ndf "$IN/gonio.csv" -
 v 5 "compare flat tables" refuse "ndf.npy|zero" -- bash -c "$PY -c 'import numpy as np; np.save(\"zero.npy\", np.zeros((65, 65)))' && exec $BIN measured compare zero.npy '$IN/ndf.npy'"
 v 5 "render zero NDF" refuse "zero.npy" -- bash -c "$PY -c 'import numpy as np; np.save(\"zero.npy\", np.zeros((65, 65)))' && exec $BIN render --ndf zero.npy --size 8 --spp 1 -o out.png"
 v 5 "missing input" usage "nope.x3p" -- $BIN ndf "$IN/nope.x3p" -o out.npy
-v 5 "output folder missing" usage "nodir" -- $BIN ndf "$IN/scan.npy" -o nodir/out.npy
-v 5 "unknown extension" usage "out.xyzzy" -- $BIN ndf "$IN/scan.npy" -o out.xyzzy
+v 5 "output folder missing" refuse "nodir" -- $BIN ndf "$IN/scan.npy" -o nodir/out.npy
+v 5 "unknown extension" refuse "out.xyzzy" -- $BIN ndf "$IN/scan.npy" -o out.xyzzy
 
 # ---- 6. data loss, injection, signals --------------------------------------------------------
 same() {  # same NAME KEEP -- command... (run in $W on copies a.npy/a.json (and sub/a.npy);
