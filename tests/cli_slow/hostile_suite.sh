@@ -152,8 +152,8 @@ absurd = {
     "weave_crimp": {"type": "weave", "pitch": "20um", "radius": "4um", "crimp": "1e300m", "material": "m"},
     "neg_r": {"type": "cylinders", "radius": "-1um", "count": 2, "material": "m"},
 }
-for k, o in absurd.items():
-    open(f"{t}/absurd_{k}.json", "w").write(scene([o]))
+for k, o in absurd.items():  # height fields: a tile of their own extent (32 samples of 1 um)
+    open(f"{t}/absurd_{k}.json", "w").write(scene([o], "32x32um" if k.startswith("hf_") else "100x100um"))
 open(t + "/tile_huge.json", "w").write(scene([{"type": "plane", "material": "d"}], "1e300x1e300m"))
 open(t + "/tile_tiny.json", "w").write(scene([{"type": "plane", "material": "d"}], "1e-300x1e-300m"))
 open(t + "/albedo_nan.json", "w").write(scene([{"type": "plane", "material": "n"}]).replace(
@@ -357,9 +357,10 @@ for f in cut.bsdf cut.binary; do
 done
 v 1 "simulate truncated scene" refuse "cut_scene.json" -- $BIN simulate "$IN/cut_scene.json" --rays 2000 -o out.shbrdf
 v 1 "simulate NUL scene" refuse "nul.json" -- $BIN simulate "$IN/nul.json" --rays 2000 -o out.shbrdf
-for s in nan neg huge tiny str bom nul cut; do
-  v 1 "sidecar $s" refuse "${s}_side.json" -- $BIN info "$IN/${s}_side.npy"
+for s in nan neg huge tiny str nul cut; do
+  v 1 "sidecar $s" refuse "${s}_side" -- $BIN info "$IN/${s}_side.npy"
 done
+v 1 "sidecar with a BOM" either "bom_side" -- $BIN info "$IN/bom_side.npy"
 v 1 "render --ndf truncated table" refuse "cut.npy" -- $BIN render --ndf "$IN/cut.npy" --size 8 --spp 1 -o out.png
 v 1 "fit truncated table" refuse "cut.npy" -- $BIN fit "$IN/cut.npy"
 
