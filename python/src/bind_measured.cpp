@@ -152,7 +152,7 @@ py::dict export_bsdf(const py::object& output, const py::object& measured,
 }
 
 py::object export_gltf(const py::object& output, double uv_scale, const py::kwargs& kwargs) {
-  const std::string out = fspath(output);
+  const std::string out = fspath(output, "output");
   const nlohmann::json keys = file_spec_keys(kwargs, "export_gltf");
   const BrdfSpec spec = parse_brdf(keys, std::nullopt, KeyStyle::Python);
   if (!spec.uses_material() && has_material(keys))
@@ -179,7 +179,7 @@ py::object export_gltf(const py::object& output, double uv_scale, const py::kwar
       {"anisotropy_strength", g.strength},
       {"anisotropy_rotation", g.rotation},
       {"warnings", m.warnings}};
-  return json_to_py(j.dump());
+  return json_to_py(j);
 }
 
 }  // namespace

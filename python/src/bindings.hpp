@@ -150,6 +150,8 @@ std::optional<std::pair<double, double>> length_pair(const py::object& obj, cons
 /// A JSON value as Python objects (dicts, lists, numbers, strings, None, bools); strings that
 /// are not UTF-8 get U+FFFD replacement characters.
 py::object json_to_py(const nlohmann::json& j);
+/// (Not from a dumped text: a std::string would silently become one JSON string.)
+py::object json_to_py(const std::string&) = delete;
 
 // ---- scans: Surface objects or paths -------------------------------------------------------
 

@@ -116,6 +116,7 @@ def nul_calls(path, tmp_path):
         "simulate": lambda: mb.simulate(path, lmax=2, rays=64, points=4),
         "measured_ndf": lambda: mb.measured_ndf(path, resolution=33),
         "export_bsdf": lambda: mb.export_bsdf(path, model="ggx", alpha=0.3, n=1.2, k=3.5),
+        "export_gltf": lambda: mb.export_gltf(path, model="ggx", alpha=0.3, metal="Al"),
         "render envmap": lambda: mb.render(mb.brdf(model="ggx", alpha=0.3, metal="Al"), envmap=path, size=4, spp=1),
         "predict": lambda: mb.predict(path, tmp_path / "out", no_render=True, resolution=65),
         "predict out_dir": lambda: mb.predict(tmp_path / "x.npy", path, no_render=True),
