@@ -12,6 +12,7 @@
 #include "cli_threads.hpp"
 #include "commands.hpp"
 #include "microbrdf/atomic_file.hpp"
+#include "microbrdf/duration.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/goniometer.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
@@ -27,21 +28,7 @@ namespace {
 
 using namespace simulate_cli;
 
-double parse_seconds(const std::string& t) {
-  std::size_t pos = 0;
-  double v = 0;
-  try {
-    v = std::stod(t, &pos);
-  } catch (const std::exception&) {
-    throw InputError("--time: expected e.g. 60s, 2min or 1h (got '" + t + "')");
-  }
-  std::string unit = t.substr(pos);
-  while (!unit.empty() && unit.front() == ' ') unit.erase(0, 1);
-  if (unit.empty() || unit == "s") return v;
-  if (unit == "min" || unit == "m") return 60 * v;
-  if (unit == "h") return 3600 * v;
-  throw InputError("--time: unknown unit '" + unit + "' (s, min or h)");
-}
+double parse_seconds(const std::string& t) { return parse_duration(t, "--time"); }
 
 void run_sh(const SimArgs& a, const MicroScene& scene) {
   if (a.output.empty()) throw InputError("-o OUT.shbrdf is required (or use --in-plane)");

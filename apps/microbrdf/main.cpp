@@ -7,10 +7,12 @@
 #include "cli_checks.hpp"
 #include "commands.hpp"
 #include "microbrdf/distribute.hpp"
+#include "microbrdf/duration.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/interrupt.hpp"
 #include "microbrdf/memory_budget.hpp"
+#include "microbrdf/mpi_watchdog.hpp"
 #include "microbrdf/version.hpp"
 
 int main(int argc, char** argv) {
@@ -40,6 +42,22 @@ int main(int argc, char** argv) {
          "physical memory, and at most 64x the size of the file (or 256 MiB) for what a file "
          "expands to")
       ->envname("MICROBRDF_MAX_MEMORY")
+      ->trigger_on_parse();
+  app.add_option_function<std::string>(
+         "--mpi-timeout",
+         [](const std::string& v) {
+           try {
+             microbrdf::mpi_set_timeout(microbrdf::parse_duration(v, "--mpi-timeout"));
+           } catch (const microbrdf::InputError& e) {
+             // CLI11 puts the flag in front itself.
+             const std::string what = e.what(), prefix = "--mpi-timeout: ";
+             throw CLI::ValidationError(
+                 "--mpi-timeout", what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
+           }
+         },
+         "Under mpirun: end the run when a rank has not responded for this long (stopped or "
+         "hung), naming it (e.g. 10min, 90s; 0 = never; default 30min); busy ranks respond")
+      ->envname("MICROBRDF_MPI_TIMEOUT")
       ->trigger_on_parse();
   app.fallthrough();
   microbrdf::cli::register_all(app);

@@ -9,6 +9,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/file_size_limit.hpp"
 #include "microbrdf/memory_budget.hpp"
+#include "microbrdf/mpi_watchdog.hpp"
 #include "microbrdf/run_inputs.hpp"
 
 namespace microbrdf::cli {
@@ -87,6 +88,7 @@ void register_all(CLI::App& app) {
 }
 
 void run_guarded(const char* command, const std::function<void()>& body) {
+  mpi_set_command(command);  // the watchdog's message names it
   if (!distributed(command)) {
     if (!mpi_is_root()) return;
     mpi_set_solo(true);  // library calls that could spread work keep it on this rank

@@ -82,7 +82,9 @@ py::object albedo(const Brdf& b, const py::object& wi_obj, double wavelength,
   const Vec3Array wi = vec3_array(wi_obj, "wi");
   if (method != "quadrature" && method != "sampled")
     throw InputError("albedo: method must be 'quadrature' or 'sampled'");
-  if (n < 2) throw InputError("albedo: n must be >= 2");
+  // n x 2n quadrature nodes (n x n samples) per direction: n = 4096 is 33 million evaluations,
+  // seconds of work; more adds no precision, only minutes.
+  if (n < 2 || n > 4096) throw InputError("albedo: n must lie in 2..4096");
   py::array_t<double> out(static_cast<py::ssize_t>(wi.n));
   double* o = out.mutable_data();
   {
@@ -118,8 +120,8 @@ without the GIL.)")
            py::arg("method") = "quadrature", py::arg("n") = 128,
            "Directional albedo a(wi) = integral f cos(theta_o) dwo: 'quadrature' (Gauss-Legendre "
            "in cos theta_o, n x 2n nodes) or 'sampled' (the BRDF's sampler, n x n strata).")
-      .def("describe", &Brdf::describe)
-      .def("__repr__", [](const Brdf& b) { return "<microbrdf.Brdf " + b.describe() + ">"; });
+      .def("describe", [](const Brdf& b) { return text(b.describe()); })
+      .def("__repr__", [](const Brdf& b) { return text("<microbrdf.Brdf " + b.describe() + ">"); });
 
   py::class_<MicrofacetBrdf, Brdf, std::shared_ptr<MicrofacetBrdf>>(
       m, "MicrofacetBrdf", "Dong 2015 eq. 1: F(wi.h) D(h) G(wi, wo) / (4 |wi.n| |wo.n|).");

@@ -1,6 +1,9 @@
 // The library's errors as Python exceptions: FileError (a file that cannot be read or written,
 // or is corrupt) is an OSError whose `filename` names the file; InputError (a bad value) is a
-// ValueError. Both are defined in Python so that str(e) reads "<path>: <problem>".
+// ValueError. Both are defined in Python so that str(e) reads "<path>: <problem>". The file name
+// is decoded as os.fsdecode does (undecodable bytes as surrogate escapes: e.filename names the
+// same file), messages with \xNN escapes for bytes that are not UTF-8 (a message quoting a
+// corrupt file must not become a UnicodeDecodeError that hides which file it was).
 #include <pybind11/eval.h>
 
 #include <cerrno>
@@ -13,6 +16,9 @@ namespace microbrdf::python {
 namespace {
 
 constexpr const char* kErrorClasses = R"(
+import os as _os
+
+
 class FileError(OSError):
     """A file that cannot be read or written, or whose content is corrupt, truncated or hostile.
 
@@ -24,7 +30,10 @@ class FileError(OSError):
         super().__init__(errno, problem, filename)
 
     def __str__(self):
-        return f"{self.filename}: {self.strerror}"
+        name = self.filename
+        if isinstance(name, str):  # printable even when the name is not valid UTF-8
+            name = _os.fsencode(name).decode("utf-8", "backslashreplace")
+        return f"{name}: {self.strerror}"
 
 
 class InputError(ValueError):
@@ -55,10 +64,10 @@ void bind_errors(py::module_& m) {
       std::error_code ec;
       const bool missing = !std::filesystem::exists(e.path(), ec);
       py::object err = missing ? py::object(py::int_(ENOENT)) : py::object(py::none());
-      py::object exc = g_file_error(e.path(), e.problem(), err);
+      py::object exc = g_file_error(path_text(e.path()), text(e.problem()), err);
       PyErr_SetObject(g_file_error.ptr(), exc.ptr());
     } catch (const InputError& e) {
-      PyErr_SetString(g_input_error.ptr(), e.what());
+      PyErr_SetObject(g_input_error.ptr(), text(e.what()).ptr());
     } catch (const std::out_of_range& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     }

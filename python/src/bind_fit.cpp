@@ -23,15 +23,15 @@ void bind_fit(py::module_& m) {
         if (py::isinstance<TabulatedNdf>(ndf)) {
           table = ndf.cast<std::shared_ptr<TabulatedNdf>>();
         } else {
-          input = fspath(ndf);
+          input = fspath(ndf, "ndf");
           table = call_released([&] { return std::make_shared<TabulatedNdf>(read_ndf(input)); });
         }
-        const std::string dumped = call_released([&] {
-          nlohmann::json j = fit_result_json(fit_ndf(*table, o));
-          if (!input.empty()) j["input"] = input;
-          return j.dump();
+        const nlohmann::json j = call_released([&] {
+          nlohmann::json r = fit_result_json(fit_ndf(*table, o));
+          if (!input.empty()) r["input"] = input;
+          return r;
         });
-        return json_to_py(dumped);
+        return json_to_py(j);
       },
       py::arg("ndf"), py::arg("model") = "ellipsoid", py::arg("objective") = "sqrt",
       py::arg("sampling") = "auto", py::arg("subsamples") = 0, py::arg("threads") = 0,

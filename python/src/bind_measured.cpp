@@ -17,6 +17,7 @@
 #include "microbrdf/gltf_export.hpp"
 #include "microbrdf/material_spec.hpp"
 #include "microbrdf/measured_ndf.hpp"
+#include "microbrdf/memory_budget.hpp"
 
 namespace microbrdf::python {
 namespace {
@@ -35,7 +36,7 @@ nlohmann::json material_keys_json(const py::kwargs& kwargs) {
     if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v))
       keys[k] = v.cast<double>();
     else if (is_path(v))
-      keys[k] = fspath(v);
+      keys[k] = fspath(v, k);
     else
       throw InputError(key_name(k, KeyStyle::Python) + " takes a number or a string");
   }
@@ -45,10 +46,12 @@ nlohmann::json material_keys_json(const py::kwargs& kwargs) {
 py::object measured_ndf(const py::object& path, double theta_d, std::size_t resolution,
                         double wavelength, const std::string& shadowing, double kernel,
                         const py::kwargs& kwargs) {
-  const std::string p = fspath(path);
+  const std::string p = fspath(path, "path");
   EffectiveNdfOptions o;
   if (!(theta_d > 0 && theta_d < M_PI)) throw InputError("theta_d must lie in (0, pi) rad");
   if (resolution < 5 || resolution > 8193) throw InputError("resolution must lie in 5..8193");
+  check_count("resolution", mul_sat(resolution, resolution), 4 * sizeof(double),
+              "the effective NDF's tables");
   if (!(wavelength > 0)) throw InputError("wavelength must be positive (metres)");
   if (shadowing != "none" && shadowing != "smith")
     throw InputError("shadowing must be 'none' or 'smith'");
@@ -73,7 +76,7 @@ py::dict export_bsdf(const py::object& output, const py::object& measured,
                      std::size_t phi_i, std::size_t ndf_grid, std::size_t samples,
                      const py::object& wavelengths, const py::object& progress,
                      const py::kwargs& kwargs) {
-  const std::string out = fspath(output);
+  const std::string out = fspath(output, "output");
   const int given = int(!measured.is_none()) + int(!brdf_obj.is_none()) + int(kwargs.size() > 0);
   if (given != 1)
     throw InputError(
@@ -82,7 +85,7 @@ py::dict export_bsdf(const py::object& output, const py::object& measured,
   std::shared_ptr<const Brdf> b;
   std::string what;
   if (!measured.is_none()) {
-    const std::string m = fspath(measured);
+    const std::string m = fspath(measured, "measured");
     b = call_released([&] { return std::shared_ptr<const Brdf>(read_measured_brdf(m)); });
     what = std::filesystem::path(m).filename().string();
   } else {
@@ -121,6 +124,12 @@ py::dict export_bsdf(const py::object& output, const py::object& measured,
   else
     o.isotropic = isotropic.cast<bool>();
   if (!o.isotropic && (phi_i < 3 || phi_i > 512)) throw InputError("phi_i must lie in 3..512");
+  // The spectra tensor dominates: one float per incident direction, sample node and wavelength
+  // (and three more per node for the luminance, ndf and vndf grids).
+  check_count("wavelengths",
+              mul_sat(mul_sat(theta_i, o.isotropic ? 1 : phi_i),
+                      mul_sat(mul_sat(samples, samples), o.wavelengths_nm.size() + 3)),
+              sizeof(float), "the .bsdf tensors");
   o.progress = progress_hook<double>(progress);
   call_released([&] {
     const auto d = export_distribution(b);
@@ -130,8 +139,8 @@ py::dict export_bsdf(const py::object& output, const py::object& measured,
   py::list wl;
   for (double nm : o.wavelengths_nm) wl.append(nm * 1e-9);
   py::dict r;
-  r["output"] = out;
-  r["source"] = what;
+  r["output"] = path_text(out);
+  r["source"] = text(what);
   r["isotropic"] = o.isotropic;
   r["theta_i"] = o.theta_i;
   r["phi_i"] = o.isotropic ? std::size_t(1) : o.phi_i;
@@ -143,7 +152,7 @@ py::dict export_bsdf(const py::object& output, const py::object& measured,
 }
 
 py::object export_gltf(const py::object& output, double uv_scale, const py::kwargs& kwargs) {
-  const std::string out = fspath(output);
+  const std::string out = fspath(output, "output");
   const nlohmann::json keys = file_spec_keys(kwargs, "export_gltf");
   const BrdfSpec spec = parse_brdf(keys, std::nullopt, KeyStyle::Python);
   if (!spec.uses_material() && has_material(keys))
@@ -170,7 +179,7 @@ py::object export_gltf(const py::object& output, double uv_scale, const py::kwar
       {"anisotropy_strength", g.strength},
       {"anisotropy_rotation", g.rotation},
       {"warnings", m.warnings}};
-  return json_to_py(j.dump());
+  return json_to_py(j);
 }
 
 }  // namespace

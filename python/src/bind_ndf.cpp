@@ -9,6 +9,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/filter_sigma_auto.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "microbrdf/microfacet.hpp"
 #include "microbrdf/ndf_convolve.hpp"
 #include "microbrdf/ndf_estimate.hpp"
@@ -20,16 +21,18 @@ namespace {
 
 py::dict metadata_dict(const NdfMetadata& m) {
   py::dict d;
-  d["method"] = m.method;
+  d["method"] = text(m.method);
   d["filter_sigma_m"] = m.filter_sigma_m;
   d["wavelength_m"] = m.wavelength_m;
-  d["sources"] = m.sources;
+  py::list sources;
+  for (const auto& s : m.sources) sources.append(path_text(s));
+  d["sources"] = sources;
   d["samples_used"] = m.samples_used;
   d["samples_skipped"] = m.samples_skipped;
   d["projected_area_m2"] = m.projected_area_m2;
-  d["leveling"] = m.leveling;
-  d["parameterisation"] = m.parameterisation;
-  d["notes"] = m.notes;
+  d["leveling"] = text(m.leveling);
+  d["parameterisation"] = text(m.parameterisation);
+  d["notes"] = text(m.notes);
   d["sampling"] = ndf_sampling(m);
   d["sampling_recorded"] = ndf_sampling_recorded(m);
   d["window_mass"] = m.window_mass;
@@ -61,8 +64,11 @@ py::dict moments(const TabulatedNdf& d) {
   return out;
 }
 
-void check_resolution(std::size_t n) {
+/// N of an N x N table, and `tables` such tables (with the estimator's own buffers) within the
+/// memory budget.
+void check_resolution(std::size_t n, std::uint64_t tables = 4) {
   if (n < 17 || n > 8193) throw InputError("resolution must be in 17..8193");
+  check_count("resolution", mul_sat(n, n), 8 * tables, "the NDF tables");
 }
 
 TabulatedNdf geometric_ndf(const ScanInputs& in, const NdfEstimateOptions& o,
@@ -103,7 +109,7 @@ py::dict filter_sigma_auto(const py::object& scans, double wavelength, const py:
                            const std::string& window, double accuracy, bool keep_aliases,
                            std::size_t resolution, const std::string& level,
                            const py::object& spacing, double min_support) {
-  check_resolution(resolution);
+  check_resolution(resolution, 16);  // the sweep keeps a table per sigma tried
   FilterSigmaAutoOptions o;
   o.resolution = resolution;
   o.min_support = min_support;
@@ -134,7 +140,7 @@ py::dict filter_sigma_auto(const py::object& scans, double wavelength, const py:
         },
         o);
   });
-  py::dict d = json_to_py(r.to_json().dump());
+  py::dict d = json_to_py(r.to_json());
   d["naive"] = std::make_shared<TabulatedNdf>(r.naive);
   d["filtered"] = std::make_shared<TabulatedNdf>(r.filtered);
   d["kirchhoff"] = std::make_shared<TabulatedNdf>(r.kirchhoff);
@@ -307,6 +313,7 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
           "slice",
           [](const TabulatedNdf& d, double azimuth, std::size_t samples) {
             if (samples < 2) throw InputError("slice: samples must be >= 2");
+            check_count("samples", samples, 6 * sizeof(double), "the slice's arrays");
             NdfSlice s = d.slice(azimuth, samples);
             py::dict out;
             out["t"] = py::array_t<double>(py::ssize_t(s.t.size()), s.t.data());
@@ -317,13 +324,20 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
           py::arg("azimuth") = 0.0, py::arg("samples") = 1025,
           "Cut through the disk centre at `azimuth` (rad): dict of arrays t (signed disk "
           "coordinate), theta (signed polar angle of m, rad), value (D, 1/sr).")
-      .def("resampled", py::overload_cast<std::size_t>(&TabulatedNdf::resampled, py::const_),
-           py::arg("resolution"),
-           "Bilinear resampling to another resolution (same window; normalised again).")
+      .def(
+          "resampled",
+          [](const TabulatedNdf& d, std::size_t resolution) {
+            if (resolution < 3) throw InputError("resolution must be >= 3");
+            check_count("resolution", mul_sat(resolution, resolution), sizeof(double),
+                        "the resampled table");
+            return call_released([&] { return d.resampled(resolution); });
+          },
+          py::arg("resolution"),
+          "Bilinear resampling to another resolution (same window; normalised again).")
       .def(
           "save",
           [](const TabulatedNdf& d, const py::object& path) {
-            const std::string p = fspath(path);
+            const std::string p = fspath(path, "path");
             call_released([&] { write_ndf(d, p); });
           },
           py::arg("path"),
@@ -332,7 +346,7 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
       .def(
           "save_preview",
           [](const TabulatedNdf& d, const py::object& path, bool zoom) {
-            const std::string p = fspath(path);
+            const std::string p = fspath(path, "path");
             NdfPreviewOptions po;
             po.zoom = zoom;
             call_released([&] { write_ndf_preview(d, p, po); });
@@ -340,14 +354,14 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
           py::arg("path"), py::arg("zoom") = false,
           "Log-scale false-colour PNG of the disk (the CLI's --preview).")
       .def("__repr__", [](const TabulatedNdf& d) {
-        return "<microbrdf.TabulatedNdf " + d.meta.method + " " + std::to_string(d.resolution()) +
-               " x " + std::to_string(d.resolution()) + ">";
+        return text("<microbrdf.TabulatedNdf " + d.meta.method + " " +
+                    std::to_string(d.resolution()) + " x " + std::to_string(d.resolution()) + ">");
       });
 
   m.def(
       "read_ndf",
       [](const py::object& path) {
-        const std::string p = fspath(path);
+        const std::string p = fspath(path, "path");
         return call_released([&] { return std::make_shared<TabulatedNdf>(read_ndf(p)); });
       },
       py::arg("path"),
@@ -412,7 +426,7 @@ chosen sigma) and kirchhoff at the sweep's resolution.)");
       "tabulate",
       [](const std::string& model, double alpha_x, double alpha_y, double phi, double theta_x,
          double theta_y, double theta_z, std::size_t resolution, const py::object& window) {
-        check_resolution(resolution);
+        check_resolution(resolution, 1);
         NdfWindow w;
         if (!window.is_none()) {
           const auto v = window.cast<std::vector<double>>();

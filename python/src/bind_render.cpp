@@ -5,6 +5,7 @@
 #include "microbrdf/brdf.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "microbrdf/predict.hpp"
 #include "microbrdf/render.hpp"
 
@@ -21,7 +22,7 @@ RenderLights lights(PreviewScene kind, const py::object& envmap, double env_scal
                     double env_rotation, bool white_env, const py::list& points,
                     const py::list& spheres, const py::list& disks, bool defaults = true) {
   RenderLights l;
-  if (!envmap.is_none()) l.envmap_path = fspath(envmap);
+  if (!envmap.is_none()) l.envmap_path = fspath(envmap, "envmap");
   l.envmap_scale = env_scale;
   l.envmap_rotation_rad = env_rotation;
   l.uniform_white_env = white_env;
@@ -62,7 +63,7 @@ py::object render_image(const py::object& brdfs, const std::string& scene, int s
                         const std::vector<double>& variant_weights, const py::object& light_sets) {
   RenderScene sc;
   sc.kind = parse_preview_scene(scene);
-  if (!obj.is_none()) sc.obj_path = fspath(obj);
+  if (!obj.is_none()) sc.obj_path = fspath(obj, "obj");
   if (brushing == "linear")
     sc.brushing = Brushing::Linear;
   else if (brushing == "rotational")
@@ -123,6 +124,10 @@ py::object render_image(const py::object& brdfs, const std::string& scene, int s
                                   false);  // (an empty set is an error, not a white sky)
       sets.push_back(std::move(extra));
     }
+  // Every image the call returns, float RGB: within the memory budget before anything runs.
+  if (o.width > 0 && o.height > 0)
+    check_count("size", mul_sat(std::uint64_t(o.width), std::uint64_t(o.height)),
+                3 * sizeof(float) * (all.size() + sets.size() - 1), "the images");
   auto* imgs = new std::vector<RenderImage>;
   py::capsule owner(imgs, [](void* p) { delete static_cast<std::vector<RenderImage>*>(p); });
   *imgs = call_released([&] {
@@ -165,7 +170,7 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
   o.kirchhoff_options.integration = parse_kirchhoff_integration(integration);
   o.kirchhoff_options.supersample = supersample;
   o.kirchhoff_options.window = parse_kirchhoff_window(window);
-  o.inputs = path_list(inputs);
+  o.inputs = path_list(inputs, "inputs");
   o.read = read_options(spacing);
   o.leveling = LevelingSpec::parse(level);
   o.material = MaterialSpec::named_metal(metal);
@@ -186,7 +191,7 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
     o.kirchhoff_options.patch_y = p->second;
   }
   if (!theta_i.empty()) o.slice_theta_i_rad = theta_i;
-  if (!envmap.is_none()) o.envmap_path = fspath(envmap);
+  if (!envmap.is_none()) o.envmap_path = fspath(envmap, "envmap");
   o.envmap_scale = envmap_scale;
   if (renders != "all" && renders != "measured" && renders != "none")
     throw InputError("renders '" + renders + "': give 'all', 'measured' or 'none'");
@@ -197,21 +202,21 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
   if (!strips.is_none()) {
     auto s = strips.cast<py::sequence>();
     if (s.size() != 2) throw py::value_error("strips: (along, across), each a path or a list");
-    o.strips_along = path_list(s[0]);
-    o.strips_across = path_list(s[1]);
+    o.strips_along = path_list(s[0], "strips");
+    o.strips_across = path_list(s[1], "strips");
   }
   o.texel_m = texel;
   o.texture_size = texture_size;
   o.seed = seed;
   o.threads = threads;
   o.log = progress_hook<const std::string&>(progress);
-  const std::string dir = fspath(out_dir);
-  const std::string dumped = call_released([&] {
-    const std::string text = predict(o, dir).summary.dump();
+  const std::string dir = fspath(out_dir, "out_dir");
+  const nlohmann::json summary = call_released([&] {
+    nlohmann::json j = predict(o, dir).summary;
     kirchhoff_release_buffers();  // D_K's kept buffers: 100 MB and more in a Python session
-    return text;
+    return j;
   });
-  return json_to_py(dumped);
+  return json_to_py(summary);
 }
 
 }  // namespace

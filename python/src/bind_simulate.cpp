@@ -16,7 +16,7 @@ std::shared_ptr<ShBrdf> simulate_scene(const py::object& scene, int lmax, std::u
                                        int points, int branches, int max_depth, std::uint64_t seed,
                                        int threads, bool independent, double time,
                                        const py::object& progress) {
-  const std::string path = fspath(scene);
+  const std::string path = fspath(scene, "scene");
   if (points < 1) throw InputError("points must be >= 1");
   if (branches < 1) throw InputError("branches must be >= 1");
   if (max_depth < 1) throw InputError("max_depth must be >= 1");
@@ -75,7 +75,7 @@ l <= lmax. `matrix` is a read-only float64 view of M (no copy).)")
           },
           "The symmetric SH matrix M, (J, J) with J = lmax (lmax + 1) / 2: a read-only view.")
       .def_property_readonly(
-          "metadata", [](const ShBrdf& b) { return json_to_py(b.meta().dump()); },
+          "metadata", [](const ShBrdf& b) { return json_to_py(b.meta()); },
           "Where it came from: scene, seed, rays, Q, wavelength_m, ...")
       .def("isotropic_average", &ShBrdf::isotropic_average,
            "The average over rotations about n (the isotropic part).")
@@ -85,14 +85,14 @@ l <= lmax. `matrix` is a read-only float64 view of M (no copy).)")
       .def(
           "save",
           [](const ShBrdf& b, const py::object& path) {
-            const std::string p = fspath(path);
+            const std::string p = fspath(path, "path");
             call_released([&] { b.save(p); });
           },
           py::arg("path"), "Writes the .shbrdf file `microbrdf simulate -o` writes. Atomic.")
       .def_static(
           "load",
           [](const py::object& path) {
-            const std::string p = fspath(path);
+            const std::string p = fspath(path, "path");
             return call_released([&] { return std::make_shared<ShBrdf>(ShBrdf::load(p)); });
           },
           py::arg("path"), "Reads a .shbrdf file; FileError naming it when corrupt.");

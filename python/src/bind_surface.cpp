@@ -37,14 +37,15 @@ std::shared_ptr<Surface> surface_from_array(const py::object& z_obj, const py::o
 py::dict metadata_dict(const Surface& s) {
   py::dict d;
   const auto& m = s.meta;
-  d["source_path"] = m.source_path;
-  d["format"] = m.format;
-  d["instrument"] = m.instrument;
-  d["date"] = m.date;
-  d["comment"] = m.comment;
-  d["z_unit_in_file"] = m.z_unit_in_file;
-  d["leveling"] = m.leveling;
-  for (const auto& [k, v] : m.extra) d[py::str(k)] = v;
+  // Instrument files carry text in any encoding (a Latin-1 comment): never UnicodeDecodeError.
+  d["source_path"] = path_text(m.source_path);
+  d["format"] = text(m.format);
+  d["instrument"] = text(m.instrument);
+  d["date"] = text(m.date);
+  d["comment"] = text(m.comment);
+  d["z_unit_in_file"] = text(m.z_unit_in_file);
+  d["leveling"] = text(m.leveling);
+  for (const auto& [k, v] : m.extra) d[text(k)] = text(v);
   return d;
 }
 
@@ -53,7 +54,7 @@ py::dict statistics_record(const std::string& path, const Surface& s, const Surf
                            const std::string& leveling_report) {
   nlohmann::json j = stats_json(path, s, st);
   j["leveling_report"] = leveling_report;
-  return json_to_py(j.dump());
+  return json_to_py(j);
 }
 
 }  // namespace
@@ -84,7 +85,7 @@ ScanInputs scan_inputs(const py::object& obj) {
       in.paths.emplace_back();
     } else if (is_path(item)) {
       // Globs, directories and @manifests expand as on the command line.
-      for (auto& p : expand_scan_inputs({fspath(item)})) {
+      for (auto& p : expand_scan_inputs({fspath(item, "surface")})) {
         in.surfaces.push_back(nullptr);
         in.paths.push_back(p);
       }
@@ -161,7 +162,7 @@ through the view, call sync_mask().)");
       .def_property_readonly("metadata", &metadata_dict,
                              "What the file said: source_path, format, instrument, date, ...")
       .def_property_readonly(
-          "path", [](const Surface& su) { return su.meta.source_path; },
+          "path", [](const Surface& su) { return path_text(su.meta.source_path); },
           "The file the surface was read from ('' when made in memory).")
       .def_property_readonly("valid_fraction", &Surface::valid_fraction,
                              "Fraction of valid samples.")
@@ -184,22 +185,23 @@ through the view, call sync_mask().)");
       .def(
           "save",
           [](const Surface& su, const py::object& path) {
-            const std::string p = fspath(path);
+            const std::string p = fspath(path, "path");
             call_released([&] { write_surface(su, p); });
           },
           py::arg("path"),
           "Writes the height map (format from the extension: .x3p, .gwy, .npy (+ .json "
           "sidecar), .xyz, .txt). Atomic; FileError on failure.")
       .def("__repr__", [](const Surface& su) {
-        return "<microbrdf.Surface " + std::to_string(su.nx) + " x " + std::to_string(su.ny) +
-               ", spacing " + std::to_string(su.dx * 1e6) + " x " + std::to_string(su.dy * 1e6) +
-               " um" + (su.meta.source_path.empty() ? "" : ", " + su.meta.source_path) + ">";
+        return text("<microbrdf.Surface " + std::to_string(su.nx) + " x " + std::to_string(su.ny) +
+                    ", spacing " + std::to_string(su.dx * 1e6) + " x " +
+                    std::to_string(su.dy * 1e6) + " um" +
+                    (su.meta.source_path.empty() ? "" : ", " + su.meta.source_path) + ">");
       });
 
   m.def(
       "read_surface",
       [](const py::object& path, const py::object& spacing) {
-        const std::string p = fspath(path);
+        const std::string p = fspath(path, "path");
         const ReadOptions o = read_options(spacing);
         return call_released([&] { return std::make_shared<Surface>(read_surface(p, o)); });
       },

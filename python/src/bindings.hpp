@@ -8,8 +8,10 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <utility>
@@ -66,6 +68,19 @@ py::array view(const T* data, std::vector<py::ssize_t> shape, py::handle owner,
 /// call has unwound and the GIL is back (call_released).
 struct Interrupted {};
 
+/// Text from the library or from a file (a message, a comment, a metadata value) as a str;
+/// bytes that are not UTF-8 are shown as \xNN escapes instead of raising UnicodeDecodeError.
+py::str text(const std::string& s);
+/// A path as a str, as os.fsdecode gives it (undecodable bytes as surrogate escapes, so the
+/// str names the same file).
+py::str path_text(const std::string& s);
+/// An argument of a Python callback: text (a progress line naming a file) decoded with escapes.
+inline py::str callback_arg(const std::string& s) { return text(s); }
+template <class T>
+T callback_arg(T v) {
+  return v;
+}
+
 /// Progress for the library: a std::function that, when called from the thread running the
 /// call, takes the GIL, calls the user's callback (if any) with the arguments, and checks for
 /// Ctrl-C; either failing throws Interrupted (the Python error stays set). Inside an OpenMP
@@ -85,7 +100,7 @@ std::function<void(Args...)> progress_hook(const py::object& callback) {
     if (!*failed) {
       if (!cb->is_none()) {
         try {
-          (*cb)(args...);
+          (*cb)(callback_arg(args)...);
         } catch (py::error_already_set& e) {
           e.restore();
           *failed = true;
@@ -114,18 +129,29 @@ auto call_released(F&& f) -> decltype(f()) {
   }
 }
 
-/// os.fspath(obj) as a string: a str or any os.PathLike (pathlib.Path).
-std::string fspath(const py::handle& obj);
-/// Whether obj names a file (str or os.PathLike).
+/// The path `obj` names (str, bytes or os.PathLike) as the bytes os.fsencode gives: names
+/// with undecodable bytes (surrogate escapes) keep their bytes. `what` names the argument in
+/// the errors: InputError (a ValueError) for a NUL character or a str that cannot be
+/// encoded; TypeError for anything that is not a path.
+std::string fspath(const py::handle& obj, const std::string& what);
+/// Whether obj names a file (str, bytes or os.PathLike).
 bool is_path(const py::handle& obj);
-/// One path, or a sequence of paths, as strings.
-std::vector<std::string> path_list(const py::handle& obj);
+/// One path, or a sequence of paths, as fspath gives them.
+std::vector<std::string> path_list(const py::handle& obj, const std::string& what);
+
+/// Refuses a count argument whose arrays would exceed the memory budget (memory_budget.hpp):
+/// InputError "<what>: needs 24 TiB for <purpose>, over the memory budget of ...".
+void check_count(const std::string& what, std::uint64_t count, std::uint64_t bytes_each,
+                 const std::string& purpose);
 
 /// Lengths: a float in metres, or a (dx, dy) pair; nothing for None.
 std::optional<std::pair<double, double>> length_pair(const py::object& obj, const char* what);
 
-/// A JSON text as Python objects (dicts, lists, numbers, strings, None, bools).
-py::object json_to_py(const std::string& dumped);
+/// A JSON value as Python objects (dicts, lists, numbers, strings, None, bools); strings that
+/// are not UTF-8 get U+FFFD replacement characters.
+py::object json_to_py(const nlohmann::json& j);
+/// (Not from a dumped text: a std::string would silently become one JSON string.)
+py::object json_to_py(const std::string&) = delete;
 
 // ---- scans: Surface objects or paths -------------------------------------------------------
 

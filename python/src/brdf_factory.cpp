@@ -46,7 +46,7 @@ nlohmann::json value_json(const std::string& key, const py::handle& v, InMemory&
     return text;
   }
   if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)) return v.cast<double>();
-  if (is_path(v)) return fspath(v);
+  if (is_path(v)) return fspath(v, key);
   if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
     nlohmann::json a = nlohmann::json::array();
     for (auto item : v) a.push_back(value_json(key, item, mem));

@@ -1,6 +1,8 @@
 // The extension module microbrdf._microbrdf; the package microbrdf re-exports it
 // (python/microbrdf).
 #include "bindings.hpp"
+#include "microbrdf/error.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "microbrdf/version.hpp"
 
 namespace microbrdf::python {
@@ -43,25 +45,68 @@ std::optional<std::pair<double, double>> length_pair(const py::object& obj, cons
   return std::make_pair(dx, dy);
 }
 
-std::string fspath(const py::handle& obj) {
-  return py::str(py::module_::import("os").attr("fspath")(obj)).cast<std::string>();
+std::string fspath(const py::handle& obj, const std::string& what) {
+  // os.fsencode: the bytes the file system sees, as open() would pass them. A name read from
+  // disk that is not valid UTF-8 comes back to Python with surrogate escapes; fsencode turns
+  // them back into the original bytes (pybind11's str -> std::string would refuse them).
+  py::object encoded;
+  try {
+    encoded = py::module_::import("os").attr("fsencode")(obj);
+  } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_UnicodeError))
+      throw InputError(what + ": the path cannot be encoded for the file system (" +
+                       std::string(py::str(e.value())) + ")");
+    if (e.matches(PyExc_TypeError))
+      throw py::type_error(what + ": expected a path (str, bytes or os.PathLike), not " +
+                           std::string(py::str(py::type::handle_of(obj).attr("__name__"))));
+    throw;
+  }
+  std::string path = encoded.cast<py::bytes>();
+  // The C library would stop at the NUL and open another file ('scan.npy\0.x3p' is scan.npy).
+  if (path.find('\0') != std::string::npos)
+    throw InputError(what + ": the path contains a NUL character");
+  return path;
 }
 
 bool is_path(const py::handle& obj) {
-  return py::isinstance<py::str>(obj) || py::hasattr(obj, "__fspath__");
+  return py::isinstance<py::str>(obj) || py::isinstance<py::bytes>(obj) ||
+         py::hasattr(obj, "__fspath__");
 }
 
-std::vector<std::string> path_list(const py::handle& obj) {
+std::vector<std::string> path_list(const py::handle& obj, const std::string& what) {
   std::vector<std::string> out;
   if (is_path(obj))
-    out.push_back(fspath(obj));
+    out.push_back(fspath(obj, what));
   else
-    for (auto item : obj.cast<py::sequence>()) out.push_back(fspath(item));
+    for (auto item : obj.cast<py::sequence>()) out.push_back(fspath(item, what));
   return out;
 }
 
-py::object json_to_py(const std::string& dumped) {
-  return py::module_::import("json").attr("loads")(dumped);
+py::str text(const std::string& s) {
+  PyObject* o = PyUnicode_DecodeUTF8(s.data(), py::ssize_t(s.size()), "backslashreplace");
+  if (!o) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(o);
+}
+
+py::str path_text(const std::string& s) {
+  PyObject* o = PyUnicode_DecodeFSDefaultAndSize(s.data(), py::ssize_t(s.size()));
+  if (!o) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(o);
+}
+
+py::object json_to_py(const nlohmann::json& j) {
+  // Strings from files (paths, scene sources) need not be UTF-8: replaced, not an error.
+  return py::module_::import("json").attr("loads")(
+      j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+}
+
+void check_count(const std::string& what, std::uint64_t count, std::uint64_t bytes_each,
+                 const std::string& purpose) {
+  try {
+    check_memory(what, mul_sat(count, bytes_each), purpose);
+  } catch (const FileError& e) {
+    throw InputError(e.what());  // a value, not a file: a ValueError naming the argument
+  }
 }
 
 }  // namespace microbrdf::python
