@@ -587,7 +587,7 @@ const char* kScript = R"JS(
 
 }  // namespace
 
-std::string material_view_html(const json& summary) {
+std::string material_view_html(const json& summary, const std::string& beside) {
   const json data = material_view_data(summary);
   std::string radios;
   bool first = true;
@@ -630,6 +630,7 @@ std::string material_view_html(const json& summary) {
        "integrates the map with 64 fixed directions drawn from the lobe (a smooth quadrature, "
        "not the path tracer: no interreflection, RGB instead of spectral), tone mapping "
        "clamp and sRGB.</p>\n";
+  h += beside;
   h += "<h3 id=\"lobe\">Interactive view: the BRDF lobe of the chosen model</h3>\n<div "
        "class=\"mbv\">"
        "<canvas id=\"mbv-lobe\" width=\"160\" height=\"160\" aria-label=\"BRDF over the "

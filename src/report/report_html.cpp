@@ -8,6 +8,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
 #include "report/html.hpp"
+#include "report/gltf_view.hpp"
 #include "report/material_view.hpp"
 #include "report/ndf_hover.hpp"
 #include "report/predict_measured.hpp"
@@ -709,7 +710,7 @@ void section_renders(Page& p, json& s) {
   json& r = s["renders"];
   if (r.is_object() && r.contains("skipped")) {
     p << "<p class=\"note\">" << escape(str(r["skipped"])) << "</p>\n";
-    p << report::material_view_html(s);
+    p << report::material_view_html(s, report::gltf_view_html(s, p.path("")));
     return;
   }
   const double smooth_deg = d(s["ndf"]["filtered"]["smooth_axis_angle_rad"]) * kDeg;
@@ -761,7 +762,7 @@ void section_renders(Page& p, json& s) {
       << " (section 5).</figcaption></figure></div>\n";
   }
   comparison_strip(p, s);
-  p << report::material_view_html(s);
+  p << report::material_view_html(s, report::gltf_view_html(s, p.path("")));
 }
 
 void texture_block(Page& p, json& t, const char* title) {

@@ -7,7 +7,10 @@
 //      the pixels; the lobe view holds values and shows the one under the pointer, and so does
 //      the filtered NDF's image;
 //   4. the shader's BRDF equals `microbrdf brdf slice` (the C++ models) at in- and out-of-plane
-//      directions for every fitted model (values read back from a float framebuffer).
+//      directions for every fitted model (values read back from a float framebuffer);
+//   5. the glTF view draws every fit's exported .glb with three.js, and the GGX fit's sphere in
+//      three.js is within 5 % in mean luminance of `microbrdf render` of the same material under
+//      the same map and camera (SSIM printed).
 //
 //   node report_test.mjs BIN REPORT_DIR CHROMIUM [SCREENSHOT_DIR]
 //
@@ -199,6 +202,9 @@ try {
                 `${worst.toExponential(2)} (relative to value + 1e-4 peak)`);
     if (compared === 0) fail("no BRDF value compared");
   }
+  // 5. The glTF view: three.js draws each fit's exported .glb; and the GGX fit's .glb against
+  //    `microbrdf render` of the same GGX material under the same map and camera.
+  await checkGltfView(page);
   if (shots) {
     // The top of the page and the two interactive views, as a 1280-pixel window lays them out,
     // stored at 3/4 scale (960 pixels wide) to keep the files small.
@@ -217,6 +223,148 @@ try {
   }
 } finally {
   await browser.close();
+}
+
+// Pixels (RGBA bytes) of a canvas of the page.
+async function canvasPixels(page, id) {
+  return page.evaluate((id) => {
+    const c = document.getElementById(id);
+    const t = document.createElement("canvas");
+    t.width = c.width; t.height = c.height;
+    t.getContext("2d").drawImage(c, 0, 0);
+    return { w: c.width, h: c.height,
+             px: Array.from(t.getContext("2d").getImageData(0, 0, c.width, c.height).data) };
+  }, id);
+}
+
+// Pixels of a PNG file, decoded by the browser (a data: URI: nothing fetched).
+async function pngPixels(page, file) {
+  const uri = "data:image/png;base64," + fs.readFileSync(file).toString("base64");
+  return page.evaluate(async (uri) => {
+    const im = new Image();
+    im.src = uri;
+    await im.decode();
+    const t = document.createElement("canvas");
+    t.width = im.width; t.height = im.height;
+    t.getContext("2d").drawImage(im, 0, 0);
+    return { w: im.width, h: im.height,
+             px: Array.from(t.getContext("2d").getImageData(0, 0, im.width, im.height).data) };
+  }, uri);
+}
+
+// Relative luminance (Rec. 709 weights) of an 8-bit sRGB pixel, linear.
+function luminance(px, i) {
+  const lin = (v) => { v /= 255; return v <= 0.04045 ? v / 12.92 : Math.pow((v + 0.055) / 1.055, 2.4); };
+  return 0.2126 * lin(px[i]) + 0.7152 * lin(px[i + 1]) + 0.0722 * lin(px[i + 2]);
+}
+
+// Mean SSIM (Wang et al. 2004: C1 = (0.01 L)^2, C2 = (0.03 L)^2, L = 1) of two luminance images
+// over the 7 x 7 windows that lie wholly inside the mask.
+function ssim(a, b, mask, w, h) {
+  const c1 = 1e-4, c2 = 9e-4, r = 3;
+  let sum = 0, n = 0;
+  for (let y = r; y < h - r; ++y)
+    for (let x = r; x < w - r; ++x) {
+      let inside = true, ma = 0, mb = 0;
+      for (let dy = -r; dy <= r && inside; ++dy)
+        for (let dx = -r; dx <= r; ++dx) {
+          const k = (y + dy) * w + x + dx;
+          if (!mask[k]) { inside = false; break; }
+          ma += a[k]; mb += b[k];
+        }
+      if (!inside) continue;
+      const m = (2 * r + 1) ** 2;
+      ma /= m; mb /= m;
+      let va = 0, vb = 0, cov = 0;
+      for (let dy = -r; dy <= r; ++dy)
+        for (let dx = -r; dx <= r; ++dx) {
+          const k = (y + dy) * w + x + dx;
+          va += (a[k] - ma) ** 2; vb += (b[k] - mb) ** 2; cov += (a[k] - ma) * (b[k] - mb);
+        }
+      va /= m - 1; vb /= m - 1; cov /= m - 1;
+      sum += ((2 * ma * mb + c1) * (2 * cov + c2)) / ((ma * ma + mb * mb + c1) * (va + vb + c2));
+      n++;
+    }
+  return n ? sum / n : NaN;
+}
+
+async function checkGltfView(page) {
+  const started = await page.waitForFunction(() => window.microbrdfGltf !== undefined, { timeout: 60000 })
+    .then(() => true, () => false);
+  if (!started) {
+    const why = await page.evaluate(() => {
+      const e = document.getElementById("mbg-status");
+      const note = document.querySelector("#gltf-view + p.note");
+      return e ? e.textContent : note ? note.textContent : "no glTF view in the page";
+    });
+    fail("the glTF view did not start: " + why);
+    return;
+  }
+  const fits = await page.evaluate(() => window.microbrdfGltf.fits);
+  const rev = await page.evaluate(() => window.microbrdfGltf.revision);
+  console.log(`glTF view: three.js r${rev}, files of ${fits.join(", ")}`);
+  for (const f of fits) {
+    await page.evaluate((k) => window.microbrdfGltf.setFit(k), f);
+    const { w, h, px } = await canvasPixels(page, "mbg-canvas");
+    // The sphere: the disk of radius 0.92 of the half-width (orthographic), its inner 90 %.
+    let sum = 0, sum2 = 0, n = 0, lit = 0;
+    for (let y = 0; y < h; ++y)
+      for (let x = 0; x < w; ++x) {
+        const u = (2 * (x + 0.5) / w - 1) / 0.92, v = (2 * (y + 0.5) / h - 1) / 0.92;
+        if (u * u + v * v > 0.81) continue;
+        const i = (y * w + x) * 4, l = (px[i] + px[i + 1] + px[i + 2]) / 3;
+        sum += l; sum2 += l * l; n++;
+        if (l > 8) lit++;
+      }
+    const mean = sum / n, sd = Math.sqrt(Math.max(0, sum2 / n - mean * mean));
+    console.log(`glTF view ${f}: sphere mean ${mean.toFixed(2)}/255, std ${sd.toFixed(2)}, ` +
+                `${(100 * lit / n).toFixed(1)} % of its pixels above 8/255`);
+    if (!(sd > 2 && lit > 0.5 * n)) fail(`glTF view ${f}: the sphere is black or flat`);
+    if (shots) await (await page.$("#mbg-canvas")).screenshot({ path: path.join(shots, `gltf_${f}.png`) });
+  }
+  // The GGX fit: three.js through its .glb against the path tracer, `render --scene sphere` (a
+  // pinhole at (0, 0, 4), tan of the half field of view 1.15/4; scene.cpp), the tangent along
+  // the circles about y (--brushing rotational) as the .glb's sphere has it.
+  const ggx = summary.fits.find((f) => f.model === "ggx");
+  const envmap = summary.settings.envmap;
+  if (!ggx || !fits.includes("ggx") || !fs.existsSync(envmap)) {
+    fail("no GGX fit with a .glb and an environment map to compare with the path tracer");
+    return;
+  }
+  const size = 128, tmp = fs.mkdtempSync(path.join(dir, ".gltf-"));
+  const png = path.join(tmp, "render.png");
+  const args = ["render", "--scene", "sphere", "--model", "ggx", "--alpha-x", String(ggx.params.alpha_x),
+                "--alpha-y", String(ggx.params.alpha_y), "--phi", ggx.phi + "rad",
+                "--metal", summary.settings.metal, "--envmap", envmap,
+                "--env-scale", String(summary.settings.envmap_scale), "--brushing", "rotational",
+                "--size", String(size), "--spp", "256", "--quiet", "-o", png];
+  execFileSync(bin, args, { stdio: ["ignore", "ignore", "inherit"] });
+  const ref = await pngPixels(page, png);
+  fs.rmSync(tmp, { recursive: true, force: true });
+  await page.evaluate((s) => { window.microbrdfGltf.setFit("ggx"); window.microbrdfGltf.usePinhole(1.15 / 4, 4, s, s); }, size);
+  const got = await canvasPixels(page, "mbg-canvas");
+  if (shots) await (await page.$("#mbg-canvas")).screenshot({ path: path.join(shots, "gltf_pinhole.png") });
+  await page.evaluate(() => window.microbrdfGltf.usePinhole());
+  // The sphere's silhouette: angular radius asin(1/4) seen from 4; its inner 95 % (no edge pixels).
+  const rad = Math.tan(Math.asin(0.25)) / (1.15 / 4);
+  const la = new Float64Array(size * size), lb = new Float64Array(size * size);
+  const mask = new Uint8Array(size * size);
+  let sa = 0, sb = 0, n = 0;
+  for (let y = 0; y < size; ++y)
+    for (let x = 0; x < size; ++x) {
+      const k = y * size + x, u = 2 * (x + 0.5) / size - 1, v = 2 * (y + 0.5) / size - 1;
+      la[k] = luminance(got.px, 4 * k);
+      lb[k] = luminance(ref.px, 4 * k);
+      if (Math.hypot(u, v) > 0.95 * rad) continue;
+      mask[k] = 1;
+      sa += la[k]; sb += lb[k]; n++;
+    }
+  const rel = (sa - sb) / sb, s = ssim(la, lb, mask, size, size);
+  console.log(`glTF (three.js) vs path tracer, GGX sphere ${size} x ${size}, ${n} sphere pixels: ` +
+              `mean luminance ${(sa / n).toFixed(4)} vs ${(sb / n).toFixed(4)} (relative ` +
+              `${(100 * rel).toFixed(2)} %), SSIM ${s.toFixed(4)}`);
+  if (!(Math.abs(rel) <= 0.05))
+    fail(`glTF view: mean luminance of the sphere ${(100 * rel).toFixed(2)} % from the path tracer's (limit 5 %)`);
 }
 if (failures.length) {
   console.log(`${failures.length} failure(s)`);
