@@ -71,12 +71,13 @@ try {
   const scene = new THREE.Scene();
   const loader = new GLTFLoader();
   const fits = {};
-  for (const g of data.glbs) {
-    const bin = atob(g.base64), bytes = new Uint8Array(bin.length);
+  async function parse(base64) {
+    const bin = atob(base64), bytes = new Uint8Array(bin.length);
     for (let i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
     const gltf = await new Promise((ok, bad) => loader.parse(bytes.buffer, "", ok, bad));
-    fits[g.key] = gltf.scenes[0];  // scene 0: the sphere (scene 1: the plate)
+    return gltf.scenes[0];  // scene 0: the sphere (scene 1: the plate)
   }
+  for (const g of data.glbs) fits[g.key] = await parse(g.base64);
   // The project's view: orthographic along -z, the unit sphere 0.92 of the half-width.
   const s = 1 / 0.92;
   const ortho = new THREE.OrthographicCamera(-s, s, s, -s, 0.1, 10);
@@ -104,6 +105,12 @@ try {
     fits: data.glbs.map((g) => g.key),
     revision: THREE.REVISION,
     setFit: (k) => { state.fit = k; draw(); },
+    // For the tests: another .glb (base64) shown as fit `key`.
+    addGlb: async (key, base64) => {
+      fits[key] = await parse(base64);
+      data.glbs.push({key, file: key + ".glb"});
+    },
+    setExposure: (stops) => { state.exposure = Math.pow(2, stops); draw(); },
     // For the tests: `microbrdf render --scene sphere`'s pinhole camera (at (0, 0, distance),
     // looking at the origin, tan of the half field of view), at w x h pixels; no argument: back
     // to the page's view.

@@ -7,8 +7,8 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
-#include "report/html.hpp"
 #include "report/gltf_view.hpp"
+#include "report/html.hpp"
 #include "report/material_view.hpp"
 #include "report/ndf_hover.hpp"
 #include "report/predict_measured.hpp"
