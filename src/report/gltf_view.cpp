@@ -142,8 +142,7 @@ std::vector<std::uint8_t> read_bytes(const std::filesystem::path& p) {
 
 }  // namespace
 
-std::string gltf_view_html(const json& summary, const std::string& dir) {
-  std::string h = "<h3 id=\"gltf-view\">Interactive view: the glTF export in three.js</h3>\n";
+GltfViewHtml gltf_view_html(const json& summary, const std::string& dir) {
   const EmbeddedThree three = embedded_three();
   json glbs = json::array();
   if (summary.contains("exports") && summary["exports"].contains("materials"))
@@ -154,10 +153,13 @@ std::string gltf_view_html(const json& summary, const std::string& dir) {
       if (bytes.empty()) continue;
       glbs.push_back({{"key", m["model"]}, {"file", rel}, {"base64", base64(bytes)}});
     }
+  GltfViewHtml h;
   if (!three.missing.empty() || glbs.empty()) {
-    h += "<p class=\"note\">No glTF view in this report: " +
-         escape(three.missing.empty() ? "this run exported no .glb" : three.missing) +
-         ". The exported files are linked under Renderer-ready materials.</p>\n";
+    h.after =
+        "<p class=\"note\" id=\"mbg-missing\">No glTF view (the exported file in three.js) "
+        "in this report: " +
+        escape(three.missing.empty() ? "this run exported no .glb" : three.missing) +
+        ". The exported files are linked under Renderer-ready materials.</p>\n";
     return h;
   }
   std::string radios;
@@ -166,28 +168,31 @@ std::string gltf_view_html(const json& summary, const std::string& dir) {
     radios += "<label><input type=\"radio\" name=\"mbg-fit\" value=\"" + escape(k) + "\"" +
               (i == 0 ? " checked" : "") + "> " + escape(k) + "</label> ";
   }
-  h += "<div class=\"mbv\"><canvas id=\"mbg-canvas\" width=\"384\" height=\"384\" "
-       "aria-label=\"sphere of the exported glTF file in three.js\"></canvas>\n<div "
-       "class=\"mbv-controls\"><div><b>glTF file</b> " +
-       radios +
-       "</div>\n<p id=\"mbg-status\" class=\"cap\"><noscript>The glTF view needs "
-       "JavaScript.</noscript></p>\n<p class=\"cap\">The fit's exported <code>.glb</code> (its "
-       "sphere) as a standard real-time viewer shows it: three.js " +
-       escape(three.version) +
-       " (npm package <code>three</code>, embedded in this page) reads it with its GLTFLoader "
-       "and draws its metallic-roughness material with <code>KHR_materials_anisotropy</code>, "
-       "lit by the environment of the view above (prefiltered by three.js' PMREMGenerator; "
-       "the environment choice and exposure of that view apply here too), same camera. "
-       "Differences from the view above are glTF's: Schlick's Fresnel from the base colour "
-       "instead of the exact conductor Fresnel, its own Smith masking and split-sum "
-       "image-based lighting (docs/gltf.md).</p></div></div>\n";
-  std::string js = json{{"glbs", glbs}}.dump();
-  h += "<script type=\"application/json\" id=\"mbg-data\">" + js + "</script>\n";
+  h.beside =
+      "<div class=\"mbg\" style=\"width:386px\"><canvas id=\"mbg-canvas\" width=\"384\" "
+      "height=\"384\" aria-label=\"sphere of the exported glTF file in three.js\"></canvas>"
+      "\n<div class=\"mbv-controls\"><div><b>glTF file in three.js</b> " +
+      radios +
+      "</div>\n<p id=\"mbg-status\" class=\"cap\"><noscript>The glTF view needs "
+      "JavaScript.</noscript></p></div></div>\n";
+  h.after =
+      "<p class=\"cap\" id=\"gltf-view\">Beside it, the fit's exported <code>.glb</code> "
+      "(its sphere) as a standard real-time viewer shows it: three.js " +
+      escape(three.version) +
+      " (npm package <code>three</code>, embedded in this page) reads it with its "
+      "GLTFLoader and draws its metallic-roughness material with "
+      "<code>KHR_materials_anisotropy</code>, lit by the same environment (prefiltered by "
+      "three.js' PMREMGenerator; the environment buttons and the exposure slider apply to "
+      "both), same camera. Differences are glTF's and three.js': Schlick's Fresnel from the "
+      "base colour instead of the exact conductor Fresnel, image-based lighting by the "
+      "split-sum approximation, a bent normal for anisotropy (measured in docs/gltf.md).</p>\n";
+  h.after += "<script type=\"application/json\" id=\"mbg-data\">" + json{{"glbs", glbs}}.dump() +
+             "</script>\n";
   for (const auto& m : three.modules)
-    h += "<script type=\"text/plain\" id=\"mbg-mod-" + std::string(m.name) +
-         "\" data-npm=\"three@" + escape(three.version) + " " + m.path + "\">" + m.text +
-         "</script>\n";
-  h += "<script type=\"module\">" + std::string(kModuleScript) + "</script>\n";
+    h.after += "<script type=\"text/plain\" id=\"mbg-mod-" + std::string(m.name) +
+               "\" data-npm=\"three@" + escape(three.version) + " " + m.path + "\">" + m.text +
+               "</script>\n";
+  h.after += "<script type=\"module\">" + std::string(kModuleScript) + "</script>\n";
   return h;
 }
 

@@ -8,10 +8,15 @@
 
 namespace microbrdf::report {
 
-/// The view's HTML: a canvas, the .glb files as base64, the three.js modules as inert text and a
-/// module script that loads them from blob: URLs. `dir` is the report folder (the .glb paths in
-/// the summary are relative to it). Without embedded three.js, or without any .glb, a sentence
-/// saying why instead.
-std::string gltf_view_html(const nlohmann::json& summary, const std::string& dir);
+/// The view's HTML in two parts: `beside`, the canvas and its file buttons, to sit next to the
+/// project's sphere; `after`, the caption, the .glb files as base64, the three.js modules as inert
+/// text and a module script that loads them from blob: URLs.
+struct GltfViewHtml {
+  std::string beside, after;
+};
+
+/// `dir` is the report folder (the .glb paths in the summary are relative to it). Without
+/// embedded three.js, or without any .glb, `beside` is empty and `after` a sentence saying why.
+GltfViewHtml gltf_view_html(const nlohmann::json& summary, const std::string& dir);
 
 }  // namespace microbrdf::report

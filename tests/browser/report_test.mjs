@@ -314,7 +314,7 @@ async function checkGltfView(page) {
   if (!started) {
     const why = await page.evaluate(() => {
       const e = document.getElementById("mbg-status");
-      const note = document.querySelector("#gltf-view + p.note");
+      const note = document.getElementById("mbg-missing");
       return e ? e.textContent : note ? note.textContent : "no glTF view in the page";
     });
     fail("the glTF view did not start: " + why);
@@ -422,7 +422,11 @@ async function checkGltfView(page) {
         fail("glTF view: the background differs from the path tracer's: map orientation, camera or exposure");
     }
   }
-  await page.evaluate(() => { window.microbrdfGltf.setExposure(0); window.microbrdfGltf.usePinhole(); });
+  await page.evaluate((k) => {
+    window.microbrdfGltf.setExposure(0);
+    window.microbrdfGltf.setFit(k);
+    window.microbrdfGltf.usePinhole();
+  }, fits[0]);
   fs.rmSync(tmp, { recursive: true, force: true });
   // glTF's near-mirror GGX agrees with the path tracer (the figures above for the others: their
   // differences are glTF's and three.js' approximations, docs/gltf.md).
