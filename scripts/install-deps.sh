@@ -11,6 +11,8 @@
 #                                      installed from npm by scripts/install-browser-test.sh
 # Wherever npm is available, the Khronos glTF-Validator for the glTF test (tests/gltf/run.sh) is
 # installed from npm too (scripts/install-gltf-validator.sh); without it that test is skipped.
+# So is three.js for the report's glTF view (scripts/install-report-js.sh; cmake embeds it at
+# configure time); without it the report leaves that view out and says why.
 set -euo pipefail
 
 REPORT=0
@@ -90,9 +92,17 @@ gltf_validator() {
       echo "install-deps: gltf-validator not installed; the glTF test will be skipped" >&2
   fi
 }
+# three.js for the report's glTF view, whenever npm is there (a failure only leaves the view out).
+report_js() {
+  if command -v npm >/dev/null; then
+    "$(dirname "$0")/install-report-js.sh" ||
+      echo "install-deps: three.js not installed; reports will leave the glTF view out" >&2
+  fi
+}
 if [ ${#missing[@]} -eq 0 ]; then
   browser_test
   gltf_validator
+  report_js
   exit 0
 fi
 
@@ -109,4 +119,5 @@ $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 browser_test
 gltf_validator
+report_js
 echo "install-deps: done" >&2

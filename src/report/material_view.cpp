@@ -587,7 +587,8 @@ const char* kScript = R"JS(
 
 }  // namespace
 
-std::string material_view_html(const json& summary) {
+std::string material_view_html(const json& summary, const std::string& beside,
+                               const std::string& after) {
   const json data = material_view_data(summary);
   std::string radios;
   bool first = true;
@@ -609,7 +610,9 @@ std::string material_view_html(const json& summary) {
   std::string h;
   h += "<h3 id=\"view\">Interactive view: the fitted models on a sphere</h3>\n";
   h += "<div class=\"mbv\"><canvas id=\"mbv-canvas\" width=\"384\" height=\"384\" "
-       "aria-label=\"sphere with the fitted material\"></canvas>\n<div class=\"mbv-controls\">"
+       "aria-label=\"sphere with the fitted material\"></canvas>\n" +
+       beside +
+       "<div class=\"mbv-controls\">"
        "<div><b>model</b> " +
        radios + "</div>\n" + env_radios +
        "<div><label>environment rotation <input id=\"mbv-env\" type=\"range\" "
@@ -630,6 +633,7 @@ std::string material_view_html(const json& summary) {
        "integrates the map with 64 fixed directions drawn from the lobe (a smooth quadrature, "
        "not the path tracer: no interreflection, RGB instead of spectral), tone mapping "
        "clamp and sRGB.</p>\n";
+  h += after;
   h += "<h3 id=\"lobe\">Interactive view: the BRDF lobe of the chosen model</h3>\n<div "
        "class=\"mbv\">"
        "<canvas id=\"mbv-lobe\" width=\"160\" height=\"160\" aria-label=\"BRDF over the "

@@ -22,6 +22,9 @@ std::string colour_gradient(const std::string& direction);
 
 /// The HTML of the view: a canvas, its controls, the data as JSON and the script (plain WebGL 2,
 /// no library, nothing fetched). Without JavaScript or WebGL 2 the page shows a sentence instead.
-std::string material_view_html(const nlohmann::json& summary);
+/// `beside` (HTML, e.g. gltf_view_html's) goes next to the sphere's canvas, `after` after the
+/// sphere view's caption, before the lobe view.
+std::string material_view_html(const nlohmann::json& summary, const std::string& beside = "",
+                               const std::string& after = "");
 
 }  // namespace microbrdf::report

@@ -7,6 +7,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/predict.hpp"
+#include "report/gltf_view.hpp"
 #include "report/html.hpp"
 #include "report/material_view.hpp"
 #include "report/ndf_hover.hpp"
@@ -709,7 +710,10 @@ void section_renders(Page& p, json& s) {
   json& r = s["renders"];
   if (r.is_object() && r.contains("skipped")) {
     p << "<p class=\"note\">" << escape(str(r["skipped"])) << "</p>\n";
-    p << report::material_view_html(s);
+    {
+      const auto g = report::gltf_view_html(s, p.path(""));
+      p << report::material_view_html(s, g.beside, g.after);
+    }
     return;
   }
   const double smooth_deg = d(s["ndf"]["filtered"]["smooth_axis_angle_rad"]) * kDeg;
@@ -761,7 +765,10 @@ void section_renders(Page& p, json& s) {
       << " (section 5).</figcaption></figure></div>\n";
   }
   comparison_strip(p, s);
-  p << report::material_view_html(s);
+  {
+    const auto g = report::gltf_view_html(s, p.path(""));
+    p << report::material_view_html(s, g.beside, g.after);
+  }
 }
 
 void texture_block(Page& p, json& t, const char* title) {

@@ -2,7 +2,9 @@
 # The report in a real browser (tests/browser/report_test.mjs): makes a small predict report (a
 # synthetic anisotropic scan, 16-pixel renders, the bundled courtyard map; the view adds the
 # studio map beside it) and opens it in Debian's
-# headless Chromium with the network off.
+# headless Chromium with the network off. The report's glTF view needs three.js embedded by the
+# build (scripts/install-report-js.sh before cmake configures); without it the test fails, saying
+# so. The comparison of that view with `microbrdf render` takes about 15 s of the test.
 #
 #   tests/browser/run.sh BIN [DATA_DIR]      (ctest label "browser", part of `make test`)
 #
