@@ -1,5 +1,6 @@
 // Kirchhoff distribution of scans and scan sets: tiling into coherence-area patches and
 // intensity averaging (Dong 2015 App. A; docs/theory.md §4.5).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -13,10 +14,12 @@ namespace {
 void tiling(std::size_t n, double d, double patch, std::size_t& count, std::size_t& len) {
   count = 1;
   if (patch > 0) {
-    double c = std::round(static_cast<double>(n) * d / patch);
-    count = static_cast<std::size_t>(std::max(1.0, c));
+    // Clamped in double before the conversion: a patch of 1e-300 m asks for 1e295 tiles, which
+    // no integer holds (the conversion would be undefined and gave 0 tiles, a division by 0).
+    const double c = std::round(static_cast<double>(n) * d / patch);
+    count = c >= 1 ? static_cast<std::size_t>(std::min(c, static_cast<double>(n))) : 1;
   }
-  count = std::min(count, n);
+  count = std::clamp<std::size_t>(count, 1, std::max<std::size_t>(n, 1));
   len = n / count;
 }
 

@@ -111,6 +111,10 @@ expect 1 "form.npy: Kirchhoff: the heights of a patch span .* over the memory bu
 # Patches of 1 pm: one D_K table per sample (64 x 64 of them) would take minutes.
 expect 1 "scan.npy: Kirchhoff patch .* patches of 1 x 1 samples; a patch needs at least 4 samples a side (--patch)" -- \
   $BIN ndf scan.npy --method kirchhoff --patch 1x1pm -o x.npy
+# A patch so small that the tile count overflows every integer: refused the same way, no
+# arithmetic exception (the count was once converted from 1e295 to 0 and divided by).
+expect 1 "scan.npy: Kirchhoff patch .* a patch needs at least 4 samples a side (--patch)" -- \
+  $BIN ndf scan.npy --method kirchhoff --patch 1e-300x1e-300m -o x.npy
 # 300000 goniometer rows (about 70 MB parsed) under a 32 MiB budget: refused before parsing.
 expect 1 "many.csv: needs .* for up to 300002 goniometer rows .* over the memory budget of 32 MiB" -- \
   $BIN --max-memory 32M measured ndf many.csv -o x.npy
