@@ -37,7 +37,7 @@ PUBLIC_HEADERS = {
     "quadrature": "core", "plot": "plot", "distribute": "core", "json_read": "core",
     "file_read": "core", "memory_budget": "core", "interrupt": "core", "threads": "core",
     "version": "core",
-    "file_size_limit": "core",
+    "file_size_limit": "core", "duration": "core", "mpi_watchdog": "core",
     # surface: height maps, their files, statistics, levelling, generators, previews
     "surface": "surface", "io": "surface", "level": "surface", "generate": "surface",
     "statistics": "surface", "scanset": "surface", "ndf_scanset": "ndf", "height_preview": "surface",

@@ -25,10 +25,12 @@ inline ParamTexture gaussian_param_texture(std::size_t nx, std::size_t ny, doubl
     GaussianSurfaceParams g;
     g.nx = nx;
     g.ny = ny;
-    g.dx = g.dy = 1;
+    // Texel units as micrometres (the generator takes lengths of a micro-surface, at most
+    // 1 m): only tau / dx shapes the spectrum, so the channel is the same at any scale.
+    g.dx = g.dy = 1e-6;
     g.sigma = sd[static_cast<std::size_t>(c)];
-    g.tau_x = tau_x;
-    g.tau_y = tau_y;
+    g.tau_x = tau_x * 1e-6;
+    g.tau_y = tau_y * 1e-6;
     g.seed = first_seed + static_cast<std::uint64_t>(c);
     g.exact_spectrum = exact_spectrum;
     const Surface s = generate_gaussian(g);

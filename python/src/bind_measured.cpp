@@ -55,7 +55,7 @@ py::object measured_ndf(const py::object& path, double theta_d, std::size_t reso
   if (!(wavelength > 0)) throw InputError("wavelength must be positive (metres)");
   if (shadowing != "none" && shadowing != "smith")
     throw InputError("shadowing must be 'none' or 'smith'");
-  if (!(kernel >= 0)) throw InputError("kernel must be >= 0 (0 = automatic)");
+  // The kernel's range (0 = automatic) is checked by the library, with the CLI's message.
   o.theta_d = theta_d;
   o.resolution = resolution;
   o.wavelength_m = wavelength;
