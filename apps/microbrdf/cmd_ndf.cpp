@@ -215,6 +215,7 @@ void register_ndf(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--min-support", a->min_support,
                   "Filtered: minimum weighted support, fraction of the full kernel")
+      ->check(number_in(0, 1))  // a share of the kernel's weight
       ->capture_default_str();
   cmd->add_option("--instrument-fwhm", a->instrument_fwhm,
                   "Any method: convolve with an angular Gaussian of this FWHM (a "

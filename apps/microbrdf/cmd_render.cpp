@@ -110,7 +110,7 @@ void preflight(const RenderArgs& a) {
   pre.require(a.spp >= 1, "--spp", "must be >= 1 (got " + std::to_string(a.spp) + ")");
   pre.require((a.width > 0 ? a.width : a.size) >= 1 && (a.height > 0 ? a.height : a.size) >= 1,
               "--size", "the image needs at least 1 x 1 pixels");
-  pre.positive("--env-scale", a.env_scale);
+  pre.positive("--env-scale", a.env_scale).positive("--uv-scale", a.uv_scale);
   pre.done();
   (void)parse_render_sampler(a.sampler, "--sampler");
   (void)render_brdf_spec(a.spec, a.sun);  // the BRDF and material flags, before any file

@@ -79,6 +79,13 @@ expect 1 "tile.json: tile 1 pm x 1 pm: both sides must be at least 1 nm" -- $BIN
 expect 2 "spacing must lie in 1 pm .. 1 m" -- $BIN generate gaussian --nx 64 --ny 64 --spacing 1e-300m -o g.npy
 expect 2 "sigma must lie in 0 .. 1 m" -- $BIN generate gaussian --nx 64 --ny 64 --sigma 1e300m -o g.npy
 expect 2 "correlation lengths must lie in" -- $BIN generate gaussian --nx 64 --ny 64 --tau 1e300m -o g.npy
+# Shares and scales that are not numbers in their range: refused naming the flag, before work.
+for v in -1 nan 1.5 1e300; do
+  expect 2 "^--min-support: must be in \[0, 1\] (got $v)" -- $BIN ndf scan.npy --min-support $v -o x.npy
+done
+for v in 0 -1 nan inf; do
+  expect 2 "--uv-scale: must be > 0" -- $BIN render --model ggx --alpha 0.2 --size 8 --spp 1 --uv-scale $v -o r.png
+done
 expect 2 "\-\-instrument-fwhm 1e+300 deg on a 1025 x 1025 table needs" -- $BIN ndf scan.npy --instrument-fwhm 1e300deg -o x.npy
 [ -e g.npy ] && fail "generate wrote a refused surface"
 [ -e s.shbrdf ] && fail "simulate wrote output from a refused scene"
