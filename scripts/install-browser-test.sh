@@ -5,14 +5,4 @@
 # uses Debian's /usr/bin/chromium. Idempotent: returns at once when it is already installed.
 #
 #   scripts/install-browser-test.sh
-set -euo pipefail
-DIR=$(cd "$(dirname "$0")/../tests/browser" && pwd)
-if [ -f "$DIR/node_modules/puppeteer-core/package.json" ]; then
-  exit 0
-fi
-command -v npm >/dev/null || {
-  echo "install-browser-test: npm not found (scripts/install-deps.sh --report installs it)" >&2
-  exit 1
-}
-cd "$DIR"
-npm ci --no-audit --no-fund --ignore-scripts
+exec "$(dirname "$0")/install-npm-pinned.sh" tests/browser puppeteer-core

@@ -5,14 +5,4 @@
 # Idempotent: returns at once when it is already installed.
 #
 #   scripts/install-gltf-validator.sh
-set -euo pipefail
-DIR=$(cd "$(dirname "$0")/../tests/gltf" && pwd)
-if [ -f "$DIR/node_modules/gltf-validator/package.json" ]; then
-  exit 0
-fi
-command -v npm >/dev/null || {
-  echo "install-gltf-validator: npm not found (apt-get install nodejs npm)" >&2
-  exit 1
-}
-cd "$DIR"
-npm ci --no-audit --no-fund --ignore-scripts
+exec "$(dirname "$0")/install-npm-pinned.sh" tests/gltf gltf-validator

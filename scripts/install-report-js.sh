@@ -7,14 +7,4 @@
 # it is already installed.
 #
 #   scripts/install-report-js.sh
-set -euo pipefail
-DIR=$(cd "$(dirname "$0")/../report-js" && pwd)
-if [ -f "$DIR/node_modules/three/package.json" ]; then
-  exit 0
-fi
-command -v npm >/dev/null || {
-  echo "install-report-js: npm not found (apt-get install nodejs npm)" >&2
-  exit 1
-}
-cd "$DIR"
-npm ci --no-audit --no-fund --ignore-scripts
+exec "$(dirname "$0")/install-npm-pinned.sh" report-js three
