@@ -13,6 +13,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
 namespace fs = std::filesystem;
@@ -165,15 +166,17 @@ std::string parse_number(const std::string& text, double& v) {
 }
 }  // namespace
 
-CLI::Validator positive_number() {
+CLI::Validator positive_number(double hi) {
+  const std::string range = std::isfinite(hi) ? "in (0, " + shown(hi) + "]" : "> 0";
   return CLI::Validator(
-      [](std::string& text) -> std::string {
+      [hi, range](std::string& text) -> std::string {
         double v = 0;
         if (auto e = parse_number(text, v); !e.empty()) return e;
-        if (!(v > 0) || !std::isfinite(v)) return "must be > 0 (got " + text + ")";
+        if (!(v > 0) || !std::isfinite(v) || v > hi)
+          return "must be " + range + " (got " + text + ")";
         return {};
       },
-      "> 0", "POSITIVE");
+      range, "POSITIVE");
 }
 
 CLI::Validator number_in(double lo, double hi) {
@@ -186,6 +189,112 @@ CLI::Validator number_in(double lo, double hi) {
         return {};
       },
       "in [" + shown(lo) + ", " + shown(hi) + "]", "RANGE");
+}
+
+CLI::Validator count_in(double lo, double hi, std::string why) {
+  return CLI::Validator(
+      [lo, hi, why](std::string& text) -> std::string {
+        double v = 0;
+        if (auto e = parse_number(text, v); !e.empty()) return e;
+        if (!(v >= lo && v <= hi) || v != std::floor(v))
+          return "must be a whole number in [" + shown(lo) + ", " + shown(hi) + "] (got " + text +
+                 ")" + (why.empty() || !(v > hi) ? "" : ": " + why);
+        return {};
+      },
+      "in [" + shown(lo) + ", " + shown(hi) + "]", "COUNT");
+}
+
+namespace {
+// Runs `parse` on `text` and turns its InputError into a validator's message.
+template <class Parse>
+std::string parsed(Parse parse, const std::string& text) {
+  try {
+    parse(text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+std::string length_range(double lo, double hi) {
+  return (lo == 0 ? std::string("0") : format_length(lo)) + " .. " + format_length(hi);
+}
+
+std::string check_length(double v, double lo, double hi, const std::string& text) {
+  if (v >= lo && v <= hi) return {};
+  return "must lie in " + length_range(lo, hi) + " (got " + text + ")";
+}
+}  // namespace
+
+CLI::Validator length_in(double lo, double hi, std::initializer_list<const char*> words) {
+  std::vector<std::string> ok(words.begin(), words.end());
+  return CLI::Validator(
+      [lo, hi, ok](std::string& text) -> std::string {
+        if (std::find(ok.begin(), ok.end(), text) != ok.end()) return {};
+        double v = 0;
+        if (auto e = parsed([&](const std::string& t) { v = parse_length(t); }, text); !e.empty())
+          return e;
+        return check_length(v, lo, hi, text);
+      },
+      length_range(lo, hi), "LENGTH");
+}
+
+CLI::Validator length_pair_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        LengthPair p;
+        if (auto e = parsed([&](const std::string& t) { p = parse_length_pair(t); }, text);
+            !e.empty())
+          return e;
+        if (auto e = check_length(p.x, lo, hi, text); !e.empty()) return e;
+        return check_length(p.y, lo, hi, text);
+      },
+      length_range(lo, hi), "SIZE");
+}
+
+CLI::Validator length_or_pair_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        LengthPair p;
+        if (auto e = parsed([&](const std::string& t) { p = parse_length_or_pair(t); }, text);
+            !e.empty())
+          return e;
+        if (auto e = check_length(p.x, lo, hi, text); !e.empty()) return e;
+        return check_length(p.y, lo, hi, text);
+      },
+      length_range(lo, hi), "LENGTH");
+}
+
+CLI::Validator height() { return length_in(0, kMaxLength); }
+CLI::Validator distance() { return length_in(kMinLength, kMaxLength); }
+CLI::Validator direction() { return angle_in(-2 * M_PI, 2 * M_PI); }
+CLI::Validator polar_angle() { return angle_in(0, M_PI / 2); }
+CLI::Validator wavelength() { return length_in(100e-9, 20e-6); }
+
+CLI::Validator angle_in(double lo, double hi, bool list) {
+  const double deg = 180 / M_PI;
+  const std::string range = shown(lo * deg) + " .. " + shown(hi * deg) + " deg";
+  return CLI::Validator(
+      [lo, hi, list, range](std::string& text) -> std::string {
+        std::vector<std::string> items{text};
+        if (list) {
+          items.clear();
+          std::size_t start = 0;
+          for (std::size_t comma; (comma = text.find(',', start)) != std::string::npos;
+               start = comma + 1)
+            items.push_back(text.substr(start, comma - start));
+          items.push_back(text.substr(start));
+        }
+        for (const auto& item : items) {
+          double v = 0;
+          if (auto e = parsed([&](const std::string& t) { v = parse_angle(t); }, item); !e.empty())
+            return e;
+          if (!(v >= lo - 1e-12 && v <= hi + 1e-12))
+            return "must lie in " + range + " (got " + item + ")";
+        }
+        return {};
+      },
+      range, "ANGLE");
 }
 
 namespace {
@@ -218,7 +327,8 @@ void guard_integer_options(CLI::App& app) {
   // Every integer option of the command line is a count or a size (threads, rays, samples,
   // pixels, orders, seeds): none takes a negative value.
   for (CLI::Option* o : app.get_options()) {
-    const std::string type = o->get_type_name();
+    // (Validators append their descriptions: "UINT:in [1, 1e+10]".)
+    const std::string type = o->get_type_name().substr(0, o->get_type_name().find(':'));
     if (type == "UINT" || type == "INT") o->transform(decimal_count());  // it rewrites "010"
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))

@@ -6,6 +6,7 @@
 // (exit code 2, a usage error). Also: CLI11 validators that name the flag, and "n/a" for values
 // that do not exist.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <initializer_list>
 #include <string>
 #include <string_view>
@@ -47,8 +48,42 @@ class Preflight {
 
 /// CLI11 validators; CLI11 prefixes the message with the flag ("--alpha: must be > 0 (got
 /// -0.1)"), and main() turns every parse error into exit code 2.
-CLI::Validator positive_number();
+CLI::Validator positive_number(double hi = HUGE_VAL);  // 0 < v <= hi
 CLI::Validator number_in(double lo, double hi);
+/// A whole number in [lo, hi] (counts with a budget: rays, samples, pixels). The message says
+/// why the upper limit exists when `why` is given ("--rays: must be in [1, 1e+10] ...: why").
+CLI::Validator count_in(double lo, double hi, std::string why = {});
+
+/// The most Monte Carlo samples (rays, exits, profile samples) one run takes: 1e10, about three
+/// hours at the tracers' ~1e6 per second and core; beyond it a count is a typo, not a plan.
+inline constexpr double kMaxSamples = 1e10;
+inline constexpr const char* kWhySamples =
+    "beyond 1e10 samples a run takes hours (~1e6 per second and core)";
+
+/// A length with a unit ("110nm", "1.5 um") in [lo, hi] metres; the message names the flag and
+/// prints the range with SI prefixes ("--spacing: must lie in 1 pm .. 1 m (got 1e300m)"). Any of
+/// `words` (e.g. "auto") is accepted as it is.
+CLI::Validator length_in(double lo, double hi, std::initializer_list<const char*> words = {});
+/// One length or a pair ("110nm" or "110x130nm"), each in [lo, hi] metres.
+CLI::Validator length_or_pair_in(double lo, double hi);
+/// A pair of lengths ("70x53um"), each in [lo, hi] metres.
+CLI::Validator length_pair_in(double lo, double hi);
+/// The lengths the tool accepts at all: 1 pm (below any instrument's resolution) .. 1 m (above
+/// any scan's size); the same range the readers apply to a file's sample spacing.
+inline constexpr double kMinLength = 1e-12, kMaxLength = 1.0;
+/// A height (rms height, depth, amplitude): 0 .. 1 m.
+CLI::Validator height();
+/// A lateral distance (correlation length, period, filter sigma, texel): 1 pm .. 1 m.
+CLI::Validator distance();
+/// A direction in the surface plane (an azimuth): -360 .. 360 deg.
+CLI::Validator direction();
+/// A polar angle from the normal: 0 .. 90 deg.
+CLI::Validator polar_angle();
+/// The optical wavelengths the tool models: 100 nm .. 20 um (the optical constants' range).
+CLI::Validator wavelength();
+/// An angle ("30deg", "0.5rad", a bare number is degrees) in [lo, hi] radians, printed in
+/// degrees. With `list`, a comma-separated list of such angles.
+CLI::Validator angle_in(double lo, double hi, bool list = false);
 
 /// Every integer option of `app` and its subcommands (CLI11 type INT or UINT; all are counts or
 /// sizes) takes plain decimal digits only: CLI11 2.1 reads "-1" for an unsigned count as

@@ -14,9 +14,10 @@ namespace microbrdf::cli {
 void add_read_flags(CLI::App* cmd, ReadFlags& flags, const std::string& default_level) {
   flags.level = default_level;
   cmd->add_option(
-      "--spacing", flags.spacing,
-      "Sample spacing, overriding or supplying what the file lacks: 110nm, or 110x130nm "
-      "for dx x dy (needed for .exr/.tif and .npy without a JSON sidecar)");
+         "--spacing", flags.spacing,
+         "Sample spacing, overriding or supplying what the file lacks: 110nm, or 110x130nm "
+         "for dx x dy (needed for .exr/.tif and .npy without a JSON sidecar)")
+      ->check(length_or_pair_in(kMinLength, kMaxLength));
   cmd->add_option(
          "--level", flags.level,
          "Levelling before anything else: none | plane (least-squares plane) | poly2..poly6 "
@@ -27,13 +28,9 @@ void add_read_flags(CLI::App* cmd, ReadFlags& flags, const std::string& default_
 ReadOptions read_options(const ReadFlags& flags) {
   ReadOptions o;
   if (!flags.spacing.empty()) {
-    if (flags.spacing.find('x') != std::string::npos) {
-      auto p = parse_length_pair(flags.spacing);
-      o.dx = p.x;
-      o.dy = p.y;
-    } else {
-      o.dx = o.dy = parse_length(flags.spacing);
-    }
+    const LengthPair p = parse_length_or_pair(flags.spacing);
+    o.dx = p.x;
+    o.dy = p.y;
   }
   return o;
 }

@@ -127,17 +127,22 @@ void register_brdf(CLI::App& app) {
   const auto add_source = [a](CLI::App* c) {
     add_brdf_flags(c, a->spec, kFlagAllBrdfs);
     add_material_flags(c, a->spec, "");
-    c->add_option("--wavelength", a->wavelength, "Wavelength (with unit)")->capture_default_str();
+    c->add_option("--wavelength", a->wavelength, "Wavelength (with unit)")
+        ->capture_default_str()
+        ->check(wavelength());
   };
 
   auto* sl = brdf->add_subcommand("slice", "Tabulate a BRDF along an in-plane or out-of-plane cut");
   add_source(sl);
-  sl->add_option("--theta-i", a->theta_i, "Angle of incidence")->capture_default_str();
+  sl->add_option("--theta-i", a->theta_i, "Angle of incidence")
+      ->capture_default_str()
+      ->check(polar_angle());
   sl->add_option("--plane", a->plane,
                  "in (plane of incidence) or out (across it, through the mirror direction)")
       ->capture_default_str();
   sl->add_option("--samples", a->samples, "Number of angles over [-90, 90] deg")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(2, 1e7, "a slice finer than 2e-5 deg holds nothing new"));
   sl->add_option("-o,--output", a->output, "Output CSV (angle_deg, brdf_per_sr, wo)");
   sl->add_option("--plot", a->plot, "Plot of the slice (.png or .svg)");
   sl->add_flag("--log-y", a->log_y, "Logarithmic BRDF axis in the plot");

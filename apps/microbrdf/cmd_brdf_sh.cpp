@@ -116,7 +116,9 @@ void run_project(const ShArgs& a) {
 
 void run_estimate(const ShArgs& a) {
   check_lmax(a.lmax);
-  if (a.incident < 1 || a.rays < 1) throw InputError("--incident and --rays must be >= 1");
+  if (static_cast<double>(a.incident) * static_cast<double>(a.rays) > kMaxSamples)
+    throw InputError("--incident x --rays: " + std::to_string(a.incident) + " x " +
+                     std::to_string(a.rays) + " exits: " + kWhySamples);
   const auto src = brdf_from_flags(a.spec);
   const double lambda = parse_length(a.wavelength);
   const ShEstimator e = sh_estimate_chunked(
@@ -157,7 +159,9 @@ void register_brdf_sh(CLI::App* brdf) {
   const auto add_source = [a](CLI::App* c) {
     add_brdf_flags(c, a->spec, kFlagAllBrdfs);
     add_material_flags(c, a->spec, "");
-    c->add_option("--wavelength", a->wavelength, "Wavelength (with unit)")->capture_default_str();
+    c->add_option("--wavelength", a->wavelength, "Wavelength (with unit)")
+        ->capture_default_str()
+        ->check(wavelength());
   };
   auto* in = brdf->add_subcommand(
       "info", "Summary of a spherical-harmonic BRDF file: lmax, size, albedos, ringing, metadata");
@@ -174,10 +178,11 @@ void register_brdf_sh(CLI::App* brdf) {
                                   "Project a BRDF onto spherical harmonics (a .shbrdf file)");
   add_source(pj);
   pj->add_option("--lmax", a->lmax, "Highest SH order l (1..128); lmax (lmax+1)/2 functions kept")
-      ->capture_default_str();
-  pj->add_option(
-      "--n-theta", a->n_theta,
-      "Gauss-Legendre nodes in cos(theta) per hemisphere (x 2 in phi); default lmax + 8");
+      ->capture_default_str()
+      ->check(count_in(1, 128));
+  pj->add_option("--n-theta", a->n_theta,
+                 "Gauss-Legendre nodes in cos(theta) per hemisphere (x 2 in phi); default lmax + 8")
+      ->check(count_in(0, 1024, "the cost grows as n_theta^4 BRDF evaluations"));
   pj->add_option("-o,--output", a->output, "Output .shbrdf file")->required();
   pj->add_flag("--json", a->json, "Print a JSON summary on stdout");
   pj->footer(
@@ -191,10 +196,15 @@ void register_brdf_sh(CLI::App* brdf) {
       "sh-estimate",
       "Westin's Monte Carlo estimator fed by exits sampled from a known BRDF (no geometry)");
   add_source(es);
-  es->add_option("--lmax", a->lmax, "Highest SH order l (1..128)")->capture_default_str();
+  es->add_option("--lmax", a->lmax, "Highest SH order l (1..128)")
+      ->capture_default_str()
+      ->check(count_in(1, 128));
   es->add_option("--incident", a->incident, "Number of incident directions N (cosine-weighted)")
-      ->capture_default_str();
-  es->add_option("--rays", a->rays, "Exits drawn per incident direction")->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(1, kMaxSamples, kWhySamples));
+  es->add_option("--rays", a->rays, "Exits drawn per incident direction")
+      ->capture_default_str()
+      ->check(count_in(1, kMaxSamples, kWhySamples));
   es->add_option("--seed", a->seed, "Random seed (result independent of the thread count)")
       ->capture_default_str();
   es->add_option("-o,--output", a->output, "Output .shbrdf file (optional)");

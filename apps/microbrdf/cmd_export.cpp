@@ -89,11 +89,6 @@ Source source_of(const ExportArgs& a, const char* cmd) {
 
 RglExportOptions grid_options(const GridArgs& g, const Brdf& brdf, const std::string& what,
                               const char* cmd) {
-  for (auto [v, name] : {std::pair{g.theta_i, "--theta-i"},
-                         {g.ndf_grid, "--ndf-grid"},
-                         {g.samples, "--samples"},
-                         {g.wavelengths, "--wavelengths"}})
-    if (v < 2 || v > 512) throw InputError(std::string(name) + " must lie in 2..512");
   if (g.isotropic && g.anisotropic) throw InputError("give --isotropic or --anisotropic, not both");
   RglExportOptions o;
   if (g.isotropic || g.anisotropic) {
@@ -105,8 +100,6 @@ RglExportOptions grid_options(const GridArgs& g, const Brdf& brdf, const std::st
                               : std::to_string(g.phi_i) + " incident azimuths") +
                  " (--isotropic / --anisotropic to choose)");
   }
-  if (!o.isotropic && (g.phi_i < 3 || g.phi_i > 512))
-    throw InputError("--phi-i must lie in 3..512");
   o.theta_i = g.theta_i;
   o.phi_i = g.phi_i;
   o.ndf_theta = o.ndf_phi = g.ndf_grid;
@@ -212,18 +205,25 @@ void add_grid_flags(CLI::App* c, GridArgs& g) {
   c->add_flag("--anisotropic", g.anisotropic,
               "Store incident azimuths over 2 pi (default: whichever the BRDF is, tested)");
   c->add_option("--theta-i", g.theta_i, "Incident elevations over [0, 89] deg")
-      ->capture_default_str();
-  c->add_option("--phi-i", g.phi_i, "Incident azimuths (anisotropic files)")->capture_default_str();
-  c->add_option("--ndf-grid", g.ndf_grid, "ndf/sigma/vndf nodes per axis")->capture_default_str();
-  c->add_option("--samples", g.samples, "luminance/spectra nodes per axis")->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(2, 512));
+  c->add_option("--phi-i", g.phi_i, "Incident azimuths (anisotropic files)")
+      ->capture_default_str()
+      ->check(count_in(3, 512));
+  c->add_option("--ndf-grid", g.ndf_grid, "ndf/sigma/vndf nodes per axis")
+      ->capture_default_str()
+      ->check(count_in(2, 512));
+  c->add_option("--samples", g.samples, "luminance/spectra nodes per axis")
+      ->capture_default_str()
+      ->check(count_in(2, 512));
   c->add_option("--wavelengths", g.wavelengths, "Wavelengths over 360-830 nm")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(2, 512));
 }
 
 void add_source_flags(CLI::App* c, ExportArgs& a) {
   c->add_option("file", a.input, "Measured BRDF: .binary (MERL) or .bsdf (RGL)");
-  add_brdf_flags(c, a.spec, (kFlagAllBrdfs & ~kFlagMirror) | kFlagTexture);
-  add_material_flags(c, a.spec, "required with a BRDF that has a Fresnel term");
+  add_export_source_flags(c, a.spec);
 }
 
 }  // namespace

@@ -89,10 +89,11 @@ void register_export_gltf(CLI::App* e) {
       "-o al.glb\n"
       "  microbrdf export gltf --model ellipsoid --alpha 0.2 --metal Au -o au.gltf\n"
       "  microbrdf export gltf --texture tex.exr --uv-scale 2 --metal SS-austenitic -o ss.glb");
-  add_brdf_flags(c, a->spec, (kFlagAllBrdfs & ~kFlagMirror) | kFlagTexture);
-  add_material_flags(c, a->spec, "required with a BRDF that has a Fresnel term");
+  add_export_source_flags(c, a->spec);
   c->add_option("-o,--output", a->output, "Output .glb or .gltf")->required();
-  c->add_option("--uv-scale", a->uv_scale, "Texture repeats per scene unit")->capture_default_str();
+  c->add_option("--uv-scale", a->uv_scale, "Texture repeats per scene unit")
+      ->capture_default_str()
+      ->check(positive_number(1e6));
   c->add_flag("--json", a->json, "Print a JSON summary on stdout");
   c->callback([a] { run_guarded("export gltf", [&] { run_gltf(*a); }); });
 }

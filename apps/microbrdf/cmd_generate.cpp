@@ -11,6 +11,7 @@
 #include "microbrdf/generate.hpp"
 #include "microbrdf/height_preview.hpp"
 #include "microbrdf/image.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/units.hpp"
 
@@ -36,18 +37,21 @@ struct GenArgs {
 };
 
 std::pair<double, double> spacing_of(const GenArgs& a) {
-  if (a.spacing.find('x') != std::string::npos) {
-    auto p = parse_length_pair(a.spacing);
-    return {p.x, p.y};
-  }
-  double d = parse_length(a.spacing);
-  return {d, d};
+  const LengthPair p = parse_length_or_pair(a.spacing);
+  return {p.x, p.y};
 }
 
 template <class P>
 void set_grid(P& p, const GenArgs& a) {
   if (a.nx) p.nx = a.nx;
   if (a.ny) p.ny = a.ny;
+  // The generators' own limit (2^28 samples, 2 GiB of heights), said with the flags and the
+  // memory the grid would take.
+  if (double(p.nx) * double(p.ny) > double(std::size_t{1} << 28))
+    throw InputError("--nx x --ny: " + std::to_string(p.nx) + " x " + std::to_string(p.ny) +
+                     " samples is more than 2^28 (268 million samples, 2 GiB of heights)");
+  check_memory("--nx x --ny", mul_sat(mul_sat(p.nx, p.ny), 3 * sizeof(double)),
+               "the heights and their spectrum");
   std::tie(p.dx, p.dy) = spacing_of(a);
 }
 
@@ -75,10 +79,12 @@ void finish(const std::string& kind, const GenArgs& a, const Surface& s, nlohman
 void add_common(CLI::App* c, GenArgs& a, const char* default_size) {
   c->add_option("-o,--output", a.output, "Output height map (.x3p .gwy .npy .xyz .txt)")
       ->required();
-  c->add_option("--nx", a.nx, std::string("Samples along x (default ") + default_size + ")");
-  c->add_option("--ny", a.ny, "Samples along y (rows)");
+  c->add_option("--nx", a.nx, std::string("Samples along x (default ") + default_size + ")")
+      ->check(count_in(1, 1 << 28));
+  c->add_option("--ny", a.ny, "Samples along y (rows)")->check(count_in(1, 1 << 28));
   c->add_option("--spacing", a.spacing, "Sample spacing, e.g. 110nm, or 110x130nm for dx x dy")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(length_or_pair_in(kMinLength, kMaxLength));
   c->add_option("--seed", a.seed, "Random seed (same seed, same surface)")->capture_default_str();
   c->add_option("--preview", a.preview, "Also write a false-colour PNG of the heights");
   c->add_flag("--json", a.json, "Print parameters and measured statistics as JSON on stdout");
@@ -101,12 +107,16 @@ void register_generate(CLI::App& app) {
   auto* g = gen->add_subcommand(
       "gaussian", "Gaussian random surface, ACF sigma^2 exp(-(u/tau)^2 - (v/tau_y)^2)");
   add_common(g, *a, "1024");
-  g->add_option("--sigma", a->sigma, "rms height")->capture_default_str();
-  g->add_option("--tau", a->tau, "Correlation length (along --angle)")->capture_default_str();
+  g->add_option("--sigma", a->sigma, "rms height")->capture_default_str()->check(height());
+  g->add_option("--tau", a->tau, "Correlation length (along --angle)")
+      ->capture_default_str()
+      ->check(distance());
   g->add_option("--tau-y", a->tau_y,
-                "Correlation length across --angle (default: = --tau, isotropic)");
+                "Correlation length across --angle (default: = --tau, isotropic)")
+      ->check(distance());
   g->add_option("--angle", a->angle, "Direction of --tau from the x axis (deg unless marked)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(direction());
   g->add_flag(
       "--process", a->process,
       "True Gaussian process (random amplitudes): statistics scatter between seeds. Default: exact "
@@ -135,8 +145,8 @@ void register_generate(CLI::App& app) {
   auto* pr = gen->add_subcommand("profile",
                                  "1-D Gaussian profiles by moving average (Sun 2002 section 4)");
   add_common(pr, *a, "65536");
-  pr->add_option("--sigma", a->sigma, "rms height")->capture_default_str();
-  pr->add_option("--tau", a->tau, "Correlation length")->capture_default_str();
+  pr->add_option("--sigma", a->sigma, "rms height")->capture_default_str()->check(height());
+  pr->add_option("--tau", a->tau, "Correlation length")->capture_default_str()->check(distance());
   pr->add_option("--rows", a->rows, "Number of independent profiles (rows)")->capture_default_str();
   pr->callback([a] {
     run_guarded("generate", [&] {
@@ -161,21 +171,30 @@ void register_generate(CLI::App& app) {
                 "Target width along the brushing. With --preset: of the ellipsoid fitted to the "
                 "filtered NDF (the preset's depth modulation is kept and the base's rms width set "
                 "to 1.6x this, the presets' own calibration); without: the rms width of the "
-                "filtered Gaussian base");
+                "filtered Gaussian base")
+      ->check(positive_number(10));
   b->add_option("--alpha-across", a->alpha_across,
-                "Target width across (with --preset: base rms width 1.8x this)");
+                "Target width across (with --preset: base rms width 1.8x this)")
+      ->check(positive_number(10));
   b->add_option("--filter-sigma", a->filter_sigma, "Filter the target widths refer to")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(distance());
   b->add_option("--tau-across", a->tau_across, "Base correlation length across")
-      ->capture_default_str();
-  b->add_option("--angle", a->angle, "Brushing direction from the x axis")->capture_default_str();
+      ->capture_default_str()
+      ->check(distance());
+  b->add_option("--angle", a->angle, "Brushing direction from the x axis")
+      ->capture_default_str()
+      ->check(direction());
   b->add_option("--scratch-spacing", a->scratch_spacing,
                 "Mean distance between scratches across the brushing "
-                "(0 = no scratches)");
+                "(0 = no scratches)")
+      ->check(length_in(0, kMaxLength));
   b->add_option("--scratch-depth", a->scratch_depth,
-                "Mean scratch depth (exponentially distributed)");
+                "Mean scratch depth (exponentially distributed)")
+      ->check(height());
   b->add_option("--scratch-width", a->scratch_width,
-                "Mean Gaussian sigma of a scratch's cross-section");
+                "Mean Gaussian sigma of a scratch's cross-section")
+      ->check(distance());
   b->callback([a] {
     run_guarded("generate", [&] {
       BrushedParams p = a->preset.empty() ? BrushedParams{} : brushed_preset(a->preset);
@@ -217,11 +236,14 @@ void register_generate(CLI::App& app) {
 
   auto* c = gen->add_subcommand("cylinders", "Parallel cylinders (or grooves) along --angle");
   add_common(c, *a, "1024");
-  c->add_option("--radius", a->radius, "Cylinder radius")->capture_default_str();
-  c->add_option("--pitch", a->pitch, "Axis spacing")->capture_default_str();
-  c->add_option("--angle", a->angle, "Axis direction from the x axis")->capture_default_str();
+  c->add_option("--radius", a->radius, "Cylinder radius")->capture_default_str()->check(distance());
+  c->add_option("--pitch", a->pitch, "Axis spacing")->capture_default_str()->check(distance());
+  c->add_option("--angle", a->angle, "Axis direction from the x axis")
+      ->capture_default_str()
+      ->check(direction());
   c->add_option("--jitter", a->jitter, "Random axis shift, fraction of the pitch (0..0.5)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0, 0.5));
   c->add_flag("--grooves", a->grooves, "Cut grooves into a plane instead of raising cylinders");
   c->callback([a] {
     run_guarded("generate", [&] {
@@ -244,9 +266,13 @@ void register_generate(CLI::App& app) {
 
   auto* gr = gen->add_subcommand("grating", "Sinusoidal grating z = A sin(2 pi u / P)");
   add_common(gr, *a, "1024");
-  gr->add_option("--amplitude", a->amplitude, "Amplitude A")->capture_default_str();
-  gr->add_option("--period", a->period, "Period P")->capture_default_str();
-  gr->add_option("--angle", a->angle, "Direction of u from the x axis")->capture_default_str();
+  gr->add_option("--amplitude", a->amplitude, "Amplitude A")
+      ->capture_default_str()
+      ->check(height());
+  gr->add_option("--period", a->period, "Period P")->capture_default_str()->check(distance());
+  gr->add_option("--angle", a->angle, "Direction of u from the x axis")
+      ->capture_default_str()
+      ->check(direction());
   gr->callback([a] {
     run_guarded("generate", [&] {
       GratingParams p;

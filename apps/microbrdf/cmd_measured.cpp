@@ -158,12 +158,17 @@ void register_measured(CLI::App& app) {
       ->required();
   n->add_option("-o,--output", a->output, "Output NDF table (.npy + sidecar, or .exr)")->required();
   n->add_option("--theta-d", a->theta_d, "Angle between wi and wo (full BRDFs)")
-      ->capture_default_str();
-  n->add_option("--resolution", a->resolution, "Table nodes per side")->capture_default_str();
+      ->capture_default_str()
+      ->check(angle_in(0, M_PI));
+  n->add_option("--resolution", a->resolution, "Table nodes per side")
+      ->capture_default_str()
+      ->check(count_in(5, 8193));
   n->add_option("--shadowing", a->shadowing, "none (G = 1) | smith")->capture_default_str();
-  n->add_option("--kernel", a->kernel, "Point sets: kernel std (angle near the pole)");
+  n->add_option("--kernel", a->kernel, "Point sets: kernel std (angle near the pole)")
+      ->check(angle_in(0, kMaxKernelSigma));
   n->add_option("--wavelength", a->wavelength, "Wavelength read (nearest in the file)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(wavelength());
   add_material_flags(n, a->material, "default: none, F = 1: the NDF's shape");
   n->add_flag("--json", a->json, "Print a JSON summary on stdout");
   n->callback([a] { run_guarded("measured ndf", [&] { run_ndf(*a); }); });
@@ -185,7 +190,8 @@ void register_measured(CLI::App& app) {
   cc->add_option("measured", c->measured, "Measured effective NDF (from `measured ndf`)")
       ->required();
   cc->add_option("predicted", c->predicted, "Predicted NDF tables")->required();
-  cc->add_option("--instrument-fwhm", c->fwhm, "Gaussian instrument signature (FWHM angle)");
+  cc->add_option("--instrument-fwhm", c->fwhm, "Gaussian instrument signature (FWHM angle)")
+      ->check(angle_in(0, M_PI / 2));
   cc->add_option("--instrument", c->instrument, "Measured instrument signature (an NDF table)");
   cc->add_option("--report", c->report, "Write images, slices and compare.json here");
   cc->add_flag("--json", c->json, "Print a JSON summary on stdout");

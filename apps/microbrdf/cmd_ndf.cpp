@@ -147,6 +147,12 @@ void run_kirchhoff(const NdfArgs& a) {
 }
 
 void run(const NdfArgs& a) {
+  // Cheap checks first: a D_K can take minutes before it reaches the writer.
+  Preflight pre;
+  pre.output("-o", a.output, {".npy", ".exr"});
+  if (!a.preview.empty()) pre.output("--preview", a.preview, {".png"});
+  if (!a.instrument.empty()) pre.input("--instrument", a.instrument);
+  pre.done();
   if (a.method == "kirchhoff" && a.filter_sigma == "auto")
     throw InputError("--filter-sigma auto applies to --method filtered");
   if (a.method == "kirchhoff") return run_kirchhoff(a);
@@ -212,7 +218,8 @@ void register_ndf(CLI::App& app) {
   cmd->add_option("--method", a->method, "naive | filtered | kirchhoff")->capture_default_str();
   add_filter_sigma_flags(cmd, a->filter_sigma, a->sweep_resolution, "Filtered: ");
   cmd->add_option("--resolution", a->resolution, "Table size N (odd keeps a node at the centre)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(17, 8193));
   cmd->add_option("--min-support", a->min_support,
                   "Filtered: minimum weighted support, fraction of the full kernel")
       ->check(number_in(0, 1))  // a share of the kernel's weight
@@ -220,12 +227,14 @@ void register_ndf(CLI::App& app) {
   cmd->add_option("--instrument-fwhm", a->instrument_fwhm,
                   "Any method: convolve with an angular Gaussian of this FWHM (a "
                   "gonioreflectometer's signature, e.g. 1.5deg as in Dong sec. 7); conserves "
-                  "the integral");
+                  "the integral")
+      ->check(angle_in(0, M_PI / 2));
   cmd->add_option("--instrument", a->instrument,
                   "Any method: convolve with a measured signature (an NDF table, e.g. a "
                   "mirror's effective NDF) instead");
   cmd->add_option("--wavelength", a->wavelength, "Kirchhoff: lambda_q (Dong eq. 5)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(wavelength());
   add_kirchhoff_flags(cmd, a->dk, "Kirchhoff: ");
   cmd->add_flag("--direct", a->direct, "Kirchhoff: direct sums on every node (slow reference)");
   cmd->add_option("-o,--output", a->output, "Output table (.npy or .exr)")->required();

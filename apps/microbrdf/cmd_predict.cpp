@@ -55,6 +55,12 @@ void run(const PredictArgs& a) {
   if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
   pre.done();
   const MaterialSpec material = material_spec(a.material, MaterialSpec::named_metal("Fe"));
+  if (!has_material(a.material.keys()) &&
+      mpi_is_root())  // even with --quiet: it changes every number
+    std::fprintf(stderr,
+                 "microbrdf predict: note: no material given: iron (Fe) assumed for the Fresnel "
+                 "term of every BRDF, render and export; give --metal (e.g. --metal Al) or "
+                 "--n/--k\n");
   PredictOptions o;
   o.inputs = a.inputs;
   o.read = read_options(a.read);
@@ -160,18 +166,27 @@ void register_predict(CLI::App& app) {
                 "NDF of the measured BRDF (slices, renders): naive | filtered | kirchhoff (needs "
                 "--kirchhoff)")
       ->capture_default_str();
-  c->add_option("--resolution", a->resolution, "NDF table size N")->capture_default_str();
+  c->add_option("--resolution", a->resolution, "NDF table size N")
+      ->capture_default_str()
+      ->check(count_in(65, 4097));
   c->add_flag("--kirchhoff", a->kirchhoff, "Also compute the Kirchhoff D_K (wave optics)");
   c->add_option("--wavelength", a->wavelength, "lambda_q of D_K and the wavelength of the slices")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(wavelength());
   add_kirchhoff_flags(c, a->dk, "D_K (--kirchhoff, --filter-sigma auto): ");
   c->add_option("--theta-i", a->theta_i, "Angles of incidence of the BRDF slices, comma-separated")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(angle_in(0, 89.9 * M_PI / 180, true));
   c->add_option("--envmap", a->envmap, "Equirectangular EXR/HDR environment map for the renders");
-  c->add_option("--envmap-scale", a->envmap_scale, "Multiplies the map")->capture_default_str();
+  c->add_option("--envmap-scale", a->envmap_scale, "Multiplies the map")
+      ->capture_default_str()
+      ->check(positive_number(1e6));
   c->add_option("--render-width", a->render_width, "Width of the renders, pixels")
-      ->capture_default_str();
-  c->add_option("--spp", a->spp, "Samples per pixel of the renders")->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(16, 4096));
+  c->add_option("--spp", a->spp, "Samples per pixel of the renders")
+      ->capture_default_str()
+      ->check(count_in(1, 65536));
   c->add_flag("--no-render", a->no_render, "Skip the renders (= --renders none)");
   c->add_option("--renders", a->renders,
                 "all (the measured NDF and every model along shared paths, the strip, studio "
@@ -179,16 +194,20 @@ void register_predict(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--strips", a->strips, "Exemplar strips ALONG ACROSS the brushing (texture)")
       ->expected(2);
-  c->add_option("--texel", a->texel, "Texel size of the per-texel fits")->capture_default_str();
+  c->add_option("--texel", a->texel, "Texel size of the per-texel fits")
+      ->capture_default_str()
+      ->check(distance());
   c->add_option("--texture-size", a->texture_size, "Synthesised texture size, texels per side")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(8, 8192));
   c->add_option("--measured", a->measured,
                 "Compare with a measurement: goniometer .csv, MERL .binary, RGL .bsdf or an "
                 "effective NDF table (docs/measured.md)");
   c->add_option("--instrument-fwhm", a->instrument_fwhm,
                 "With --measured: Gaussian instrument signature (FWHM angle) applied to every "
                 "predicted NDF (filtered, D_K) before the comparison")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(angle_in(0, M_PI / 2));
   c->add_option("--instrument", a->instrument,
                 "With --measured: a measured instrument signature (an NDF table) instead");
   c->add_option("--seed", a->seed, "Seed of the renders and the texture synthesis")

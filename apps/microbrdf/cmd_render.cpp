@@ -14,6 +14,7 @@
 #include "microbrdf/render.hpp"
 #include "microbrdf/texture.hpp"
 #include "microbrdf/units.hpp"
+#include "render_lights.hpp"
 #include "render_sun.hpp"
 #include "spec_flags.hpp"
 
@@ -25,11 +26,7 @@ struct RenderArgs {
   std::string scene = "cylinders", obj, brushing = "linear", brush_angle = "0";
   sun2002::SunRenderOptions sun;  // Sun 2002 options (Figs. 8 and 11)
   double uv_scale = 1;
-  // lights
-  std::string envmap, env_rotation = "0";
-  double env_scale = 1;
-  bool white_env = false;
-  std::vector<std::string> points, sphere_lights, disk_lights;
+  RenderLightFlags lights;
   // image
   int size = 256, width = 0, height = 0, spp = 64, max_depth = 6,
       wavelengths = RenderOptions{}.wavelengths, threads = 0;
@@ -44,73 +41,17 @@ struct RenderArgs {
   bool json = false, quiet = false;
 };
 
-/// "a,b,c,...:r,g,b" -> numbers before and after the colon.
-void parse_light(const std::string& flag, const std::string& text, std::size_t n_geom,
-                 std::vector<double>& geom, Eigen::Vector3d& rgb) {
-  const auto colon = text.find(':');
-  auto numbers = [&](std::string s) {
-    std::replace(s.begin(), s.end(), ',', ' ');
-    std::istringstream is(s);
-    std::vector<double> v;
-    double x;
-    while (is >> x) v.push_back(x);
-    if (!is.eof()) throw InputError(flag + " '" + text + "': not a list of numbers");
-    return v;
-  };
-  if (colon == std::string::npos)
-    throw InputError(flag + " '" + text + "': expected GEOMETRY:R,G,B (see --help)");
-  geom = numbers(text.substr(0, colon));
-  const auto c = numbers(text.substr(colon + 1));
-  if (geom.size() != n_geom || (c.size() != 3 && c.size() != 1))
-    throw InputError(flag + " '" + text + "': expected " + std::to_string(n_geom) +
-                     " numbers, a colon and 1 or 3 colour values");
-  rgb = c.size() == 3 ? Eigen::Vector3d(c[0], c[1], c[2]) : Eigen::Vector3d::Constant(c[0]);
-  if (!(rgb.minCoeff() >= 0) || !rgb.allFinite())
-    throw InputError(flag + " '" + text + "': colour values must be finite and >= 0");
-}
-
-RenderLights make_lights(const RenderArgs& a, PreviewScene scene) {
-  RenderLights l;
-  l.envmap_path = a.envmap;
-  l.envmap_scale = a.env_scale;
-  l.envmap_rotation_rad = parse_angle(a.env_rotation);
-  l.uniform_white_env = a.white_env;
-  std::vector<double> g;
-  Eigen::Vector3d c;
-  for (const auto& s : a.points) {
-    parse_light("--point", s, 3, g, c);
-    l.points.push_back({Eigen::Vector3d(g[0], g[1], g[2]), c});
-  }
-  for (const auto& s : a.sphere_lights) {
-    parse_light("--sphere-light", s, 4, g, c);
-    if (!(g[3] > 0)) throw InputError("--sphere-light: the radius must be > 0");
-    l.spheres.push_back({Eigen::Vector3d(g[0], g[1], g[2]), g[3], c});
-  }
-  for (const auto& s : a.disk_lights) {
-    parse_light("--disk-light", s, 7, g, c);
-    if (!(g[6] > 0)) throw InputError("--disk-light: the radius must be > 0");
-    l.disks.push_back(
-        {Eigen::Vector3d(g[0], g[1], g[2]), Eigen::Vector3d(g[3], g[4], g[5]), g[6], c});
-  }
-  add_default_light_if_none(l, scene);
-  return l;
-}
-
 /// Everything cheap, before any file is parsed or a ray is traced: outputs, input files, the
 /// environment map's signature, the metal, image settings.
 void preflight(const RenderArgs& a) {
   if (a.outputs.empty()) throw InputError("give an output: -o image.png and/or -o image.exr");
   Preflight pre;
   for (const auto& o : a.outputs) pre.output("-o", o, {".png", ".exr"});
-  if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
+  if (!a.lights.envmap.empty()) pre.envmap("--envmap", a.lights.envmap);
   check_spec_files(pre, a.spec);
   if (!a.obj.empty()) pre.input("--obj", a.obj);
   if (!a.sun.s_texture.empty()) pre.input("--s-texture", a.sun.s_texture);
   if (!a.sun.color_texture.empty()) pre.input("--color-texture", a.sun.color_texture);
-  pre.require(a.spp >= 1, "--spp", "must be >= 1 (got " + std::to_string(a.spp) + ")");
-  pre.require((a.width > 0 ? a.width : a.size) >= 1 && (a.height > 0 ? a.height : a.size) >= 1,
-              "--size", "the image needs at least 1 x 1 pixels");
-  pre.positive("--env-scale", a.env_scale).positive("--uv-scale", a.uv_scale);
   pre.done();
   (void)parse_render_sampler(a.sampler, "--sampler");
   (void)render_brdf_spec(a.spec, a.sun);  // the BRDF and material flags, before any file
@@ -146,7 +87,7 @@ void run(RenderArgs& a) {
   opt.direct = parse_direct_light(a.direct, "--direct");
   parse_ris_candidates(a.ris_candidates, "--ris-candidates", opt);
   const auto mats = render_materials(a.spec, a.sun);
-  const auto lights = make_lights(a, sc.kind);
+  const auto lights = make_lights(a.lights, sc.kind);
   Progress progress("render", a.quiet);
   if (!a.quiet) opt.progress = progress.fraction_callback();
   const RenderImage img = render(sc, mats, lights, opt);
@@ -247,24 +188,24 @@ void register_render(CLI::App& app) {
   c->add_option("--brushing", a->brushing, "Tangent field: linear or rotational")
       ->capture_default_str();
   c->add_option("--brush-angle", a->brush_angle, "Turn of the brushing direction about n (deg)")
-      ->capture_default_str();
-  c->add_option("--uv-scale", a->uv_scale, "Texture repeats per scene unit")->capture_default_str();
+      ->capture_default_str()
+      ->check(direction());
+  c->add_option("--uv-scale", a->uv_scale, "Texture repeats per scene unit")
+      ->capture_default_str()
+      ->check(positive_number(1e6));
   add_brdf_flags(c, a->spec, kFlagAllBrdfs | kFlagTexture);
   add_material_flags(c, a->spec, "default: Al");
   add_render_sun_flags(c, a->sun);
-  c->add_option("--envmap", a->envmap, "Equirectangular environment map (.exr or .hdr)");
-  c->add_option("--env-scale", a->env_scale, "Multiplies the environment map")
-      ->capture_default_str();
-  c->add_option("--env-rotation", a->env_rotation, "Turns the map about the up axis (deg)")
-      ->capture_default_str();
-  c->add_flag("--white-env", a->white_env, "Uniform white environment of radiance 1");
-  c->add_option("--point", a->points, "Point light X,Y,Z:R,G,B (repeatable)");
-  c->add_option("--sphere-light", a->sphere_lights, "Sphere light X,Y,Z,RADIUS:R,G,B");
-  c->add_option("--disk-light", a->disk_lights, "Disk light X,Y,Z,NX,NY,NZ,RADIUS:R,G,B");
-  c->add_option("--size", a->size, "Image width and height in pixels")->capture_default_str();
-  c->add_option("--width", a->width, "Image width (overrides --size)");
-  c->add_option("--height", a->height, "Image height (overrides --size)");
-  c->add_option("--spp", a->spp, "Samples per pixel")->capture_default_str();
+  add_render_light_flags(c, a->lights);
+  c->add_option("--size", a->size, "Image width and height in pixels")
+      ->capture_default_str()
+      ->check(count_in(1, 16384));
+  c->add_option("--width", a->width, "Image width (overrides --size)")->check(count_in(1, 16384));
+  c->add_option("--height", a->height, "Image height (overrides --size)")
+      ->check(count_in(1, 16384));
+  c->add_option("--spp", a->spp, "Samples per pixel")
+      ->capture_default_str()
+      ->check(count_in(1, 1 << 20));
   c->add_option("--max-depth", a->max_depth, "Most bounces per path")->capture_default_str();
   c->add_option("--wavelengths", a->wavelengths, "Hero wavelengths per path (1..16)")
       ->capture_default_str();
@@ -286,7 +227,9 @@ void register_render(CLI::App& app) {
                 "With --direct ris: M,N = BRDF-sampled and light-sampled candidate directions per "
                 "shading point (M 1..16, N 1..4; more: less noise, more work per bounce)")
       ->capture_default_str();
-  c->add_option("--exposure", a->exposure, "Exposure of the PNG, stops")->capture_default_str();
+  c->add_option("--exposure", a->exposure, "Exposure of the PNG, stops")
+      ->capture_default_str()
+      ->check(number_in(-64, 64));
   c->add_flag("--normalize", a->normalize,
               "Scale the PNG so that its brightest pixels (99.9th percentile of the largest "
               "channel) are white, as Sun 2002 scales each image; --exposure adds to it");

@@ -143,39 +143,49 @@ void register_simulate(CLI::App& app) {
   c->add_option("scene", a->scene, "Micro-scene JSON file")->required();
   c->add_option("-o,--output", a->output, "Output .shbrdf file");
   c->add_option("--lmax", a->lmax, "Highest SH order l (matrix size lmax(lmax+1)/2 squared)")
-      ->capture_default_str();
-  auto* rays =
-      c->add_option("--rays", a->rays, "Incident rays in all (N_i N_p)")->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(1, 64));
+  auto* rays = c->add_option("--rays", a->rays, "Incident rays in all (N_i N_p)")
+                   ->capture_default_str()
+                   ->check(count_in(1, kMaxSamples, kWhySamples));
   c->add_option("--time", a->time, "Run for this long instead (e.g. 60s, 2min); not deterministic")
       ->excludes(rays);
   c->add_option("--points", a->points, "N_p: target points per incident direction")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(1, 1e9));
   c->add_option("--branches", a->branches, "N_b: rays spawned at the first diffuse event")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(1, 1e6));
   c->add_option("--max-depth", a->max_depth,
                 "Scattering events before a path is cut (energy cut is reported)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(1, 1e4));
   c->add_option("--seed", a->seed, "Random seed")->capture_default_str();
   c->add_option("--threads", a->threads, "Threads (0 = all cores)")->capture_default_str();
   c->add_flag("--independent", a->independent,
               "Independent uniform incident directions (default: stratified in rounds of 1024)");
-  c->add_option("--in-plane", a->in_plane,
-                "Direct in-plane mode: theta_i list, e.g. 0,30,45,60,75");
+  c->add_option("--in-plane", a->in_plane, "Direct in-plane mode: theta_i list, e.g. 0,30,45,60,75")
+      ->check(angle_in(0, 89.9 * M_PI / 180, true));
   c->add_option("--gonio-rays", a->gonio_rays, "--in-plane: rays per incident angle")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(1, kMaxSamples, kWhySamples));
   c->add_option("--cone", a->cone, "--in-plane: half-angle of the exit cones")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(angle_in(0, 20 * M_PI / 180));
   c->add_option("--phi-i", a->phi_i,
                 "--in-plane: azimuth of the plane of incidence (light at phi + 180 deg)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(direction());
   c->add_flag("--isotropic", a->isotropic,
               "--in-plane: the scene is statistically isotropic; turn the plane of incidence to "
               "all azimuths (averages out one realisation's anisotropy)");
   c->add_flag("--single-scatter", a->single, "--in-plane: also the one-bounce part");
   c->add_option("--he-sigma", a->he_sigma,
                 "--in-plane: reference surface rms height (He 1991 and Beckmann-Smith, with the "
-                "Fresnel term of the height field's mirror material)");
-  c->add_option("--he-tau", a->he_tau, "--in-plane: reference correlation length (He 1991)");
+                "Fresnel term of the height field's mirror material)")
+      ->check(height());
+  c->add_option("--he-tau", a->he_tau, "--in-plane: reference correlation length (He 1991)")
+      ->check(distance());
   c->add_option("--sh", a->sh, "--in-plane: overlay this .shbrdf");
   c->add_option("--plot", a->plot, "--in-plane: figure, one panel per theta_i (.png/.svg)");
   c->add_option("--csv", a->csv, "--in-plane: CSV of every point (default: CSV on stdout)");
@@ -183,7 +193,8 @@ void register_simulate(CLI::App& app) {
               "Instead: ray-traced visible fraction G1 and free travel probability from the mean "
               "plane vs polar angle (0..88 deg), with Smith and Sun 2002 for --he-sigma/--he-tau");
   c->add_option("--visibility-samples", a->vis_samples, "--visibility: samples per angle")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(1, kMaxSamples, kWhySamples));
   c->add_flag("--json", a->json, "Print a summary as JSON on stdout");
   c->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
   c->callback([a] { run_guarded("simulate", [&] { run(*a); }); });

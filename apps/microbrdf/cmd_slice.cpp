@@ -103,11 +103,13 @@ void register_slice(CLI::App& app) {
   cmd->add_option("--azimuth", a->azimuths,
                   "In-plane directions (deg unless marked), comma separated")
       ->delimiter(',')
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(direction());
   cmd->add_option("--label", a->labels, "Legend names, one per NDF (default: file stems)")
       ->delimiter(',');
   cmd->add_option("--theta-max", a->theta_max, "Largest |polar angle| shown")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(angle_in(0.001 * M_PI / 180, M_PI / 2));
   cmd->add_flag("--log", a->log, "Logarithmic D axis");
   cmd->add_option("--csv", a->csv, "Also write the slices as CSV");
   cmd->callback([a] { run_guarded("slice", [&] { run(*a); }); });

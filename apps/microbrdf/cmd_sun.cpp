@@ -60,7 +60,7 @@ void add_s(CLI::App* c, SunArgs& a, bool list) {
       c->add_option("--s", a.s,
                     list ? "Smoothness tau/sigma, one value or a list: 0.5 or 0.1,0.25,0.5,1,2,5"
                          : "Smoothness tau/sigma (correlation length / rms height)");
-  o->required();
+  o->required()->check(positive_number(1e3));  // s = 1e3 is a mirror to double precision
   if (list) o->delimiter(',');
 }
 
@@ -214,7 +214,9 @@ void register_sun(CLI::App& app) {
   auto* f = sunc->add_subcommand(
       "ftp", "Gamma_0(theta; s) of eq. 3.4.23 with Smith's G1 for the same surface");
   add_s(f, *a, true);
-  f->add_option("--theta-step", a->theta_step, "Angle step")->capture_default_str();
+  f->add_option("--theta-step", a->theta_step, "Angle step")
+      ->capture_default_str()
+      ->check(angle_in(0, M_PI / 2));
   f->add_option("--k-tau", a->k_tau, "Sun's heuristic constant k tau (eq. 3.4.21 sets 1)")
       ->capture_default_str();
   f->add_option("-o,--output", a->output, "CSV file (default: CSV on stdout)");
@@ -228,15 +230,21 @@ void register_sun(CLI::App& app) {
   add_s(m, *a, true);
   m->add_option("--samples", a->samples,
                 "Zero crossings per s (each casts a ray both ways at every angle)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(1, 1e9, "each crossing casts rays at every angle; 1e9 takes hours"));
   m->add_option("--seed", a->seed, "Random seed (same seed, same result)")->capture_default_str();
   m->add_option("--theta-step", a->theta_step, "Angle step (90 deg is exactly 0, not simulated)")
-      ->capture_default_str();
-  m->add_option("--theta-max", a->theta_max, "Largest angle")->capture_default_str();
+      ->capture_default_str()
+      ->check(angle_in(0, M_PI / 2));
+  m->add_option("--theta-max", a->theta_max, "Largest angle")
+      ->capture_default_str()
+      ->check(angle_in(0, M_PI / 2));
   m->add_option("--samples-per-tau", a->samples_per_tau, "Profile samples per correlation length")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(positive_number(1e3));
   m->add_option("--profile-length", a->profile_length, "Samples per profile holding crossings")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(16, 1e8));
   m->add_option("-o,--output", a->output, "CSV file of every (s, theta) point");
   m->add_option("--plot", a->plot, "Figure like Sun's Fig. 7, all s in one panel (.png or .svg)");
   m->add_option("--plot-grid", a->plot_grid, "One panel per s, with Smith at h = 0 and error bars");
@@ -246,8 +254,12 @@ void register_sun(CLI::App& app) {
   auto* sl = sunc->add_subcommand(
       "slice", "The analytic BRDF (eq. 3.5.3) in the plane of incidence, both forms");
   add_s(sl, *a, false);
-  sl->add_option("--theta-i", a->theta_i, "Polar angle of the light")->capture_default_str();
-  sl->add_option("--theta-step", a->theta_step, "Viewing angle step")->capture_default_str();
+  sl->add_option("--theta-i", a->theta_i, "Polar angle of the light")
+      ->capture_default_str()
+      ->check(polar_angle());
+  sl->add_option("--theta-step", a->theta_step, "Viewing angle step")
+      ->capture_default_str()
+      ->check(angle_in(0, M_PI / 4));
   add_material_flags(sl, a->material, "default: R = 1");
   sl->add_flag("--log", a->log_y, "Logarithmic BRDF axis in the plot");
   sl->add_option("-o,--output", a->output, "CSV file (default: CSV on stdout)");

@@ -89,7 +89,9 @@ void register_tabulate(CLI::App& app) {
       "  microbrdf tabulate --model beckmann --alpha 0.002 --window 0,0,0.02 --resolution 257 "
       "-o zoom.npy");
   add_model_flags(c, a->model);
-  c->add_option("--resolution", a->resolution, "Nodes per side")->capture_default_str();
+  c->add_option("--resolution", a->resolution, "Nodes per side")
+      ->capture_default_str()
+      ->check(count_in(3, 8193));
   c->add_option("--window", a->window,
                 "Zoomed table: CX,CY,HALF, the square [CX-HALF, CX+HALF] x [CY-HALF, CY+HALF] "
                 "of the disk plane (D = 0 outside it; recorded in the metadata)")

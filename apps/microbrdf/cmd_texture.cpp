@@ -223,14 +223,21 @@ void register_texture(CLI::App& app) {
                 "Scans (files, directories, globs, @manifest) or one parameter texture .exr");
   c->add_option("--along", a->along, "Exemplar strip along the brushing (scans or a .exr)");
   c->add_option("--across", a->across, "Exemplar strip across the brushing (scans or a .exr)");
-  c->add_option("--texel", a->texel, "Texel size (square), e.g. 53um")->capture_default_str();
+  c->add_option("--texel", a->texel, "Texel size (square), e.g. 53um")
+      ->capture_default_str()
+      ->check(distance());
   c->add_option("--filter-sigma", a->filter_sigma, "Filtered-NDF Gaussian (Dong sec. 5.1)")
-      ->capture_default_str();
-  c->add_option("--resolution", a->resolution, "Texel NDF table size N")->capture_default_str();
+      ->capture_default_str()
+      ->check(distance());
+  c->add_option("--resolution", a->resolution, "Texel NDF table size N")
+      ->capture_default_str()
+      ->check(count_in(17, 1025));
   c->add_flag("--tent", a->tent,
               "Fit with the exact histogram (tent) operator: ~100x slower (docs/texture.md)");
-  c->add_option("--size", a->size, "Synthesise an N x N texture (omit: fit only)");
-  c->add_option("--pitch", a->pitch, "Output texel pitch (default: the exemplar's)");
+  c->add_option("--size", a->size, "Synthesise an N x N texture (omit: fit only)")
+      ->check(count_in(2, 32768));
+  c->add_option("--pitch", a->pitch, "Output texel pitch (default: the exemplar's)")
+      ->check(distance());
   c->add_option("--seed", a->seed, "Random phases' seed")->capture_default_str();
   c->add_flag("--lognormal-alpha", a->lognormal,
               "Also try log-normal alpha fields; keep whichever matches the spectra better");
@@ -244,7 +251,8 @@ void register_texture(CLI::App& app) {
   c->add_option("--preview", a->preview, "Preview PNG (default: OUT with .png)");
   c->add_flag("--no-preview", a->no_preview, "Write no preview");
   c->add_option("--preview-size", a->preview_size, "Longest side of each preview panel, pixels")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(16, 16384));
   c->add_flag("--json", a->json, "Print a JSON summary on stdout");
   add_read_flags(c, a->read, "plane");
   c->callback([a] { run_guarded("texture", [&] { run(*a); }); });

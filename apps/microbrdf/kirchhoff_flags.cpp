@@ -3,6 +3,7 @@
 
 #include <cstdlib>
 
+#include "cli_checks.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/units.hpp"
 
@@ -11,9 +12,15 @@ namespace microbrdf::cli {
 void add_kirchhoff_flags(CLI::App* cmd, KirchhoffFlags& f, const std::string& prefix) {
   cmd->add_option("--patch", f.patch,
                   prefix +
-                      "tile size (coherence area, Dong App. A), e.g. 70x53um; 'whole' = one tile "
-                      "per scan")
-      ->capture_default_str();
+                      "tile size (coherence area, Dong App. A), e.g. 70x53um or 140um (square); "
+                      "'whole' = one tile per scan")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            if (text == "none" || text == "whole" || text == "0") return {};
+            return length_or_pair_in(kMinLength, kMaxLength)(text);
+          },
+          "WxH, a length or whole", "PATCH"));
   cmd->add_option("--window", f.window, prefix + "apodisation of each tile: none | hann | gauss")
       ->capture_default_str();
   cmd->add_option("--accuracy", f.accuracy,
@@ -42,10 +49,12 @@ void add_filter_sigma_flags(CLI::App* cmd, std::string& filter_sigma, std::size_
                   prefix +
                       "Gaussian std of the local plane fit, or 'auto': the sigma whose filtered "
                       "NDF is nearest D_K at --wavelength (Hellinger distance over a sweep)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(length_in(kMinLength, kMaxLength, {"auto"}));
   cmd->add_option("--sweep-resolution", sweep_resolution,
                   "--filter-sigma auto: table size of the sweep (D_K is slow)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(count_in(17, 8193));
 }
 
 KirchhoffOptions kirchhoff_options(const KirchhoffFlags& f, const std::string& wavelength) {
@@ -55,7 +64,7 @@ KirchhoffOptions kirchhoff_options(const KirchhoffFlags& f, const std::string& w
   if (f.patch == "none" || f.patch == "whole" || f.patch == "0") {
     o.patch_x = o.patch_y = 0;
   } else {
-    const LengthPair lp = parse_length_pair(f.patch);
+    const LengthPair lp = parse_length_or_pair(f.patch);
     o.patch_x = lp.x;
     o.patch_y = lp.y;
   }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cli_checks.hpp"
+#include "cli_parse_errors.hpp"
 #include "commands.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/duration.hpp"
@@ -68,7 +69,7 @@ int main(int argc, char** argv) {
     // --help and --version exit 0; every other parse failure (unknown or missing flag, a value
     // a validator refuses, a missing input file) is a usage error: exit code 2, whatever
     // CLI11's own code for it (105, 106, ...).
-    return app.exit(e) == 0 ? 0 : 2;
+    return microbrdf::cli::report_parse_error(app, e, argc, argv);
   }
   return microbrdf::cli::exit_code();
 }

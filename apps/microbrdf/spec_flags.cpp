@@ -22,12 +22,17 @@ void add_material_flags(CLI::App* c, SpecFlags& f, const std::string& default_no
   for (const auto& n : metal_names()) names += (names.empty() ? "" : " ") + n;
   const std::string note = default_note.empty() ? "" : " (" + default_note + ")";
   c->add_option("--metal", f.text["metal"], "Built-in optical constants: " + names + note);
-  c->add_option("--n", f.text["n"], "Constant refractive index n (with --k)");
-  c->add_option("--k", f.text["k"], "Constant extinction coefficient k (with --n)");
+  // Optical constants of real materials lie far inside these bounds (metals: n 0.03-10,
+  // k 0-100 over 100 nm - 20 um); beyond them a value is a typo, and the Fresnel terms overflow.
+  c->add_option("--n", f.text["n"], "Constant refractive index n (with --k)")
+      ->check(positive_number(1e3));
+  c->add_option("--k", f.text["k"], "Constant extinction coefficient k (with --n)")
+      ->check(number_in(0, 1e3));
   c->add_option("--nk-csv", f.text["nk_csv"], "CSV file 'wavelength_nm,n,k' of optical constants");
   c->add_option("--r0", f.text["r0"],
                 "Normal-incidence reflectance in [0, 1) (Sun 2002 5.2: eta = 1, "
-                "kappa = 2 sqrt(R0/(1-R0)))");
+                "kappa = 2 sqrt(R0/(1-R0)))")
+      ->check(number_in(0, 0.999999));
   c->add_option("--color,--rgb", f.text["color"],
                 "sRGB colour 'r,g,b' (0..1 or 0..255) or '#rrggbb': smooth spectrum, eta = 1");
   c->add_option("--fresnel", f.text["fresnel"],
@@ -36,21 +41,31 @@ void add_material_flags(CLI::App* c, SpecFlags& f, const std::string& default_no
 
 void add_model_flags(CLI::App* c, SpecFlags& f) {
   c->add_option("--model", f.text["model"], "Analytic NDF: beckmann, ggx (default) or ellipsoid");
+  // alpha 10 is a slope spread of 84 deg: rougher has no meaning for a microfacet model.
   c->add_option("--alpha", f.text["alpha"], "Roughness alpha (both axes)")
-      ->check(positive_number());
+      ->check(positive_number(10));
   c->add_option("--alpha-x", f.text["alpha_x"], "Roughness along the first axis")
-      ->check(positive_number());
+      ->check(positive_number(10));
   c->add_option("--alpha-y", f.text["alpha_y"],
                 "Roughness along the second axis (default: = alpha-x)")
-      ->check(positive_number());
+      ->check(positive_number(10));
   c->add_option("--phi", f.text["phi"],
-                "beckmann/ggx: azimuth of the alpha-x axis (angle: 5deg, 0.1rad; bare = deg)");
+                "beckmann/ggx: azimuth of the alpha-x axis (angle: 5deg, 0.1rad; bare = deg)")
+      ->check(direction());
   c->add_option("--theta-x", f.text["theta_x"],
-                "ellipsoid: rotation Rx, tilts the peak towards +y (angle; bare = deg)");
+                "ellipsoid: rotation Rx, tilts the peak towards +y (angle; bare = deg)")
+      ->check(direction());
   c->add_option("--theta-y", f.text["theta_y"],
-                "ellipsoid: rotation Ry, tilts the peak towards -x (angle; bare = deg)");
+                "ellipsoid: rotation Ry, tilts the peak towards -x (angle; bare = deg)")
+      ->check(direction());
   c->add_option("--theta-z", f.text["theta_z"],
-                "ellipsoid: rotation Rz, turns the axes by -theta_z (angle; bare = deg)");
+                "ellipsoid: rotation Rz, turns the axes by -theta_z (angle; bare = deg)")
+      ->check(direction());
+}
+
+void add_export_source_flags(CLI::App* c, SpecFlags& f) {
+  add_brdf_flags(c, f, (kFlagAllBrdfs & ~kFlagMirror) | kFlagTexture);
+  add_material_flags(c, f, "required with a BRDF that has a Fresnel term");
 }
 
 void add_brdf_flags(CLI::App* c, SpecFlags& f, unsigned set) {
@@ -66,16 +81,18 @@ void add_brdf_flags(CLI::App* c, SpecFlags& f, unsigned set) {
                   "if given");
   if (set & kFlagSun)
     c->add_option("--sun", f.text["sun"], "Sun 2002 analytic BRDF with smoothness s = tau/sigma")
-        ->check(positive_number());
+        ->check(positive_number(1e3));
   if (set & kFlagSh) {
     c->add_option("--sh", f.text["sh"],
                   "Spherical-harmonic BRDF file (.shbrdf, Westin 1992; from `simulate` or `brdf "
                   "sh-project`): grey and complete, so no material");
     c->add_option("--l-filter", f.text["l_filter"],
                   "With --sh: Gibbs damping, keep l <= L_FILTER, attenuate above by "
-                  "exp(-(l-L_FILTER)^2/(2 WIDTH^2))");
+                  "exp(-(l-L_FILTER)^2/(2 WIDTH^2))")
+        ->check(count_in(0, 1000));
     c->add_option("--filter-width", f.text["filter_width"],
-                  "With --sh: the damping width WIDTH (in l)");
+                  "With --sh: the damping width WIDTH (in l)")
+        ->check(positive_number(1000));
     c->add_flag("--isotropic-average", f.isotropic_average,
                 "With --sh: average over rotations about n (surfaces known to be isotropic)");
   }

@@ -47,6 +47,10 @@ enum BrdfFlagSet : unsigned {
 /// The flags of the BRDF kinds in `set`.
 void add_brdf_flags(CLI::App* cmd, SpecFlags& f, unsigned set);
 
+/// The BRDF and material flags of the exporters (`export bsdf|mitsuba|pbrt|gltf`): every BRDF
+/// but the ideal mirror (a delta lobe no table or glTF material holds), a parameter texture.
+void add_export_source_flags(CLI::App* c, SpecFlags& f);
+
 /// The material the flags name, or `fallback` when none is given (InputError without one).
 MaterialSpec material_spec(const SpecFlags& f, const std::optional<MaterialSpec>& fallback);
 /// The BRDF the flags name (InputError when none is given and there is no fallback). A

@@ -20,6 +20,8 @@ struct LengthPair {
   double x = 0, y = 0;
 };
 LengthPair parse_length_pair(std::string_view text);
+/// A pair as above, or one length for both ("110nm" -> 110 nm x 110 nm). Throws InputError.
+LengthPair parse_length_or_pair(std::string_view text);
 
 /// Formats a length in metres with an SI prefix that keeps 1 <= |mantissa| < 1000,
 /// e.g. 1.1e-7 -> "110 nm". `digits` significant digits. NaN or infinite prints as "n/a".

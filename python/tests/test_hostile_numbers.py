@@ -76,3 +76,10 @@ def test_file_size_limit_is_reported_like_a_full_disk(tmp_path):
     assert name == str(out)
     assert "the file size limit (ulimit -f: 64 KiB) was reached" in message
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_kirchhoff_patch_of_1e300_m_is_refused(scan):
+    # The command line refuses --patch below 1 pm itself; the library's own check must hold for
+    # callers that bypass it (the patch count was once 1e295 converted to 0, then divided by).
+    with pytest.raises(mb.InputError, match=r"patches of 1 x 1 samples; a patch needs at least 4"):
+        mb.ndf(scan, method="kirchhoff", spacing=1e-6, patch=(1e-300, 1e-300), resolution=65)

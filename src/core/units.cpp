@@ -108,4 +108,10 @@ std::string format_length(double metres, int digits) {
   return buf;
 }
 
+LengthPair parse_length_or_pair(std::string_view text) {
+  if (text.find_first_of("xX") != std::string_view::npos) return parse_length_pair(text);
+  const double d = parse_length(text);
+  return {d, d};
+}
+
 }  // namespace microbrdf

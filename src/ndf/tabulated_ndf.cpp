@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "microbrdf/memory_budget.hpp"
+
 namespace microbrdf {
 
 NdfWindow zoom_window(double cx, double cy, double half) {
@@ -36,6 +38,8 @@ TabulatedNdf::TabulatedNdf(std::size_t resolution, const NdfWindow& window)
   if (!(w_.half > 0 && w_.half <= 1 + kTol) || !(std::abs(w_.cx) + w_.half <= 1 + kTol) ||
       !(std::abs(w_.cy) + w_.half <= 1 + kTol))
     throw std::invalid_argument("TabulatedNdf: the window must lie inside [-1, 1]^2");
+  check_memory("an NDF table", mul_sat(mul_sat(resolution, resolution), sizeof(double)),
+               std::to_string(resolution) + " x " + std::to_string(resolution) + " nodes");
   d_.assign(resolution * resolution, 0.0);
 }
 

@@ -31,6 +31,7 @@
 #include <sstream>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/threads.hpp"
 #include "render/direct_ris.hpp"
@@ -444,6 +445,15 @@ std::vector<RenderImage> render_light_sets(
   if (opt.width <= 0 || opt.height <= 0 || opt.width > 16384 || opt.height > 16384)
     throw InputError("render: image size must be 1..16384 pixels a side");
   if (opt.spp <= 0) throw InputError("render: samples per pixel must be > 0");
+  {
+    // Per image: linear RGB floats (and two half images), plus the 8-bit or half-float copy an
+    // output writer makes (<= 8 bytes a pixel); checked before the scene is built.
+    const std::uint64_t pixels = std::uint64_t(opt.width) * std::uint64_t(opt.height);
+    const std::uint64_t images = variants.size() + std::max<std::size_t>(light_sets.size(), 1) - 1;
+    check_memory("render", mul_sat(pixels, images * 12 * (opt.half_images ? 3 : 1) + 8),
+                 "the images (" + std::to_string(opt.width) + " x " + std::to_string(opt.height) +
+                     " pixels)");
+  }
   if (opt.half_images && opt.spp < 2)
     throw InputError("render: half images need at least 2 samples per pixel");
   if (opt.max_depth < 1) throw InputError("render: max depth must be >= 1");

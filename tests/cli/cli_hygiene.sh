@@ -30,7 +30,7 @@ $BIN info "$T/junk.sur" >/dev/null 2>"$T/err"; rc=$?
 [ $rc -eq 1 ] && grep -q "junk.sur" "$T/err" || fail "corrupt file: exit $rc, not 1: $(cat "$T/err")"
 # The message names the flag that is wrong, not the one that is missing.
 usage "negative alpha" "--alpha" -- $BIN render --scene sphere --model ggx --alpha -0.1 -o "$T/a.png"
-grep -q "must be > 0" "$T/err" || fail "negative alpha: message: $(cat "$T/err")"
+grep -q "must be in (0, 10\]" "$T/err" || fail "negative alpha: message: $(cat "$T/err")"
 grep -q "give the roughness" "$T/err" && fail "negative alpha: blames a missing roughness"
 usage "alpha-y not a number" "--alpha-y" -- $BIN tabulate --model ggx --alpha-x 0.1 --alpha-y abc -o "$T/t.npy"
 

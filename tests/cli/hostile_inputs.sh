@@ -12,24 +12,11 @@ T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
 # expect CODE PATTERN -- CMD...: exit code CODE (any non-zero when "nz"), stderr matches PATTERN,
-# and no internal error / bare std:: message.
-expect() {
-  local code=$1 pat=$2; shift 3
-  (ulimit -v 3000000; timeout 60 /usr/bin/time -o "$T/usage" -f '%M %e' "$@") >"$T/out" 2>"$T/err"
-  local rc=$?
-  # Max RSS (KiB) and wall seconds of the command itself, asserted and printed per case.
-  local kib secs
-  # (GNU time writes "Command exited with non-zero status N" first when the exit is non-zero.)
-  read -r kib secs < <(tail -n 1 "$T/usage") || fail "no resource usage from: $*"
-  [ "$kib" -lt 1048576 ] || fail "max RSS $((kib / 1024)) MiB (over 1 GiB) from: $*"
-  [ "$rc" -ne 124 ] || fail "did not end within 60 s: $*"
-  printf 'case: exit %d, max RSS %d MiB, %s s: %s\n' "$rc" $((kib / 1024)) "$secs" "$*"
-  if [ "$code" = nz ]; then [ $rc -ne 0 ] || fail "exit 0 from: $*"; else
-    [ $rc -eq "$code" ] || fail "exit $rc (want $code) from: $*: $(cat "$T/err")"; fi
-  grep -q -- "$pat" "$T/err" || fail "message does not match '$pat' from: $*: $(cat "$T/err")"
-  grep -q "internal error\|std::" "$T/err" && fail "internal error / std:: message from: $*: $(cat "$T/err")"
-  return 0
-}
+# no internal error / bare std:: message, max RSS < 1 GiB, at most 20 s, no temporaries left
+# (tests/cli/lib/hostile_expect.bash), under a 3 GB address-space limit.
+HOSTILE_DIR=$T
+. "$HERE/lib/hostile_expect.bash"
+expect() { VMEM_LIMIT_KIB=3000000 LIMIT_SECONDS=20 hostile_run "$@"; }
 
 # 1. Small files that claim gigabytes: refused before the allocation, naming the file and size.
 $MAKE x3p-zeros "$T/zeros.x3p" 6000
@@ -114,7 +101,7 @@ $BIN simulate "$SC" -o "$T/t.shbrdf" --rays 200 --threads 1000000 -q 2>"$T/err" 
 grep -q "clamped" "$T/err" || fail "simulate: no note on clamped threads"
 expect 2 "\-\-branches" -- $BIN simulate "$SC" -o "$T/b.shbrdf" --rays 200 --branches 2147483647
 expect 2 "\-\-points" -- $BIN simulate "$SC" -o "$T/b.shbrdf" --rays 200 --points 2147483647
-expect 2 "\-\-rays must be >= 1" -- $BIN simulate "$SC" -o "$T/b.shbrdf" --rays 0
+expect 2 "\-\-rays: must be a whole number in \[1, 1e+10\] (got 0)$" -- $BIN simulate "$SC" -o "$T/b.shbrdf" --rays 0
 expect 2 "\-\-visibility-samples" -- $BIN simulate "$SC" --visibility --visibility-samples 18446744073709551615
 [ -e "$T/b.shbrdf" ] && fail "simulate wrote output despite a refused flag"
 

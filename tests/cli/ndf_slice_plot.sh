@@ -67,7 +67,7 @@ $BIN ndf "$T/g.x3p" --instrument "$T/sig.npy" --instrument-fwhm 1deg -o "$T/bad.
 grep -q -- "--instrument-fwhm or --instrument" "$T/err" || fail "both signatures message"
 $BIN ndf "$T/g.x3p" --method kirchhoff --instrument-fwhm -3deg -o "$T/bad.npy" 2>"$T/err" \
   && fail "negative FWHM accepted"
-grep -q -- "--instrument-fwhm must be" "$T/err" || fail "negative FWHM message"
+grep -q -- "--instrument-fwhm: must lie in 0 .. 90 deg" "$T/err" || fail "negative FWHM message"
 
 $BIN ndf "$T/g.x3p" --method naive --level none --resolution 257 -o "$T/n.exr" 2>/dev/null || fail "ndf naive exr"
 $BIN slice "$T/n.exr" "$T/f.npy" --azimuth 0,90 --log -o "$T/s.png" --csv "$T/s.csv" 2>/dev/null || fail slice

@@ -26,12 +26,13 @@ hostile_budget_kib() {
   done
 }
 
-# hostile_run CODE PATTERN -- CMD...   (CODE: a number or "nz" for any non-zero exit)
+# hostile_run CODE PATTERN -- CMD...   (CODE: a number or "nz" for any non-zero exit; PATTERN
+# empty: any message; VMEM_LIMIT_KIB: a `ulimit -v` for the command)
 hostile_run() {
   local code=$1 pat=$2; shift 3
   local limit=${LIMIT_SECONDS:-10} usage="$HOSTILE_DIR/.usage"
-  timeout -s KILL $((limit * 3)) /usr/bin/time -o "$usage" -f '%M %e' "$@" \
-    >"$HOSTILE_DIR/.out" 2>"$HOSTILE_DIR/.err"
+  (ulimit -v "${VMEM_LIMIT_KIB:-unlimited}" && exec timeout -s KILL $((limit * 3)) \
+    /usr/bin/time -o "$usage" -f '%M %e' "$@") >"$HOSTILE_DIR/.out" 2>"$HOSTILE_DIR/.err"
   local rc=$? kib secs
   read -r kib secs < <(tail -n 1 "$usage") || fail "no resource usage (killed?) from: $*"
   printf 'case: exit %d, max RSS %d MiB, %s s: %s\n' "$rc" $((kib / 1024)) "$secs" "$*"
@@ -40,7 +41,8 @@ hostile_run() {
   [ "$rc" -lt 128 ] || fail "ended by signal $((rc - 128)) from: $*: $err"
   if [ "$code" = nz ]; then [ "$rc" -ne 0 ] || fail "exit 0 from: $*"; else
     [ "$rc" -eq "$code" ] || fail "exit $rc (want $code) from: $*: $err"; fi
-  grep -q -- "$pat" "$HOSTILE_DIR/.err" || fail "message does not match '$pat' from: $*: $err"
+  [ -z "$pat" ] || grep -q -- "$pat" "$HOSTILE_DIR/.err" ||
+    fail "message does not match '$pat' from: $*: $err"
   grep -q "internal error\|std::" "$HOSTILE_DIR/.err" && fail "internal error / std:: from: $*: $err"
   [ "$kib" -lt 1048576 ] || fail "max RSS $((kib / 1024)) MiB (over 1 GiB) from: $*"
   local budget
@@ -49,7 +51,7 @@ hostile_run() {
     fail "max RSS $((kib / 1024)) MiB over 1.5 x --max-memory from: $*"
   awk -v s="$secs" -v l="$limit" 'BEGIN { exit !(s <= l) }' || fail "took $secs s (over $limit s): $*"
   local left
-  left=$(find "$HOSTILE_DIR" -name '*.tmp-*' -o -name '.*.partial-*' | head -n 3)
+  left=$(find "$HOSTILE_DIR" -name '*.tmp-*' -o -name '*.partial*' -o -name '*.old-*' | head -n 3)
   [ -z "$left" ] || fail "temporaries left by: $*: $left"
   return 0
 }
