@@ -18,6 +18,11 @@ void add_read_flags(CLI::App* cmd, ReadFlags& flags, const std::string& default_
          "Sample spacing, overriding or supplying what the file lacks: 110nm, or 110x130nm "
          "for dx x dy (needed for .exr/.tif and .npy without a JSON sidecar)")
       ->check(length_or_pair_in(kMinLength, kMaxLength));
+  cmd->add_option("--z-scale", flags.z_scale,
+                  "Height of one stored unit, for files that store no height unit (integer or "
+                  "float TIFF, EXR, .npy, text grids), e.g. 1nm: the file's numbers are "
+                  "nanometres; integer TIFF images need it")
+      ->check(length_in(kMinLength, kMaxLength));
   cmd->add_option(
          "--level", flags.level,
          "Levelling before anything else: none | plane (least-squares plane) | poly2..poly6 "
@@ -32,6 +37,7 @@ ReadOptions read_options(const ReadFlags& flags) {
     o.dx = p.x;
     o.dy = p.y;
   }
+  if (!flags.z_scale.empty()) o.z_scale = parse_length(flags.z_scale);
   return o;
 }
 

@@ -17,9 +17,11 @@ namespace microbrdf::cli {
 struct ReadFlags {
   std::string spacing;  ///< "110nm" or "110x130nm" (dx x dy); empty = from the file
   std::string level;    ///< none|plane|polyN
+  std::string z_scale;  ///< "1nm": the height of one stored unit; empty = the file's unit
 };
 
-/// Adds --spacing and --level to a subcommand; `default_level` is what measured data get.
+/// Adds --spacing, --z-scale and --level to a subcommand; `default_level` is what measured data
+/// get.
 void add_read_flags(CLI::App* cmd, ReadFlags& flags, const std::string& default_level);
 ReadOptions read_options(const ReadFlags& flags);
 

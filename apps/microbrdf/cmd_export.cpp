@@ -212,7 +212,7 @@ void add_grid_flags(CLI::App* c, GridArgs& g) {
       ->check(count_in(3, 512));
   c->add_option("--ndf-grid", g.ndf_grid, "ndf/sigma/vndf nodes per axis")
       ->capture_default_str()
-      ->check(count_in(2, 512));
+      ->check(count_in(3, 512));
   c->add_option("--samples", g.samples, "luminance/spectra nodes per axis")
       ->capture_default_str()
       ->check(count_in(2, 512));

@@ -36,6 +36,11 @@ struct ReadOptions {
   /// Spacing for formats that do not store it (npy without sidecar, exr, tiff, ascii grid),
   /// metres. Also overrides a stored spacing when set (e.g. uncalibrated Zygo files).
   std::optional<double> dx, dy;
+  /// The height of one stored unit, metres, for formats that store no height unit (TIFF, EXR,
+  /// .npy, text grids): heights are the file's numbers times this. Integer TIFF images without
+  /// a `z_unit` in their ImageDescription need it (counts have no unit); formats that store a
+  /// unit (x3p, dat, datx, sur, plu, gwy) refuse it.
+  std::optional<double> z_scale;
   /// Refuse files larger than this (bytes); guards against absurd inputs.
   std::uint64_t max_file_bytes = std::uint64_t{8} << 30;
 };

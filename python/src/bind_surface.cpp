@@ -200,17 +200,22 @@ through the view, call sync_mask().)");
 
   m.def(
       "read_surface",
-      [](const py::object& path, const py::object& spacing) {
+      [](const py::object& path, const py::object& spacing, std::optional<double> z_scale) {
         const std::string p = fspath(path, "path");
-        const ReadOptions o = read_options(spacing);
+        ReadOptions o = read_options(spacing);
+        if (z_scale && !(*z_scale > 0 && std::isfinite(*z_scale)))
+          throw InputError("z_scale must be > 0 (metres per stored unit)");
+        o.z_scale = z_scale;
         return call_released([&] { return std::make_shared<Surface>(read_surface(p, o)); });
       },
-      py::arg("path"), py::arg("spacing") = py::none(),
+      py::arg("path"), py::arg("spacing") = py::none(), py::arg("z_scale") = py::none(),
       R"(Reads a height map as stored (no levelling).
 
 path: .x3p, .dat (MetroPro), .datx, .sur, .plu, .gwy, .xyz, .txt/.asc/.csv, .npy (spacing
     from a same-stem .json sidecar), .exr, .tif.
 spacing: dx or (dx, dy) in metres, for formats that do not store it, or to override it.
+z_scale: metres per stored unit, for formats that store no height unit (TIFF, EXR, .npy, text
+    grids); integer TIFF images without a z_unit in their description need it.
 Raises FileError (an OSError naming the file) for a missing, unreadable or corrupt file.)");
 
   m.def(

@@ -161,7 +161,8 @@ Surface read_tiff(Bytes data, const std::string& name, const ReadOptions& option
   TIFFGetFieldDefaulted(t, TIFFTAG_COMPRESSION, &comp);
   TIFFGetFieldDefaulted(t, TIFFTAG_PLANARCONFIG, &planar);
   if (spp != 1)
-    fail(std::to_string(spp) + " samples per pixel; a height image needs exactly 1 (grey)");
+    fail(std::to_string(spp) +
+         " samples per pixel (a colour picture?); a height image holds exactly 1 (the height)");
   const bool ok_type = (fmt == SAMPLEFORMAT_IEEEFP && (bits == 32 || bits == 64)) ||
                        ((fmt == SAMPLEFORMAT_INT || fmt == SAMPLEFORMAT_UINT) &&
                         (bits == 8 || bits == 16 || bits == 32));
@@ -229,14 +230,30 @@ Surface read_tiff(Bytes data, const std::string& name, const ReadOptions& option
                                                                         : "uint") +
                                      std::to_string(bits));
   char* desc = nullptr;
+  std::string unit;
   if (TIFFGetField(t, TIFFTAG_IMAGEDESCRIPTION, &desc) && desc) {
     s.meta.comment = std::string(desc).substr(0, 4096);
-    if (std::string u = description_unit(s.meta.comment); !u.empty()) {
-      const double scale = length_unit_to_metres(u);
-      if (scale == 0) fail("unknown z_unit '" + u.substr(0, 40) + "' in ImageDescription");
-      for (auto& v : s.z) v *= scale;
-      s.meta.z_unit_in_file = u;
-    }
+    unit = description_unit(s.meta.comment);
+  }
+  if (!unit.empty() && options.z_scale)
+    fail("the ImageDescription gives the heights' unit (z_unit = " + unit.substr(0, 40) +
+         ") and --z-scale gives another: give one");
+  if (!unit.empty()) {
+    const double scale = length_unit_to_metres(unit);
+    if (scale == 0) fail("unknown z_unit '" + unit.substr(0, 40) + "' in ImageDescription");
+    for (auto& v : s.z) v *= scale;
+    s.meta.z_unit_in_file = unit;
+  } else if (options.z_scale) {
+    for (auto& v : s.z) v *= *options.z_scale;
+    s.meta.z_unit_in_file = "--z-scale " + format_length(*options.z_scale);
+  } else if (fmt != SAMPLEFORMAT_IEEEFP) {
+    // Integer counts have no unit: reading them as metres made a greyscale photograph a
+    // surface with an rms height of metres and slopes of 90 deg.
+    fail(std::to_string(bits) +
+         "-bit integer samples and no height unit (no 'z_unit = nm' or similar in the "
+         "ImageDescription): if this is a height map stored as counts, give the height of one "
+         "count with --z-scale (e.g. --z-scale 1nm); a photograph or a greyscale picture is not "
+         "a height map (profilometers export .x3p, .datx, .sur, .plu, .dat or .gwy)");
   }
   (void)planar;
   return s;

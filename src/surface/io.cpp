@@ -102,6 +102,19 @@ constexpr double kMaxSpacing = 1.0;
 // by 1e12 m this also keeps every slope (height difference / spacing) and its square finite.
 constexpr double kMinSpacing = 1e-12;
 
+// The kind of picture `h` starts with (PNG, JPEG, GIF, BMP), or nullptr: pictures are what a
+// user most often mistakes for a height map.
+const char* picture_format(std::span<const std::uint8_t> h) {
+  auto starts = [&](std::initializer_list<std::uint8_t> m) {
+    return h.size() >= m.size() && std::equal(m.begin(), m.end(), h.begin());
+  };
+  if (starts({0x89, 'P', 'N', 'G'})) return "PNG";
+  if (starts({0xFF, 0xD8, 0xFF})) return "JPEG";
+  if (starts({'G', 'I', 'F', '8'})) return "GIF";
+  if (starts({'B', 'M'}) && h.size() > 26) return "BMP";
+  return nullptr;
+}
+
 void check_heights(const Surface& s, const std::string& name) {
   for (std::size_t iy = 0; iy < s.ny; ++iy)
     for (std::size_t ix = 0; ix < s.nx; ++ix) {
@@ -195,6 +208,11 @@ Surface read_surface_bytes(std::span<const std::uint8_t> data, SurfaceFormat for
                            const std::string& name, const ReadOptions& options) {
   if (format == SurfaceFormat::Auto) format = format_from_magic(data);
   if (format == SurfaceFormat::Auto) {
+    if (const char* picture = picture_format(data))
+      throw FileError(name, std::string("a ") + picture +
+                                " picture, not a height map: microbrdf reads heights measured by "
+                                "a profilometer (.x3p .datx .sur .plu .dat .gwy) or stored as "
+                                "numbers (float TIFF or EXR, .npy, text grids, with --spacing)");
     throw FileError(name,
                     "unrecognised file format (known: .x3p .dat .datx .sur .plu .gwy .xyz "
                     ".txt/.asc/.csv .npy .exr .tif)");
@@ -234,6 +252,16 @@ Surface read_surface_bytes(std::span<const std::uint8_t> data, SurfaceFormat for
       break;
     case SurfaceFormat::Auto:
       break;
+  }
+  // --z-scale: the unit of formats that store none (the TIFF reader applies it itself).
+  if (options.z_scale && format != SurfaceFormat::Tiff) {
+    const bool unitless = format == SurfaceFormat::Exr || format == SurfaceFormat::Npy ||
+                          format == SurfaceFormat::AsciiGrid || format == SurfaceFormat::AsciiXyz;
+    if (!unitless)
+      throw FileError(name, format_name(format) +
+                                " files store their heights with a unit; --z-scale applies to "
+                                "TIFF, EXR, .npy and text grids only");
+    for (auto& v : s.z) v *= *options.z_scale;
   }
   // A stored spacing may be overridden (e.g. uncalibrated instruments).
   if (options.dx) s.dx = *options.dx;

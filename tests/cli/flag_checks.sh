@@ -54,6 +54,7 @@ refused ": error: --samples: must be a whole number" -- $BIN brdf slice --alpha 
 refused ": error: --incident: must be a whole number" -- $BIN brdf sh-estimate --lambertian 1 --incident 18446744073709551615
 refused ": error: --size: must be a whole number in \[2, 32768\]" -- $BIN texture x.npy --size 1000000 -o t.exr
 refused ": error: --lmax: must be a whole number in \[1, 64\]" -- $BIN simulate scene.json --lmax 100000 -o s.shbrdf
+refused ": error: --ndf-grid: must be a whole number in \[3, 512\] \(got 2\)" -- $BIN export bsdf --model ggx --alpha 0.3 --metal Al --ndf-grid 2 -o t.bsdf
 refused ": error: --nx x --ny: 100000 x 100000 samples is more than 2\^28" -- $BIN generate gaussian --nx 100000 --ny 100000 -o g.npy
 # Plain numbers.
 refused ": error: --alpha: must be in \(0, 10\] \(got 1e300\)" -- $BIN tabulate --model ggx --alpha 1e300 -o t.npy
