@@ -140,6 +140,10 @@ def environment(build):
     env["PYTHONPATH"] = os.path.join(build, "python")
     env["MICROBRDF_CLI"] = os.path.join(build, "bin", "microbrdf")
     env["MPLBACKEND"] = "Agg"
+    # A doc's `mpirun -np 4` as the reader types it: the suite may run as root (containers) and
+    # on fewer cores than ranks; Open MPI refuses both unless told (tests/mpi pass the flags).
+    env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
     env.pop("MAKEFLAGS", None)
     return env, shim
 
