@@ -26,7 +26,13 @@ def main():
     doc = open(sys.argv[1], encoding="utf-8").read().replace("−", "-")
     run = {r["s"]: r for r in json.load(open(sys.argv[2]))["results"]}
     section = doc[doc.index("### 4.3 Results"):]
-    rows = [l for l in section.split("\n\n")[2].split("\n") if re.match(r"\| \d", l)]
+    lines = section.split("\n")
+    head = next(i for i, l in enumerate(lines) if l.startswith("| s | crossings"))
+    rows = []
+    for l in lines[head + 2:]:  # after the header and its |---| line, up to the table's end
+        if not l.startswith("|"):
+            break
+        rows.append(l)
     problems, checked = [], 0
 
     def check(what, printed, value):
