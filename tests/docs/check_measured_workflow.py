@@ -18,6 +18,8 @@ import subprocess
 import sys
 import tempfile
 
+from quoted_numbers import Tally
+
 # Table row label in docs/measured.md -> the compare.json of that prediction.
 ROWS = {"Kirchhoff D_K, 550 nm": "kirchhoff", "filtered NDF, σ = 1 µm": "filtered"}
 
@@ -25,11 +27,6 @@ ROWS = {"Kirchhoff D_K, 550 nm": "kirchhoff", "filtered NDF, σ = 1 µm": "filte
 def quoted(cell):
     """The numbers of a table cell, as printed."""
     return re.findall(r"\d+\.\d+", cell)
-
-
-def matches(printed, value):
-    decimals = len(printed.split(".")[1])
-    return abs(float(printed) - value) <= 0.5 * 10**-decimals + 1e-12
 
 
 def main():
@@ -47,7 +44,7 @@ def main():
                         os.path.join(build, "bin/microbrdf"), out], check=True, env=env,
                        stdout=subprocess.DEVNULL)
     doc = open(os.path.join(source, "docs/measured.md"), encoding="utf-8").read()
-    problems, checked = [], 0
+    tally = Tally()
     for label, name in ROWS.items():
         run = json.load(open(os.path.join(out, "compare", name, "compare.json")))
         pred, meas = run["predicted_fit"]["params"], run["measured_fit"]["params"]
@@ -55,25 +52,20 @@ def main():
                   meas["alpha_x"], meas["alpha_y"], run["alpha_x_ratio"], run["alpha_y_ratio"]]
         rows = [l for l in doc.split("\n") if l.startswith("| " + label)]
         if len(rows) != 1:
-            problems.append(f"table row '{label}': found {len(rows)} times")
+            tally.problem(f"table row '{label}': found {len(rows)} times")
             continue
         printed = [n for cell in rows[0].split("|")[2:] for n in quoted(cell)]
         if len(printed) != len(values):
-            problems.append(f"row '{label}': {len(printed)} numbers, expected {len(values)}")
+            tally.problem(f"row '{label}': {len(printed)} numbers, expected {len(values)}")
             continue
         for p, v in zip(printed, values):
-            checked += 1
-            if not matches(p, v):
-                problems.append(f"row '{label}': the page says {p}, the run gives {v:.6g}")
+            tally.number(f"row '{label}'", p, v)
     nodes = re.search(r"([\d ]+) of the disk nodes hold data", doc)
-    checked += 1
-    if not nodes or int(nodes.group(1).replace(" ", "")) != run["nodes"]:
-        problems.append(f"measured nodes: the page says {nodes.group(1) if nodes else '?'}, "
-                        f"the run {run['nodes']}")
-    for p in problems:
-        print("MISMATCH", p)
-    print(f"docs/measured.md: {checked} numbers checked against {out}, {len(problems)} differ")
-    return 1 if problems else 0
+    if nodes:
+        tally.number("measured nodes", nodes.group(1).replace(" ", ""), run["nodes"])
+    else:
+        tally.problem("the count of measured nodes is not in the page")
+    return tally.finish(f"docs/measured.md against {out}")
 
 
 if __name__ == "__main__":

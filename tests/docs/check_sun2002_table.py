@@ -12,14 +12,11 @@ import json
 import re
 import sys
 
+from quoted_numbers import Tally
+
 # Table columns after s and crossings -> the run's record of that difference.
 DIFFS = ["leaving_minus_sun", "any_minus_sun", "leaving_minus_smith_g1",
          "leaving_minus_smith_mean_plane"]
-
-
-def close(printed, value):
-    decimals = len(printed.split(".")[1]) if "." in printed else 0
-    return abs(float(printed) - value) <= 0.5 * 10**-decimals + 1e-12
 
 
 def main():
@@ -33,26 +30,20 @@ def main():
         if not l.startswith("|"):
             break
         rows.append(l)
-    problems, checked = [], 0
-
-    def check(what, printed, value):
-        nonlocal checked
-        checked += 1
-        if not close(printed, value):
-            problems.append(f"{what}: the page says {printed}, the run gives {value:.6g}")
-
+    tally = Tally()
+    check = tally.number
     for row in rows:
         cells = [c.strip() for c in row.strip("|").split("|")]
         s = float(cells[0])
         if s not in run:
-            problems.append(f"s = {cells[0]}: not in the run")
+            tally.problem(f"s = {cells[0]}: not in the run")
             continue
         r = run[s]
         check(f"s = {cells[0]} crossings", cells[1].replace(" ", ""), r["crossings"])
         for cell, key in zip(cells[2:6], DIFFS):
             m = re.match(r"([-+]?\d\.\d+) at (\d+)°", cell)
             if not m:
-                problems.append(f"s = {cells[0]} {key}: cannot read {cell!r}")
+                tally.problem(f"s = {cells[0]} {key}: cannot read {cell!r}")
                 continue
             check(f"s = {cells[0]} {key}", m.group(1), r[key]["signed"])
             check(f"s = {cells[0]} {key} angle", m.group(2), r[key]["at_theta_deg"])
@@ -60,17 +51,14 @@ def main():
         check(f"s = {cells[0]} best k tau (leaving)", leaving.strip(), r["best_k_tau_leaving"])
         check(f"s = {cells[0]} best k tau (any)", any_.strip(), r["best_k_tau_any"])
     if len(rows) != len(run):
-        problems.append(f"{len(rows)} table rows for {len(run)} values of s in the run")
+        tally.problem(f"{len(rows)} table rows for {len(run)} values of s in the run")
     bound = re.search(r"Standard errors of the simulated points ≤ (\d\.\d+)", doc)
     worst = max(r["max_standard_error_leaving"] for r in run.values())
-    checked += 1
+    tally.checked += 1
     if not bound or round(worst, len(bound.group(1)) - 2) > float(bound.group(1)):
-        problems.append(f"standard errors: the page says ≤ {bound.group(1) if bound else '?'}, "
-                        f"the run's largest is {worst:.4g}")
-    for p in problems:
-        print("MISMATCH", p)
-    print(f"{sys.argv[1]}: {checked} numbers of section 4.3 checked, {len(problems)} differ")
-    return 1 if problems else 0
+        tally.problem(f"standard errors: the page says ≤ {bound.group(1) if bound else '?'}, "
+                      f"the run's largest is {worst:.4g}")
+    return tally.finish(f"{sys.argv[1]}, section 4.3")
 
 
 if __name__ == "__main__":
