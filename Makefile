@@ -6,7 +6,7 @@ FUZZ_SECONDS ?= 60
 DEMO_OUT ?= demo-out
 BIN := build/bin/microbrdf
 
-.PHONY: deps build build-installed install package test test-slow test-hostile test-package demo bench asan fuzz fuzz-build format clean
+.PHONY: deps build build-installed install package test test-slow test-hostile test-package test-docs demo bench asan fuzz fuzz-build format clean
 
 deps:
 	@scripts/install-deps.sh
@@ -43,6 +43,10 @@ test-slow: build
 # The hostile suite: several hundred hostile variants, a tally per class (tests/cli_slow).
 test-hostile: build
 	ctest --test-dir build -L hostile --output-on-failure
+
+# Every command block of README.md and docs/*.md, run as a reader would (tests/docs/).
+test-docs: build
+	ctest --test-dir build -L docs --output-on-failure -j $(JOBS)
 
 # The Debian package built, installed with dpkg -i, run and removed with dpkg -r (root).
 test-package: build-installed

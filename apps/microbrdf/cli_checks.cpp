@@ -31,9 +31,16 @@ std::string shown(double v) {
   return b;
 }
 
+/// `path` without trailing separators: "scene/" names the folder scene, whose parent is ".".
+fs::path without_trailing_slash(const std::string& path) {
+  fs::path p(path);
+  while (!p.has_filename() && p.has_relative_path()) p = p.parent_path();
+  return p;
+}
+
 /// The folder a new file or folder at `path` would be created in.
 fs::path parent_of(const std::string& path) {
-  fs::path p = fs::path(path).parent_path();
+  fs::path p = without_trailing_slash(path).parent_path();
   return p.empty() ? fs::path(".") : p;
 }
 
@@ -46,8 +53,14 @@ void Preflight::add(std::string_view flag, const std::string& problem) {
 void Preflight::writable_parent(std::string_view flag, const std::string& path) {
   const fs::path dir = parent_of(path);
   std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    add(flag, path + ": folder " + dir.string() + " does not exist");
+  // The rule of every command (docs/guide.md, "Output files and folders"): an output's folder
+  // must exist; only the last component of an output folder is created. A typo in a folder name
+  // then fails at once instead of scattering results into a new tree.
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    add(flag, path + ": " + dir.string() + " is not a folder");
+  else if (!fs::is_directory(dir, ec))
+    add(flag, path + ": folder " + dir.string() + " does not exist (create it first: mkdir -p " +
+                  dir.string() + ")");
   else if (access(dir.c_str(), W_OK) != 0)
     add(flag, path + ": folder " + dir.string() + " is not writable");
 }
