@@ -124,8 +124,11 @@ try {
     setExposure: (stops) => { state.exposure = Math.pow(2, stops); draw(); },
     // For the tests: a uniform map of this radiance instead of the page's (no argument: back).
     setUniformEnvironment: (radiance) => {
-      uniformEnv = radiance === undefined ? undefined
-                                          : environment(new Float32Array(128 * 64 * 3).fill(radiance), 128, 64);
+      if (radiance === undefined) uniformEnv = undefined;
+      else if (!uniformEnv || uniformEnv.radiance !== radiance) {  // (prefiltering takes seconds)
+        uniformEnv = environment(new Float32Array(128 * 64 * 3).fill(radiance), 128, 64);
+        uniformEnv.radiance = radiance;
+      }
       draw();
     },
     // For the tests: `microbrdf render --scene sphere`'s pinhole camera (at (0, 0, distance),

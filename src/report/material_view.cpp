@@ -685,10 +685,12 @@ std::string material_view_html(const json& summary, const std::string& beside,
        "with " +
        escape(data["fresnel"].get<std::string>()) + ", under " +
        escape(data["env_note"].get<std::string>()) +
-       "; orthographic view along -z, the brushing tangent horizontal at 0 deg. Each pixel "
-       "integrates the map with 64 fixed directions drawn from the lobe (a smooth quadrature, "
-       "not the path tracer: no interreflection, RGB instead of spectral), tone mapping "
-       "clamp and sRGB.</p>\n";
+       "; the camera, the brushing (along the camera's horizontal at 0 deg) and, at first, "
+       "the exposure of the sphere render above. Each pixel integrates the map with 64 fixed "
+       "directions drawn from the lobe, each reading the map filtered to the solid angle it "
+       "stands for (a smooth quadrature, not the path tracer: no interreflection, RGB instead "
+       "of spectral; its mean luminance is within 10 % of the path tracer's, checked by the "
+       "test suite), tone mapping clamp and sRGB.</p>\n";
   h += after;
   h += "<h3 id=\"lobe\">Interactive view: the BRDF lobe of the chosen model</h3>\n<div "
        "class=\"mbv\">"
