@@ -202,8 +202,12 @@ GltfViewHtml gltf_view_html(const json& summary, const std::string& dir) {
       "<code>KHR_materials_anisotropy</code>, lit by the same environment (prefiltered by "
       "three.js' PMREMGenerator; the environment buttons and the exposure slider apply to "
       "both), same camera. Differences are glTF's and three.js': Schlick's Fresnel from the "
-      "base colour instead of the exact conductor Fresnel, image-based lighting by the "
-      "split-sum approximation, a bent normal for anisotropy (measured in docs/gltf.md).</p>\n";
+      "base colour instead of the exact conductor Fresnel, multiple-scattering energy "
+      "compensation, image-based lighting by the split-sum approximation, a bent normal for "
+      "anisotropy. Measured against microbrdf's path tracer under the courtyard map (mean "
+      "luminance of the sphere, Cu): isotropic GGX alpha 0.02 +4.0 % (SSIM 0.995), alpha 0.05 "
+      "+4.9 %, alpha 0.2 +20 %, anisotropic GGX of strength 0.19 +61 % (SSIM 0.85); under a "
+      "uniform map within 1 % up to alpha 0.05 (docs/gltf.md).</p>\n";
   h.after += "<script type=\"application/json\" id=\"mbg-data\">" + json{{"glbs", glbs}}.dump() +
              "</script>\n";
   for (const auto& m : three.modules)
