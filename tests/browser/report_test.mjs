@@ -9,7 +9,7 @@
 //   4. the shader's BRDF equals `microbrdf brdf slice` (the C++ models) at in- and out-of-plane
 //      directions for every fitted model (values read back from a float framebuffer);
 //   5. the glTF view draws every fit's exported .glb with three.js, and three.js' sphere of
-//      isotropic GGX (alpha 0.02 under the report's map, 0.05 under a uniform one) is within 5 %
+//      isotropic Cu GGX (alpha 0.02 under the report's map, 0.05 under a uniform one) is within 5 %
 //      in mean luminance of `microbrdf render` of the same material under the same map, camera
 //      and exposure (SSIM and the cases that do not hold, docs/gltf.md, printed);
 //   6. the WebGL view starts at the exposure of the report's sphere render, and its sphere is
