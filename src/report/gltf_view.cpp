@@ -70,7 +70,6 @@ try {
     for (let i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
     return environment(new Float32Array(bytes.buffer), env.width, env.height);
   });
-  let uniformEnv;  // for the tests: a map of one radiance everywhere, in place of the page's
   const scene = new THREE.Scene();
   const loader = new GLTFLoader();
   const fits = {};
@@ -98,9 +97,8 @@ try {
   function draw() {
     scene.clear();
     scene.add(fits[state.fit]);
-    const e = uniformEnv || envs[state.env];
-    scene.environment = e.environment;
-    scene.background = e.background;
+    scene.environment = envs[state.env].environment;
+    scene.background = envs[state.env].background;
     renderer.toneMappingExposure = state.exposure;
     renderer.render(scene, camera);
     say(state.fit + ": " + data.glbs.find((g) => g.key === state.fit).file + " in three.js " +
@@ -122,15 +120,6 @@ try {
       data.glbs.push({key, file: key + ".glb"});
     },
     setExposure: (stops) => { state.exposure = Math.pow(2, stops); draw(); },
-    // For the tests: a uniform map of this radiance instead of the page's (no argument: back).
-    setUniformEnvironment: (radiance) => {
-      if (radiance === undefined) uniformEnv = undefined;
-      else if (!uniformEnv || uniformEnv.radiance !== radiance) {  // (prefiltering takes seconds)
-        uniformEnv = environment(new Float32Array(128 * 64 * 3).fill(radiance), 128, 64);
-        uniformEnv.radiance = radiance;
-      }
-      draw();
-    },
     // For the tests: `microbrdf render --scene sphere`'s pinhole camera (at (0, 0, distance),
     // looking at the origin, tan of the half field of view), at w x h pixels; no argument: back
     // to the page's view.
