@@ -238,7 +238,6 @@ uniform float uEnvRot, uExposure, uSampleRot;
 uniform vec2 uSize;
 uniform vec2 uCamera;        // tan of the half field of view, distance from the origin
 uniform vec2 uEnvSize;       // the map's width and height (texels)
-uniform int uLinear;         // 1: linear radiance out (no exposure, clamp or sRGB; for the tests)
 uniform vec2 uSeq[64];
 uniform int uCount;
 out vec4 outColor;
@@ -313,7 +312,6 @@ vec3 env(vec3 d, float lod) {
   return textureLod(uEnv, vec2(fract(u), theta / PI), lod).rgb;
 }
 vec3 tonemap(vec3 c) {
-  if (uLinear == 1) return c;
   c = clamp(c * uExposure, 0.0, 1.0);
   return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
 }
@@ -353,7 +351,8 @@ void main() {
   // frame, turned by R^T; the estimate f cos L / pdf is exact in expectation for every model.
   // Filtered importance sampling (Krivanek & Colbert 2008): each direction reads the map's mip
   // level whose texel covers the solid angle 1 / (N pdf) the direction stands for, so that the
-  // fixed directions integrate the whole lobe instead of point-sampling it.
+  // fixed directions integrate the whole lobe instead of point-sampling it (half a level more,
+  // as three.js' PMREM filtering does, against the fixed directions' aliasing).
   float texel = 2.0 * PI * PI / (uEnvSize.x * uEnvSize.y);  // solid angle of a texel at the equator
   for (int i = 0; i < 64; ++i) {
     if (i >= uCount) break;
@@ -408,7 +407,7 @@ const char* kScript = R"JS(
   gl.useProgram(prog);
   var U = {};
   ["uMode", "uFamily", "uR", "uAlpha", "uEta", "uKappa", "uProbeWi", "uProbeWo", "uEnv", "uEnvRot",
-   "uExposure", "uSampleRot", "uSize", "uCamera", "uEnvSize", "uLinear", "uSeq", "uCount"].forEach(function (k) {
+   "uExposure", "uSampleRot", "uSize", "uCamera", "uEnvSize", "uSeq", "uCount"].forEach(function (k) {
     U[k] = gl.getUniformLocation(prog, k);
   });
   // Environment textures: float32 RGB from the page, stored as RGBA16F (filterable in WebGL 2),
@@ -483,7 +482,6 @@ const char* kScript = R"JS(
     gl.uniform2f(U.uSize, canvas.width, canvas.height);
     gl.uniform2f(U.uCamera, data.camera.tan_half_fov, data.camera.distance);
     gl.uniform2f(U.uEnvSize, data.envs[state.env].width, data.envs[state.env].height);
-    gl.uniform1i(U.uLinear, 0);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     var m = byKey[state.model];
     say(m.key + ": alpha_x " + m.alpha[0].toPrecision(4) + ", alpha_y " + m.alpha[1].toPrecision(4) +
