@@ -370,7 +370,7 @@ async function checkGltfView(page) {
   const fitCase = {
     key: "ggx", label: `the report's GGX fit (alpha ${ggx.params.alpha_x.toPrecision(3)} x ` +
              `${ggx.params.alpha_y.toPrecision(3)})`,
-    metal: pt.metal,
+    metal: pt.metal, metalFlags: pt.metalFlags,
     flags: ["--alpha-x", String(ggx.params.alpha_x), "--alpha-y", String(ggx.params.alpha_y),
             "--phi", ggx.phi + "rad"] };
   const cases = [
@@ -381,17 +381,17 @@ async function checkGltfView(page) {
   ];
   const loaded = new Set(fits);
   for (const c of cases) {
-    const metal = c.metal || "Cu";
+    const metal = c.metal || "Cu", metalFlags = c.metalFlags || ["--metal", "Cu"];
     if (!loaded.has(c.key)) {
       const glb = path.join(pt.tmp, c.key + ".glb");
-      execFileSync(bin, ["export", "gltf", "--model", "ggx", ...c.flags, "--metal", metal, "-o", glb],
+      execFileSync(bin, ["export", "gltf", "--model", "ggx", ...c.flags, ...metalFlags, "-o", glb],
                    { stdio: ["ignore", "ignore", "ignore"] });
       await page.evaluate((k, b) => window.microbrdfGltf.addGlb(k, b), c.key,
                           fs.readFileSync(glb).toString("base64"));
       loaded.add(c.key);
     }
     const png = path.join(pt.tmp, `${c.key}.png`);
-    const ref = await pt.render(["--model", "ggx", ...c.flags, "--brushing", "rotational", "--metal", metal],
+    const ref = await pt.render(["--model", "ggx", ...c.flags, "--brushing", "rotational", ...metalFlags],
                                 ["--envmap", pt.envmap], pt.stops, png);
     if (shots) fs.copyFileSync(png, path.join(shots, `render_${c.key}.png`));
     await page.evaluate((k, st, s) => {
@@ -430,9 +430,15 @@ async function pathTracerSetup(page) {
   const env = await page.evaluate(() => JSON.parse(document.getElementById("mbv-data").textContent).envs[0]);
   const envmap = path.join(tmp, "view_env.hdr");
   const peak = writeHdr(envmap, env);
-  const metal = summary.settings.metal, size = 128;
+  // The run's metal: a built-in one by name (settings.metal is then the bare name, e.g. Cu,
+  // SS-austenitic; otherwise it describes n, k, a CSV or a colour), else its n, k at 555 nm (what
+  // the WebGL view uses for such a material).
+  const named = /^[A-Za-z][A-Za-z-]*$/.test(String(summary.settings.metal));
+  const metal = named ? summary.settings.metal : "n, k at 555 nm", size = 128;
+  const metalFlags = named ? ["--metal", metal]
+                           : ["--n", String(summary.material.n_555nm), "--k", String(summary.material.k_555nm)];
   ptSetup = {
-    tmp, envmap, metal, size, stops: -Math.ceil(Math.log2(peak)),
+    tmp, envmap, metal, metalFlags, size, stops: -Math.ceil(Math.log2(peak)),
     // 16 paths per pixel: the sphere's mean luminance to about 0.2 %.
     render: async (material, lights, stops, png) => {
       execFileSync(bin, ["render", "--scene", "sphere", ...material, ...lights,
@@ -495,7 +501,7 @@ async function checkViewAgainstPathTracer(page) {
   for (const fit of summary.fits) {
     const q = fit.params, key = fit.model;
     const material = ["--model", key, "--alpha-x", String(q.alpha_x), "--alpha-y", String(q.alpha_y),
-                      "--metal", pt.metal];
+                      ...pt.metalFlags];
     if (key === "ellipsoid")
       material.push("--theta-x", q.theta_x + "rad", "--theta-y", q.theta_y + "rad", "--theta-z", q.theta_z + "rad");
     else material.push("--phi", fit.phi + "rad");
