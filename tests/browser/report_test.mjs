@@ -8,9 +8,13 @@
 //      the filtered NDF's image;
 //   4. the shader's BRDF equals `microbrdf brdf slice` (the C++ models) at in- and out-of-plane
 //      directions for every fitted model (values read back from a float framebuffer);
-//   5. the glTF view draws every fit's exported .glb with three.js, and the GGX fit's sphere in
-//      three.js is within 5 % in mean luminance of `microbrdf render` of the same material under
-//      the same map and camera (SSIM printed).
+//   5. the glTF view draws every fit's exported .glb with three.js, and three.js' sphere of
+//      isotropic Cu GGX alpha 0.02 under the report's map is within 5 %
+//      in mean luminance of `microbrdf render` of the same material under the same map, camera
+//      and exposure (SSIM and the cases that do not hold, docs/gltf.md, printed);
+//   6. the WebGL view starts at the exposure of the report's sphere render, and its sphere is
+//      within 10 % in mean luminance of `microbrdf render` of the same fit under the same map,
+//      camera and exposure, for every fit (SSIM printed).
 //
 //   node report_test.mjs BIN REPORT_DIR CHROMIUM [SCREENSHOT_DIR]
 //
@@ -27,6 +31,7 @@ const fail = (msg) => {
   console.log("FAIL: " + msg);
 };
 const summary = JSON.parse(fs.readFileSync(path.join(dir, "summary.json"), "utf8"));
+let ptSetup;  // pathTracerSetup's
 
 const browser = await puppeteer.launch({
   executablePath: chromium,
@@ -145,7 +150,7 @@ try {
       await page.mouse.move(at.x, at.y);
       const t = await page.evaluate(() => document.getElementById("ndf-img-filtered-val").textContent);
       console.log("hover on the filtered NDF: " + t);
-      if (!/^D = [0-9.e+-]+ 1\/sr at m_x 0\.00\d, m_y -0\.00\d/.test(t))
+      if (!/^D = [0-9.e+-]+ 1\/sr at m_x -?0\.00\d, m_y -?0\.00\d/.test(t))  // (the centre pixel: either side of 0)
         fail("no D(m) on hover over the NDF image (got: " + t + ")");
     }
     for (let a = 0; a < models.length; ++a)
@@ -205,6 +210,9 @@ try {
   // 5. The glTF view: three.js draws each fit's exported .glb; and the GGX fit's .glb against
   //    `microbrdf render` of the same GGX material under the same map and camera.
   await checkGltfView(page);
+  // 6. The WebGL view against the path tracer.
+  if (ok) await checkViewAgainstPathTracer(page);
+  if (ptSetup) fs.rmSync(ptSetup.tmp, { recursive: true, force: true });
   if (shots) {
     // The top of the page and the two interactive views, as a 1280-pixel window lays them out,
     // stored at 3/4 scale (960 pixels wide) to keep the files small.
@@ -298,8 +306,10 @@ function writeHdr(file, env) {
   for (let i = 0; i < n; ++i) {
     const v = Math.max(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
     if (!(v > 1e-32)) continue;
+    // (rounded to the nearest mantissa step: truncating would make the path tracer's map about
+    // 0.3 % darker than the page's)
     const e = Math.floor(Math.log2(v)) + 1, scale = 256 / Math.pow(2, e);
-    for (let k = 0; k < 3; ++k) px[4 * i + k] = Math.min(255, Math.floor(rgb[3 * i + k] * scale));
+    for (let k = 0; k < 3; ++k) px[4 * i + k] = Math.min(255, Math.floor(rgb[3 * i + k] * scale + 0.5));
     px[4 * i + 3] = e + 128;
     peak = Math.max(peak, v);
   }
@@ -326,11 +336,13 @@ async function checkGltfView(page) {
   for (const f of fits) {
     await page.evaluate((k) => window.microbrdfGltf.setFit(k), f);
     const { w, h, px } = await canvasPixels(page, "mbg-canvas");
-    // The sphere: the disk of radius 0.92 of the half-width (orthographic), its inner 90 %.
+    // The sphere (the pinhole's silhouette, asin(1/4) seen from 4: 0.898 of the half-width), its
+    // inner 90 %.
+    const rad = Math.tan(Math.asin(0.25)) / (1.15 / 4);
     let sum = 0, sum2 = 0, n = 0, lit = 0;
     for (let y = 0; y < h; ++y)
       for (let x = 0; x < w; ++x) {
-        const u = (2 * (x + 0.5) / w - 1) / 0.92, v = (2 * (y + 0.5) / h - 1) / 0.92;
+        const u = (2 * (x + 0.5) / w - 1) / rad, v = (2 * (y + 0.5) / h - 1) / rad;
         if (u * u + v * v > 0.81) continue;
         const i = (y * w + x) * 4, l = (px[i] + px[i + 1] + px[i + 2]) / 3;
         sum += l; sum2 += l * l; n++;
@@ -342,97 +354,179 @@ async function checkGltfView(page) {
     if (!(sd > 2 && lit > 0.5 * n)) fail(`glTF view ${f}: the sphere is black or flat`);
     if (shots) await (await page.$("#mbg-canvas")).screenshot({ path: path.join(shots, `gltf_${f}.png`) });
   }
-  // Acceptance: three.js' render of a .glb against the path tracer's, `render --scene sphere`
-  // (a pinhole at (0, 0, 4), tan of the half field of view 1.15/4; scene.cpp), of the same GGX
-  // material, the tangent along the circles about y (--brushing rotational) as the .glb's sphere
-  // has it. The map both see is the one the page lights its views with (the report's map
-  // box-filtered to 128 x 64, times its scale), written as a Radiance .hdr for the path tracer.
-  // The exposure keeps the map's brightest texel below 1: at the view's exposure both clip the
-  // sky, and the mean of clipped pixels depends on how each renderer spreads a highlight.
+  // Acceptance (docs/gltf.md, "In a glTF viewer"): three.js' render of a .glb against the path
+  // tracer's, `render --scene sphere`, of the same GGX material (the tangent along the circles
+  // about y, --brushing rotational, as the .glb's sphere has it) under the same map and camera.
   const ggx = summary.fits.find((f) => f.model === "ggx");
   if (!ggx || !fits.includes("ggx")) {
     fail("no GGX fit with a .glb to compare with the path tracer");
     return;
   }
-  const size = 128, tmp = fs.mkdtempSync(path.join(dir, ".gltf-"));
-  const env = await page.evaluate(() => JSON.parse(document.getElementById("mbv-data").textContent).envs[0]);
-  const envmap = path.join(tmp, "view_env.hdr");
-  const peak = writeHdr(envmap, env);
-  const stops = -Math.ceil(Math.log2(peak));
-  const metal = summary.settings.metal;
-  const cases = [
-    { key: "ggx", label: `the report's GGX fit (alpha ${ggx.params.alpha_x.toPrecision(3)} x ` +
+  const pt = await pathTracerSetup(page);
+  // Which cases must hold within 5 % and why the others do not: docs/gltf.md (each difference
+  // measured on its own). `limit`: asserted; the rest are printed. The isotropic cases are Cu
+  // whatever the report's metal: the claim is Cu's (glTF's Schlick Fresnel from the base colour
+  // alone puts stainless steel 5 to 6 % above the exact conductor, docs/gltf.md).
+  const fitCase = {
+    key: "ggx", label: `the report's GGX fit (alpha ${ggx.params.alpha_x.toPrecision(3)} x ` +
              `${ggx.params.alpha_y.toPrecision(3)})`,
-      flags: ["--alpha-x", String(ggx.params.alpha_x), "--alpha-y", String(ggx.params.alpha_y),
-              "--phi", ggx.phi + "rad"] },
+    metal: pt.metal, metalFlags: pt.metalFlags,
+    flags: ["--alpha-x", String(ggx.params.alpha_x), "--alpha-y", String(ggx.params.alpha_y),
+            "--phi", ggx.phi + "rad"] };
+  const cases = [
+    fitCase,
+    { key: "iso0.02", label: "isotropic GGX alpha 0.02", flags: ["--alpha", "0.02"], limit: 0.05 },
     { key: "iso0.05", label: "isotropic GGX alpha 0.05", flags: ["--alpha", "0.05"] },
     { key: "iso0.2", label: "isotropic GGX alpha 0.2", flags: ["--alpha", "0.2"] },
   ];
-  const rad = Math.tan(Math.asin(0.25)) / (1.15 / 4);  // the silhouette: asin(1/4) seen from 4
-  const results = {};
+  const loaded = new Set(fits);
   for (const c of cases) {
-    if (c.key !== "ggx") {
-      const glb = path.join(tmp, c.key + ".glb");
-      execFileSync(bin, ["export", "gltf", "--model", "ggx", ...c.flags, "--metal", metal, "-o", glb],
+    const metal = c.metal || "Cu", metalFlags = c.metalFlags || ["--metal", "Cu"];
+    if (!loaded.has(c.key)) {
+      const glb = path.join(pt.tmp, c.key + ".glb");
+      execFileSync(bin, ["export", "gltf", "--model", "ggx", ...c.flags, ...metalFlags, "-o", glb],
                    { stdio: ["ignore", "ignore", "ignore"] });
       await page.evaluate((k, b) => window.microbrdfGltf.addGlb(k, b), c.key,
                           fs.readFileSync(glb).toString("base64"));
+      loaded.add(c.key);
     }
-    const png = path.join(tmp, c.key + ".png");
-    execFileSync(bin, ["render", "--scene", "sphere", "--model", "ggx", ...c.flags, "--metal", metal,
-                       "--envmap", envmap, "--brushing", "rotational", "--size", String(size),
-                       "--spp", "64", "--exposure", String(stops), "--quiet", "-o", png],
-                 { stdio: ["ignore", "ignore", "inherit"] });
-    const ref = await pngPixels(page, png);
+    const png = path.join(pt.tmp, `${c.key}.png`);
+    const ref = await pt.render(["--model", "ggx", ...c.flags, "--brushing", "rotational", ...metalFlags],
+                                ["--envmap", pt.envmap], pt.stops, png);
     if (shots) fs.copyFileSync(png, path.join(shots, `render_${c.key}.png`));
     await page.evaluate((k, st, s) => {
       window.microbrdfGltf.setFit(k);
       window.microbrdfGltf.setExposure(st);
       window.microbrdfGltf.usePinhole(1.15 / 4, 4, s, s);
-    }, c.key, stops, size);
+    }, c.key, pt.stops, pt.size);
     const got = await canvasPixels(page, "mbg-canvas");
     if (shots) await (await page.$("#mbg-canvas")).screenshot({ path: path.join(shots, `three_${c.key}.png`) });
-    // The sphere's inner 95 % (no silhouette pixels); the background outside 105 %.
-    const la = new Float64Array(size * size), lb = new Float64Array(size * size);
-    const mask = new Uint8Array(size * size);
-    let sa = 0, sb = 0, n = 0, ba = 0, bb = 0, bd = 0, nb = 0;
-    for (let y = 0; y < size; ++y)
-      for (let x = 0; x < size; ++x) {
-        const k = y * size + x, r = Math.hypot(2 * (x + 0.5) / size - 1, 2 * (y + 0.5) / size - 1);
-        la[k] = luminance(got.px, 4 * k);
-        lb[k] = luminance(ref.px, 4 * k);
-        if (r < 0.95 * rad) {
-          mask[k] = 1;
-          sa += la[k]; sb += lb[k]; n++;
-        } else if (r > 1.05 * rad) {
-          ba += la[k]; bb += lb[k]; bd += Math.abs(la[k] - lb[k]); nb++;
-        }
-      }
-    const rel = (sa - sb) / sb, q = ssim(la, lb, mask, size, size);
-    results[c.key] = rel;
-    console.log(`glTF (three.js) vs path tracer, ${c.label}, ${metal}, ${size} x ${size}, exposure ` +
-                `${stops} stops: sphere (${n} pixels) mean luminance ${(sa / n).toExponential(4)} vs ` +
-                `${(sb / n).toExponential(4)} (${rel >= 0 ? "+" : ""}${(100 * rel).toFixed(2)} %), ` +
-                `SSIM ${q.toFixed(4)}; background mean ${(ba / nb).toExponential(3)} vs ` +
-                `${(bb / nb).toExponential(3)}, mean |difference| ${(bd / nb).toExponential(3)}`);
-    if (c.key === "ggx") {
+    const r = compareSpheres(got, ref, pt.size);
+    console.log(`glTF (three.js) vs path tracer, ${c.label}, ${metal}, the view's map, ` +
+                describe(r, pt.stops, pt.size));
+    if (c === fitCase && !(Math.abs(r.bgRel) < 0.05 && r.bgDiff < 0.5))
       // Same map, orientation, camera and exposure: the background agrees (its residual is
       // three.js' bilinear filtering of the 128 x 64 map against the path tracer's texel lookup).
-      if (!(Math.abs(ba / bb - 1) < 0.05 && bd / bb < 0.5))
-        fail("glTF view: the background differs from the path tracer's: map orientation, camera or exposure");
-    }
+      fail("glTF view: the background differs from the path tracer's: map orientation, camera or exposure");
+    if (c.limit !== undefined && !(Math.abs(r.rel) <= c.limit))
+      fail(`glTF view: ${c.label} is ${(100 * r.rel).toFixed(2)} % from the path tracer in mean ` +
+           `luminance (limit ${100 * c.limit} %)`);
   }
   await page.evaluate((k) => {
-    window.microbrdfGltf.setExposure(0);
+    window.microbrdfGltf.setExposure(Number(document.getElementById("mbv-exposure").value));
     window.microbrdfGltf.setFit(k);
     window.microbrdfGltf.usePinhole();
   }, fits[0]);
-  fs.rmSync(tmp, { recursive: true, force: true });
-  // glTF's near-mirror GGX agrees with the path tracer (the figures above for the others: their
-  // differences are glTF's and three.js' approximations, docs/gltf.md).
-  if (!(Math.abs(results["iso0.05"]) <= 0.08))
-    fail(`glTF view: isotropic GGX alpha 0.05 is ${(100 * results["iso0.05"]).toFixed(2)} % from ` +
-         "the path tracer in mean luminance (limit 8 %)");
+}
+
+// The map the page lights its views with (the report's map box-filtered to 128 x 64, times its
+// scale) as a Radiance .hdr for the path tracer, an exposure that keeps its brightest texel below
+// 1 (at the view's exposure both images clip the sky, and the mean of clipped pixels depends on
+// how each renderer spreads a highlight), and `render --scene sphere` (a pinhole at (0, 0, 4),
+// tan of the half field of view 1.15/4; scene.cpp) at 128 x 128 pixels into a PNG, decoded.
+async function pathTracerSetup(page) {
+  if (ptSetup) return ptSetup;
+  const tmp = fs.mkdtempSync(path.join(dir, ".pt-"));
+  const env = await page.evaluate(() => JSON.parse(document.getElementById("mbv-data").textContent).envs[0]);
+  const envmap = path.join(tmp, "view_env.hdr");
+  const peak = writeHdr(envmap, env);
+  // The run's metal: a built-in one by name (settings.metal is then the bare name, e.g. Cu,
+  // SS-austenitic; otherwise it describes n, k, a CSV or a colour), else its n, k at 555 nm (what
+  // the WebGL view uses for such a material).
+  const named = /^[A-Za-z][A-Za-z-]*$/.test(String(summary.settings.metal));
+  const metal = named ? summary.settings.metal : "n, k at 555 nm", size = 128;
+  const metalFlags = named ? ["--metal", metal]
+                           : ["--n", String(summary.material.n_555nm), "--k", String(summary.material.k_555nm)];
+  ptSetup = {
+    tmp, envmap, metal, metalFlags, size, stops: -Math.ceil(Math.log2(peak)),
+    // 16 paths per pixel: the sphere's mean luminance to about 0.2 %.
+    render: async (material, lights, stops, png) => {
+      execFileSync(bin, ["render", "--scene", "sphere", ...material, ...lights,
+                         "--size", String(size), "--spp", "16", "--exposure", String(stops),
+                         "--quiet", "-o", png], { stdio: ["ignore", "ignore", "inherit"] });
+      return pngPixels(page, png);
+    },
+  };
+  return ptSetup;
+}
+
+// Two 8-bit sRGB images of the sphere scene (`got` against `ref`, size x size): the mean relative
+// luminance over the sphere's inner 95 % (no silhouette pixels; the silhouette is asin(1/4) seen
+// from 4), its SSIM there, and the background's (outside 105 %) mean and mean |difference|.
+function compareSpheres(got, ref, size) {
+  const rad = Math.tan(Math.asin(0.25)) / (1.15 / 4);
+  const la = new Float64Array(size * size), lb = new Float64Array(size * size);
+  const mask = new Uint8Array(size * size);
+  let sa = 0, sb = 0, n = 0, ba = 0, bb = 0, bd = 0, nb = 0;
+  for (let y = 0; y < size; ++y)
+    for (let x = 0; x < size; ++x) {
+      const k = y * size + x, r = Math.hypot(2 * (x + 0.5) / size - 1, 2 * (y + 0.5) / size - 1);
+      la[k] = luminance(got.px, 4 * k);
+      lb[k] = luminance(ref.px, 4 * k);
+      if (r < 0.95 * rad) {
+        mask[k] = 1;
+        sa += la[k]; sb += lb[k]; n++;
+      } else if (r > 1.05 * rad) {
+        ba += la[k]; bb += lb[k]; bd += Math.abs(la[k] - lb[k]); nb++;
+      }
+    }
+  return { n, meanGot: sa / n, meanRef: sb / n, rel: (sa - sb) / sb, ssim: ssim(la, lb, mask, size, size),
+           bgGot: ba / nb, bgRef: bb / nb, bgRel: ba / bb - 1, bgDiff: bd / bb };
+}
+
+function describe(r, stops, size) {
+  return `${size} x ${size}, exposure ${stops} stops: sphere (${r.n} pixels) mean luminance ` +
+         `${r.meanGot.toExponential(4)} vs ${r.meanRef.toExponential(4)} ` +
+         `(${r.rel >= 0 ? "+" : ""}${(100 * r.rel).toFixed(2)} %), SSIM ${r.ssim.toFixed(4)}; background ` +
+         `mean ${r.bgGot.toExponential(3)} vs ${r.bgRef.toExponential(3)}, mean |difference| ` +
+         `${(r.bgDiff * r.bgRef).toExponential(3)}`;
+}
+
+// The project's WebGL view (not three.js) against the path tracer's sphere of the same fit: the
+// report's sphere scene (`render --scene sphere`, the fit's NDF with the run's metal, the
+// brushing along the camera's horizontal) under the view's map, same camera and exposure. The
+// view starts at the exposure of the report's sphere render.
+async function checkViewAgainstPathTracer(page) {
+  const stopsReport = (summary.renders || []).find((r) => r.scene === "sphere")?.exposure_stops ?? 0;
+  const stopsView = await page.evaluate(() => window.microbrdfView.exposureStops);
+  const slider = await page.evaluate(() => Number(document.getElementById("mbv-exposure").value));
+  console.log(`WebGL view exposure: ${stopsView} stops (slider ${slider}); the report's sphere render: ${stopsReport} stops`);
+  if (!(stopsView === stopsReport && slider === stopsReport))
+    fail(`the WebGL view starts at exposure ${slider} stops, the report's sphere at ${stopsReport}`);
+  const pt = await pathTracerSetup(page);
+  await page.evaluate((st, s) => {  // (the size first: each call draws, at 384 x 384 seconds)
+    window.microbrdfView.setSize(s, s);
+    window.microbrdfView.setExposure(st);
+  }, pt.stops, pt.size);
+  for (const fit of summary.fits) {
+    const q = fit.params, key = fit.model;
+    const material = ["--model", key, "--alpha-x", String(q.alpha_x), "--alpha-y", String(q.alpha_y),
+                      ...pt.metalFlags];
+    if (key === "ellipsoid")
+      material.push("--theta-x", q.theta_x + "rad", "--theta-y", q.theta_y + "rad", "--theta-z", q.theta_z + "rad");
+    else material.push("--phi", fit.phi + "rad");
+    const png = path.join(pt.tmp, `view_${key}.png`);
+    const ref = await pt.render(material, ["--envmap", pt.envmap], pt.stops, png);
+    await page.evaluate((k) => window.microbrdfView.setModel(k), key);
+    const got = await canvasPixels(page, "mbv-canvas");
+    if (shots) {
+      fs.copyFileSync(png, path.join(shots, `render_view_${key}.png`));
+      await (await page.$("#mbv-canvas")).screenshot({ path: path.join(shots, `webgl_${key}.png`) });
+    }
+    const r = compareSpheres(got, ref, pt.size);
+    console.log(`WebGL view vs path tracer, ${key} fit, ${pt.metal}, the view's map, ${describe(r, pt.stops, pt.size)}`);
+    if (!(Math.abs(r.bgRel) < 0.05 && r.bgDiff < 0.5))
+      fail(`WebGL view (${key}): the background differs from the path tracer's: map orientation, camera or exposure`);
+    if (!(Math.abs(r.rel) <= 0.1))
+      fail(`WebGL view: the ${key} fit's sphere is ${(100 * r.rel).toFixed(2)} % from the path tracer's ` +
+           "in mean luminance (limit 10 %)");
+  }
+  if (shots)  // (the page as it was, for the screenshots; each call draws, seconds in SwiftShader)
+    await page.evaluate((k, st) => {
+      window.microbrdfView.setSize();
+      window.microbrdfView.setExposure(st);
+      window.microbrdfView.setModel(k);
+    }, summary.fits[0].model, stopsView);
 }
 if (failures.length) {
   console.log(`${failures.length} failure(s)`);

@@ -4,7 +4,7 @@
 # studio map beside it) and opens it in Debian's
 # headless Chromium with the network off. The report's glTF view needs three.js embedded by the
 # build (scripts/install-report-js.sh before cmake configures); without it the test fails, saying
-# so. The comparison of that view with `microbrdf render` takes about 15 s of the test.
+# so. The comparisons of both views with `microbrdf render` take about 20 s of the test.
 #
 #   tests/browser/run.sh BIN [DATA_DIR]      (ctest label "browser", part of `make test`)
 #
