@@ -83,3 +83,12 @@ def test_a_kirchhoff_patch_of_1e300_m_is_refused(scan):
     # callers that bypass it (the patch count was once 1e295 converted to 0, then divided by).
     with pytest.raises(mb.InputError, match=r"patches of 1 x 1 samples; a patch needs at least 4"):
         mb.ndf(scan, method="kirchhoff", spacing=1e-6, patch=(1e-300, 1e-300), resolution=65)
+
+
+def test_an_ndf_grid_of_two_nodes_is_refused(tmp_path):
+    # Two nodes in theta are the pole and the horizon: no NDF mass to sample (once an internal
+    # error of the sampling table).
+    with pytest.raises(mb.InputError, match="the NDF grid needs at least 3 nodes"):
+        mb.export_bsdf(tmp_path / "g.bsdf", model="ggx", alpha=0.3, metal="Al", theta_i=2,
+                       ndf_grid=2, samples=2, wavelengths=2)
+    assert not (tmp_path / "g.bsdf").exists()

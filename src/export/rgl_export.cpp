@@ -31,9 +31,10 @@ std::vector<double> RglExportOptions::default_wavelengths() {
 
 TensorFile rgl_tensor(const Brdf& brdf, const MicrofacetDistribution& ndf,
                       const RglExportOptions& o) {
-  if (o.theta_i < 2 || o.ndf_theta < 2 || o.ndf_phi < 2 || o.samples < 2 ||
-      (!o.isotropic && o.phi_i < 2))
+  if (o.theta_i < 2 || o.ndf_phi < 2 || o.samples < 2 || (!o.isotropic && o.phi_i < 2))
     throw InputError("RGL export: every grid needs at least 2 nodes");
+  // Two NDF nodes in theta are the pole and the horizon: no mass between them to sample from.
+  if (o.ndf_theta < 3) throw InputError("RGL export: the NDF grid needs at least 3 nodes");
   if (o.wavelengths_nm.empty()) throw InputError("RGL export: no wavelengths");
   for (std::size_t i = 0; i + 1 < o.wavelengths_nm.size(); ++i)
     if (!(o.wavelengths_nm[i + 1] > o.wavelengths_nm[i]))

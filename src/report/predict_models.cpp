@@ -69,6 +69,17 @@ Plot slice_frame(const std::string& title, const std::string& x_label, double lo
 }
 
 constexpr double kPoorFit = 0.45;  // relative L2 error from which a fit is called poor
+// Below both, a fit is good (docs/report.md, "Fit verdicts").
+constexpr double kGoodFitL2 = 0.2, kGoodFitHellinger = 0.1;
+
+// good: converged, relative L2 error < 0.2 and Hellinger distance < 0.1 to the table;
+// usable: converged and relative L2 error < 0.45; poor: anything else (the fit_poor warning and
+// a fit at a bound say why).
+std::string fit_verdict(const FitResult& r) {
+  if (!r.converged || !r.at_bound.empty() || !(r.relative_l2_error < kPoorFit)) return "poor";
+  if (r.relative_l2_error < kGoodFitL2 && r.hellinger < kGoodFitHellinger) return "good";
+  return "usable";
+}
 
 void warn_fit(const Context& c, const FitResult& r, bool zoomed) {
   const std::string m = fit_model_name(r.model);
@@ -182,6 +193,7 @@ nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitR
     j.erase("seconds");  // wall time lives under "timing" only (determinism)
     timing["fit_" + fit_model_name(m) + "_s"] = r.seconds;
     j["source"] = ndfs.filtered_zoom ? "filtered_zoom" : "filtered";
+    j["verdict"] = fit_verdict(r);
     if (m == FitModel::Ellipsoid) {
       write_fit_report(table, r, c.path("fit_ellipsoid"));
       j["compare_image"] = "fit_ellipsoid/compare.png";

@@ -359,14 +359,15 @@ void exports_block(Page& p, json& s);
 
 void section_fits(Page& p, json& s) {
   p << "<h2 id=\"s4\">4. Parametric fits of the filtered NDF</h2>\n<table>\n"
-    << row({"model", "alpha_x", "alpha_y", "theta_x", "theta_y", "theta_z", "rms error (1/sr)",
-            "relative L2 error", "Hellinger distance", "iterations", "converged"},
+    << row({"model", "verdict", "alpha_x", "alpha_y", "theta_x", "theta_y", "theta_z",
+            "rms error (1/sr)", "relative L2 error", "Hellinger distance", "iterations",
+            "converged"},
            true);
   for (auto& f : s["fits"]) {
     auto& q = f["params"];
     const bool ell = str(f["model"]) == "ellipsoid";
-    p << row({escape(str(f["model"])), n4(q["alpha_x"]), n4(q["alpha_y"]),
-              ell ? deg(q["theta_x"]) : "— (none in this model)",
+    p << row({escape(str(f["model"])), "<b>" + escape(str(f["verdict"])) + "</b>", n4(q["alpha_x"]),
+              n4(q["alpha_y"]), ell ? deg(q["theta_x"]) : "— (none in this model)",
               ell ? deg(q["theta_y"]) : "— (none in this model)", deg(q["theta_z"]),
               n4(f["rms_error"]), n4(f["relative_l2_error"]), n4(f["hellinger"]),
               std::to_string(f["iterations"].get<long>()), converged_text(f)});
@@ -377,7 +378,10 @@ void section_fits(Page& p, json& s) {
        "cell) of the filtered NDF. alpha dimensionless; angles in the ellipsoid convention "
        "(Dong 2015 eqs. 10-12): theta_x, theta_y tilt the peak, the anisotropy axes are turned "
        "by -theta_z (Beckmann/GGX phi = -theta_z). Errors over all disk nodes: rms = "
-       "sqrt(mean (T-M)^2), relative L2 = |T-M|/|T|.</p>\n";
+       "sqrt(mean (T-M)^2), relative L2 = |T-M|/|T|. Verdict: <b>good</b> = converged, relative "
+       "L2 error under 0.2 and Hellinger distance under 0.1; <b>usable</b> = converged, relative "
+       "L2 error under 0.45; <b>poor</b> = anything else: do not use its parameters "
+       "(docs/report.md, \"Fit verdicts\").</p>\n";
   for (auto& f : s["fits"])
     if (f.contains("compare_image"))
       // Colour bars under the three panels (320 px each, 10 px gaps, 1010 px in all): the two
@@ -926,12 +930,22 @@ std::string render_report_html(const json& summary, const std::string& dir) {
     << kStyle << "</style></head>\n<body>\n<h1>microbrdf predict report</h1>\n";
   warnings_box(p, s);
   json& f = s["ndf"]["filtered"];
-  std::string fit_line;
+  // The best fit that is not poor (good before usable, then the lower Hellinger distance), or
+  // the measured table when every fit is poor: the line never quotes a model the warnings say
+  // not to use.
+  json* best = nullptr;
+  auto rank = [](json& fit) { return str(fit["verdict"]) == "good" ? 0 : 1; };
   for (auto& fit : s["fits"])
-    if (str(fit["model"]) == "ellipsoid")
-      fit_line = "ellipsoid fit alpha_x " + n4(fit["params"]["alpha_x"]) + ", alpha_y " +
-                 n4(fit["params"]["alpha_y"]) +
-                 (fit["at_bound"].is_string() ? " (at a bound: not converged)" : "");
+    if (str(fit["verdict"]) != "poor" &&
+        (!best || rank(fit) < rank(*best) ||
+         (rank(fit) == rank(*best) && d(fit["hellinger"]) < d((*best)["hellinger"]))))
+      best = &fit;
+  const std::string fit_line =
+      best ? "best fit " + escape(str((*best)["model"])) + " (" + str((*best)["verdict"]) +
+                 ") alpha_x " + n4((*best)["params"]["alpha_x"]) + ", alpha_y " +
+                 n4((*best)["params"]["alpha_y"])
+           : "no parametric model fits this NDF (every fit is poor, section 4): use the "
+             "measured table, <code>ndf_filtered.npy</code>";
   p << "<p>" << std::to_string(s["inputs"].size()) << " scan(s); metal "
     << escape(str(s["material"]["name"])) << "; filtered NDF (filter sigma "
     << len(s["settings"]["filter_sigma_m"]) << ") rms slopes " << n4(f["slope_rms_x"])

@@ -94,7 +94,7 @@ z = np.where(x[None, :] ** 2 + x[:, None] ** 2 < 1, np.nan, 0.0)
 np.save(t + "/nan.npy", z)
 PY
 expect 1 "neg.binary: the file holds no valid BRDF value" -- $BIN measured ndf "$T/neg.binary" --resolution 65 -o "$T/out.npy"
-expect 1 "zero.binary: the BRDF has no positive value" -- $BIN export bsdf "$T/zero.binary" --theta-i 2 --samples 2 --ndf-grid 2 --wavelengths 2 --isotropic -o "$T/out.bsdf"
+expect 1 "zero.binary: the BRDF has no positive value" -- $BIN export bsdf "$T/zero.binary" --theta-i 2 --samples 2 --ndf-grid 3 --wavelengths 2 --isotropic -o "$T/out.bsdf"
 expect 1 "nan.npy: the NDF table holds no positive value" -- $BIN measured compare "$T/nan.npy" "$T/p.npy"
 rm -f "$T"/*.binary
 # An RGL .bsdf whose spectra are negative: the .bsdf is blamed, not out.npy.

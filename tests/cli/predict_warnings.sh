@@ -141,6 +141,39 @@ $BIN predict "$T/grating.x3p" --level none --resolution 257 "${FAST[@]}" -o "$T/
   >/dev/null || fail "predict grating"
 check "$T/grating" fit_poor || fail "grating warnings"
 
+# Verdicts: each fit's word follows its own numbers (thresholds of docs/report.md, applied here
+# independently), the report's first line quotes the best fit that is not poor, or none.
+verdicts() {
+  python3 - "$1" <<'PY'
+import json, os, re, sys
+d = sys.argv[1]
+s = json.load(open(os.path.join(d, "summary.json")))
+html = open(os.path.join(d, "report.html")).read()
+first = html[html.index("<p>", html.index('id="warnings"')):]
+first = first[:first.index("</p>")]
+ok = []
+for f in s["fits"]:
+    l2, h = f["relative_l2_error"], f["hellinger"]
+    want = ("poor" if not f["converged"] or f["at_bound"] is not None or not l2 < 0.45
+            else "good" if l2 < 0.2 and h < 0.1 else "usable")
+    assert f["verdict"] == want, (f["model"], f["verdict"], want, l2, h)
+    assert "<b>%s</b>" % want in html
+    if want != "poor":
+        ok.append(f)
+if ok:
+    best = min(ok, key=lambda f: (f["verdict"] != "good", f["hellinger"]))
+    assert "best fit %s (%s)" % (best["model"], best["verdict"]) in first, first
+    poor = [w for w in s["warnings"] if w["code"] == "fit_poor" and best["model"] in w["message"]]
+    assert not poor, "the line quotes a model the warnings call poor"
+else:
+    assert "no parametric model fits this NDF" in first, first
+print(d, [(f["model"], f["verdict"]) for f in s["fits"]])
+PY
+}
+verdicts "$T/clean" || fail "verdicts of the clean surface"
+verdicts "$T/grating" || fail "verdicts of the grating"
+verdicts "$T/land" || fail "verdicts of the land"
+
 # Without --quiet every warning is also a progress line on stderr.
 $BIN predict "$T/clean.x3p" --level none --resolution 257 --filter-sigma 0.1um --no-render \
   -o "$T/loud" >/dev/null 2>"$T/stderr.txt" || fail "predict loud"
