@@ -22,7 +22,7 @@ refused() {
   [ $rc -eq "$want" ] || fail "exit $rc (want $want) from: $* : $(cat err.txt)"
   grep -Eq -- "$pat" err.txt || fail "stderr does not match /$pat/ from: $*: $(cat err.txt)"
   [ $((SECONDS - t0)) -le 1 ] || fail "took $((SECONDS - t0)) s (a usage check must be instant): $*"
-  [ -z "$(ls -A | grep -v '^out.txt$\|^err.txt$')" ] || fail "files written by a refused run: $(ls)"
+  [ -z "$(ls -A | grep -v '^out.txt$\|^err.txt$\|^in$')" ] || fail "files written by a refused run: $(ls)"
   n=$((n + 1))
 }
 
@@ -78,4 +78,14 @@ grep -q "^Run 'microbrdf ndf --help' for the options and examples.$" err.txt || 
 refused "^microbrdf render: error: --tau-x|^microbrdf render: error: unknown flag --alpha-z \(did you mean --alpha-x\?\)" -- $BIN render --alpha-z 0.2 -o r.png
 refused "^microbrdf tabulate: error: --alpha: must be in" -- $BIN tabulate --alpha -1 -o t.npy
 refused "Start here: .make demo." -- $BIN
+# Outputs are checked before the work: a D_K that takes minutes refuses a .png table at once.
+mkdir in && $BIN generate gaussian --nx 128 --ny 128 --spacing 0.25um -o in/g.x3p >/dev/null 2>&1 || fail "generate"
+refused "error: -o: ndf.png: unknown extension '.png' \(expected .npy, .exr\)" -- \
+  $BIN ndf in/g.x3p --method kirchhoff --resolution 1025 -o ndf.png
+# predict without a material says which it assumes (every number depends on it).
+$BIN predict in/g.x3p --no-render --resolution 65 --quiet -o rep >/dev/null 2>err.txt || fail "predict: $(cat err.txt)"
+grep -q "note: no material given: iron (Fe) assumed .* give --metal" err.txt || fail "no note on the assumed metal: $(cat err.txt)"
+$BIN predict in/g.x3p --no-render --resolution 65 --quiet --metal Al -o rep2 >/dev/null 2>err.txt || fail "predict Al"
+grep -q "assumed" err.txt && fail "a note on the metal although --metal was given"
+rm -rf in rep rep2
 echo "ok: $n command lines refused before any work, each naming its flag or the nearest name"
