@@ -89,7 +89,8 @@ figure{margin:0} figcaption{font-size:12.5px;color:#444;max-width:600px}
 .note{background:#fff7e0;border:1px solid #e8c96a;padding:6px 10px;display:inline-block}
 .swatch{display:inline-block;width:28px;height:16px;border:1px solid #888;vertical-align:middle}
 figure svg{width:600px;max-width:100%;height:auto;display:block} figure img{max-width:100%;height:auto}
-table{max-width:100%} td,th{overflow-wrap:break-word} code{overflow-wrap:anywhere}
+table{max-width:100%;display:block;overflow-x:auto} td,th{overflow-wrap:break-word}
+code{overflow-wrap:anywhere}
 .mbv{display:flex;flex-wrap:wrap;gap:18px;align-items:flex-start}
 .mbv canvas{width:384px;height:384px;border:1px solid #ccc;background:#222}
 .mbv-controls div{margin:4px 0} .mbv-controls label{margin-right:10px}
