@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "core/length_text.hpp"
 #include "microbrdf/atomic_file.hpp"
@@ -127,6 +128,36 @@ void check_heights(const Surface& s, const std::string& name) {
                                   ") is absurd (beyond 1e12 m): corrupt data or a wrong unit");
       }
     }
+}
+
+// The median slope between neighbouring samples (along x, on a subset of at most ~65536 pairs):
+// above 1000 (89.94 deg) the heights cannot be a surface at this spacing. A genuine surface,
+// however rough, has most of its slopes far below that; a picture read as heights (counts or
+// 0..1 grey values as metres at a micrometre spacing) has slopes of 10^4 to 10^7.
+void check_plausible_slopes(const Surface& s, const std::string& name) {
+  constexpr double kMaxMedianSlope = 1000;
+  if (s.nx < 2) return;
+  const std::size_t pairs = (s.nx - 1) * s.ny;
+  const std::size_t stride = std::max<std::size_t>(1, pairs / 65536);
+  std::vector<double> slope;
+  slope.reserve(pairs / stride + 1);
+  for (std::size_t k = 0; k < pairs; k += stride) {
+    const std::size_t iy = k / (s.nx - 1), ix = k % (s.nx - 1), i = iy * s.nx + ix;
+    if (s.valid[i] && s.valid[i + 1]) slope.push_back(std::abs(s.z[i + 1] - s.z[i]) / s.dx);
+  }
+  if (slope.size() < 16) return;
+  auto mid = slope.begin() + slope.size() / 2;
+  std::nth_element(slope.begin(), mid, slope.end());
+  if (*mid > kMaxMedianSlope) {
+    char b[200];
+    std::snprintf(b, sizeof b,
+                  "heights implausible for the spacing: the median slope between neighbouring "
+                  "samples is %.3g (%.4f deg) at a spacing of ",
+                  *mid, std::atan(*mid) * 180 / 3.14159265358979323846);
+    throw FileError(name, b + detail::format_length_any(s.dx) +
+                              ": not a surface; a wrong height unit (--z-scale) or spacing "
+                              "(--spacing), or a picture rather than a height map?");
+  }
 }
 
 }  // namespace
@@ -278,6 +309,7 @@ Surface read_surface_bytes(std::span<const std::uint8_t> data, SurfaceFormat for
   s.sync_mask();
   if (s.valid_count() == 0) throw FileError(name, "contains no valid height sample");
   check_heights(s, name);
+  check_plausible_slopes(s, name);
   if (s.meta.source_path.empty()) s.meta.source_path = name;
   if (s.meta.format.empty()) s.meta.format = format_name(format);
   return s;

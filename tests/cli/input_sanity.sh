@@ -19,6 +19,7 @@ Image.fromarray(grey, mode="L").save("photo.png")
 Image.fromarray(np.dstack([grey, grey, grey]), mode="RGB").save("photo.jpg")
 Image.fromarray(np.dstack([grey, grey, grey]), mode="RGB").save("colour.tif")
 np.save("counts.npy", grey.astype(np.float64))
+Image.fromarray((grey / 255.0).astype(np.float32), mode="F").save("grey_float.tif")
 PY
 # refused CODE PATTERN -- CMD...: exit CODE, stderr matches PATTERN, nothing written.
 refused() {
@@ -41,6 +42,11 @@ refused 1 "sample-land.x3p: x3p files store their heights with a unit; --z-scale
 refused 1 "height_u16_nm.tif: .*z_unit = nm\) and --z-scale gives another" -- \
   $BIN info "$DATA/height_u16_nm.tif" --spacing 1um --z-scale 1nm
 refused 2 "error: --z-scale: must lie in 1 pm \.\. 1 m \(got -1nm\)" -- $BIN info grey.tif --spacing 1um --z-scale -1nm
+
+# A float picture (grey values 0..1 read as metres): slopes of 10^4 at 1 um, no surface.
+refused 1 "grey_float.tif: heights implausible for the spacing: the median slope between neighbouring samples is .* at a spacing of 1 um" -- \
+  $BIN info grey_float.tif --spacing 1um
+refused 1 "counts.npy: heights implausible for the spacing" -- $BIN ndf counts.npy --spacing 1um --resolution 65 -o n.npy
 
 # With --z-scale the counts are heights: Sq of the unlevelled map against numpy's.
 for f in grey.tif counts.npy; do
