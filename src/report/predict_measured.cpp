@@ -90,7 +90,8 @@ nlohmann::json stage_measured(const Context& c, const NdfSet& ndfs) {
   nlohmann::json all = nlohmann::json::array();
   const std::pair<const char*, const TabulatedNdf*> predictions[] = {
       {"filtered", ndfs.filtered.get()}, {"kirchhoff", ndfs.kirchhoff.get()}};
-  for (const auto& [name, table] : predictions) {
+  for (const auto& [name, table_ptr] : predictions) {
+    const TabulatedNdf* table = table_ptr;  // a plain variable: clang 14 cannot capture bindings
     if (!table) continue;
     const NdfComparison cmp = about_file(o.measured_path, [&] {
       return compare_ndfs(measured, *table, o.instrument_fwhm_rad, sig.get());

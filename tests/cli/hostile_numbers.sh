@@ -47,11 +47,16 @@ for cmd in "ndf -o x.npy" "ndf --method naive -o x.npy" "info" "convert x.x3p" \
     $BIN $sub tiny.npy "$@"
   expect 2 "error: --spacing: must lie in 1 pm .. 1 m (got 1e-30m)" -- $BIN $sub scan.npy --spacing 1e-30m "$@"
 done
-# 1 pm is a valid spacing, but the default filter sigma (1 um) is then far longer than the scan.
-expect 1 "scan.npy: filter sigma 1 um is longer than the scan (64 x 64 samples of 1 pm x 1 pm" -- \
+# 1 pm is a valid spacing, but this scan's heights (an rms of 0.1 um) are then no surface.
+expect 1 "scan.npy: heights implausible for the spacing: the median slope between neighbouring samples is .* at a spacing of 1 pm" -- \
   $BIN ndf scan.npy --spacing 1pm -o x.npy
-expect 1 "scan.npy: filter sigma 1 um is longer than the scan" -- \
-  $BIN predict scan.npy --spacing 1pm --no-render --resolution 65 -o rep
+# A surface made at 1 pm: the default filter sigma (1 um) is far longer than the scan.
+$BIN generate gaussian --nx 64 --ny 64 --spacing 1pm --sigma 0.1pm --tau 5pm -o pm.npy >/dev/null 2>&1 ||
+  fail "generate at 1 pm"
+expect 1 "pm.npy: filter sigma 1 um is longer than the scan (64 x 64 samples of 1 pm x 1 pm" -- \
+  $BIN ndf pm.npy -o x.npy
+expect 1 "pm.npy: filter sigma 1 um is longer than the scan" -- \
+  $BIN predict pm.npy --no-render --resolution 65 -o rep
 [ -e x.npy ] || [ -e x.x3p ] || [ -e rep ] && fail "output written from a refused run"
 # Micro-scene geometry of 1e300 m: refused naming the scene file and the object, before Embree.
 scene() { printf '{"tile": "100x100um", "materials": {"m": {"type": "mirror"}}, "objects": [%s]}' "$1" >"$2"; }
