@@ -35,6 +35,7 @@ void run_slice(const BrdfArgs& a) {
   const SlicePlane plane = parse_slice_plane(a.plane);
   BrdfSpec spec;
   const auto bp = brdf_from_flags(a.spec, &spec);
+  warn_single_dk_table(a.spec, "brdf slice");
   const Brdf& b = *bp;
   std::string label = spec.describe();
   if (const auto* mf = dynamic_cast<const MicrofacetBrdf*>(bp.get());
