@@ -529,3 +529,43 @@ TEST(ndf_io, ZoomedTableSamplesInsideItsWindowWithItsPdf) {
   EXPECT_NEAR(sum / n, 1.0, 0.03);
   EXPECT_EQ(d.D(Vec3(0, 0, 1)), 0.0);  // the pole is outside this window
 }
+
+TEST(ndf_io, StackOverLambdaQRoundTripsAndReadsItsPrimaryTable) {
+  const auto path = (temp_dir() / "stack.npy").string();
+  std::vector<TabulatedNdf> layers;
+  const double lq[3] = {400e-9, 555e-9, 800e-9};
+  for (int l = 0; l < 3; ++l) {
+    TabulatedNdf t(33);
+    fill_beckmann(t, 0.1 + 0.1 * l);
+    t.meta.method = "kirchhoff";
+    t.meta.wavelength_m = lq[l];
+    t.meta.notes = "layer " + std::to_string(l);
+    layers.push_back(t);
+  }
+  ASSERT_TRUE(write_ndf_stack(layers, 1, path));
+  // numpy's layout: a C-order (3, 33, 33) float64 array, the layers one after another.
+  const auto b = slurp(path);
+  const std::string header(b.begin() + 10, b.begin() + 10 + (b[8] | (b[9] << 8)));
+  EXPECT_NE(header.find("'shape': (3, 33, 33)"), std::string::npos) << header;
+  ASSERT_EQ(b.size(), 10 + header.size() + 3 * 33 * 33 * 8);
+  for (int l = 0; l < 3; ++l)
+    EXPECT_EQ(std::memcmp(b.data() + 10 + header.size() + l * 33 * 33 * 8,
+                          layers[l].values().data(), 33 * 33 * 8),
+              0);
+  const auto back = read_ndf_stack(path);
+  ASSERT_EQ(back.size(), 3u);
+  for (int l = 0; l < 3; ++l) {
+    EXPECT_EQ(back[l].meta.wavelength_m, lq[l]);
+    EXPECT_EQ(back[l].meta.notes, "layer " + std::to_string(l));
+    EXPECT_EQ(back[l].values(), layers[l].values());
+  }
+  // A reader of one table gets the primary layer.
+  const TabulatedNdf one = read_ndf(path);
+  EXPECT_EQ(one.meta.wavelength_m, 555e-9);
+  EXPECT_EQ(one.values(), layers[1].values());
+  // Unsorted layers are refused; a stack without its sidecar's list is refused on reading.
+  std::swap(layers[0], layers[2]);
+  EXPECT_THROW(write_ndf_stack(layers, 0, (temp_dir() / "bad.npy").string()), FileError);
+  fs::remove(temp_dir() / "stack.json");
+  EXPECT_THROW(read_ndf_stack(path), FileError);
+}

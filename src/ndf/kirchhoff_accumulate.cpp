@@ -105,8 +105,8 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
                       ? opt_.supersample
                       : kirchhoff_auto_supersample(N, lqs[l], static_cast<double>(lx) * s.dx,
                                                    static_cast<double>(ly) * s.dy);
-    r.supersample = std::max(r.supersample, subnodes[l]);
   }
+  r.supersample = subnodes[0];  // the table at wavelength_q (the stack's layers may differ)
   const double n_steps = static_cast<double>(cx * cy * lqs.size());
   std::size_t done = 0;
   auto tick = [&](std::size_t steps) {
@@ -119,8 +119,8 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
                        TabulatedNdf& table, double& aliased, KirchhoffFastInfo* info,
                        std::vector<std::complex<double>>& coherent) {
     // The mean field needs the amplitudes of point-sampled nodes from the fast method.
-    const bool keep = opt_.separate_specular && !opt_.direct && S == 1 &&
-                      cx * cy >= kKirchhoffMinTilesCoherent;
+    const bool keep =
+        opt_.separate_specular && !opt_.direct && cx * cy >= kKirchhoffMinTilesCoherent;
     std::vector<std::complex<double>> amp;
     const std::size_t NF = S * (N - 1) + 1;
     std::vector<std::size_t> all;
@@ -295,20 +295,35 @@ namespace {
 double separate_specular(TabulatedNdf& t, const std::vector<std::complex<double>>& m,
                          std::size_t patches) {
   auto& v = t.values();
-  if (m.size() != v.size() || patches < 2) return 0;
+  const std::size_t N = t.resolution();
+  // The mean field is kept on the sub-node grid of S x S sub-nodes per node (NF = S (N-1) + 1);
+  // |mean I|^2 is averaged over each node's cell like the intensities.
+  const auto nf = static_cast<std::size_t>(std::llround(std::sqrt(static_cast<double>(m.size()))));
+  if (patches < 2 || nf * nf != m.size() || nf < N || (nf - 1) % (N - 1) != 0) return 0;
+  const std::size_t S = (nf - 1) / (N - 1);
+  const auto half = static_cast<std::ptrdiff_t>(S / 2), snf = static_cast<std::ptrdiff_t>(nf);
   const double p = static_cast<double>(patches), total = t.integral();
   std::size_t peak = 0;
   double peak_norm = -1;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    const double c = std::norm(m[i]);
-    if (c > peak_norm) {
-      peak_norm = c;
-      peak = i;
+  for (std::size_t iy = 0; iy < N; ++iy)
+    for (std::size_t ix = 0; ix < N; ++ix) {
+      const auto cx = static_cast<std::ptrdiff_t>(S * ix), cy = static_cast<std::ptrdiff_t>(S * iy);
+      double c = 0;
+      for (std::ptrdiff_t fy = std::max<std::ptrdiff_t>(cy - half, 0);
+           fy <= std::min(cy + half, snf - 1); ++fy)
+        for (std::ptrdiff_t fx = std::max<std::ptrdiff_t>(cx - half, 0);
+             fx <= std::min(cx + half, snf - 1); ++fx)
+          c += std::norm(m[static_cast<std::size_t>(fy * snf + fx)]);
+      c /= static_cast<double>(S * S);
+      const std::size_t i = iy * N + ix;
+      if (c > peak_norm) {
+        peak_norm = c;
+        peak = i;
+      }
+      v[i] = std::max(0.0, v[i] - c / p) * p / (p - 1);
     }
-    v[i] = std::max(0.0, v[i] - c / p) * p / (p - 1);
-  }
   const double diffuse = t.integral();
-  const double n = static_cast<double>(t.resolution() - 1), cell = (2 / n) * (2 / n);
+  const double cell = (2.0 / static_cast<double>(N - 1)) * (2.0 / static_cast<double>(N - 1));
   const double coherent = std::max(0.0, total - diffuse);
   v[peak] += coherent / cell;
   return total > 0 ? coherent / total : 0;
@@ -361,7 +376,7 @@ TabulatedNdf KirchhoffAccumulator::labelled(const TabulatedNdf& sum, double lamb
     std::snprintf(spec, sizeof spec, "specular part not separated%s",
                   !opt_.separate_specular ? " (asked)"
                   : opt_.direct           ? " (direct sums)"
-                                          : " (needs point samples and at least 8 tiles per scan)");
+                                          : " (needs at least 8 tiles in every scan)");
   char buf[1000];
   std::snprintf(buf, sizeof buf,
                 "D_K (Dong eq. 6), %s with the (q.m) factor; lambda_q = "

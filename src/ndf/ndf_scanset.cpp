@@ -141,7 +141,7 @@ KirchhoffScanPartial unpack_kirchhoff_partial(const WorkResult& r, std::size_t r
   for (auto& m : p.coherent) {
     if (at >= r.values.size()) throw std::runtime_error("Kirchhoff share: short message");
     const auto n = static_cast<std::size_t>(r.values[at++]);
-    if (n != 0 && n != resolution * resolution) throw std::runtime_error("Kirchhoff share: bad mean field");
+    if (n != 0 && n < resolution * resolution) throw std::runtime_error("Kirchhoff share: bad mean field");
     if (r.values.size() < at + 2 * n) throw std::runtime_error("Kirchhoff share: short message");
     m.resize(n);
     for (std::size_t i = 0; i < n; ++i, at += 2) m[i] = {r.values[at], r.values[at + 1]};
