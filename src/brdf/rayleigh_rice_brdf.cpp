@@ -1,0 +1,305 @@
+// First-order Rayleigh-Rice BRDF of a conductor (include/microbrdf/rayleigh_rice.hpp;
+// docs/rayleigh_rice.md).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "microbrdf/error.hpp"
+#include "microbrdf/rayleigh_rice.hpp"
+
+namespace microbrdf {
+namespace {
+
+using cd = std::complex<double>;
+
+// The amplitudes from cosines and sines (the BRDF has them from the directions directly, without
+// a round trip through acos).
+RrAmplitudes amplitudes(double ci, double si, double cs, double ss, double cphi, double sphi,
+                        cd eps) {
+  const cd wi = std::sqrt(eps - si * si), ws = std::sqrt(eps - ss * ss);
+  const cd di = ci + wi, ds = cs + ws, ei = eps * ci + wi, es = eps * cs + ws;
+  const cd e1 = eps - 1.0;
+  return {e1 * cphi / (di * ds), e1 * ws * sphi / (di * es), e1 * wi * sphi / (ei * ds),
+          e1 * (wi * ws * cphi - eps * si * ss) / (ei * es)};
+}
+
+cd permittivity(const OpticalConstants& m, double wavelength_m) {
+  const cd n = m.at(wavelength_m);
+  return n * n;
+}
+
+struct Geometry {
+  double ci, si, cs, ss, cphi, sphi;
+};
+
+// Both directions above the horizon; phi_s from the forward direction -wi_xy (from +x at normal
+// incidence), counter-clockwise about +z.
+std::optional<Geometry> geometry(const Vec3& wi, const Vec3& wo) {
+  if (!(wi.z() > 0) || !(wo.z() > 0)) return std::nullopt;
+  Geometry g;
+  g.ci = std::min(1.0, wi.z());
+  g.cs = std::min(1.0, wo.z());
+  g.si = std::hypot(wi.x(), wi.y());
+  g.ss = std::hypot(wo.x(), wo.y());
+  double dx = 1, dy = 0;
+  if (g.si > 1e-12) {
+    dx = -wi.x() / g.si;
+    dy = -wi.y() / g.si;
+  }
+  g.cphi = 1;
+  g.sphi = 0;
+  if (g.ss > 1e-15) {
+    g.cphi = (wo.x() * dx + wo.y() * dy) / g.ss;
+    g.sphi = (dx * wo.y() - dy * wo.x()) / g.ss;
+  }
+  return g;
+}
+
+}  // namespace
+
+Polarisation parse_polarisation(const std::string& name) {
+  if (name == "unpolarised" || name == "unpolarized") return Polarisation::Unpolarised;
+  if (name == "s") return Polarisation::S;
+  if (name == "p") return Polarisation::P;
+  if (name == "ss") return Polarisation::SS;
+  if (name == "sp") return Polarisation::SP;
+  if (name == "ps") return Polarisation::PS;
+  if (name == "pp") return Polarisation::PP;
+  throw InputError("unknown polarisation '" + name + "' (unpolarised, s, p, ss, sp, ps or pp)");
+}
+
+std::string to_string(Polarisation p) {
+  switch (p) {
+    case Polarisation::S:
+      return "s";
+    case Polarisation::P:
+      return "p";
+    case Polarisation::SS:
+      return "ss";
+    case Polarisation::SP:
+      return "sp";
+    case Polarisation::PS:
+      return "ps";
+    case Polarisation::PP:
+      return "pp";
+    default:
+      return "unpolarised";
+  }
+}
+
+RrAmplitudes rayleigh_rice_amplitudes(double theta_i, double theta_s, double phi_s, cd eps) {
+  return amplitudes(std::cos(theta_i), std::sin(theta_i), std::cos(theta_s), std::sin(theta_s),
+                    std::cos(phi_s), std::sin(phi_s), eps);
+}
+
+double rayleigh_rice_q(const RrAmplitudes& a, Polarisation p) {
+  const double ss = std::norm(a.ss), sp = std::norm(a.sp), ps = std::norm(a.ps),
+               pp = std::norm(a.pp);
+  switch (p) {
+    case Polarisation::S:
+      return ss + sp;
+    case Polarisation::P:
+      return ps + pp;
+    case Polarisation::SS:
+      return ss;
+    case Polarisation::SP:
+      return sp;
+    case Polarisation::PS:
+      return ps;
+    case Polarisation::PP:
+      return pp;
+    default:
+      return (ss + sp + ps + pp) / 2;
+  }
+}
+
+std::array<double, 16> rayleigh_rice_mueller(const RrAmplitudes& a) {
+  // Jones matrix (E_s, E_p)_out = J (E_s, E_p)_in; M = A (J (x) J*) A^-1 with the coherency
+  // vector (E_s E_s*, E_s E_p*, E_p E_s*, E_p E_p*) and A its map to (I, Q, U, V).
+  const cd j[2][2] = {{a.ss, a.ps}, {a.sp, a.pp}};
+  cd k[4][4];
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) k[r][c] = j[r / 2][c / 2] * std::conj(j[r % 2][c % 2]);
+  const cd i(0, 1);
+  const cd A[4][4] = {{1, 0, 0, 1}, {1, 0, 0, -1}, {0, 1, 1, 0}, {0, i, -i, 0}};
+  // A A^H = 2 I, so A^-1 = A^H / 2.
+  cd ak[4][4] = {};
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      for (int m = 0; m < 4; ++m) ak[r][c] += A[r][m] * k[m][c];
+  std::array<double, 16> out{};
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      cd v = 0;
+      for (int m = 0; m < 4; ++m) v += ak[r][m] * std::conj(A[c][m]);
+      out[4 * r + c] = v.real() / 2;
+    }
+  return out;
+}
+
+RrAngles rayleigh_rice_angles(const Vec3& wi, const Vec3& wo) {
+  const Vec3 a(wi.x(), wi.y(), std::max(wi.z(), 1e-300));
+  const Vec3 b(wo.x(), wo.y(), std::max(wo.z(), 1e-300));
+  const auto g = geometry(a, b);
+  return {std::atan2(g->si, g->ci), std::atan2(g->ss, g->cs), std::atan2(g->sphi, g->cphi)};
+}
+
+double smooth_reflectance(double cos_i, cd eps, Polarisation p) {
+  const double c = std::clamp(std::fabs(cos_i), 0.0, 1.0);
+  const cd w = std::sqrt(eps - (1 - c * c));
+  const double rs = std::norm((c - w) / (c + w)), rp = std::norm((eps * c - w) / (eps * c + w));
+  switch (p) {
+    case Polarisation::S:
+    case Polarisation::SS:
+      return rs;
+    case Polarisation::P:
+    case Polarisation::PP:
+      return rp;
+    case Polarisation::SP:
+    case Polarisation::PS:
+      return 0;
+    default:
+      return (rs + rp) / 2;
+  }
+}
+
+RayleighRiceBrdf::RayleighRiceBrdf(std::shared_ptr<const AreaPsd> psd, OpticalConstants material,
+                                   Polarisation polarisation)
+    : psd_(std::move(psd)), material_(std::move(material)), pol_(polarisation) {
+  if (!psd_ || psd_->value.empty()) throw InputError("Rayleigh-Rice: the PSD is empty");
+}
+
+double RayleighRiceBrdf::eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const {
+  const auto g = geometry(wi, wo);
+  if (!g) return 0;
+  const double l = wavelength_m;
+  const double s = psd_->at((wo.x() + wi.x()) / l, (wo.y() + wi.y()) / l);
+  if (!(s > 0)) return 0;
+  const auto a =
+      amplitudes(g->ci, g->si, g->cs, g->ss, g->cphi, g->sphi, permittivity(material_, l));
+  return 16 * M_PI * M_PI / (l * l * l * l) * g->ci * g->cs * rayleigh_rice_q(a, pol_) * s;
+}
+
+std::array<double, 16> RayleighRiceBrdf::mueller(const Vec3& wi, const Vec3& wo,
+                                                 double wavelength_m) const {
+  std::array<double, 16> m{};
+  const auto g = geometry(wi, wo);
+  if (!g) return m;
+  const double l = wavelength_m;
+  const double s = psd_->at((wo.x() + wi.x()) / l, (wo.y() + wi.y()) / l);
+  if (!(s > 0)) return m;
+  m = rayleigh_rice_mueller(
+      amplitudes(g->ci, g->si, g->cs, g->ss, g->cphi, g->sphi, permittivity(material_, l)));
+  const double scale = 16 * M_PI * M_PI / (l * l * l * l) * g->ci * g->cs * s;
+  for (double& v : m) v *= scale;
+  return m;
+}
+
+double RayleighRiceBrdf::specular_reflectance(const Vec3& wi, double wavelength_m) const {
+  if (!(wi.z() > 0)) return 0;
+  const double g = 4 * M_PI * psd_->sq * wi.z() / wavelength_m;
+  return smooth_reflectance(wi.z(), permittivity(material_, wavelength_m), pol_) * std::exp(-g * g);
+}
+
+double RayleighRiceBrdf::integrated_scatter(const Vec3& wi, double wavelength_m) const {
+  if (!(wi.z() > 0)) return 0;
+  const double l = wavelength_m;
+  const cd eps = permittivity(material_, l);
+  const AreaPsd& p = *psd_;
+  double sum = 0;
+  for (std::size_t iy = 0; iy < p.nfy; ++iy) {
+    const double uy = l * p.fy(iy) - wi.y();
+    for (std::size_t ix = 0; ix < p.nfx; ++ix) {
+      const double s = p.at_node(ix, iy);
+      if (!(s > 0)) continue;
+      const double ux = l * p.fx(ix) - wi.x();
+      const double r2 = ux * ux + uy * uy;
+      if (r2 >= 1) continue;  // evanescent: no scattered wave
+      const Vec3 wo(ux, uy, std::sqrt(1 - r2));
+      const auto g = geometry(wi, wo);
+      const auto a = amplitudes(g->ci, g->si, g->cs, g->ss, g->cphi, g->sphi, eps);
+      sum += g->ci * g->cs * rayleigh_rice_q(a, pol_) * s;
+    }
+  }
+  // f cos(theta_o) dw = f du dv = f lambda^2 dfx dfy.
+  return 16 * M_PI * M_PI / (l * l) * sum * p.dfx * p.dfy;
+}
+
+double RayleighRiceBrdf::albedo(const Vec3& wi, double wavelength_m) const {
+  return specular_reflectance(wi, wavelength_m) + integrated_scatter(wi, wavelength_m);
+}
+
+std::optional<BrdfSample> RayleighRiceBrdf::sample(const Vec3& wi, double u1, double u2,
+                                                   double wavelength_m) const {
+  if (!(wi.z() > 0)) return std::nullopt;
+  BrdfSample s;
+  if (u1 < 0.5) {
+    s.wo = Vec3(-wi.x(), -wi.y(), wi.z());
+    s.delta = true;
+    s.pdf = 0;
+    s.weight = 2 * specular_reflectance(wi, wavelength_m);
+    return s;
+  }
+  const double v = 2 * u1 - 1;  // reuse u1's upper half as a fresh uniform number
+  const double r = std::sqrt(v), phi = 2 * M_PI * u2;
+  const double z = std::sqrt(std::max(0.0, 1 - v));
+  if (!(z > 0)) return std::nullopt;
+  s.wo = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+  s.pdf = z / (2 * M_PI);
+  s.weight = eval(wi, s.wo, wavelength_m) * z / s.pdf;
+  return s;
+}
+
+double RayleighRiceBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
+  return wi.z() > 0 && wo.z() > 0 ? wo.z() / (2 * M_PI) : 0.0;
+}
+
+std::string RayleighRiceBrdf::describe() const {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "Rayleigh-Rice first order, %s, PSD %zux%zu %s, Sq %.4g nm",
+                to_string(pol_).c_str(), psd_->nfx, psd_->nfy, to_string(psd_->window).c_str(),
+                psd_->sq * 1e9);
+  return std::string(buf) + ", " + material_.name + " (" + material_.source + ")";
+}
+
+Tis total_integrated_scatter(const RayleighRiceBrdf& b, double wavelength_m, double theta_i) {
+  Tis t;
+  t.wavelength_m = wavelength_m;
+  t.theta_i_rad = theta_i;
+  const Vec3 wi(-std::sin(theta_i), 0, std::cos(theta_i));
+  const cd n = b.material().at(wavelength_m);
+  t.reflectance = smooth_reflectance(wi.z(), n * n, b.polarisation());
+  const double g = 4 * M_PI * b.psd().sq * wi.z() / wavelength_m;
+  t.rayleigh_factor = g * g;
+  t.closed_form = t.rayleigh_factor * t.reflectance;
+  t.integral = b.integrated_scatter(wi, wavelength_m);
+  t.specular = b.specular_reflectance(wi, wavelength_m);
+  // The PSD's power at the frequencies that scatter into propagating directions.
+  const AreaPsd& p = b.psd();
+  double band = 0;
+  for (std::size_t iy = 0; iy < p.nfy; ++iy)
+    for (std::size_t ix = 0; ix < p.nfx; ++ix) {
+      const double ux = wavelength_m * p.fx(ix) - wi.x(), uy = wavelength_m * p.fy(iy);
+      if (ux * ux + uy * uy < 1) band += p.at_node(ix, iy);
+    }
+  t.propagating_sq_m = std::sqrt(band * p.dfx * p.dfy);
+  return t;
+}
+
+nlohmann::json tis_json(const Tis& t) {
+  return {
+      {"wavelength_m", t.wavelength_m},
+      {"theta_i_rad", t.theta_i_rad},
+      {"theta_i_deg", t.theta_i_rad * 180 / M_PI},
+      {"reflectance", t.reflectance},
+      {"rayleigh_factor", t.rayleigh_factor},
+      {"tis_closed_form", t.closed_form},
+      {"tis_integral", t.integral},
+      {"integral_over_closed_form",
+       t.closed_form > 0 ? nlohmann::json(t.integral / t.closed_form) : nlohmann::json(nullptr)},
+      {"specular_reflectance", t.specular},
+      {"propagating_sq_m", t.propagating_sq_m}};
+}
+
+}  // namespace microbrdf
