@@ -71,8 +71,12 @@ struct AreaPsd {
   double at_node(std::size_t ix, std::size_t iy) const { return value[iy * nfx + ix]; }
   /// sum PSD dfx dfy, m^2 (= Sq^2).
   double integral() const;
-  /// Bilinear interpolation at (fx, fy) in cycles/m, m^4; 0 outside the grid.
+  /// Bilinear interpolation at (fx, fy) in cycles/m, m^4; 0 outside the grid. The zero-frequency
+  /// node (0 in `value`: the mean is removed) enters as zero_frequency_estimate(), so that the
+  /// PSD does not dip to 0 within one step of f = 0 (the scan cannot resolve that cell).
   double at(double fx, double fy) const;
+  /// The PSD's value at f = 0 as its four nearest nodes give it (their mean), m^4.
+  double zero_frequency_estimate() const;
   /// The power within |f| <= f_max (cycles/m): sum of PSD dfx dfy over the nodes inside, m^2.
   double power_within(double f_max) const;
 };

@@ -59,8 +59,22 @@ double AreaPsd::at(double fx_, double fy_) const {
   const auto iy = static_cast<std::size_t>(std::min(std::floor(v), std::max(0.0, vmax - 1)));
   const double tx = u - static_cast<double>(ix), ty = v - static_cast<double>(iy);
   const std::size_t ix1 = std::min(ix + 1, nfx - 1), iy1 = std::min(iy + 1, nfy - 1);
-  return (1 - ty) * ((1 - tx) * at_node(ix, iy) + tx * at_node(ix1, iy)) +
-         ty * ((1 - tx) * at_node(ix, iy1) + tx * at_node(ix1, iy1));
+  const auto node = [&](std::size_t x, std::size_t y) {
+    return x == nfx / 2 && y == nfy / 2 ? zero_frequency_estimate() : at_node(x, y);
+  };
+  return (1 - ty) * ((1 - tx) * node(ix, iy) + tx * node(ix1, iy)) +
+         ty * ((1 - tx) * node(ix, iy1) + tx * node(ix1, iy1));
+}
+
+double AreaPsd::zero_frequency_estimate() const {
+  const std::size_t cx = nfx / 2, cy = nfy / 2;
+  double sum = 0;
+  int n = 0;
+  if (cx > 0) sum += at_node(cx - 1, cy), ++n;
+  if (cx + 1 < nfx) sum += at_node(cx + 1, cy), ++n;
+  if (cy > 0) sum += at_node(cx, cy - 1), ++n;
+  if (cy + 1 < nfy) sum += at_node(cx, cy + 1), ++n;
+  return n > 0 ? sum / n : 0.0;
 }
 
 double AreaPsd::power_within(double f_max) const {
