@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "microbrdf/error.hpp"
@@ -41,33 +42,36 @@ double sq_of(const Surface& s) {
 
 }  // namespace
 
-TEST(psd, IntegralIsSqSquaredForEveryEstimator) {
+TEST(psd, IntegralIsSqSquaredWithoutWindow) {
+  // Parseval on the valid samples: a non-periodic surface with a hole, no window, one tile.
   Surface s = test_util::isotropic_gaussian(200, 150, kDx, kSigma, 1e-6, 3);
-  for (std::size_t i = 0; i < s.size(); i += 7) s.z[i] += 2e-9 * std::sin(0.3 * i);  // not periodic
+  for (std::size_t i = 0; i < s.size(); i += 7) s.z[i] += 2e-9 * std::sin(0.3 * i);
   for (std::size_t i = 4000; i < 4300; ++i) s.invalidate(i);
   const double sq = sq_of(s);
-  for (auto w : {PsdWindow::None, PsdWindow::Hann})
-    for (std::size_t tile : {std::size_t{0}, std::size_t{64}}) {
-      PsdOptions o;
-      o.window = w;
-      o.tile = tile;
-      const AreaPsd p = areal_psd(s, o);
-      EXPECT_NEAR(p.integral() / (sq * sq), 1.0, 1e-12) << to_string(w) << " tile " << tile;
-      EXPECT_NEAR(p.sq, sq, 1e-15);
-      EXPECT_EQ(p.at_node(p.nfx / 2, p.nfy / 2), 0.0);  // the zero-frequency bin
-      // Without a window the raw periodogram of one fully valid tile already integrates to
-      // its mean square; with the hole and the sine, the correction stays near 1.
-      EXPECT_NEAR(p.power_correction, 1.0, 0.1);
-    }
-}
-
-TEST(psd, PeriodogramNeedsNoCorrectionWithoutWindow) {
   PsdOptions o;
   o.window = PsdWindow::None;
-  const AreaPsd p = areal_psd(gaussian_512(), o);
-  EXPECT_NEAR(p.power_correction, 1.0, 1e-12);
+  const AreaPsd p = areal_psd(s, o);
+  EXPECT_NEAR(p.integral() / (sq * sq), 1.0, 1e-12);
+  EXPECT_NEAR(p.sq, sq, 1e-15);
+  EXPECT_EQ(p.at_node(p.nfx / 2, p.nfy / 2), 0.0);  // the zero-frequency bin
   EXPECT_EQ(p.tiles, 1u);
-  EXPECT_DOUBLE_EQ(p.dfx, 1 / (512 * kDx));
+  EXPECT_DOUBLE_EQ(p.dfx, 1 / (200 * kDx));
+  EXPECT_DOUBLE_EQ(p.dfy, 1 / (150 * kDx));
+}
+
+TEST(psd, WindowPlaysDownPowerAtTheEdges) {
+  // A bowl (form a plane fit leaves) holds its power at the edges: the Hann estimate holds a
+  // fraction of Sq^2, and says so (integral_over_sq2), instead of spreading it over all f.
+  Surface s(256, 256, kDx, kDx);
+  for (std::size_t iy = 0; iy < 256; ++iy)
+    for (std::size_t ix = 0; ix < 256; ++ix) {
+      const double u = (ix - 127.5) / 128, v = (iy - 127.5) / 128;
+      s.at(ix, iy) = 10e-9 * (u * u + v * v);
+    }
+  const AreaPsd p = areal_psd(s);
+  const double ratio = p.integral() / (p.sq * p.sq);
+  EXPECT_LT(ratio, 0.5);
+  EXPECT_NEAR(psd_json(p)["integral_over_sq2"].get<double>(), ratio, 1e-12);
 }
 
 TEST(psd, GeneratedGaussianMatchesItsAnalyticPsd) {
@@ -97,25 +101,43 @@ double analytic_power_within(double f) {
   return kSigma * kSigma * (1 - std::exp(-M_PI * M_PI * kTau * kTau * f * f));
 }
 
-TEST(psd, HannEstimateIsUnbiased) {
-  // The Hann window mixes neighbouring coefficients (three taps per axis), so one realisation's
-  // nodes and even small discs of them scatter by 10-20 %; averaged over realisations the power
-  // in discs is the analytic one (tau = 2.5 um on 256^2: the same tau / scan ratio as above).
-  // Discs from 6 nodes in radius: the window's main lobe (+-1 node per axis) takes power out of
-  // the nodes next to zero frequency when the mean is removed (a disc of 4 nodes is 14 % low).
-  constexpr int kSeeds = 24;
-  const double tau = 0.5 * kTau;
-  const std::vector<double> radii = {0.75, 1.0, 1.5, 2.0};
-  std::vector<double> sum(radii.size(), 0.0);
+TEST(psd, WindowTilesAndHolesAreUnbiasedOnStationarySurfaces) {
+  // One realisation's window-weighted mean square scatters about Sq^2 (the Hann window sees
+  // ~1/4 of the scan's correlation areas: +-13 % for tau 5 um on 128 um, the seed above reads
+  // +21 %); averaged over realisations the estimators are unbiased. 16 surfaces of 256^2,
+  // tau 1.25 um (51 tau across): the integral and the power in discs of radius 0.75..2/(pi tau)
+  // against the analytic sigma^2 (1 - exp(-(pi tau f)^2)), for the Hann window on the whole scan,
+  // on tiles of 128 (9 tiles) and with a 10 % hole.
+  constexpr int kSeeds = 16;
+  const double tau = 1.25e-6;
+  const std::vector<double> radii = {0.75, 1.0, 1.5, 2.0, 1e9};
+  enum { kWhole, kTiles, kHole, kCases };
+  std::vector<std::vector<double>> sum(kCases, std::vector<double>(radii.size(), 0.0));
   for (int seed = 1; seed <= kSeeds; ++seed) {
-    const AreaPsd p = areal_psd(test_util::isotropic_gaussian(256, kDx, kSigma, tau, seed));
-    for (std::size_t k = 0; k < radii.size(); ++k)
-      sum[k] += p.power_within(radii[k] / (M_PI * tau)) / kSeeds;
+    Surface s = test_util::isotropic_gaussian(256, kDx, kSigma, tau, seed);
+    PsdOptions tiles;
+    tiles.tile = 128;
+    const AreaPsd whole = areal_psd(s), tiled = areal_psd(s, tiles);
+    EXPECT_EQ(tiled.tiles, 9u);  // starts 0, 64, 128 on each axis
+    EXPECT_EQ(tiled.nfx, 128u);
+    for (std::size_t iy = 60; iy < 141; ++iy)
+      for (std::size_t ix = 90; ix < 171; ++ix) s.invalidate(s.index(ix, iy));
+    const AreaPsd holed = areal_psd(s);
+    const AreaPsd* psd[kCases] = {&whole, &tiled, &holed};
+    for (int c = 0; c < kCases; ++c)
+      for (std::size_t k = 0; k < radii.size(); ++k)
+        sum[c][k] += psd[c]->power_within(radii[k] / (M_PI * tau)) / kSeeds;
   }
-  for (std::size_t k = 0; k < radii.size(); ++k) {
-    const double want = kSigma * kSigma * (1 - std::exp(-radii[k] * radii[k]));
-    EXPECT_NEAR(sum[k] / want, 1.0, 0.04) << "disc radius " << radii[k] << " / (pi tau)";
-  }
+  const char* names[kCases] = {"whole scan", "tiles", "hole"};
+  for (int c = 0; c < kCases; ++c)
+    for (std::size_t k = 0; k < radii.size(); ++k) {
+      const double want = kSigma * kSigma * (1 - std::exp(-radii[k] * radii[k]));
+      std::printf("%s, disc %g/(pi tau): %.4f\n", names[c], radii[k], sum[c][k] / want);
+      // The hole's hard edges are a second window: they move a few % of the power from small
+      // discs outwards (the mask's spectrum smooths the estimate).
+      const double tol[kCases] = {0.02, 0.03, 0.05};
+      EXPECT_NEAR(sum[c][k] / want, 1.0, tol[c]) << names[c] << ", disc " << radii[k];
+    }
 }
 
 TEST(psd, HannWindowStopsTheLeakageOfANonPeriodicScan) {
@@ -167,29 +189,6 @@ TEST(psd, RealHeightsGiveASymmetricPsdAndInterpolationHitsTheNodes) {
   }
 }
 
-TEST(psd, TilesAverageAndMissingSamplesDoNotBiasThePsd) {
-  const Surface& full = gaussian_512();
-  PsdOptions o;
-  o.tile = 128;
-  const AreaPsd small = areal_psd(full, o);
-  EXPECT_EQ(small.tiles, 49u);  // starts 0, 64, ..., 384 on each axis
-  EXPECT_EQ(small.nfx, 128u);
-  o.tile = 256;
-  const AreaPsd tiled = areal_psd(full, o);
-  EXPECT_EQ(tiled.tiles, 9u);
-  // A 10 % hole, or tiles: the power in discs stays within 5 % of the analytic one.
-  Surface holed = full;
-  for (std::size_t iy = 100; iy < 260; ++iy)
-    for (std::size_t ix = 200; ix < 360; ++ix) holed.invalidate(holed.index(ix, iy));
-  const AreaPsd h = areal_psd(holed);
-  // (Discs wide enough for the tiles' coarser frequency step, 1 / (256 dx); each tile's mean
-  // removal takes the power below that step out, pi tau^2 df^2 = 2 % here.)
-  for (double f : {1.5 / (M_PI * kTau), 2.0 / (M_PI * kTau)}) {
-    EXPECT_NEAR(h.power_within(f) / analytic_power_within(f), 1.0, 0.05) << "hole, f " << f;
-    EXPECT_NEAR(tiled.power_within(f) / analytic_power_within(f), 1.0, 0.05) << "tiles, f " << f;
-  }
-}
-
 TEST(psd, RefusedOverTheMemoryBudgetAndWithoutData) {
   const auto before = memory_budget();
   const bool was_explicit = memory_budget_is_explicit();
@@ -211,6 +210,7 @@ TEST(psd, JsonRecordsUnitsAndNormalisation) {
   EXPECT_EQ(j["frequency_unit"], "cycles/m");
   EXPECT_EQ(j["psd_unit"], "m^4");
   EXPECT_EQ(j["window"], "hann");
-  EXPECT_NEAR(j["integral_m2"].get<double>() / std::pow(j["sq_m"].get<double>(), 2), 1, 1e-12);
+  EXPECT_NEAR(j["integral_m2"].get<double>() / std::pow(j["sq_m"].get<double>(), 2),
+              j["integral_over_sq2"].get<double>(), 1e-12);
   EXPECT_DOUBLE_EQ(j["fx_max_per_m"].get<double>(), 256 / (512 * kDx));
 }

@@ -4,22 +4,27 @@
 //
 //   PSD(fx, fy) = lim |integral h(x, y) exp(-2 pi i (fx x + fy y)) dx dy|^2 / A
 //
-// with spatial frequencies f = (fx, fy) in cycles/m (not rad/m) and the PSD in m^4, two-sided,
-// so that the integral of PSD over the whole f plane is the mean square height:
+// with spatial frequencies f = (fx, fy) in cycles/m (not rad/m) and the PSD in m^4, two-sided:
+// the integral of PSD over the whole f plane is the mean square height,
 //
-//   sum over the grid of PSD dfx dfy = Sq^2   (exactly, to rounding, for every window).
+//   sum over the grid of PSD dfx dfy = Sq^2   (exactly without a window on one tile).
 //
 // The estimator (areal_psd):
-//  - the surface is used as given (level it first: the CLI's readers level with a plane);
+//  - the surface is used as given (level it first: the CLI's readers level with a plane; form
+//    that a plane leaves, a bowl, is power at the lowest frequencies: level it with poly2/3);
 //  - each tile (the whole scan by default; else tiles of `tile` samples with 50 % overlap,
 //    Welch's method) has the window-weighted mean of its valid samples removed, is multiplied by
 //    the window (Hann by default: w = sin^2(pi (i + 1/2) / n) per axis; or none), invalid
-//    samples set to 0, transformed (FFTW r2c), and its periodogram dx dy |H|^2 / sum_valid w^2;
+//    samples set to 0, transformed (FFTW r2c), and its periodogram dx dy |H|^2 / sum_valid w^2
+//    (ISO 10110-8's window normalisation);
 //  - the tiles' periodograms are averaged with weights sum_valid w^2 (a tile without valid
 //    samples is skipped);
-//  - the result is scaled by Sq^2 / (its integral), so that Parseval holds with the rms height
-//    of the scan's valid samples: the factor (`power_correction`) is exactly 1 without a window
-//    on one tile and near 1 (a few %) otherwise. It is recorded, not hidden;
+//  - so the integral is the window-weighted mean square height: Sq^2 to rounding without a
+//    window on one tile, and for a stationary surface Sq^2 in expectation with any window (the
+//    generated Gaussian surfaces of the tests: within 1 %). A scan whose power sits at its edges
+//    (form left by the levelling, a defect near a corner) gives less with the Hann window: the
+//    ratio is recorded (integral_over_sq2 in psd_json) and the commands warn about it. Nothing
+//    is rescaled to force Sq^2: that would spread edge power over every frequency;
 //  - the zero-frequency bin is 0: the (window-weighted) mean is removed from each tile, and a
 //    rough surface scatters nothing into the specular direction through its mean height.
 // Invalid samples are excluded, never filled: the mask's own spectrum smooths the estimate
@@ -59,7 +64,6 @@ struct AreaPsd {
   std::size_t tile_nx = 0, tile_ny = 0;  ///< tile size in samples
   std::size_t tiles = 0;                 ///< tiles averaged
   double sq = 0;                         ///< rms height of the scan's valid samples, m
-  double power_correction = 1;           ///< the factor that made the integral Sq^2
   double dx = 0, dy = 0;                 ///< the scan's spacing, m
 
   double fx(std::size_t ix) const {
@@ -69,7 +73,7 @@ struct AreaPsd {
     return (static_cast<double>(iy) - static_cast<double>(nfy / 2)) * dfy;
   }
   double at_node(std::size_t ix, std::size_t iy) const { return value[iy * nfx + ix]; }
-  /// sum PSD dfx dfy, m^2 (= Sq^2).
+  /// sum PSD dfx dfy, m^2 (the window-weighted mean square height; see the header comment).
   double integral() const;
   /// Bilinear interpolation at (fx, fy) in cycles/m, m^4; 0 outside the grid. The zero-frequency
   /// node (0 in `value`: the mean is removed) enters as zero_frequency_estimate(), so that the
@@ -77,6 +81,9 @@ struct AreaPsd {
   double at(double fx, double fy) const;
   /// The PSD's value at f = 0 as its four nearest nodes give it (their mean), m^4.
   double zero_frequency_estimate() const;
+  /// The rms slope the PSD holds, sqrt(sum (2 pi |f|)^2 PSD dfx dfy) (dimensionless; the
+  /// slopes of both axes together, i.e. sqrt(Sdq^2) of ISO 25178 from the spectrum).
+  double rms_slope() const;
   /// The power within |f| <= f_max (cycles/m): sum of PSD dfx dfy over the nodes inside, m^2.
   double power_within(double f_max) const;
 };
@@ -100,7 +107,8 @@ RadialPsd radial_psd(const AreaPsd& psd);
 
 /// The PSD's record in JSON: conventions and units (frequency_unit "cycles/m", psd_unit "m^4",
 /// normalisation text), grid (nfx, nfy, dfx_per_m, dfy_per_m, fx_max_per_m, fy_max_per_m),
-/// estimator (window, tile_nx, tile_ny, tiles, power_correction), sq_m and integral_m2.
+/// estimator (window, tile_nx, tile_ny, tiles), sq_m, integral_m2, integral_over_sq2 and
+/// rms_slope.
 nlohmann::json psd_json(const AreaPsd& psd);
 
 }  // namespace microbrdf

@@ -23,8 +23,10 @@
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "microbrdf/brdf.hpp"
+#include "microbrdf/brdf_slice.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/psd.hpp"
 
@@ -108,6 +110,12 @@ class RayleighRiceBrdf final : public Brdf {
   Polarisation pol_;
 };
 
+/// The Mueller matrix along a slice (brdf_slice.hpp's angles and convention) as CSV: comment
+/// lines, then angle_deg, m00 .. m33 (row-major, 1/sr), wo_x, wo_y, wo_z; one row per angle, the
+/// same angles as tabulate_slice(b, theta_i, wavelength_m, plane, samples).
+std::string mueller_slice_csv(const RayleighRiceBrdf& b, double theta_i, double wavelength_m,
+                              SlicePlane plane, std::size_t samples);
+
 /// Fresnel reflectance of the smooth metal for the polarisation (S and SS: R_s, P and PP: R_p,
 /// Unpolarised: the mean; SP and PS: 0, a flat surface does not depolarise).
 double smooth_reflectance(double cos_i, std::complex<double> eps, Polarisation p);
@@ -129,5 +137,16 @@ Tis total_integrated_scatter(const RayleighRiceBrdf& brdf, double wavelength_m, 
 /// reflectance, rayleigh_factor, tis_closed_form, tis_integral, integral_over_closed_form,
 /// specular_reflectance, propagating_sq_m.
 nlohmann::json tis_json(const Tis& t);
+
+/// 405, 555, 633 and 1064 nm; 0, 20, 45 and 70 deg (rad): the table of `info --json`.
+const std::vector<double>& tis_default_wavelengths();
+const std::vector<double>& tis_default_angles();
+/// tis_json for every wavelength (m) and angle of incidence (rad), wavelength-major. Without a
+/// material (nullptr) only the material-free numbers: wavelength_m, theta_i_rad, theta_i_deg,
+/// rayleigh_factor (= TIS / R in the smooth limit) and propagating_sq_m.
+nlohmann::json tis_table(const std::shared_ptr<const AreaPsd>& psd,
+                         const OpticalConstants* material, const std::vector<double>& wavelengths,
+                         const std::vector<double>& angles,
+                         Polarisation polarisation = Polarisation::Unpolarised);
 
 }  // namespace microbrdf

@@ -263,43 +263,4 @@ std::string RayleighRiceBrdf::describe() const {
   return std::string(buf) + ", " + material_.name + " (" + material_.source + ")";
 }
 
-Tis total_integrated_scatter(const RayleighRiceBrdf& b, double wavelength_m, double theta_i) {
-  Tis t;
-  t.wavelength_m = wavelength_m;
-  t.theta_i_rad = theta_i;
-  const Vec3 wi(-std::sin(theta_i), 0, std::cos(theta_i));
-  const cd n = b.material().at(wavelength_m);
-  t.reflectance = smooth_reflectance(wi.z(), n * n, b.polarisation());
-  const double g = 4 * M_PI * b.psd().sq * wi.z() / wavelength_m;
-  t.rayleigh_factor = g * g;
-  t.closed_form = t.rayleigh_factor * t.reflectance;
-  t.integral = b.integrated_scatter(wi, wavelength_m);
-  t.specular = b.specular_reflectance(wi, wavelength_m);
-  // The PSD's power at the frequencies that scatter into propagating directions.
-  const AreaPsd& p = b.psd();
-  double band = 0;
-  for (std::size_t iy = 0; iy < p.nfy; ++iy)
-    for (std::size_t ix = 0; ix < p.nfx; ++ix) {
-      const double ux = wavelength_m * p.fx(ix) - wi.x(), uy = wavelength_m * p.fy(iy);
-      if (ux * ux + uy * uy < 1) band += p.at_node(ix, iy);
-    }
-  t.propagating_sq_m = std::sqrt(band * p.dfx * p.dfy);
-  return t;
-}
-
-nlohmann::json tis_json(const Tis& t) {
-  return {
-      {"wavelength_m", t.wavelength_m},
-      {"theta_i_rad", t.theta_i_rad},
-      {"theta_i_deg", t.theta_i_rad * 180 / M_PI},
-      {"reflectance", t.reflectance},
-      {"rayleigh_factor", t.rayleigh_factor},
-      {"tis_closed_form", t.closed_form},
-      {"tis_integral", t.integral},
-      {"integral_over_closed_form",
-       t.closed_form > 0 ? nlohmann::json(t.integral / t.closed_form) : nlohmann::json(nullptr)},
-      {"specular_reflectance", t.specular},
-      {"propagating_sq_m", t.propagating_sq_m}};
-}
-
 }  // namespace microbrdf

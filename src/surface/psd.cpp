@@ -85,6 +85,16 @@ double AreaPsd::power_within(double f_max) const {
   return sum * dfx * dfy;
 }
 
+double AreaPsd::rms_slope() const {
+  double sum = 0;
+  for (std::size_t iy = 0; iy < nfy; ++iy)
+    for (std::size_t ix = 0; ix < nfx; ++ix) {
+      const double f2 = fx(ix) * fx(ix) + fy(iy) * fy(iy);
+      sum += 4 * M_PI * M_PI * f2 * at_node(ix, iy);
+    }
+  return std::sqrt(sum * dfx * dfy);
+}
+
 AreaPsd areal_psd(const Surface& s, const PsdOptions& o, const std::string& what) {
   const std::size_t tnx = o.tile == 0 ? s.nx : std::min(o.tile, s.nx);
   const std::size_t tny = o.tile == 0 ? s.ny : std::min(o.tile, s.ny);
@@ -157,11 +167,6 @@ AreaPsd areal_psd(const Surface& s, const PsdOptions& o, const std::string& what
   for (double& v : p.value) v /= weight_sum;
   // The mean was removed: the zero-frequency bin holds rounding only.
   p.value[(tny / 2) * tnx + tnx / 2] = 0;
-  const double integral = p.integral();
-  if (integral > 0) {
-    p.power_correction = p.sq * p.sq / integral;
-    for (double& v : p.value) v *= p.power_correction;
-  }
   return p;
 }
 
@@ -193,7 +198,10 @@ nlohmann::json psd_json(const AreaPsd& p) {
   return {{"convention", "ISO 25178-2 / ISO 10110-8 areal PSD, two-sided"},
           {"frequency_unit", "cycles/m"},
           {"psd_unit", "m^4"},
-          {"normalisation", "sum(PSD) dfx dfy = Sq^2 of the levelled scan's valid samples"},
+          {"normalisation",
+           "PSD = dx dy |FFT(w h)|^2 / sum_valid w^2: sum(PSD) dfx dfy = the window-weighted mean "
+           "square height (= Sq^2 exactly without a window on one tile; for a stationary "
+           "surface Sq^2 in expectation with any window)"},
           {"zero_frequency", "0 (the window-weighted mean of each tile is removed)"},
           {"invalid_samples", "set to 0 after the mean is removed; normalised by sum_valid w^2"},
           {"nfx", p.nfx},
@@ -206,9 +214,11 @@ nlohmann::json psd_json(const AreaPsd& p) {
           {"tile_nx", p.tile_nx},
           {"tile_ny", p.tile_ny},
           {"tiles", p.tiles},
-          {"power_correction", p.power_correction},
           {"sq_m", p.sq},
-          {"integral_m2", p.integral()}};
+          {"integral_m2", p.integral()},
+          {"integral_over_sq2",
+           p.sq > 0 ? nlohmann::json(p.integral() / (p.sq * p.sq)) : nlohmann::json(nullptr)},
+          {"rms_slope", p.rms_slope()}};
 }
 
 }  // namespace microbrdf
