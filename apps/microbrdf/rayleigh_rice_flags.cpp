@@ -1,6 +1,7 @@
 #include "rayleigh_rice_flags.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "microbrdf/brdf_spec.hpp"
 #include "microbrdf/error.hpp"
@@ -70,6 +71,15 @@ RayleighRiceSource rayleigh_rice_from_flags(const RayleighRiceFlags& f, const Sp
   o.tile = f.psd_tile;
   auto psd =
       std::make_shared<const AreaPsd>(about_file(f.scan, [&] { return areal_psd(s, o, f.scan); }));
+  // The window-weighted mean square far from Sq^2: the scan's edges hold power (form, a defect)
+  // the window plays down, or the scan holds too few correlation areas to estimate the PSD.
+  const double ratio = psd->sq > 0 ? psd->integral() / (psd->sq * psd->sq) : 1.0;
+  if (ratio < 0.8 || ratio > 1.25)
+    std::fprintf(stderr,
+                 "microbrdf: warning: %s: the PSD holds %.3g x Sq^2 (Sq %.4g nm): power at the "
+                 "scan's edges (form or defects; try --level poly2 or poly3) or too few "
+                 "correlation lengths across it; the TIS closed form uses Sq\n",
+                 f.scan.c_str(), ratio, psd->sq * 1e9);
   const Polarisation pol = f.polarisation.empty() || f.mueller()
                                ? Polarisation::Unpolarised
                                : parse_polarisation(f.polarisation);
