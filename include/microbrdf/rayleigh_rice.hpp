@@ -101,6 +101,7 @@ class RayleighRiceBrdf final : public Brdf {
   double integrated_scatter(const Vec3& wi, double wavelength_m) const;
 
   const AreaPsd& psd() const { return *psd_; }
+  const std::shared_ptr<const AreaPsd>& shared_psd() const { return psd_; }
   const OpticalConstants& material() const { return material_; }
   Polarisation polarisation() const { return pol_; }
 
