@@ -94,6 +94,7 @@ TEST(psd, GeneratedGaussianMatchesItsAnalyticPsd) {
     }
   EXPECT_GT(n, 500);
   EXPECT_LT(worst, 0.01) << "nodes " << n;
+  std::printf("generated Gaussian vs analytic PSD: %d nodes, worst %.3f %%\n", n, 100 * worst);
 }
 
 // The power within |f| < F: sigma^2 (1 - exp(-pi^2 tau^2 F^2)) for the analytic PSD.

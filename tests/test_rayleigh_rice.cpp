@@ -202,7 +202,7 @@ TEST(rayleigh_rice, TisByHemisphericalQuadratureMatchesTheClosedForm) {
       const Vec3 r(-wi.x(), 0, wi.z()), e1(r.z(), 0, -r.x()), e2(0, 1, 0);
       // Rings of half-angle a about the mirror direction, dw = sin a da db, out to 12 lobe widths.
       const double amax = std::min(M_PI / 2, 12 * lambda / (M_PI * 20e-6) / std::cos(deg(ti)));
-      const int na = 600, nb = 360;
+      const int na = 400, nb = 240;
       double tis = 0;
       for (int i = 0; i < na; ++i) {
         const double a = (i + 0.5) * amax / na;
@@ -221,7 +221,7 @@ TEST(rayleigh_rice, TisByHemisphericalQuadratureMatchesTheClosedForm) {
       EXPECT_NEAR(tis / closed, 1.0, 0.02) << lambda << " " << ti;
       const Tis t = total_integrated_scatter(b, lambda, deg(ti));
       EXPECT_NEAR(t.closed_form / closed, 1.0, 1e-12);
-      EXPECT_NEAR(t.integral / tis, 1.0, 0.005) << lambda << " " << ti;
+      EXPECT_NEAR(t.integral / tis, 1.0, 0.01) << lambda << " " << ti;
       EXPECT_NEAR(t.specular, fresnel_conductor(std::cos(deg(ti)), n) * std::exp(-g * g), 1e-12);
       EXPECT_NEAR(b.albedo(wi, lambda), t.specular + t.integral, 1e-15);
       worst = std::max(worst, std::fabs(tis / closed - 1));
