@@ -257,6 +257,23 @@ TEST(rayleigh_rice, MuellerMatrixIsThePureMatrixOfTheAmplitudes) {
   }
 }
 
+TEST(rayleigh_rice, NormalIncidenceBackscatterIsAMirrorsMuellerMatrix) {
+  // theta_i = theta_s = 0: the Jones matrix is a multiple of diag(1, -1) in the convention of
+  // the amplitudes (Germer 1997), so M = M00 diag(1, 1, -1, -1).
+  const cd n = metal("Ag").at(633e-9);
+  for (double phi : {0.0, 0.7, 2.0}) {
+    const auto m = rayleigh_rice_mueller(rayleigh_rice_amplitudes(0, 0, phi, n * n));
+    const double want[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1};
+    const double q =
+        std::norm((n * n - 1.0) / ((1.0 + n) * (1.0 + n)));  // |r|^2 at normal incidence
+    // At phi != 0 the s and p axes of the scattered beam turn with phi: only phi = 0 is diagonal.
+    if (phi == 0.0) {
+      for (int i = 0; i < 16; ++i) EXPECT_NEAR(m[i], want[i] * q, 1e-14) << i;
+    }
+    EXPECT_NEAR(m[0], q, 1e-14);
+  }
+}
+
 TEST(rayleigh_rice, SamplingReproducesTheAlbedo) {
   const RayleighRiceBrdf b(psd_tau5(), metal("Al"), Polarisation::Unpolarised);
   const Vec3 wi = slice_light(deg(30));

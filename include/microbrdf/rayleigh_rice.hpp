@@ -44,12 +44,15 @@ std::string to_string(Polarisation p);
 /// polar angles theta_i, theta_s (rad, in [0, pi/2]), the scattering azimuth phi_s (rad, 0 =
 /// forward) and the relative permittivity eps of the substrate. With W(t) = sqrt(eps - sin^2 t)
 /// (principal root) and D(t) = cos t + W(t), E(t) = eps cos t + W(t):
-///   q_ss = (eps - 1) cos phi_s / (D_i D_s)
-///   q_sp = (eps - 1) W_s sin phi_s / (D_i E_s)
-///   q_ps = (eps - 1) W_i sin phi_s / (E_i D_s)
-///   q_pp = (eps - 1) (W_i W_s cos phi_s - eps sin theta_i sin theta_s) / (E_i E_s)
-/// In the mirror direction q_ss = -r_s and q_pp = r_p (Fresnel, r_s = (c - W)/(c + W),
-/// r_p = (eps c - W)/(eps c + W)): Q reduces to the Fresnel reflectances there.
+///   q_ss =   (eps - 1) cos phi_s / (D_i D_s)
+///   q_sp = - (eps - 1) W_s sin phi_s / (D_i E_s)
+///   q_ps = - (eps - 1) W_i sin phi_s / (E_i D_s)
+///   q_pp =   (eps - 1) (eps sin theta_i sin theta_s - W_i W_s cos phi_s) / (E_i E_s)
+/// The signs are those of Germer (Appl. Opt. 36, 8798, 1997), whose (s, p) bases make a mirror's
+/// Jones matrix diag(1, -1) at normal incidence (Mueller diag(1, 1, -1, -1): reflection reverses
+/// the handedness of circular light). In the mirror direction q_ss = -r_s and q_pp = -r_p
+/// (Fresnel, r_s = (c - W)/(c + W), r_p = (eps c - W)/(eps c + W)): Q reduces to the Fresnel
+/// reflectances there.
 struct RrAmplitudes {
   std::complex<double> ss, sp, ps, pp;
 };

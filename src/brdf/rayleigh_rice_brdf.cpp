@@ -20,8 +20,8 @@ RrAmplitudes amplitudes(double ci, double si, double cs, double ss, double cphi,
   const cd wi = std::sqrt(eps - si * si), ws = std::sqrt(eps - ss * ss);
   const cd di = ci + wi, ds = cs + ws, ei = eps * ci + wi, es = eps * cs + ws;
   const cd e1 = eps - 1.0;
-  return {e1 * cphi / (di * ds), e1 * ws * sphi / (di * es), e1 * wi * sphi / (ei * ds),
-          e1 * (wi * ws * cphi - eps * si * ss) / (ei * es)};
+  return {e1 * cphi / (di * ds), -e1 * ws * sphi / (di * es), -e1 * wi * sphi / (ei * ds),
+          e1 * (eps * si * ss - wi * ws * cphi) / (ei * es)};
 }
 
 cd permittivity(const OpticalConstants& m, double wavelength_m) {
