@@ -34,6 +34,12 @@ struct InfoArgs {
 // incidence: with a material the Rayleigh-Rice TIS, else the material-free numbers only.
 void add_psd_and_tis(const InfoArgs& a, const std::string& path, const Surface& s,
                      nlohmann::json& j) {
+  if (s.nx < 2 || s.ny < 2 || s.valid_count() == 0) {  // a profile has no areal PSD
+    j["psd"] = nullptr;
+    j["tis"] = nlohmann::json::array();
+    j["tis_material"] = nullptr;
+    return;
+  }
   auto psd =
       std::make_shared<const AreaPsd>(about_file(path, [&] { return areal_psd(s, {}, path); }));
   std::vector<double> wl, th;
