@@ -64,6 +64,14 @@ std::vector<double> values(const py::object& v, const std::vector<double>& fallb
   return v.cast<std::vector<double>>();
 }
 
+// The centred grid's frequencies along one axis (AreaPsd::fx / fy), cycles/m.
+py::array_t<double> frequencies(std::size_t n, double df) {
+  py::array_t<double> f(static_cast<py::ssize_t>(n));
+  for (std::size_t i = 0; i < n; ++i)
+    f.mutable_data()[i] = (static_cast<double>(i) - static_cast<double>(n / 2)) * df;
+  return f;
+}
+
 py::object mueller(const RayleighRiceBrdf& b, const py::object& wi_obj, const py::object& wo_obj,
                    double wavelength) {
   const Vec3Array wi = vec3_array(wi_obj, "wi"), wo = vec3_array(wo_obj, "wo");
@@ -97,20 +105,10 @@ value[iy, ix] is at fx[ix], fy[iy] (zero frequency in the middle; read-only view
           },
           "PSD on the grid, m^4, shape (nfy, nfx)")
       .def_property_readonly(
-          "fx",
-          [](const AreaPsd& p) {
-            std::vector<double> f(p.nfx);
-            for (std::size_t i = 0; i < p.nfx; ++i) f[i] = p.fx(i);
-            return py::array_t<double>(py::ssize_t(f.size()), f.data());
-          },
+          "fx", [](const AreaPsd& p) { return frequencies(p.nfx, p.dfx); },
           "Frequencies of the columns, cycles/m")
       .def_property_readonly(
-          "fy",
-          [](const AreaPsd& p) {
-            std::vector<double> f(p.nfy);
-            for (std::size_t i = 0; i < p.nfy; ++i) f[i] = p.fy(i);
-            return py::array_t<double>(py::ssize_t(f.size()), f.data());
-          },
+          "fy", [](const AreaPsd& p) { return frequencies(p.nfy, p.dfy); },
           "Frequencies of the rows, cycles/m")
       .def_readonly("dfx", &AreaPsd::dfx, "Grid step along fx, cycles/m")
       .def_readonly("dfy", &AreaPsd::dfy, "Grid step along fy, cycles/m")
