@@ -187,6 +187,22 @@ TEST(rayleigh_rice, NormalIncidenceIsAzimuthallySymmetricExactly) {
       }
       EXPECT_NEAR(b.eval(wi, direction(deg(ts), -deg(phi)), 633e-9), f0, 1e-12 * f0);
     }
+  // Oblique light from any of the grid's four axes: turning light and view together by 90 deg
+  // leaves the BRDF and every polarisation's Q as they were (f = (wo_xy + wi_xy) / lambda and
+  // phi_s from the forward direction -wi_xy are the vector forms, not tied to the x axis).
+  const auto turn = [](const Vec3& v) { return Vec3(-v.y(), v.x(), v.z()); };
+  for (auto pol : {Polarisation::S, Polarisation::P, Polarisation::SP})
+    for (double dt : {-1.0, 0.5, 2.0})
+      for (double phi : {0.0, 20.0, -70.0}) {
+        const RayleighRiceBrdf bp(p, metal("Au"), pol);
+        const Vec3 w1 = direction(deg(30), M_PI), v1 = direction(deg(30 + dt), deg(phi));
+        const double f1 = bp.eval(w1, v1, 633e-9);
+        EXPECT_NEAR(bp.eval(turn(w1), turn(v1), 633e-9), f1, 1e-12 * f1 + 1e-300);
+        const RrAngles a = rayleigh_rice_angles(turn(w1), turn(v1));
+        EXPECT_NEAR(a.theta_i, deg(30), 1e-12);
+        EXPECT_NEAR(a.theta_s, deg(30 + dt), 1e-12);
+        EXPECT_NEAR(a.phi_s, deg(phi), 1e-12);
+      }
 }
 
 TEST(rayleigh_rice, TisByHemisphericalQuadratureMatchesTheClosedForm) {
