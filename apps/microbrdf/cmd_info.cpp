@@ -11,7 +11,6 @@
 #include "microbrdf/height_preview.hpp"
 #include "microbrdf/image.hpp"
 #include "microbrdf/material_spec.hpp"
-#include "microbrdf/psd.hpp"
 #include "microbrdf/rayleigh_rice.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
@@ -34,25 +33,13 @@ struct InfoArgs {
 // incidence: with a material the Rayleigh-Rice TIS, else the material-free numbers only.
 void add_psd_and_tis(const InfoArgs& a, const std::string& path, const Surface& s,
                      nlohmann::json& j) {
-  if (s.nx < 2 || s.ny < 2 || s.valid_count() == 0) {  // a profile has no areal PSD
-    j["psd"] = nullptr;
-    j["tis"] = nlohmann::json::array();
-    j["tis_material"] = nullptr;
-    return;
-  }
-  auto psd =
-      std::make_shared<const AreaPsd>(about_file(path, [&] { return areal_psd(s, {}, path); }));
   std::vector<double> wl, th;
   for (const auto& w : a.wavelengths) wl.push_back(parse_length(w));
   for (const auto& t : a.angles) th.push_back(parse_angle(t));
-  if (wl.empty()) wl = tis_default_wavelengths();
-  if (th.empty()) th = tis_default_angles();
   std::optional<OpticalConstants> m;
   if (has_material(a.material.keys()))
     m = optical_constants(material_spec(a.material, std::nullopt));
-  j["psd"] = psd_json(*psd);
-  j["tis"] = tis_table(psd, m ? &*m : nullptr, wl, th);
-  j["tis_material"] = m ? nlohmann::json(m->name) : nlohmann::json(nullptr);
+  add_psd_and_tis_json(j, s, path, m ? &*m : nullptr, wl, th);
 }
 
 std::string deg(double slope) {

@@ -153,4 +153,13 @@ nlohmann::json tis_table(const std::shared_ptr<const AreaPsd>& psd,
                          const std::vector<double>& angles,
                          Polarisation polarisation = Polarisation::Unpolarised);
 
+/// The `info --json` additions for one scan (`mb.statistics` gives the same): "psd" (psd_json of
+/// the default estimator; null for a profile, one row or column, or a scan without valid
+/// samples), "tis" (tis_table at the wavelengths and angles, the defaults when empty; an empty
+/// list for a profile) and "tis_material" (the material's name, or null without one). `name`
+/// names the scan in errors.
+void add_psd_and_tis_json(nlohmann::json& record, const Surface& s, const std::string& name,
+                          const OpticalConstants* material, std::vector<double> wavelengths = {},
+                          std::vector<double> angles = {});
+
 }  // namespace microbrdf

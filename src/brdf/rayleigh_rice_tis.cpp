@@ -3,6 +3,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "microbrdf/error.hpp"
 #include "microbrdf/rayleigh_rice.hpp"
 
 namespace microbrdf {
@@ -86,6 +87,23 @@ nlohmann::json tis_table(const std::shared_ptr<const AreaPsd>& psd,
                      {"propagating_sq_m", std::sqrt(propagating_power(*psd, slice_light(t), l))}});
     }
   return out;
+}
+
+void add_psd_and_tis_json(nlohmann::json& j, const Surface& s, const std::string& name,
+                          const OpticalConstants* material, std::vector<double> wavelengths,
+                          std::vector<double> angles) {
+  j["tis_material"] = material ? nlohmann::json(material->name) : nlohmann::json(nullptr);
+  if (s.nx < 2 || s.ny < 2 || s.valid_count() == 0) {  // a profile has no areal PSD
+    j["psd"] = nullptr;
+    j["tis"] = nlohmann::json::array();
+    return;
+  }
+  auto psd =
+      std::make_shared<const AreaPsd>(about_file(name, [&] { return areal_psd(s, {}, name); }));
+  if (wavelengths.empty()) wavelengths = tis_default_wavelengths();
+  if (angles.empty()) angles = tis_default_angles();
+  j["psd"] = psd_json(*psd);
+  j["tis"] = tis_table(psd, material, wavelengths, angles);
 }
 
 }  // namespace microbrdf
