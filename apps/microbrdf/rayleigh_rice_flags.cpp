@@ -76,7 +76,7 @@ RayleighRiceSource rayleigh_rice_from_flags(const RayleighRiceFlags& f, const Sp
   const double ratio = psd->sq > 0 ? psd->integral() / (psd->sq * psd->sq) : 1.0;
   if (ratio < 0.8 || ratio > 1.25)
     std::fprintf(stderr,
-                 "microbrdf: warning: %s: the PSD holds %.3g x Sq^2 (Sq %.4g nm): power at the "
+                 "microbrdf brdf slice: warning: %s: the PSD holds %.3g x Sq^2 (Sq %.4g nm): power at the "
                  "scan's edges (form or defects; try --level poly2 or poly3) or too few "
                  "correlation lengths across it; the TIS closed form uses Sq\n",
                  f.scan.c_str(), ratio, psd->sq * 1e9);
