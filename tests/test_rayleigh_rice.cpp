@@ -273,6 +273,29 @@ TEST(rayleigh_rice, MuellerMatrixIsThePureMatrixOfTheAmplitudes) {
   }
 }
 
+TEST(rayleigh_rice, UnpolarisedBrdfIsReciprocal) {
+  // f(wi, wo) = f(wo, wi): the frequency (wo + wi)_xy / lambda is symmetric, the PSD of real
+  // heights is even, and Q_sp and Q_ps trade places.
+  const RayleighRiceBrdf b(psd_tau5(), metal("Cu"), Polarisation::Unpolarised);
+  std::uint64_t st = 99;
+  auto u = [&] {
+    st = st * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(st >> 11) * 0x1.0p-53;
+  };
+  int nonzero = 0;
+  for (int i = 0; i < 200; ++i) {
+    const double ti = deg(80 * u()), pi = 2 * M_PI * u();
+    const Vec3 wi = direction(ti, pi);
+    // a view near the mirror direction, where the BRDF is not 0
+    const Vec3 wo =
+        direction(std::clamp(ti + deg(6 * u() - 3), 0.01, 1.5), pi + M_PI + deg(10 * u() - 5));
+    const double a = b.eval(wi, wo, 555e-9), c = b.eval(wo, wi, 555e-9);
+    EXPECT_NEAR(a, c, 1e-12 * std::max(a, c) + 1e-300) << i;
+    nonzero += a > 0;
+  }
+  EXPECT_GT(nonzero, 100);
+}
+
 TEST(rayleigh_rice, NormalIncidenceBackscatterIsAMirrorsMuellerMatrix) {
   // theta_i = theta_s = 0: the Jones matrix is a multiple of diag(1, -1) in the convention of
   // the amplitudes (Germer 1997), so M = M00 diag(1, 1, -1, -1).
