@@ -76,10 +76,11 @@ RayleighRiceSource rayleigh_rice_from_flags(const RayleighRiceFlags& f, const Sp
   const double ratio = psd->sq > 0 ? psd->integral() / (psd->sq * psd->sq) : 1.0;
   if (ratio < 0.8 || ratio > 1.25)
     std::fprintf(stderr,
-                 "microbrdf brdf slice: warning: %s: the PSD holds %.3g x Sq^2 (Sq %.4g nm): power at the "
-                 "scan's edges (form or defects; try --level poly2 or poly3) or too few "
-                 "correlation lengths across it; the TIS closed form uses Sq\n",
-                 f.scan.c_str(), ratio, psd->sq * 1e9);
+                 "microbrdf brdf slice: warning: %s: the PSD holds %.3g x Sq^2 (Sq %.4g nm, "
+                 "levelling %s): the scan's edges hold power the window plays down (form the "
+                 "levelling left, defects), or the scan spans too few correlation lengths; the "
+                 "TIS closed form uses Sq\n",
+                 f.scan.c_str(), ratio, psd->sq * 1e9, f.read.level.c_str());
   const Polarisation pol = f.polarisation.empty() || f.mueller()
                                ? Polarisation::Unpolarised
                                : parse_polarisation(f.polarisation);
