@@ -20,6 +20,7 @@
 #include <array>
 #include <complex>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
@@ -31,6 +32,10 @@
 #include "microbrdf/psd.hpp"
 
 namespace microbrdf {
+
+namespace detail {
+class Marginal2D;  // src/core/marginal2d.hpp
+}
 
 /// Which first-order BRDF: incident s or p with the scattered light summed over both
 /// polarisations (S, P), the average over incident polarisations (Unpolarised, = (Q_ss + Q_sp +
@@ -83,14 +88,20 @@ class RayleighRiceBrdf final : public Brdf {
   double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
   /// The BRDF's Mueller matrix (1/sr, row-major; element 0 is the unpolarised eval()).
   std::array<double, 16> mueller(const Vec3& wi, const Vec3& wo, double wavelength_m) const;
-  /// With probability 1/2 the specular delta (weight 2 R exp(-g), delta = true), else a
-  /// cosine-weighted direction (pdf cos(theta_o) / (2 pi), weight f cos / pdf). Unbiased for any
-  /// wavelength (pdf() cannot depend on it), but noisy for the narrow lobes of long
-  /// correlation lengths: renderers of smooth metals gain little from the diffuse part anyway.
+  /// With probability 1/2 the specular delta (weight 2 R exp(-g), delta = true); with 1/4 a
+  /// direction drawn from the PSD itself as the halo at kSamplingWavelength has it (the
+  /// bilinear PSD as a 2-D density, f -> wo_xy = lambda_ref f - wi_xy; nothing when that
+  /// direction does not propagate); with 1/4 a cosine-weighted direction. The density does not
+  /// depend on the wavelength (pdf() cannot), so the halo is matched exactly at 555 nm and
+  /// scaled by lambda / 555 nm elsewhere; the cosine part keeps every direction reachable.
+  /// The PSD's sampling table (about 20 bytes per node) is built on the first call; over the
+  /// memory budget the PSD branch returns nothing instead.
   std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
                                    double wavelength_m) const override;
-  /// cos(theta_o) / (2 pi): the diffuse branch of sample().
+  /// The density of the non-delta branches of sample(): (cos(theta_o) / pi + p_psd(wo)) / 4.
   double pdf(const Vec3& wi, const Vec3& wo) const override;
+  /// The wavelength whose halo sample() draws exactly, m.
+  static constexpr double kSamplingWavelength = 555e-9;
   /// Specular reflectance plus the total integrated scatter (exact sum over the PSD's nodes).
   double albedo(const Vec3& wi, double wavelength_m) const override;
   Lobes lobes() const override { return {true, true, false}; }
@@ -109,9 +120,17 @@ class RayleighRiceBrdf final : public Brdf {
   Polarisation polarisation() const { return pol_; }
 
  private:
+  /// The PSD's sampling table (built once, on the first sample() or pdf(); null when there is
+  /// no mass or no memory for it).
+  const detail::Marginal2D* lobe() const;
+  /// The density per steradian of the PSD branch of sample().
+  double lobe_pdf(const Vec3& wi, const Vec3& wo) const;
+
   std::shared_ptr<const AreaPsd> psd_;
   OpticalConstants material_;
   Polarisation pol_;
+  mutable std::once_flag lobe_once_;
+  mutable std::shared_ptr<const detail::Marginal2D> lobe_;
 };
 
 /// The Mueller matrix along a slice (brdf_slice.hpp's angles and convention) as CSV: comment

@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "core/marginal2d.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/memory_budget.hpp"
 #include "microbrdf/rayleigh_rice.hpp"
 
 namespace microbrdf {
@@ -14,15 +16,53 @@ namespace {
 
 using cd = std::complex<double>;
 
+// 1 / z without the NaN and overflow care of the library's complex division (|z| is of order
+// 1 to 100 here): the node sums spend most of their time in divisions otherwise.
+cd reciprocal(cd z) {
+  const double n = std::norm(z);
+  return {z.real() / n, -z.imag() / n};
+}
+
+// The principal square root (non-negative real part, the branch Fresnel's W takes) without
+// the library's hypot: |z| is far from overflow here, and the sums take one root per node.
+cd principal_sqrt(cd z) {
+  const double x = z.real(), y = z.imag();
+  const double r = std::sqrt(x * x + y * y);
+  if (r == 0) return 0.0;
+  const double t = std::sqrt(0.5 * (r + std::fabs(x)));
+  if (x >= 0) return {t, y / (2 * t)};
+  return {std::fabs(y) / (2 * t), std::copysign(t, y)};
+}
+
+// What the amplitudes need of the incident direction: computed once per light direction and
+// wavelength, so that a sum over many views pays for one complex square root per view.
+struct Incident {
+  cd eps, e1, wi, di_inv, ei_inv;
+  double si;
+};
+Incident incident(double ci, double si, cd eps) {
+  Incident in;
+  in.eps = eps;
+  in.e1 = eps - 1.0;
+  in.wi = principal_sqrt(eps - si * si);
+  in.di_inv = reciprocal(ci + in.wi);
+  in.ei_inv = reciprocal(eps * ci + in.wi);
+  in.si = si;
+  return in;
+}
+
 // The amplitudes from cosines and sines (the BRDF has them from the directions directly, without
 // a round trip through acos).
+RrAmplitudes amplitudes(const Incident& in, double cs, double ss, double cphi, double sphi) {
+  const cd ws = principal_sqrt(in.eps - ss * ss);
+  const cd ds_inv = reciprocal(cs + ws), es_inv = reciprocal(in.eps * cs + ws);
+  const cd a = in.e1 * in.di_inv, b = in.e1 * in.ei_inv;
+  return {a * cphi * ds_inv, -a * ws * sphi * es_inv, -b * in.wi * sphi * ds_inv,
+          b * (in.eps * in.si * ss - in.wi * ws * cphi) * es_inv};
+}
 RrAmplitudes amplitudes(double ci, double si, double cs, double ss, double cphi, double sphi,
                         cd eps) {
-  const cd wi = std::sqrt(eps - si * si), ws = std::sqrt(eps - ss * ss);
-  const cd di = ci + wi, ds = cs + ws, ei = eps * ci + wi, es = eps * cs + ws;
-  const cd e1 = eps - 1.0;
-  return {e1 * cphi / (di * ds), -e1 * ws * sphi / (di * es), -e1 * wi * sphi / (ei * ds),
-          e1 * (eps * si * ss - wi * ws * cphi) / (ei * es)};
+  return amplitudes(incident(ci, si, eps), cs, ss, cphi, sphi);
 }
 
 cd permittivity(const OpticalConstants& m, double wavelength_m) {
@@ -41,8 +81,9 @@ std::optional<Geometry> geometry(const Vec3& wi, const Vec3& wo) {
   Geometry g;
   g.ci = std::min(1.0, wi.z());
   g.cs = std::min(1.0, wo.z());
-  g.si = std::hypot(wi.x(), wi.y());
-  g.ss = std::hypot(wo.x(), wo.y());
+  // (not hypot: unit vectors neither overflow nor underflow, and hypot is slow)
+  g.si = std::sqrt(wi.x() * wi.x() + wi.y() * wi.y());
+  g.ss = std::sqrt(wo.x() * wo.x() + wo.y() * wo.y());
   double dx = 1, dy = 0;
   if (g.si > 1e-12) {
     dx = -wi.x() / g.si;
@@ -206,8 +247,9 @@ double RayleighRiceBrdf::specular_reflectance(const Vec3& wi, double wavelength_
 double RayleighRiceBrdf::integrated_scatter(const Vec3& wi, double wavelength_m) const {
   if (!(wi.z() > 0)) return 0;
   const double l = wavelength_m;
-  const cd eps = permittivity(material_, l);
   const AreaPsd& p = *psd_;
+  const double si = std::sqrt(wi.x() * wi.x() + wi.y() * wi.y());
+  const Incident in = incident(std::min(1.0, wi.z()), si, permittivity(material_, l));
   // One partial sum per row, added in row order: the same bits with any number of threads.
   std::vector<double> rows(p.nfy, 0.0);
 #pragma omp parallel for schedule(static)
@@ -223,19 +265,54 @@ double RayleighRiceBrdf::integrated_scatter(const Vec3& wi, double wavelength_m)
       if (r2 >= 1) continue;  // evanescent: no scattered wave
       const Vec3 wo(ux, uy, std::sqrt(1 - r2));
       const auto g = geometry(wi, wo);
-      const auto a = amplitudes(g->ci, g->si, g->cs, g->ss, g->cphi, g->sphi, eps);
-      sum += g->ci * g->cs * rayleigh_rice_q(a, pol_) * s;
+      sum += g->cs * rayleigh_rice_q(amplitudes(in, g->cs, g->ss, g->cphi, g->sphi), pol_) * s;
     }
     rows[iy] = sum;
   }
   double sum = 0;
   for (double r : rows) sum += r;
   // f cos(theta_o) dw = f du dv = f lambda^2 dfx dfy.
-  return 16 * M_PI * M_PI / (l * l) * sum * p.dfx * p.dfy;
+  return 16 * M_PI * M_PI / (l * l) * wi.z() * sum * p.dfx * p.dfy;
 }
 
 double RayleighRiceBrdf::albedo(const Vec3& wi, double wavelength_m) const {
   return specular_reflectance(wi, wavelength_m) + integrated_scatter(wi, wavelength_m);
+}
+
+const detail::Marginal2D* RayleighRiceBrdf::lobe() const {
+  std::call_once(lobe_once_, [this] {
+    const AreaPsd& p = *psd_;
+    const std::size_t n = p.nfx * p.nfy;
+    try {
+      check_memory("Rayleigh-Rice", mul_sat(n, 4 + 16) + mul_sat(p.nfy, 8),
+                   "the PSD's sampling table");
+      // The density is at() between the nodes: bilinear, with the zero-frequency estimate.
+      std::vector<double> v(p.value);
+      v[(p.nfy / 2) * p.nfx + p.nfx / 2] = p.zero_frequency_estimate();
+      const double peak = *std::max_element(v.begin(), v.end());
+      if (!(peak > 0)) return;
+      std::vector<float> data(n);
+      for (std::size_t i = 0; i < n; ++i) data[i] = static_cast<float>(v[i] / peak);
+      lobe_ = std::make_shared<const detail::Marginal2D>(data, p.nfx, p.nfy,
+                                                         std::vector<std::vector<double>>{}, true);
+    } catch (const std::exception&) {
+      lobe_ = nullptr;  // over the budget, or no mass: the cosine branch alone
+    }
+  });
+  return lobe_.get();
+}
+
+double RayleighRiceBrdf::lobe_pdf(const Vec3& wi, const Vec3& wo) const {
+  const detail::Marginal2D* m = lobe();
+  if (!m || !(wo.z() > 0)) return 0;
+  const AreaPsd& p = *psd_;
+  const double l = kSamplingWavelength;
+  const double wx = p.fx(p.nfx - 1) - p.fx(0), wy = p.fy(p.nfy - 1) - p.fy(0);
+  const double x = ((wo.x() + wi.x()) / l - p.fx(0)) / wx;
+  const double y = ((wo.y() + wi.y()) / l - p.fy(0)) / wy;
+  if (!(x >= 0 && x <= 1 && y >= 0 && y <= 1)) return 0;
+  // per unit square -> per (cycles/m)^2 -> per unit wo_xy (lambda^2) -> per steradian (cos)
+  return m->eval({x, y}, nullptr) / (wx * wy) / (l * l) * wo.z();
 }
 
 std::optional<BrdfSample> RayleighRiceBrdf::sample(const Vec3& wi, double u1, double u2,
@@ -249,18 +326,34 @@ std::optional<BrdfSample> RayleighRiceBrdf::sample(const Vec3& wi, double u1, do
     s.weight = 2 * specular_reflectance(wi, wavelength_m);
     return s;
   }
-  const double v = 2 * u1 - 1;  // reuse u1's upper half as a fresh uniform number
-  const double r = std::sqrt(v), phi = 2 * M_PI * u2;
-  const double z = std::sqrt(std::max(0.0, 1 - v));
-  if (!(z > 0)) return std::nullopt;
-  s.wo = Vec3(r * std::cos(phi), r * std::sin(phi), z);
-  s.pdf = z / (2 * M_PI);
-  s.weight = eval(wi, s.wo, wavelength_m) * z / s.pdf;
+  if (u1 < 0.75) {  // cosine-weighted; (u1 - 0.5) * 4 is a fresh uniform number
+    const double v = (u1 - 0.5) * 4;
+    const double r = std::sqrt(v), phi = 2 * M_PI * u2;
+    const double z = std::sqrt(std::max(0.0, 1 - v));
+    if (!(z > 0)) return std::nullopt;
+    s.wo = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+  } else {  // the PSD's halo at the sampling wavelength
+    const detail::Marginal2D* m = lobe();
+    if (!m) return std::nullopt;
+    const auto [pos, density] = m->sample({(u1 - 0.75) * 4, u2}, nullptr);
+    (void)density;
+    const AreaPsd& p = *psd_;
+    const double l = kSamplingWavelength;
+    const double fx = p.fx(0) + pos[0] * (p.fx(p.nfx - 1) - p.fx(0));
+    const double fy = p.fy(0) + pos[1] * (p.fy(p.nfy - 1) - p.fy(0));
+    const double x = l * fx - wi.x(), y = l * fy - wi.y(), r2 = x * x + y * y;
+    if (!(r2 < 1)) return std::nullopt;  // evanescent at this wavelength
+    s.wo = Vec3(x, y, std::sqrt(1 - r2));
+  }
+  s.pdf = pdf(wi, s.wo);
+  if (!(s.pdf > 0)) return std::nullopt;
+  s.weight = eval(wi, s.wo, wavelength_m) * s.wo.z() / s.pdf;
   return s;
 }
 
 double RayleighRiceBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
-  return wi.z() > 0 && wo.z() > 0 ? wo.z() / (2 * M_PI) : 0.0;
+  if (!(wi.z() > 0) || !(wo.z() > 0)) return 0;
+  return 0.25 * (wo.z() / M_PI + lobe_pdf(wi, wo));
 }
 
 std::string RayleighRiceBrdf::describe() const {
