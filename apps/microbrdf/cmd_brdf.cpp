@@ -44,6 +44,7 @@ void run_slice(const BrdfArgs& a) {
     bp = rr.brdf;
   } else {
     bp = brdf_from_flags(a.spec, &spec);
+    warn_single_dk_table(a.spec, "brdf slice");
   }
   const Brdf& b = *bp;
   std::string label = a.rr.given() ? "Rayleigh-Rice, " + to_string(rr.brdf->polarisation()) + ", " +

@@ -63,6 +63,7 @@ Source source_of(const ExportArgs& a, const char* cmd) {
         "give a measured FILE (.binary, .bsdf) or a BRDF (--model/--alpha, --ndf, --kirchhoff, "
         "--sun, --sh, --texture, --lambertian) with its material");
   const BrdfSpec spec = brdf_spec(a.spec);
+  warn_single_dk_table(a.spec, "export " + std::string(cmd));
   const MaterialSpec material =
       spec.uses_material() ? material_spec(a.spec, std::nullopt) : MaterialSpec{};
   s.what = spec.describe() + (spec.uses_material() ? ", " + material.describe() : "");

@@ -49,14 +49,24 @@ nlohmann::json ndf_json(const TabulatedNdf& ndf, const NdfArgs& a) {
 
 // The instrument signature (every method), the table (-o) and, when asked, its preview.
 void write_outputs(TabulatedNdf& ndf, const NdfArgs& a) {
+  std::vector<TabulatedNdf> one{std::move(ndf)};
+  write_outputs(one, 0, a);
+  ndf = std::move(one[0]);
+}
+
+void write_outputs(std::vector<TabulatedNdf>& layers, std::size_t primary, const NdfArgs& a) {
   std::unique_ptr<TabulatedNdf> sig;
   if (!a.instrument.empty()) sig = std::make_unique<TabulatedNdf>(read_ndf(a.instrument));
-  ndf = apply_instrument(ndf, parse_angle(a.instrument_fwhm), sig.get());
-  write_ndf(ndf, a.output);
+  for (auto& t : layers) t = apply_instrument(t, parse_angle(a.instrument_fwhm), sig.get());
+  if (!write_ndf_stack(layers, primary, a.output))
+    std::fprintf(stderr,
+                 "microbrdf ndf: warning: %s: an .exr holds one table, so only D_K at lambda_q "
+                 "%s was written (the stack over lambda_q needs .npy)\n",
+                 a.output.c_str(), format_length(layers[primary].meta.wavelength_m).c_str());
   if (a.preview.empty()) return;
   NdfPreviewOptions po;
   po.zoom = a.zoom;
-  write_ndf_preview(ndf, a.preview, po);
+  write_ndf_preview(layers[primary], a.preview, po);
 }
 
 // Reading and levelling of the scan set (distributed over MPI ranks when run under mpirun).
@@ -103,8 +113,11 @@ void run_kirchhoff(const NdfArgs& a) {
   WorkStats stats;
   auto acc = accumulate_kirchhoff_scans(paths, o, set, &stats);
   if (!acc) return;  // rank 0 writes the outputs
-  TabulatedNdf ndf = acc->result();
-  write_outputs(ndf, a);
+  std::vector<TabulatedNdf> layers = acc->stack_result();
+  std::size_t primary = 0;
+  while (layers[primary].meta.wavelength_m != o.wavelength_q) ++primary;
+  write_outputs(layers, primary, a);
+  const TabulatedNdf& ndf = layers[primary];
   // D_K integrates to about 1 before normalising (Parseval); a larger departure means the
   // discretisation (table, tiles, sampling) misses or duplicates scattered power.
   const double raw = acc->raw_integral();
@@ -119,7 +132,11 @@ void run_kirchhoff(const NdfArgs& a) {
     auto j = ndf_json(ndf, a);
     j["mpi"] = stats.to_json("scans_per_rank");
     const auto& in = acc->last_info();
+    nlohmann::json lqs = nlohmann::json::array();
+    for (const auto& t : layers) lqs.push_back(t.meta.wavelength_m);
     j["kirchhoff"] = {{"wavelength_q_m", o.wavelength_q},
+                      {"stack", a.dk.stack},
+                      {"stack_wavelengths_q_m", lqs},
                       {"patch_m", {o.patch_x, o.patch_y}},
                       {"patches", acc->patches()},
                       {"window", to_string(o.window)},
@@ -138,9 +155,16 @@ void run_kirchhoff(const NdfArgs& a) {
     print_json(j);
   } else {
     std::fprintf(stderr,
-                 "microbrdf ndf: kirchhoff D_K (lambda_q %s) of %zu scan(s), %zu patch(es) -> %s "
-                 "(%zu x %zu); integral before normalising %.4g; rms slope x %.4g, y %.4g\n",
-                 format_length(o.wavelength_q).c_str(), paths.size(), acc->patches(),
+                 "microbrdf ndf: kirchhoff D_K (lambda_q %s%s) of %zu scan(s), %zu patch(es), "
+                 "window %s -> %s (%zu x %zu); integral before normalising %.4g; rms slope x "
+                 "%.4g, y %.4g\n",
+                 format_length(o.wavelength_q).c_str(),
+                 layers.size() > 1 ? (" and a stack of " + std::to_string(layers.size()) +
+                                      " tables over " + format_length(layers.front().meta.wavelength_m) +
+                                      " .. " + format_length(layers.back().meta.wavelength_m))
+                                         .c_str()
+                                   : "",
+                 paths.size(), acc->patches(), to_string(o.window).c_str(),
                  a.output.c_str(), ndf.resolution(), ndf.resolution(), acc->raw_integral(),
                  ndf.rms_slope(0), ndf.rms_slope(M_PI / 2));
   }

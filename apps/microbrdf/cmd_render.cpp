@@ -56,6 +56,7 @@ void preflight(const RenderArgs& a) {
   (void)parse_render_sampler(a.sampler, "--sampler");
   (void)render_brdf_spec(a.spec, a.sun);  // the BRDF and material flags, before any file
   (void)material_spec(a.spec, MaterialSpec::named_metal("Al"));
+  warn_single_dk_table(a.spec, "render");
 }
 
 void run(RenderArgs& a) {

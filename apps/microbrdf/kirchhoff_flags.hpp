@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "microbrdf/kirchhoff.hpp"
 
@@ -14,7 +15,8 @@ namespace microbrdf::cli {
 /// What the user typed for the D_K flags.
 struct KirchhoffFlags {
   std::string patch = "70x53um";  ///< tile size, or whole | none | 0 (one tile per scan)
-  std::string window = "none";
+  std::string window = "hann";
+  std::string stack = "visible";
   double accuracy = KirchhoffOptions{}.accuracy;
   bool keep_aliases = false;
   std::string integration = "midpoint";
@@ -29,6 +31,9 @@ void add_kirchhoff_flags(CLI::App* cmd, KirchhoffFlags& f, const std::string& pr
 /// --sweep-resolution (the table size of that sweep), as `ndf` and `predict` take them.
 void add_filter_sigma_flags(CLI::App* cmd, std::string& filter_sigma, std::size_t& sweep_resolution,
                             const std::string& prefix);
+
+/// The lambda_q (m) of --dk-stack besides the table at `lambda` (visible | wavelength | single).
+std::vector<double> kirchhoff_stack_layers(const std::string& stack, double lambda);
 
 /// KirchhoffOptions from the flags and the --wavelength text (resolution, direct and progress
 /// are the caller's). Throws InputError naming the flag for a bad value.

@@ -34,6 +34,9 @@ struct NdfArgs {
 nlohmann::json ndf_json(const TabulatedNdf& ndf, const NdfArgs& a);
 /// The instrument signature (every method), the table (-o) and, when asked, its preview.
 void write_outputs(TabulatedNdf& ndf, const NdfArgs& a);
+/// Every table of a stack over lambda_q (instrument applied to each) into -o; the preview of
+/// layers[primary].
+void write_outputs(std::vector<TabulatedNdf>& layers, std::size_t primary, const NdfArgs& a);
 /// Reading and levelling of the scan set (distributed over MPI ranks when run under mpirun).
 ScanSetOptions scan_set_options(const NdfArgs& a, std::size_t scans);
 /// --method naive | filtered (with --filter-sigma auto).

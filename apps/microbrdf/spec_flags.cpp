@@ -1,6 +1,12 @@
 #include "spec_flags.hpp"
 
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
 #include "microbrdf/error.hpp"
+#include "microbrdf/json_read.hpp"
+#include "microbrdf/units.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/microfacet.hpp"
 
@@ -77,7 +83,7 @@ void add_brdf_flags(CLI::App* c, SpecFlags& f, unsigned set) {
   if (set & kFlagKirchhoff)
     c->add_option("--kirchhoff", f.kirchhoff,
                   "Kirchhoff BRDF (Dong eq. 8) from D_K tables of `microbrdf ndf --method "
-                  "kirchhoff` (repeat for several wavelengths); shadowing from --model/--alpha "
+                  "kirchhoff` (a stack over lambda_q, interpolated per direction; repeat the flag to add tables); shadowing from --model/--alpha "
                   "if given");
   if (set & kFlagSun)
     c->add_option("--sun", f.text["sun"], "Sun 2002 analytic BRDF with smoothness s = tau/sigma")
@@ -124,6 +130,36 @@ BrdfSpec brdf_spec(const SpecFlags& f, const std::optional<BrdfSpec>& fallback) 
                                                               : "--lambertian: no Fresnel term") +
                      "; material flags (--metal, --n/--k, --nk-csv, --r0, --color) do not apply");
   return b;
+}
+
+void warn_single_dk_table(const SpecFlags& f, const std::string& command) {
+  if (f.kirchhoff.empty()) return;
+  // Layers from the sidecars alone (the tables are read later, once): a stack lists its
+  // lambda_q; a plain table or an .exr is one layer.
+  std::size_t layers = 0;
+  double lambda_q = 0;
+  for (const auto& path : f.kirchhoff) {
+    const std::filesystem::path side = std::filesystem::path(path).replace_extension(".json");
+    std::size_t n = 1;
+    std::error_code ec;
+    if (std::filesystem::path(path).extension() == ".npy" && std::filesystem::exists(side, ec)) {
+      const nlohmann::json j = read_json_file(side.string());
+      if (j.contains("stack") && j["stack"].contains("wavelengths_q_m") &&
+          j["stack"]["wavelengths_q_m"].is_array())
+        n = std::max<std::size_t>(j["stack"]["wavelengths_q_m"].size(), 1);
+      else if (j.contains("wavelength_m") && j["wavelength_m"].is_number())
+        lambda_q = j["wavelength_m"].get<double>();
+    }
+    layers += n;
+  }
+  if (layers != 1) return;
+  std::fprintf(stderr,
+               "microbrdf %s: warning: --kirchhoff: one D_K table%s stands for every direction, "
+               "but each direction's lambda_q = 2 lambda / |wi + wo| differs from it away from "
+               "backscatter (1/cos(theta_i) times lambda at the mirror direction); `microbrdf ndf "
+               "--method kirchhoff` writes a stack over lambda_q by default (docs/kirchhoff.md)\n",
+               command.c_str(),
+               lambda_q > 0 ? (" (lambda_q " + format_length(lambda_q) + ")").c_str() : "");
 }
 
 std::shared_ptr<const Brdf> brdf_from_flags(const SpecFlags& f, BrdfSpec* spec_out) {

@@ -59,6 +59,10 @@ BrdfSpec brdf_spec(const SpecFlags& f, const std::optional<BrdfSpec>& fallback =
 /// The BRDF the flags name (brdf_spec) built with the material of the flags (required for the
 /// kinds that take one); the spec goes to `spec_out` when given.
 std::shared_ptr<const Brdf> brdf_from_flags(const SpecFlags& f, BrdfSpec* spec_out = nullptr);
+
+/// Warns on stderr ("microbrdf COMMAND: warning: ...") when the --kirchhoff files hold one D_K
+/// table in all (one lambda_q for every direction); reads only their sidecars.
+void warn_single_dk_table(const SpecFlags& f, const std::string& command);
 /// Cheap checks before any heavy work: the metal is known and every file the material / BRDF
 /// flags name exists (--nk-csv, --ndf, --kirchhoff, --sh, --texture); problems go to `pre`.
 void check_spec_files(Preflight& pre, const SpecFlags& f);

@@ -10,14 +10,14 @@
 // with w the aperture: 1 on valid samples (0 at invalid ones) times an optional window.
 //
 // Integration over the sampled surface (KirchhoffIntegration; docs/kirchhoff.md "Integration"):
-//  - Exact (default): the surface is the piecewise-linear one through the samples, two triangles
+//  - Exact: the surface is the piecewise-linear one through the samples, two triangles
 //    per grid cell split along the (ix,iy)-(ix+1,iy+1) diagonal (as the naive NDF). On a triangle
 //    T with vertices s_0, s_1, s_2 the slope, hence (q.m), is constant and the phase linear, and
 //      integral_T exp(-i q.s) dx dy = 2 A_T exp[z_0, z_1, z_2],   z_k = -i q.s_k        (K1)
 //    with A_T the projected area and exp[.,.,.] the second divided difference of exp
 //    (exp_divided_difference). Triangles with an invalid vertex are left out; the window is
 //    constant on a triangle (the mean of its vertices' weights).
-//  - Midpoint: each valid sample j stands for its projected cell dx dy, at s_j, with the slope
+//  - Midpoint (default): each valid sample j stands for its projected cell dx dy, at s_j, with the slope
 //    (g_x, g_y) of central differences over its valid neighbours (one-sided beside a hole or the
 //    edge of the surface, 0 along an axis with no valid neighbour):
 //      I(q) = dx dy sum_j w_j (q_z - q_x g_xj - q_y g_yj) exp(-i q.s_j).
@@ -147,11 +147,15 @@ struct KirchhoffFastInfo {
 /// shift is a phase after the transform). Cost: points_per_triangle x 2 x the midpoint rule's
 /// x-passes. `band_x`, `band_y` (1/m): only nodes with |q_x| <= band_x and |q_y| <= band_y need
 /// the rule's accuracy (the others are masked by the caller), which bounds the phase span.
+/// `amplitude` (optional): the complex amplitude I / (2 pi sqrt(A_w)) per node, |a|^2 = D_K, in
+/// the patch's own coordinates (origin at its first sample, heights as they are), so that the
+/// amplitudes of equal tiles of one surface can be averaged coherently.
 std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_q,
                                          std::size_t resolution, double accuracy = 1e-3,
                                          KirchhoffFastInfo* info = nullptr, bool chirp_z = false,
                                          KirchhoffIntegration m = KirchhoffIntegration::Midpoint,
-                                         double band_x = INFINITY, double band_y = INFINITY);
+                                         double band_x = INFINITY, double band_y = INFINITY,
+                                         std::vector<std::complex<double>>* amplitude = nullptr);
 
 /// Frees the large buffers kirchhoff_table_fast keeps between tables so that the next one
 /// needs no fresh pages (about 110 MB after a 1025^2 midpoint table, 160 MB after an exact
@@ -167,7 +171,9 @@ struct KirchhoffOptions {
   double wavelength_q = 555e-9;  ///< lambda_q, m (Dong section 7: 555 nm)
   std::size_t resolution = 1025;
   double patch_x = 70e-6, patch_y = 53e-6;  ///< patch size, m (<= 0: whole scan on that axis)
-  KirchhoffWindow window = KirchhoffWindow::None;
+  /// Hann by default: a hard-edged tile diffracts the specular peak of a polished surface into a
+  /// cross along the table axes (docs/kirchhoff.md "Windows").
+  KirchhoffWindow window = KirchhoffWindow::Hann;
   double gauss_fraction = 0.125;  ///< Gauss window std as a fraction of the patch side
   double accuracy = 1e-3;         ///< fast method: Chebyshev tail bound (NUFFT: accuracy/100)
   /// The midpoint rule per sample (default: about 50x faster, about 1% relative L1 off on brushed
@@ -188,12 +194,44 @@ struct KirchhoffOptions {
   /// the current scan's patches done, once before the first patch (0) and after each patch
   /// (the last call is 1). Called from the calling thread; empty = silent.
   std::function<void(double)> progress;
+  /// Further lambda_q (m) at which the same tiles are evaluated: a stack of tables over lambda_q,
+  /// so that a BRDF can evaluate D_K at each direction's own lambda_q = 2 lambda / |wi + wo|
+  /// (eq. 5; KirchhoffBrdf interpolates between them). Empty = the one table at wavelength_q.
+  /// kirchhoff_stack_wavelengths() gives the default stack.
+  std::vector<double> stack_wavelengths_q;
+  /// Separate the specular (coherent) part: the mean field over the tiles, whose intensity
+  /// |<I>|^2 would otherwise be smeared over the window's diffraction pattern (2-5 deg wide on
+  /// polished metal at 555 nm with 70 um tiles, far above the true diffuse lobe there), is
+  /// removed and its energy put on the node of its peak; the rest is the diffuse part
+  /// (P/(P-1)) (mean |I|^2 - |mean I|^2) over P tiles. Needs at least kKirchhoffMinTilesCoherent
+  /// tiles, the fast method and point-sampled nodes; otherwise skipped (the notes say so).
+  bool separate_specular = true;
 };
+
+/// Tiles needed before the mean field over them is taken for the specular part.
+inline constexpr std::size_t kKirchhoffMinTilesCoherent = 8;
+
+/// The lambda_q of the default stack for light of wavelengths [lo, hi] (m): geometric from lo to
+/// kKirchhoffStackSpan x hi (every direction pair with |wi + wo| >= 2 / kKirchhoffStackSpan,
+/// i.e. wi and wo at most 161 deg apart), ratio at most kKirchhoffStackRatio between
+/// neighbours, both ends included (docs/kirchhoff.md "lambda_q per direction").
+inline constexpr double kKirchhoffStackSpan = 6.0;
+inline constexpr double kKirchhoffStackRatio = 1.3;
+std::vector<double> kirchhoff_stack_wavelengths(double lo, double hi);
+/// The band the default stack covers (m): the renderer's hero wavelengths.
+inline constexpr double kKirchhoffVisibleLo = 360e-9, kKirchhoffVisibleHi = 830e-9;
 
 /// One scan's share of a KirchhoffAccumulator: the sum over its patches of A_w,p D_K,p and the
 /// counters, so that scans can be computed anywhere and folded in scan order (distribute.hpp).
 struct KirchhoffScanPartial {
   TabulatedNdf table;  ///< sum over the scan's patches of A_w,p D_K,p (physical)
+  /// The same sums at KirchhoffOptions::stack_wavelengths_q (in that order) and their aliased
+  /// masses.
+  std::vector<TabulatedNdf> stack;
+  std::vector<double> stack_aliased;
+  /// Per layer (the table, then the stack): sum over the patches of sqrt(A_w,p) a_p, a_p the
+  /// complex amplitude of kirchhoff_table_fast (empty where not kept: see separate_specular).
+  std::vector<std::vector<std::complex<double>>> coherent;
   double area_w2 = 0, valid_area = 0, aliased = 0;
   std::size_t patches = 0, used = 0, skipped = 0;
   std::string tiles, leveling, source;
@@ -219,6 +257,9 @@ class KirchhoffAccumulator {
   /// The averaged D_K normalised to sum D Delta^2 = 1; meta.method = "kirchhoff",
   /// meta.wavelength_m = lambda_q. Throws InputError if nothing was accumulated.
   TabulatedNdf result() const;
+  /// result() followed by the tables at KirchhoffOptions::stack_wavelengths_q, each normalised
+  /// and labelled with its lambda_q (meta.wavelength_m), sorted by lambda_q.
+  std::vector<TabulatedNdf> stack_result() const;
   /// sum D_K Delta^2 of the physical average before normalising (~1; docs/theory.md §4.3).
   double raw_integral() const;
   std::size_t patches() const { return patches_; }
@@ -232,12 +273,19 @@ class KirchhoffAccumulator {
  private:
   KirchhoffOptions opt_;
   TabulatedNdf acc_;  // sum over patches of A_w,p D_K,p
+  std::vector<TabulatedNdf> stack_;  // the same at opt_.stack_wavelengths_q
+  std::vector<double> stack_aliased_;
+  std::vector<std::vector<std::complex<double>>> coherent_;  // per layer, as in the partials
+  bool coherent_missing_ = false;  // a scan came without mean fields: no separation
   double area_w2_ = 0, valid_area_ = 0, aliased_ = 0;
   std::size_t patches_ = 0, used_ = 0, skipped_ = 0;
   std::string tiles_, leveling_;
   std::vector<std::string> sources_;
   KirchhoffFastInfo info_;
   std::size_t supersample_ = 1;
+  TabulatedNdf labelled(const TabulatedNdf& sum, double lambda_q, double aliased,
+                        const std::vector<std::complex<double>>& coherent) const;
+  const std::vector<std::complex<double>>& coherent_of(std::size_t layer) const;
 };
 
 /// The S that KirchhoffOptions::supersample = 0 picks for a tile of extent lx x ly (m): the

@@ -15,11 +15,13 @@
 namespace microbrdf {
 
 /// Dong 2015 eq. 8: f = D_K(4 pi h / lambda_q) F(wi.h) G(wi, wo) / (4 |wi.n| |wo.n|).
-/// - One table: D_K at a fixed lambda_q is used for every wavelength and angle (Dong section 7).
-/// - Several tables (computed at different lambda_q): the actual lambda_q = 2 lambda / |wi + wo|
-///   (eq. 5) is formed per evaluation and the table values are interpolated linearly in
-///   1/lambda_q between the two bracketing tables (clamped at the ends): spectral use, e.g.
-///   diffraction colours of gratings.
+/// - Several tables (a stack over lambda_q, as `ndf --method kirchhoff` writes by default): the
+///   actual lambda_q = 2 lambda / |wi + wo| (eq. 5) is formed per evaluation and log D_K at the
+///   half-vector is interpolated cubically in log lambda_q through the nearest four tables
+///   (linearly in D_K where one of them is 0); outside the stack the nearest table is used.
+/// - One table: D_K at its fixed lambda_q is used for every wavelength and direction (Dong
+///   section 7). Right only where lambda_q is near that value (near-normal backscatter for a
+///   table at the light's wavelength); single_table() lets callers warn.
 /// G: Smith G2 of the `shadowing` distribution when one is given (e.g. a fitted Beckmann or
 /// ellipsoid, as Dong does), else 1 (plain Kirchhoff, eq. 7). Sampling draws h from the table
 /// closest to 555 nm (NdfSampler: density D(h)(h.n)) and reflects.
@@ -37,9 +39,12 @@ class KirchhoffBrdf final : public Brdf {
   /// D_K(h) at lambda_q (interpolated between tables as described above).
   double dk(const Vec3& h, double lambda_q) const;
   const std::vector<TabulatedNdf>& tables() const { return tables_; }
+  /// One table for every direction (no lambda_q interpolation).
+  bool single_table() const { return tables_.size() == 1; }
 
  private:
   std::vector<TabulatedNdf> tables_;  // sorted by lambda_q
+  std::vector<double> log_lq_;        // log lambda_q of each table
   std::shared_ptr<const Fresnel> f_;
   std::shared_ptr<const MicrofacetDistribution> g_;
   std::size_t sample_table_ = 0;

@@ -211,7 +211,8 @@ std::shared_ptr<const Brdf> make_brdf(const BrdfSpec& s, const MaterialSpec& mat
           s.separable_g);
     case BrdfSpec::Kind::Kirchhoff: {
       std::vector<TabulatedNdf> tables;
-      for (const auto& f : s.kirchhoff) tables.push_back(read_ndf(f));
+      for (const auto& f : s.kirchhoff)
+        for (auto& t : read_ndf_stack(f)) tables.push_back(std::move(t));
       std::shared_ptr<const MicrofacetDistribution> g;
       if (s.model_given) g = make_distribution(s.model);
       return std::make_shared<KirchhoffBrdf>(std::move(tables), make_fresnel(material), g);

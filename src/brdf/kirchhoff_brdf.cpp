@@ -23,6 +23,11 @@ KirchhoffBrdf::KirchhoffBrdf(std::vector<TabulatedNdf> tables,
   std::sort(tables_.begin(), tables_.end(), [](const TabulatedNdf& a, const TabulatedNdf& b) {
     return a.meta.wavelength_m < b.meta.wavelength_m;
   });
+  for (std::size_t i = 1; i < tables_.size(); ++i)
+    if (!(tables_[i].meta.wavelength_m > tables_[i - 1].meta.wavelength_m))
+      throw std::invalid_argument("KirchhoffBrdf: two D_K tables at lambda_q " +
+                                  std::to_string(tables_[i].meta.wavelength_m * 1e9) + " nm");
+  for (const auto& t : tables_) log_lq_.push_back(std::log(t.meta.wavelength_m));
   double best = INFINITY;
   for (std::size_t i = 0; i < tables_.size(); ++i) {
     double d = std::fabs(tables_[i].meta.wavelength_m - 555e-9);
@@ -35,15 +40,38 @@ KirchhoffBrdf::KirchhoffBrdf(std::vector<TabulatedNdf> tables,
 }
 
 double KirchhoffBrdf::dk(const Vec3& h, double lambda_q) const {
-  if (tables_.size() == 1) return tables_[0].eval(h);
-  // Linear in 1/lambda_q (i.e. in |q|) between the bracketing tables, clamped at the ends.
+  const std::size_t n = tables_.size();
+  if (n == 1) return tables_[0].eval(h);
+  // Outside the stack: the nearest table (docs/kirchhoff.md "lambda_q per direction").
   if (lambda_q <= tables_.front().meta.wavelength_m) return tables_.front().eval(h);
   if (lambda_q >= tables_.back().meta.wavelength_m) return tables_.back().eval(h);
-  std::size_t i = 1;
-  while (tables_[i].meta.wavelength_m < lambda_q) ++i;
-  double a = 1 / tables_[i - 1].meta.wavelength_m, b = 1 / tables_[i].meta.wavelength_m;
-  double u = (1 / lambda_q - a) / (b - a);
-  return (1 - u) * tables_[i - 1].eval(h) + u * tables_[i].eval(h);
+  const double x = std::log(lambda_q);
+  std::size_t k = 1;
+  while (log_lq_[k] < x) ++k;
+  --k;  // x in [x_k, x_k+1]
+  // At a fixed half-vector D_K is smooth in log lambda_q (a power-law spectrum is a straight
+  // line in log D vs log |q|, a Gaussian one a parabola in |q|): cubic Lagrange interpolation of
+  // log D through the four nearest tables (three or two at the ends of the stack). A zero among
+  // them (outside the disk, the Nyquist mask) falls back to linear interpolation of D.
+  const std::size_t lo = k == 0 ? 0 : k - 1, hi = std::min(k + 2, n - 1);
+  double y[4];
+  bool positive = true;
+  for (std::size_t i = lo; i <= hi; ++i) {
+    y[i - lo] = tables_[i].eval(h);
+    positive = positive && y[i - lo] > 0;
+  }
+  if (!positive) {
+    const double u = (x - log_lq_[k]) / (log_lq_[k + 1] - log_lq_[k]);
+    return (1 - u) * y[k - lo] + u * y[k + 1 - lo];
+  }
+  double logd = 0;
+  for (std::size_t i = lo; i <= hi; ++i) {
+    double w = 1;
+    for (std::size_t j = lo; j <= hi; ++j)
+      if (j != i) w *= (x - log_lq_[j]) / (log_lq_[i] - log_lq_[j]);
+    logd += w * std::log(y[i - lo]);
+  }
+  return std::exp(logd);
 }
 
 double KirchhoffBrdf::eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const {
@@ -84,8 +112,14 @@ double KirchhoffBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
 
 std::string KirchhoffBrdf::describe() const {
   std::ostringstream o;
-  o << "Kirchhoff (Dong eq. 8): D_K at lambda_q =";
-  for (const auto& t : tables_) o << " " << t.meta.wavelength_m * 1e9 << "nm";
+  o << "Kirchhoff (Dong eq. 8): D_K ";
+  if (tables_.size() == 1)
+    o << "at lambda_q = " << tables_[0].meta.wavelength_m * 1e9
+      << "nm for every direction (one table)";
+  else
+    o << "interpolated at each direction's lambda_q from " << tables_.size() << " tables, "
+      << tables_.front().meta.wavelength_m * 1e9 << ".." << tables_.back().meta.wavelength_m * 1e9
+      << "nm";
   o << ", " << f_->describe() << ", "
     << (g_ ? "Smith G2 of " + g_->describe() : std::string("no shadowing (G = 1)"));
   return o.str();

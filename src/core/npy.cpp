@@ -5,6 +5,7 @@
 #include <cctype>
 #include <charconv>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string_view>
 
@@ -201,22 +202,30 @@ NpyArray parse_npy(std::span<const std::uint8_t> data, const std::string& name) 
   // Drop leading axes of length 1: (1, ny, nx) is a 2-D array.
   std::vector<std::uint64_t> shape = h.shape;
   while (shape.size() > 2 && shape.front() == 1) shape.erase(shape.begin());
-  std::uint64_t nx = 0, ny = 0;
+  std::uint64_t nx = 0, ny = 0, nl = 1;
   if (shape.size() == 1) {
     ny = 1;
     nx = shape[0];
   } else if (shape.size() == 2) {
     ny = shape[0];
     nx = shape[1];
+  } else if (shape.size() == 3 && !h.fortran) {  // a stack of 2-D arrays, layer after layer
+    nl = shape[0];
+    ny = shape[1];
+    nx = shape[2];
+    if (nl == 0 || (ny != 0 && nl > std::numeric_limits<std::uint64_t>::max() / ny))
+      r.fail("npy: implausible number of layers in the shape");
   } else {
-    r.fail("npy: expected a 1-D or 2-D array, shape has " + std::to_string(shape.size()) +
-           " dimensions");
+    r.fail("npy: expected a 1-D or 2-D array (or a C-order stack of 2-D arrays), shape has " +
+           std::to_string(shape.size()) + " dimensions");
   }
   const std::size_t data_at = header_at + header_len;
-  check_grid(r, nx, ny, t.size, data.size() - data_at);
+  // The stack's layers lie one after another: as a grid it is (layers x rows) by cols.
+  check_grid(r, nx, ny * nl, t.size, data.size() - data_at);
 
   NpyArray a;
-  a.rows = static_cast<std::size_t>(ny);
+  a.layers = static_cast<std::size_t>(nl);
+  a.rows = static_cast<std::size_t>(ny * nl);
   a.cols = static_cast<std::size_t>(nx);
   a.descr = h.descr;
   a.fortran_order = h.fortran;
@@ -229,18 +238,21 @@ NpyArray parse_npy(std::span<const std::uint8_t> data, const std::string& name) 
       a.values[iy * a.cols + ix] = load(p + k * t.size, t);
     }
   }
+  a.rows /= a.layers;
   return a;
 }
 
-std::string npy_header_dict_f64(std::size_t rows, std::size_t cols) {
-  return "{'descr': '<f8', 'fortran_order': False, 'shape': (" + std::to_string(rows) + ", " +
-         std::to_string(cols) + "), }";
+std::string npy_header_dict_f64(std::size_t rows, std::size_t cols, std::size_t layers) {
+  const std::string lead = layers > 1 ? std::to_string(layers) + ", " : std::string();
+  return "{'descr': '<f8', 'fortran_order': False, 'shape': (" + lead + std::to_string(rows) +
+         ", " + std::to_string(cols) + "), }";
 }
 
 std::vector<std::uint8_t> encode_npy_f64(std::span<const double> values, std::size_t rows,
-                                         std::size_t cols) {
-  if (values.size() != rows * cols) throw std::invalid_argument("encode_npy_f64: size mismatch");
-  std::string header = npy_header_dict_f64(rows, cols);
+                                         std::size_t cols, std::size_t layers) {
+  if (values.size() != layers * rows * cols)
+    throw std::invalid_argument("encode_npy_f64: size mismatch");
+  std::string header = npy_header_dict_f64(rows, cols, layers);
   // magic(6) + version(2) + length(2) + header + padding + '\n' = multiple of 64
   std::size_t total = 10 + header.size() + 1;
   header.append((64 - total % 64) % 64, ' ');

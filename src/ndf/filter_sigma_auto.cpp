@@ -69,6 +69,7 @@ FilterSigmaAuto choose_filter_sigma(const ScanVisitor& for_each_scan,
   r.wavelength_q_m = o.kirchhoff.wavelength_q;
   KirchhoffOptions ko = o.kirchhoff;
   ko.resolution = o.resolution;
+  ko.stack_wavelengths_q.clear();  // the sweep compares one table at lambda_q
   KirchhoffAccumulator dk(ko);
   NdfEstimateOptions no;
   no.method = NdfMethod::Naive;

@@ -25,6 +25,20 @@ void tiling(std::size_t n, double d, double patch, std::size_t& count, std::size
 
 }  // namespace
 
+std::vector<double> kirchhoff_stack_wavelengths(double lo, double hi) {
+  if (!(lo > 0) || !(hi >= lo)) throw InputError("Kirchhoff stack: need 0 < lo <= hi");
+  // Geometric steps: D_K at a fixed half-vector changes with lambda_q through |q| = 4 pi /
+  // lambda_q, smoothly in log |q| (power-law spectra are straight lines there); the BRDF
+  // interpolates log D_K cubically in log lambda_q between these layers.
+  const double top = kKirchhoffStackSpan * hi;
+  const auto steps = static_cast<std::size_t>(
+      std::ceil(std::log(top / lo) / std::log(kKirchhoffStackRatio) - 1e-9));
+  std::vector<double> out;
+  for (std::size_t i = 0; i <= steps; ++i)
+    out.push_back(lo * std::pow(top / lo, static_cast<double>(i) / static_cast<double>(steps)));
+  return out;
+}
+
 std::size_t kirchhoff_auto_supersample(std::size_t resolution, double lambda_q, double lx,
                                        double ly) {
   const double delta = 2.0 / static_cast<double>(resolution - 1);
@@ -75,28 +89,91 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
                 ly, static_cast<double>(lx) * s.dx * 1e6, static_cast<double>(ly) * s.dy * 1e6);
   r.tiles = buf;
   r.skipped += s.size() - cx * lx * cy * ly;  // margins left out by the tiling
-  // Sub-nodes per axis: node values are averages over each node's cell (S odd: the centre
-  // sub-node is the node itself, and every sub-node belongs to exactly one cell).
-  const std::size_t S = opt_.supersample != 0
-                            ? opt_.supersample
-                            : kirchhoff_auto_supersample(opt_.resolution, opt_.wavelength_q,
-                                                         static_cast<double>(lx) * s.dx,
-                                                         static_cast<double>(ly) * s.dy);
-  r.supersample = S;
-  const std::size_t N = opt_.resolution, NF = S * (N - 1) + 1;
+  const std::size_t N = opt_.resolution;
   const KirchhoffIntegration integ = opt_.integration;
-  std::vector<std::size_t> all;
-  if (opt_.direct) {
-    all.resize(NF * NF);
-    for (std::size_t i = 0; i < NF * NF; ++i) all[i] = i;
+  // The layers: the table at wavelength_q and the stack over lambda_q, all from the same tiles.
+  std::vector<double> lqs{opt_.wavelength_q};
+  lqs.insert(lqs.end(), opt_.stack_wavelengths_q.begin(), opt_.stack_wavelengths_q.end());
+  r.stack.assign(opt_.stack_wavelengths_q.size(), TabulatedNdf(N));
+  r.stack_aliased.assign(opt_.stack_wavelengths_q.size(), 0.0);
+  r.coherent.assign(lqs.size(), {});
+  std::vector<std::size_t> subnodes(lqs.size());
+  for (std::size_t l = 0; l < lqs.size(); ++l) {
+    // Sub-nodes per axis: node values are averages over each node's cell (S odd: the centre
+    // sub-node is the node itself, and every sub-node belongs to exactly one cell).
+    subnodes[l] = opt_.supersample != 0
+                      ? opt_.supersample
+                      : kirchhoff_auto_supersample(N, lqs[l], static_cast<double>(lx) * s.dx,
+                                                   static_cast<double>(ly) * s.dy);
+    r.supersample = std::max(r.supersample, subnodes[l]);
   }
-  const double n_tiles = static_cast<double>(cx * cy);
+  const double n_steps = static_cast<double>(cx * cy * lqs.size());
   std::size_t done = 0;
-  auto tick = [&] {
-    ++done;
-    if (opt_.progress) opt_.progress(static_cast<double>(done) / n_tiles);
+  auto tick = [&](std::size_t steps) {
+    done += steps;
+    if (opt_.progress) opt_.progress(static_cast<double>(done) / n_steps);
   };
   if (opt_.progress) opt_.progress(0.0);
+  // One tile's A_w D_K at lambda_q added to `table` (node averages of S x S sub-nodes).
+  auto add_layer = [&](const KirchhoffPatch& p, double aw, double lambda_q, std::size_t S,
+                       TabulatedNdf& table, double& aliased, KirchhoffFastInfo* info,
+                       std::vector<std::complex<double>>& coherent) {
+    // The mean field needs the amplitudes of point-sampled nodes from the fast method.
+    const bool keep = opt_.separate_specular && !opt_.direct && S == 1 &&
+                      cx * cy >= kKirchhoffMinTilesCoherent;
+    std::vector<std::complex<double>> amp;
+    const std::size_t NF = S * (N - 1) + 1;
+    std::vector<std::size_t> all;
+    if (opt_.direct) {
+      all.resize(NF * NF);
+      for (std::size_t i = 0; i < NF * NF; ++i) all[i] = i;
+    }
+    std::vector<double> d =
+        opt_.direct ? kirchhoff_nodes_direct(p, lambda_q, NF, all, integ)
+                    : kirchhoff_table_fast(p, lambda_q, NF, opt_.accuracy, info, false, integ,
+                                           opt_.nyquist_mask ? M_PI / s.dx : INFINITY,
+                                           opt_.nyquist_mask ? M_PI / s.dy : INFINITY,
+                                           keep ? &amp : nullptr);
+    r.has_info = r.has_info || !opt_.direct;
+    const double del = 2.0 / static_cast<double>(NF - 1);
+    if (opt_.nyquist_mask) {
+      const double qm = 4 * M_PI / lambda_q;
+      const double bx = M_PI / s.dx, by = M_PI / s.dy;
+      for (std::size_t iy = 0; iy < NF; ++iy)
+        for (std::size_t ix = 0; ix < NF; ++ix) {
+          double qx = qm * std::fabs(-1 + del * static_cast<double>(ix));
+          double qy = qm * std::fabs(-1 + del * static_cast<double>(iy));
+          if (qx > bx || qy > by) {
+            aliased += aw * d[iy * NF + ix] * del * del;
+            d[iy * NF + ix] = 0;
+            if (keep) amp[iy * NF + ix] = 0;
+          }
+        }
+    }
+    if (keep) {
+      if (coherent.empty()) coherent.assign(NF * NF, {0.0, 0.0});
+      const double sw = std::sqrt(aw);
+      for (std::size_t i = 0; i < amp.size(); ++i) coherent[i] += sw * amp[i];
+    }
+    auto& v = table.values();
+    if (S == 1) {
+      for (std::size_t i = 0; i < v.size(); ++i) v[i] += aw * d[i];
+      return;
+    }
+    const auto half = static_cast<std::ptrdiff_t>(S / 2), nf = static_cast<std::ptrdiff_t>(NF);
+    const double wgt = aw / static_cast<double>(S * S);
+    for (std::size_t iy = 0; iy < N; ++iy)
+      for (std::size_t ix = 0; ix < N; ++ix) {
+        const auto cx = static_cast<std::ptrdiff_t>(S * ix), cy = static_cast<std::ptrdiff_t>(S * iy);
+        double sum = 0;
+        for (std::ptrdiff_t fy = std::max<std::ptrdiff_t>(cy - half, 0);
+             fy <= std::min(cy + half, nf - 1); ++fy)
+          for (std::ptrdiff_t fx = std::max<std::ptrdiff_t>(cx - half, 0);
+               fx <= std::min(cx + half, nf - 1); ++fx)
+            sum += d[static_cast<std::size_t>(fy * nf + fx)];
+        v[iy * N + ix] += wgt * sum;
+      }
+  };
   for (std::size_t ty = 0; ty < cy; ++ty)
     for (std::size_t tx = 0; tx < cx; ++tx) {
       KirchhoffPatch p =
@@ -105,53 +182,21 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
       r.skipped += p.invalid;
       const double aw = kirchhoff_area_w2(p, integ);
       if (!(aw > 0)) {
-        tick();
+        tick(lqs.size());
         continue;
       }
-      std::vector<double> d =
-          opt_.direct
-              ? kirchhoff_nodes_direct(p, opt_.wavelength_q, NF, all, integ)
-              : kirchhoff_table_fast(p, opt_.wavelength_q, NF, opt_.accuracy, &r.info, false, integ,
-                                     opt_.nyquist_mask ? M_PI / s.dx : INFINITY,
-                                     opt_.nyquist_mask ? M_PI / s.dy : INFINITY);
-      r.has_info = r.has_info || !opt_.direct;
-      const double del = 2.0 / static_cast<double>(NF - 1);
-      if (opt_.nyquist_mask) {
-        const double qm = 4 * M_PI / opt_.wavelength_q;
-        const double bx = M_PI / s.dx, by = M_PI / s.dy;
-        for (std::size_t iy = 0; iy < NF; ++iy)
-          for (std::size_t ix = 0; ix < NF; ++ix) {
-            double qx = qm * std::fabs(-1 + del * static_cast<double>(ix));
-            double qy = qm * std::fabs(-1 + del * static_cast<double>(iy));
-            if (qx > bx || qy > by) {
-              r.aliased += aw * d[iy * NF + ix] * del * del;
-              d[iy * NF + ix] = 0;
-            }
-          }
-      }
-      auto& v = r.table.values();
-      if (S == 1) {
-        for (std::size_t i = 0; i < v.size(); ++i) v[i] += aw * d[i];
-      } else {  // cell averages of the S x S sub-nodes about each node
-        const auto half = static_cast<std::ptrdiff_t>(S / 2), nf = static_cast<std::ptrdiff_t>(NF);
-        const double wgt = aw / static_cast<double>(S * S);
-        for (std::size_t iy = 0; iy < N; ++iy)
-          for (std::size_t ix = 0; ix < N; ++ix) {
-            const auto cx = static_cast<std::ptrdiff_t>(S * ix),
-                       cy = static_cast<std::ptrdiff_t>(S * iy);
-            double sum = 0;
-            for (std::ptrdiff_t fy = std::max<std::ptrdiff_t>(cy - half, 0);
-                 fy <= std::min(cy + half, nf - 1); ++fy)
-              for (std::ptrdiff_t fx = std::max<std::ptrdiff_t>(cx - half, 0);
-                   fx <= std::min(cx + half, nf - 1); ++fx)
-                sum += d[static_cast<std::size_t>(fy * nf + fx)];
-            v[iy * N + ix] += wgt * sum;
-          }
+      for (std::size_t l = 0; l < lqs.size(); ++l) {
+        KirchhoffFastInfo layer_info;  // the report describes the table at wavelength_q
+        if (l == 0)
+          add_layer(p, aw, lqs[0], subnodes[0], r.table, r.aliased, &r.info, r.coherent[0]);
+        else
+          add_layer(p, aw, lqs[l], subnodes[l], r.stack[l - 1], r.stack_aliased[l - 1],
+                    &layer_info, r.coherent[l]);
+        tick(1);
       }
       r.area_w2 += aw;
       r.valid_area += integ == KirchhoffIntegration::Exact ? p.valid_area_tri : p.valid_area;
       ++r.patches;
-      tick();
     }
   return r;
 }
@@ -162,9 +207,42 @@ void KirchhoffAccumulator::merge(const KirchhoffScanPartial& p) {
   if (!p.source.empty()) sources_.push_back(p.source);
   leveling_ = p.leveling;
   tiles_ = p.tiles;
-  auto& v = acc_.values();
-  const auto& w = p.table.values();
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
+  auto add = [](TabulatedNdf& to, const TabulatedNdf& from) {
+    auto& v = to.values();
+    const auto& w = from.values();
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
+  };
+  add(acc_, p.table);
+  if (p.stack.size() != opt_.stack_wavelengths_q.size() ||
+      p.stack_aliased.size() != p.stack.size())
+    throw InputError("Kirchhoff accumulator: a scan's share has the wrong number of lambda_q");
+  if (stack_.empty()) {
+    stack_.assign(p.stack.size(), TabulatedNdf(acc_.resolution()));
+    stack_aliased_.assign(p.stack.size(), 0.0);
+  }
+  // Coherent sums add like the tables; a scan without them (too few tiles) leaves the layer
+  // without a mean field (its tiles' amplitudes are not known).
+  if (p.coherent.size() != p.stack.size() + 1)
+    throw InputError("Kirchhoff accumulator: a scan's share has the wrong number of mean fields");
+  if (coherent_.empty()) coherent_.assign(p.coherent.size(), {});
+  for (std::size_t l = 0; l < p.coherent.size(); ++l) {
+    if (p.coherent[l].empty()) {
+      coherent_[l].clear();
+      coherent_missing_ = true;
+      continue;
+    }
+    if (coherent_missing_) continue;
+    if (coherent_[l].empty()) coherent_[l].assign(p.coherent[l].size(), {0.0, 0.0});
+    if (coherent_[l].size() != p.coherent[l].size())
+      throw InputError("Kirchhoff accumulator: a scan's mean field has the wrong size");
+    for (std::size_t i = 0; i < p.coherent[l].size(); ++i) coherent_[l][i] += p.coherent[l][i];
+  }
+  for (std::size_t l = 0; l < p.stack.size(); ++l) {
+    if (p.stack[l].resolution() != acc_.resolution())
+      throw InputError("Kirchhoff accumulator: a scan's table has the wrong resolution");
+    add(stack_[l], p.stack[l]);
+    stack_aliased_[l] += p.stack_aliased[l];
+  }
   area_w2_ += p.area_w2;
   valid_area_ += p.valid_area;
   aliased_ += p.aliased;
@@ -188,12 +266,66 @@ double KirchhoffAccumulator::raw_integral() const {
 }
 
 TabulatedNdf KirchhoffAccumulator::result() const {
-  if (patches_ == 0 || !(acc_.integral() > 0))
+  return labelled(acc_, opt_.wavelength_q, aliased_, coherent_of(0));
+}
+
+std::vector<TabulatedNdf> KirchhoffAccumulator::stack_result() const {
+  std::vector<TabulatedNdf> out{result()};
+  for (std::size_t l = 0; l < stack_.size(); ++l)
+    out.push_back(
+        labelled(stack_[l], opt_.stack_wavelengths_q[l], stack_aliased_[l], coherent_of(l + 1)));
+  std::stable_sort(out.begin(), out.end(), [](const TabulatedNdf& a, const TabulatedNdf& b) {
+    return a.meta.wavelength_m < b.meta.wavelength_m;
+  });
+  return out;
+}
+
+const std::vector<std::complex<double>>& KirchhoffAccumulator::coherent_of(std::size_t l) const {
+  static const std::vector<std::complex<double>> none;
+  if (coherent_missing_ || l >= coherent_.size()) return none;
+  return coherent_[l];
+}
+
+namespace {
+
+// The diffuse part (P/(P-1)) (sum |I_p|^2 - |sum I_p|^2 / P) of the intensity sums, and the
+// coherent energy (the rest) put on the node where the mean field peaks (Beckmann and
+// Spizzichino's coherent + incoherent split, the mean over tiles standing for the ensemble
+// mean). Returns the coherent share of the total.
+double separate_specular(TabulatedNdf& t, const std::vector<std::complex<double>>& m,
+                         std::size_t patches) {
+  auto& v = t.values();
+  if (m.size() != v.size() || patches < 2) return 0;
+  const double p = static_cast<double>(patches), total = t.integral();
+  std::size_t peak = 0;
+  double peak_norm = -1;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const double c = std::norm(m[i]);
+    if (c > peak_norm) {
+      peak_norm = c;
+      peak = i;
+    }
+    v[i] = std::max(0.0, v[i] - c / p) * p / (p - 1);
+  }
+  const double diffuse = t.integral();
+  const double n = static_cast<double>(t.resolution() - 1), cell = (2 / n) * (2 / n);
+  const double coherent = std::max(0.0, total - diffuse);
+  v[peak] += coherent / cell;
+  return total > 0 ? coherent / total : 0;
+}
+
+}  // namespace
+
+TabulatedNdf KirchhoffAccumulator::labelled(const TabulatedNdf& sum, double lambda_q,
+                                            double aliased,
+                                            const std::vector<std::complex<double>>& coherent) const {
+  if (patches_ == 0 || !(sum.integral() > 0))
     throw InputError("Kirchhoff: no valid samples were accumulated");
-  TabulatedNdf out = acc_;
+  TabulatedNdf out = sum;
+  const double specular = separate_specular(out, coherent, patches_);
   out.normalise();
   out.meta.method = "kirchhoff";
-  out.meta.wavelength_m = opt_.wavelength_q;
+  out.meta.wavelength_m = lambda_q;
   out.meta.samples_used = used_;
   out.meta.samples_skipped = skipped_;
   out.meta.projected_area_m2 = valid_area_;
@@ -219,16 +351,28 @@ TabulatedNdf KirchhoffAccumulator::result() const {
                   supersample_, supersample_);
   else
     std::snprintf(sampling, sizeof sampling, "node values are point samples");
-  char buf[800];
+  char spec[200];
+  if (!coherent.empty())
+    std::snprintf(spec, sizeof spec,
+                  "specular part (the mean field over the tiles, %.4g of the energy) on its peak "
+                  "node",
+                  specular);
+  else
+    std::snprintf(spec, sizeof spec, "specular part not separated%s",
+                  !opt_.separate_specular ? " (asked)"
+                  : opt_.direct           ? " (direct sums)"
+                                          : " (needs point samples and at least 8 tiles per scan)");
+  char buf[1000];
   std::snprintf(buf, sizeof buf,
                 "D_K (Dong eq. 6), %s with the (q.m) factor; lambda_q = "
-                "%.6g nm; %zu patch(es), last: %s; window %s; %s; %s; integral before "
+                "%.6g nm; %zu patch(es), last: %s; window %s; %s; %s; %s; integral before "
                 "normalising %.6g (Nyquist mask %s, removed %.3g of the mass)",
                 exact ? "exact integration over the triangles of the piecewise-linear surface"
                       : "midpoint rule per sample",
-                opt_.wavelength_q * 1e9, patches_, tiles_.c_str(), to_string(opt_.window).c_str(),
-                method, sampling, raw_integral(), opt_.nyquist_mask ? "on" : "off",
-                aliased_fraction());
+                lambda_q * 1e9, patches_, tiles_.c_str(), to_string(opt_.window).c_str(), method,
+                sampling, spec, area_w2_ > 0 ? sum.integral() / area_w2_ : 0.0,
+                opt_.nyquist_mask ? "on" : "off",
+                sum.integral() + aliased > 0 ? aliased / (sum.integral() + aliased) : 0.0);
   out.meta.notes = buf;
   return out;
 }

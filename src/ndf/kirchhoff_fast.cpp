@@ -351,13 +351,15 @@ void check_series_memory(double zmax, double range, double lambda_q) {
 
 std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::size_t resolution,
                                double accuracy, KirchhoffFastInfo* info, bool chirp_z,
-                               KirchhoffIntegration method, double band_x, double band_y) {
+                               KirchhoffIntegration method, double band_x, double band_y,
+                               std::vector<std::complex<double>>* amplitude) {
   if (!(lambda_q > 0)) throw InputError("Kirchhoff: lambda_q must be > 0");
   if (resolution < 3) throw InputError("Kirchhoff: resolution must be >= 3");
   if (!(accuracy > 0 && accuracy < 1)) throw InputError("Kirchhoff: accuracy must be in (0, 1)");
   const bool exact = method == KirchhoffIntegration::Exact;
   const std::size_t N = resolution;
   std::vector<double> out(N * N, 0.0);
+  if (amplitude) amplitude->assign(N * N, cd(0));
   const double area = kirchhoff_area_w2(p, method);
   if (!(area > 0)) return out;
   // The transforms run over the samples (midpoint) or the cells (exact: one rule point each).
@@ -759,7 +761,16 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
             b2 = b1;
             b1 = bn;
           } else {
-            out[l * N + k] = std::norm(I + t * b1 - b2) * norm;
+            const cd v = I + t * b1 - b2;
+            out[l * N + k] = std::norm(v) * norm;
+            // The amplitude with the global phase exp(-i q_z h_c) put back, so that tiles of
+            // different height ranges add coherently (KirchhoffScanPartial::coherent).
+            if (amplitude) {
+              const double mx = -1 + delta * static_cast<double>(k),
+                           my = -1 + delta * static_cast<double>(l);
+              const double qz = qmag * std::sqrt(std::max(0.0, 1 - mx * mx - my * my));
+              (*amplitude)[l * N + k] = v * std::sqrt(norm) * std::polar(1.0, -qz * hc);
+            }
           }
         }
         if (n_hi + 1 > nb && !(groups > 1 && !last_group)) {  // not the last batch
@@ -795,8 +806,10 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
 std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_q,
                                          std::size_t resolution, double accuracy,
                                          KirchhoffFastInfo* info, bool chirp_z,
-                                         KirchhoffIntegration m, double band_x, double band_y) {
-  return table_fast(p, lambda_q, resolution, accuracy, info, chirp_z, m, band_x, band_y);
+                                         KirchhoffIntegration m, double band_x, double band_y,
+                                         std::vector<std::complex<double>>* amplitude) {
+  return table_fast(p, lambda_q, resolution, accuracy, info, chirp_z, m, band_x, band_y,
+                    amplitude);
 }
 
 }  // namespace microbrdf

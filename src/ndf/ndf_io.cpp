@@ -237,17 +237,43 @@ void read_sidecar(const std::string& side, std::size_t resolution, NdfMetadata& 
   str("notes", m.notes);
 }
 
-void write_npy_ndf(const TabulatedNdf& ndf, const std::string& path) {
-  check_writable(ndf, path, false);
+// One table (2-D array) or a stack of tables over lambda_q (3-D array, `primary` first in the
+// sidecar's metadata); the sidecar lists the layers' lambda_q and notes.
+void write_npy_ndf(const std::vector<TabulatedNdf>& layers, std::size_t primary,
+                   const std::string& path) {
+  const TabulatedNdf& ndf = layers.at(primary);
   const std::size_t n = ndf.resolution();
+  std::vector<double> all;
+  for (const auto& t : layers) {
+    if (t.resolution() != n) throw FileError(path, "the tables of a stack differ in resolution");
+    check_writable(t, path, false);
+  }
   std::vector<std::uint8_t> bytes;
   try {
-    bytes = detail::encode_npy_f64(ndf.values(), n, n);
+    if (layers.size() == 1) {
+      bytes = detail::encode_npy_f64(ndf.values(), n, n);
+    } else {
+      all.reserve(layers.size() * n * n);
+      for (const auto& t : layers) all.insert(all.end(), t.values().begin(), t.values().end());
+      bytes = detail::encode_npy_f64(all, n, n, layers.size());
+    }
   } catch (const std::exception& e) {
     throw FileError(path, e.what());
   }
   const std::string side = sidecar_path(path);
-  const std::string json = metadata_json(ndf).dump(2) + "\n";
+  nlohmann::json meta = metadata_json(ndf);
+  if (layers.size() > 1) {
+    nlohmann::json lq = nlohmann::json::array(), notes = nlohmann::json::array();
+    for (const auto& t : layers) {
+      lq.push_back(t.meta.wavelength_m);
+      notes.push_back(t.meta.notes);
+    }
+    meta["stack"] = {{"axis", "the first axis of the array: one table per lambda_q"},
+                     {"wavelengths_q_m", lq},
+                     {"primary", primary},
+                     {"notes", notes}};
+  }
+  const std::string json = meta.dump(2) + "\n";
   // Both temporaries first, then both renames: a failure leaves no new half pair behind.
   AtomicFile out(path), out_side(side);
   auto put = [](const std::string& target, const std::string& tmp, const char* data,
@@ -264,7 +290,48 @@ void write_npy_ndf(const TabulatedNdf& ndf, const std::string& path) {
   out_side.commit();
 }
 
-TabulatedNdf read_npy_ndf(const std::string& path) {
+// The sidecar's stack: the layers' lambda_q (m), their notes, and which layer is the primary.
+struct StackInfo {
+  std::vector<double> wavelengths_q;
+  std::vector<std::string> notes;
+  std::size_t primary = 0;
+};
+
+StackInfo read_stack_info(const std::string& side, std::size_t layers) {
+  StackInfo st;
+  std::error_code ec;
+  if (!fs::exists(side, ec))
+    throw FileError(side, "a stack of " + std::to_string(layers) +
+                              " tables needs its sidecar (the lambda_q of each layer)");
+  const nlohmann::json j = read_json_file(side);
+  if (!j.contains("stack") || !j["stack"].is_object())
+    throw FileError(side, "the table is a stack of " + std::to_string(layers) +
+                              " layers but the sidecar has no \"stack\" object");
+  const auto& k = j["stack"];
+  if (!k.contains("wavelengths_q_m") || !k["wavelengths_q_m"].is_array() ||
+      k["wavelengths_q_m"].size() != layers)
+    throw FileError(side, "\"stack\".\"wavelengths_q_m\" must list " + std::to_string(layers) +
+                              " wavelengths (one per layer)");
+  for (const auto& v : k["wavelengths_q_m"]) {
+    if (!v.is_number() || !(v.get<double>() > 0) || !(v.get<double>() < 1))
+      throw FileError(side, "\"stack\".\"wavelengths_q_m\" must hold wavelengths in m (0..1)");
+    st.wavelengths_q.push_back(v.get<double>());
+  }
+  for (std::size_t i = 1; i < layers; ++i)
+    if (!(st.wavelengths_q[i] > st.wavelengths_q[i - 1]))
+      throw FileError(side, "\"stack\".\"wavelengths_q_m\" must increase");
+  if (k.contains("notes") && k["notes"].is_array() && k["notes"].size() == layers)
+    for (const auto& v : k["notes"]) st.notes.push_back(v.is_string() ? v.get<std::string>() : "");
+  if (k.contains("primary")) {
+    if (!k["primary"].is_number_unsigned() || k["primary"].get<std::size_t>() >= layers)
+      throw FileError(side, "\"stack\".\"primary\" must be a layer index below " +
+                                std::to_string(layers));
+    st.primary = k["primary"].get<std::size_t>();
+  }
+  return st;
+}
+
+std::vector<TabulatedNdf> read_npy_stack(const std::string& path, std::size_t* primary) {
   auto data = read_file_bytes(path, kMaxNpyBytes);
   detail::NpyArray a = detail::parse_npy(data, path);
   // The sidecar first: it holds the window the values are validated against.
@@ -273,11 +340,31 @@ TabulatedNdf read_npy_ndf(const std::string& path) {
   const std::string side = sidecar_path(path);
   std::error_code ec;
   if (fs::exists(side, ec)) read_sidecar(side, a.rows, meta, window);
-  validate(path, a.rows, a.cols, a.values, window);
-  TabulatedNdf ndf(a.rows, window);
-  ndf.values() = std::move(a.values);
-  ndf.meta = std::move(meta);
-  return ndf;
+  StackInfo st;
+  if (a.layers > 1) st = read_stack_info(side, a.layers);
+  std::vector<TabulatedNdf> out;
+  const std::size_t per = a.rows * a.cols;
+  for (std::size_t l = 0; l < a.layers; ++l) {
+    std::vector<double> v(a.values.begin() + static_cast<std::ptrdiff_t>(l * per),
+                          a.values.begin() + static_cast<std::ptrdiff_t>((l + 1) * per));
+    validate(path, a.rows, a.cols, v, window);
+    TabulatedNdf ndf(a.rows, window);
+    ndf.values() = std::move(v);
+    ndf.meta = meta;
+    if (a.layers > 1) {
+      ndf.meta.wavelength_m = st.wavelengths_q[l];
+      if (l < st.notes.size()) ndf.meta.notes = st.notes[l];
+    }
+    out.push_back(std::move(ndf));
+  }
+  if (primary) *primary = st.primary;
+  return out;
+}
+
+TabulatedNdf read_npy_ndf(const std::string& path) {
+  std::size_t primary = 0;
+  auto layers = read_npy_stack(path, &primary);
+  return std::move(layers[primary]);
 }
 
 void write_exr_ndf(const TabulatedNdf& ndf, const std::string& path) {
@@ -433,13 +520,33 @@ TabulatedNdf read_exr_ndf(const std::string& path) {
 
 void write_ndf(const TabulatedNdf& ndf, const std::string& path) {
   if (kind_of(path) == Kind::Npy)
-    write_npy_ndf(ndf, path);
+    write_npy_ndf({ndf}, 0, path);
   else
     write_exr_ndf(ndf, path);
 }
 
+bool write_ndf_stack(const std::vector<TabulatedNdf>& layers, std::size_t primary,
+                     const std::string& path) {
+  if (layers.empty() || primary >= layers.size())
+    throw FileError(path, "no table to write (empty stack or bad primary layer)");
+  for (std::size_t i = 1; i < layers.size(); ++i)
+    if (!(layers[i].meta.wavelength_m > layers[i - 1].meta.wavelength_m))
+      throw FileError(path, "a stack's tables must be sorted by increasing lambda_q");
+  if (kind_of(path) == Kind::Npy) {
+    write_npy_ndf(layers, primary, path);
+    return true;
+  }
+  write_exr_ndf(layers[primary], path);
+  return layers.size() == 1;
+}
+
 TabulatedNdf read_ndf(const std::string& path) {
   return kind_of(path) == Kind::Npy ? read_npy_ndf(path) : read_exr_ndf(path);
+}
+
+std::vector<TabulatedNdf> read_ndf_stack(const std::string& path) {
+  if (kind_of(path) == Kind::Npy) return read_npy_stack(path, nullptr);
+  return {read_exr_ndf(path)};
 }
 
 }  // namespace microbrdf

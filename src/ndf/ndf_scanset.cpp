@@ -41,14 +41,24 @@ void pack_rows(const TabulatedNdf& t, std::vector<double>& out) {
              v.begin() + static_cast<std::ptrdiff_t>((last + 1) * n));
 }
 
-TabulatedNdf unpack_rows(const std::vector<double>& in, std::size_t at, std::size_t n) {
+// The table packed at `at` (advanced past it).
+TabulatedNdf unpack_rows_at(const std::vector<double>& in, std::size_t& at, std::size_t n) {
   TabulatedNdf t(n);
   if (in.size() < at + 2) throw std::runtime_error("NDF share: short message");
   const auto first = static_cast<std::size_t>(in[at]), end = static_cast<std::size_t>(in[at + 1]);
-  if (end < first || end > n || in.size() != at + 2 + (end - first) * n)
+  if (end < first || end > n || in.size() < at + 2 + (end - first) * n)
     throw std::runtime_error("NDF share: table rows do not match the resolution");
-  std::copy(in.begin() + static_cast<std::ptrdiff_t>(at + 2), in.end(),
+  const auto from = in.begin() + static_cast<std::ptrdiff_t>(at + 2);
+  std::copy(from, from + static_cast<std::ptrdiff_t>((end - first) * n),
             t.values().begin() + static_cast<std::ptrdiff_t>(first * n));
+  at += 2 + (end - first) * n;
+  return t;
+}
+
+// The one table that ends the message.
+TabulatedNdf unpack_rows(const std::vector<double>& in, std::size_t at, std::size_t n) {
+  TabulatedNdf t = unpack_rows_at(in, at, n);
+  if (at != in.size()) throw std::runtime_error("NDF share: table rows do not match the resolution");
   return t;
 }
 
@@ -89,7 +99,16 @@ WorkResult pack_partial(const KirchhoffScanPartial& p, const nlohmann::json& inf
   WorkResult r;
   r.values = {p.area_w2,    p.valid_area,     p.aliased, p.info.height_half_range,
               p.info.z_max, p.info.tail_bound};
+  for (double a : p.stack_aliased) r.values.push_back(a);
   pack_rows(p.table, r.values);
+  for (const auto& t : p.stack) pack_rows(t, r.values);
+  for (const auto& m : p.coherent) {  // the mean-field sums: length, then re, im per node
+    r.values.push_back(static_cast<double>(m.size()));
+    for (const auto& c : m) {
+      r.values.push_back(c.real());
+      r.values.push_back(c.imag());
+    }
+  }
   r.text = nlohmann::json{
       {"patches", p.patches},
       {"used", p.used},
@@ -98,6 +117,7 @@ WorkResult pack_partial(const KirchhoffScanPartial& p, const nlohmann::json& inf
       {"leveling", p.leveling},
       {"source", p.source},
       {"terms", p.info.terms},
+      {"stack", p.stack.size()},
       {"has_info", p.has_info},
       {"supersample", p.supersample},
       {"points", p.info.points_per_triangle},
@@ -111,7 +131,22 @@ KirchhoffScanPartial unpack_kirchhoff_partial(const WorkResult& r, std::size_t r
   const auto j = nlohmann::json::parse(r.text);
   if (r.values.size() < 6) throw std::runtime_error("Kirchhoff share: short message");
   KirchhoffScanPartial p;
-  p.table = unpack_rows(r.values, 6, resolution);
+  const std::size_t layers = j.value("stack", std::size_t{0});
+  if (r.values.size() < 6 + layers) throw std::runtime_error("Kirchhoff share: short message");
+  p.stack_aliased.assign(r.values.begin() + 6, r.values.begin() + 6 + static_cast<std::ptrdiff_t>(layers));
+  std::size_t at = 6 + layers;
+  p.table = unpack_rows_at(r.values, at, resolution);
+  for (std::size_t l = 0; l < layers; ++l) p.stack.push_back(unpack_rows_at(r.values, at, resolution));
+  p.coherent.resize(layers + 1);
+  for (auto& m : p.coherent) {
+    if (at >= r.values.size()) throw std::runtime_error("Kirchhoff share: short message");
+    const auto n = static_cast<std::size_t>(r.values[at++]);
+    if (n != 0 && n != resolution * resolution) throw std::runtime_error("Kirchhoff share: bad mean field");
+    if (r.values.size() < at + 2 * n) throw std::runtime_error("Kirchhoff share: short message");
+    m.resize(n);
+    for (std::size_t i = 0; i < n; ++i, at += 2) m[i] = {r.values[at], r.values[at + 1]};
+  }
+  if (at != r.values.size()) throw std::runtime_error("Kirchhoff share: tables do not match the resolution");
   p.area_w2 = r.values[0];
   p.valid_area = r.values[1];
   p.aliased = r.values[2];

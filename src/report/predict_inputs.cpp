@@ -293,6 +293,7 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
   ndfs.filtered = std::make_unique<TabulatedNdf>(filtered.result());
   if (kirchhoff) {
     ndfs.kirchhoff = std::make_unique<TabulatedNdf>(kirchhoff->result());
+    ndfs.kirchhoff_stack = kirchhoff->stack_result();
     ndfs.kirchhoff_raw_integral = kirchhoff->raw_integral();
     ndfs.kirchhoff_aliased_fraction = kirchhoff->aliased_fraction();
     ndfs.kirchhoff_patches = kirchhoff->patches();
@@ -377,7 +378,13 @@ nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs) {
     c.log(std::string("NDFs: writing ") + name);
     const std::string table = std::string("ndf_") + name + ".npy";
     const std::string preview = std::string("img/ndf_") + name + ".png";
-    write_ndf(*ndf, c.path(table));
+    if (ndf == ndfs.kirchhoff.get() && ndfs.kirchhoff_stack.size() > 1) {
+      std::size_t primary = 0;
+      while (ndfs.kirchhoff_stack[primary].meta.wavelength_m != ndf->meta.wavelength_m) ++primary;
+      write_ndf_stack(ndfs.kirchhoff_stack, primary, c.path(table));
+    } else {
+      write_ndf(*ndf, c.path(table));
+    }
     NdfPreviewOptions po;
     po.size = 300;
     po.zoom = true;

@@ -289,8 +289,10 @@ std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResu
   }
   if (ndfs.kirchhoff)
     models.push_back({"kirchhoff", "Kirchhoff D_K (Dong eq. 8)",
-                      std::make_shared<KirchhoffBrdf>(std::vector<TabulatedNdf>{*ndfs.kirchhoff},
-                                                      fresnel, ellipsoid)});
+                      std::make_shared<KirchhoffBrdf>(
+                          ndfs.kirchhoff_stack.empty() ? std::vector<TabulatedNdf>{*ndfs.kirchhoff}
+                                                       : ndfs.kirchhoff_stack,
+                          fresnel, ellipsoid)});
   return models;
 }
 

@@ -45,6 +45,9 @@ struct NdfSet {
   /// The naive and filtered NDFs on a zoomed window around their lobes, when the whole-disk
   /// tables do not resolve them (stage_zoom); the fits use filtered_zoom.
   std::unique_ptr<TabulatedNdf> naive_zoom, filtered_zoom;
+  /// D_K over lambda_q (sorted; `kirchhoff` is the layer at the slices' wavelength): the
+  /// Kirchhoff BRDF interpolates it at each direction's lambda_q.
+  std::vector<TabulatedNdf> kirchhoff_stack;
   double kirchhoff_raw_integral = 0, kirchhoff_aliased_fraction = 0;
   std::size_t kirchhoff_patches = 0;
   std::size_t kirchhoff_supersample = 1;  ///< S of the node cell averages (1: point samples)

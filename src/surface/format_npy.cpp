@@ -25,6 +25,9 @@ namespace microbrdf::detail {
 
 Surface read_npy(Bytes data, const std::string& name, const ReadOptions& options) {
   NpyArray a = parse_npy(data, name);
+  if (a.layers > 1)
+    throw FileError(name, "holds a stack of " + std::to_string(a.layers) +
+                              " arrays (a 3-D shape), not one height map");
   Surface s;
   s.nx = a.cols;
   s.ny = a.rows;
