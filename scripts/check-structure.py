@@ -40,7 +40,7 @@ PUBLIC_HEADERS = {
     "file_size_limit": "core", "duration": "core", "mpi_watchdog": "core",
     # surface: height maps, their files, statistics, levelling, generators, previews
     "surface": "surface", "io": "surface", "level": "surface", "generate": "surface",
-    "statistics": "surface", "scanset": "surface", "ndf_scanset": "ndf", "height_preview": "surface",
+    "statistics": "surface", "psd": "surface", "scanset": "surface", "ndf_scanset": "ndf", "height_preview": "surface",
     # ndf: tabulated distributions of normals and how they are estimated, stored and drawn
     "tabulated_ndf": "ndf", "ndf_estimate": "ndf", "ndf_io": "ndf", "ndf_preview": "ndf",
     "ndf_sampler": "ndf", "ndf_convolve": "ndf", "kirchhoff": "ndf", "filter_sigma_auto": "ndf",
@@ -50,7 +50,7 @@ PUBLIC_HEADERS = {
     # brdf: the Brdf interface and every BRDF, the material and BRDF vocabulary
     "brdf": "brdf", "microfacet_brdf": "brdf", "brdf_albedo": "brdf", "brdf_slice": "brdf",
     "kirchhoff_brdf": "brdf", "sun_brdf": "brdf", "sh_brdf": "brdf", "lambertian_brdf": "brdf",
-    "mirror_brdf": "brdf", "svbrdf": "brdf", "brdf_spec": "brdf", "measured": "brdf",
+    "mirror_brdf": "brdf", "rayleigh_rice": "brdf", "svbrdf": "brdf", "brdf_spec": "brdf", "measured": "brdf",
     "measured_ndf": "brdf", "rgl_bsdf": "brdf", "rgl_coords": "brdf", "tensor_file": "brdf",
     # experiments and products built on BRDFs
     "fit": "fit", "microscene": "simulate", "simulate": "simulate", "goniometer": "simulate",

@@ -13,6 +13,7 @@
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/units.hpp"
+#include "rayleigh_rice_flags.hpp"
 #include "spec_flags.hpp"
 
 namespace microbrdf::cli {
@@ -20,6 +21,7 @@ namespace {
 
 struct BrdfArgs {
   SpecFlags spec;
+  RayleighRiceFlags rr;
   std::string theta_i = "30deg", plane = "in", wavelength = "555nm", output, plot;
   bool log_y = false;
   std::size_t samples = 721;
@@ -33,32 +35,47 @@ void run_slice(const BrdfArgs& a) {
   const double ti = parse_angle(a.theta_i), lambda = parse_length(a.wavelength);
   if (!(ti >= 0 && ti < M_PI / 2)) throw InputError("--theta-i must lie in [0, 90) deg");
   const SlicePlane plane = parse_slice_plane(a.plane);
+  check_rayleigh_rice_flags(a.rr, a.spec);
   BrdfSpec spec;
-  const auto bp = brdf_from_flags(a.spec, &spec);
-  warn_single_dk_table(a.spec, "brdf slice");
+  RayleighRiceSource rr;
+  std::shared_ptr<const Brdf> bp;
+  if (a.rr.given()) {
+    rr = rayleigh_rice_from_flags(a.rr, a.spec);
+    bp = rr.brdf;
+  } else {
+    bp = brdf_from_flags(a.spec, &spec);
+    warn_single_dk_table(a.spec, "brdf slice");
+  }
   const Brdf& b = *bp;
-  std::string label = spec.describe();
+  std::string label = a.rr.given() ? "Rayleigh-Rice, " + to_string(rr.brdf->polarisation()) + ", " +
+                                         rr.brdf->material().name
+                                   : spec.describe();
   if (const auto* mf = dynamic_cast<const MicrofacetBrdf*>(bp.get());
-      mf && spec.kind == BrdfSpec::Kind::Analytic)
+      mf && spec.kind == BrdfSpec::Kind::Analytic && !a.rr.given())
     label = mf->distribution().describe();
   const auto s = tabulate_slice(b, ti, lambda, plane, a.samples);
   const SlicePeak peak = slice_peak(s);
-  if (!a.output.empty()) write_file_atomic(a.output, slice_csv(s, b.describe(), ti, lambda, plane));
+  if (!a.output.empty())
+    write_file_atomic(a.output, a.rr.mueller()
+                                    ? mueller_slice_csv(*rr.brdf, ti, lambda, plane, a.samples)
+                                    : slice_csv(s, b.describe(), ti, lambda, plane));
   if (!a.plot.empty()) slice_plot(s, label, ti, lambda, plane, a.log_y).write(a.plot);
   const double albedo = b.albedo(slice_light(ti), lambda);
   if (a.json) {
-    print_json({{"output", a.output},
-                {"plot", a.plot},
-                {"ndf", spec.ndf},
-                {"sh", spec.sh},
-                {"model", b.describe()},
-                {"theta_i_rad", ti},
-                {"wavelength_m", lambda},
-                {"plane", a.plane},
-                {"samples", s.value.size()},
-                {"peak_brdf_per_sr", peak.value},
-                {"peak_angle_deg", peak.angle_deg},
-                {"directional_albedo", albedo}});
+    nlohmann::json j = {{"output", a.output},
+                        {"plot", a.plot},
+                        {"ndf", spec.ndf},
+                        {"sh", spec.sh},
+                        {"model", b.describe()},
+                        {"theta_i_rad", ti},
+                        {"wavelength_m", lambda},
+                        {"plane", a.plane},
+                        {"samples", s.value.size()},
+                        {"peak_brdf_per_sr", peak.value},
+                        {"peak_angle_deg", peak.angle_deg},
+                        {"directional_albedo", albedo}};
+    if (a.rr.given()) j["rayleigh_rice"] = rayleigh_rice_json(a.rr, rr, ti, lambda);
+    print_json(j);
   } else {
     std::printf(
         "%s\n  wrote %zu angles to %s; peak %.6g /sr at %.3f deg; directional albedo %.5f\n",
@@ -112,15 +129,18 @@ void register_brdf(CLI::App& app) {
       "Frame: n = +z, light and view point away from the surface, BRDF in 1/sr. Slices: the\n"
       "light lies at azimuth 180 deg; in-plane angles are signed with the mirror direction at\n"
       "+theta_i (docs/models.md). BRDFs: --model/--alpha*, --ndf, --kirchhoff, --sun, --sh,\n"
-      "--lambertian, --mirror. Materials: --metal NAME, --n/--k, --nk-csv FILE, --r0 R or\n"
-      "--color COLOUR, with --fresnel exact|schlick. Angles take units (30deg, 0.5rad; a bare\n"
-      "number is degrees).\n\n"
+      "--lambertian, --mirror, --rayleigh-rice SCAN (smooth metals: Sq << lambda, small\n"
+      "slopes; first-order vector perturbation theory with s/p/Mueller). Materials: --metal\n"
+      "NAME, --n/--k, --nk-csv FILE, --r0 R or --color COLOUR, with --fresnel exact|schlick.\n"
+      "Angles take units (30deg, 0.5rad; a bare number is degrees).\n\n"
       "Examples:\n"
       "  microbrdf brdf slice --model ggx --alpha 0.1 --metal Cu --theta-i 30deg -o slice.csv\n"
       "  microbrdf brdf slice --ndf scan_ndf.npy --metal Al --theta-i 45deg -o s.csv --plot s.png\n"
       "  microbrdf brdf slice --model ellipsoid --alpha-x 0.05 --alpha-y 0.2 --theta-x 5deg \\\n"
       "      --metal Al --theta-i 45deg --plane out --wavelength 633nm -o out.csv --json\n"
       "  microbrdf brdf slice --sun 2 --n 0.2 --k 3.0 --theta-i 30deg -o sun.csv\n"
+      "  microbrdf brdf slice --rayleigh-rice polished.x3p --metal Al --wavelength 633nm \\\n"
+      "      --theta-i 20deg --polarisation s -o rr_s.csv --log-y --plot rr_s.png --json\n"
       "  microbrdf brdf sh-project --model ggx --alpha 0.3 --metal Al --lmax 16 -o ggx.shbrdf\n"
       "  microbrdf brdf slice --sh ggx.shbrdf --theta-i 45deg -o sh.csv --plot sh.png\n"
       "  microbrdf brdf info --sh sim.shbrdf --json\n"
@@ -144,7 +164,10 @@ void register_brdf(CLI::App& app) {
   sl->add_option("--samples", a->samples, "Number of angles over [-90, 90] deg")
       ->capture_default_str()
       ->check(count_in(2, 1e7, "a slice finer than 2e-5 deg holds nothing new"));
-  sl->add_option("-o,--output", a->output, "Output CSV (angle_deg, brdf_per_sr, wo)");
+  add_rayleigh_rice_flags(sl, a->rr);
+  sl->add_option("-o,--output", a->output,
+                 "Output CSV (angle_deg, brdf_per_sr, wo; with --polarisation mueller: "
+                 "angle_deg, m00..m33, wo)");
   sl->add_option("--plot", a->plot, "Plot of the slice (.png or .svg)");
   sl->add_flag("--log-y", a->log_y, "Logarithmic BRDF axis in the plot");
   sl->add_flag("--json", a->json, "Print a JSON summary on stdout");

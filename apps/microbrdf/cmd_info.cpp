@@ -10,8 +10,11 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/height_preview.hpp"
 #include "microbrdf/image.hpp"
+#include "microbrdf/material_spec.hpp"
+#include "microbrdf/rayleigh_rice.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/units.hpp"
+#include "spec_flags.hpp"
 
 namespace microbrdf::cli {
 namespace {
@@ -22,7 +25,22 @@ struct InfoArgs {
   bool json = false, keep_going = false;
   std::string preview;
   std::string psd;
+  SpecFlags material;                            // for the TIS
+  std::vector<std::string> wavelengths, angles;  // of the TIS table (default: the standard)
 };
+
+// The scan's PSD (psd.hpp) and its total integrated scatter at each wavelength and angle of
+// incidence: with a material the Rayleigh-Rice TIS, else the material-free numbers only.
+void add_psd_and_tis(const InfoArgs& a, const std::string& path, const Surface& s,
+                     nlohmann::json& j) {
+  std::vector<double> wl, th;
+  for (const auto& w : a.wavelengths) wl.push_back(parse_length(w));
+  for (const auto& t : a.angles) th.push_back(parse_angle(t));
+  std::optional<OpticalConstants> m;
+  if (has_material(a.material.keys()))
+    m = optical_constants(material_spec(a.material, std::nullopt));
+  add_psd_and_tis_json(j, s, path, m ? &*m : nullptr, wl, th);
+}
 
 std::string deg(double slope) {
   return std::isfinite(slope) ? number_or_na(std::atan(slope) * 180 / M_PI, "%.3g deg") : "n/a";
@@ -79,6 +97,7 @@ WorkResult describe(const InfoArgs& a, const std::string& path, Surface& s, bool
   if (a.json) {
     auto j = stats_json(path, s, st);
     j["leveling_report"] = lev;
+    add_psd_and_tis(a, path, s, j);
     r.text = j.dump();
   } else {
     char* buf = nullptr;
@@ -165,7 +184,12 @@ void register_info(CLI::App& app) {
       "Examples:\n"
       "  microbrdf info scan.x3p\n"
       "  microbrdf info --json --level none data/*.dat\n"
-      "  microbrdf info image.exr --spacing 110nm --preview heights.png");
+      "  microbrdf info image.exr --spacing 110nm --preview heights.png\n"
+      "  microbrdf info polished.x3p --json --metal Al --wavelength 633nm --theta-i 0,45deg\n\n"
+      "JSON: \"psd\" describes the scan's areal PSD (cycles/m, m^4, integral = Sq^2; Hann\n"
+      "window, docs/rayleigh_rice.md); \"tis\" lists per wavelength and angle of incidence the\n"
+      "Rayleigh factor (4 pi Sq cos theta / lambda)^2 and, with a material, the total\n"
+      "integrated scatter in closed form and integrated from the Rayleigh-Rice BRDF.");
   cmd->add_option("files", args->inputs, "Height maps to describe")->required();
   add_read_flags(cmd, args->read, "plane");
   cmd->add_flag("--json", args->json,
@@ -173,6 +197,17 @@ void register_info(CLI::App& app) {
   cmd->add_option("--preview", args->preview,
                   "Write a false-colour height-map PNG (one input only)");
   cmd->add_option("--psd", args->psd, "Write the radially averaged PSD as CSV (one input only)");
+  add_material_flags(cmd, args->material,
+                     "with --json: the total integrated scatter of the first-order "
+                     "Rayleigh-Rice BRDF beside (4 pi Sq cos theta / lambda)^2 R");
+  cmd->add_option("--wavelength", args->wavelengths,
+                  "With --json: wavelengths of the TIS table (default 405,555,633,1064nm)")
+      ->delimiter(',')
+      ->check(wavelength());
+  cmd->add_option("--theta-i", args->angles,
+                  "With --json: angles of incidence of the TIS table (default 0,20,45,70deg)")
+      ->delimiter(',')
+      ->check(angle_in(0, 89.9 * M_PI / 180));
   cmd->add_flag("--keep-going", args->keep_going,
                 "Go on past files that cannot be read (each is reported on stderr and in the "
                 "JSON's \"failed\" list); the exit code is still 1 if any failed");

@@ -13,6 +13,9 @@ radians), with the keyword names of the CLI flags (``--filter-sigma`` -> ``filte
     mb.export_bsdf("g.bsdf", model="ggx", alpha=0.3, n=1.2, k=3.5)   # RGL .bsdf for renderers
     mb.export_gltf("al.glb", model="ggx", alpha_x=0.1, alpha_y=0.3, metal="Al")  # glTF 2.0
     E = mb.measured_ndf("goni.csv", n=1.6, k=3.2)                   # Dong eq. 9, NaN = unmeasured
+    P = mb.psd(s)                              # areal PSD, cycles/m, m^4 (ISO 25178)
+    rr = mb.rayleigh_rice(s, metal="Al", polarisation="s")          # smooth metals, first order
+    mb.tis(s, metal="Al", wavelength=633e-9, theta_i=0.0)           # total integrated scatter
 
 Arrays returned are views on the library's own buffers (no copies); long calls release the
 GIL, take an optional ``progress`` callback and stop on Ctrl-C. File problems raise FileError
@@ -26,6 +29,8 @@ from ._microbrdf import (  # noqa: F401
     KirchhoffBrdf,
     LambertianBrdf,
     MicrofacetBrdf,
+    Psd,
+    RayleighRiceBrdf,
     ShBrdf,
     Surface,
     TabulatedNdf,
@@ -38,6 +43,8 @@ from ._microbrdf import (  # noqa: F401
     measured_ndf,
     ndf,
     predict,
+    psd,
+    rayleigh_rice,
     read_ndf,
     _input_address,
     read_surface,
@@ -45,6 +52,7 @@ from ._microbrdf import (  # noqa: F401
     simulate,
     statistics,
     tabulate,
+    tis,
 )
 from ._microbrdf import __version__  # noqa: F401  (the library's, as `microbrdf --version`)
 
@@ -55,6 +63,8 @@ __all__ = [
     "KirchhoffBrdf",
     "LambertianBrdf",
     "MicrofacetBrdf",
+    "Psd",
+    "RayleighRiceBrdf",
     "ShBrdf",
     "Surface",
     "TabulatedNdf",
@@ -67,10 +77,13 @@ __all__ = [
     "measured_ndf",
     "ndf",
     "predict",
+    "psd",
+    "rayleigh_rice",
     "read_ndf",
     "read_surface",
     "render",
     "simulate",
     "statistics",
     "tabulate",
+    "tis",
 ]

@@ -7,6 +7,7 @@
 
 #include "bindings.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/rayleigh_rice.hpp"
 #include "microbrdf/scanset.hpp"
 #include "microbrdf/statistics.hpp"
 
@@ -50,11 +51,13 @@ py::dict metadata_dict(const Surface& s) {
 }
 
 /// The `info --json` record of one surface (with the levelling report, as `info` adds it).
-py::dict statistics_record(const std::string& path, const Surface& s, const SurfaceStats& st,
-                           const std::string& leveling_report) {
+/// Also the PSD record and the material-free TIS table, as `info --json` without a material.
+nlohmann::json statistics_record(const std::string& path, const Surface& s, const SurfaceStats& st,
+                                 const std::string& leveling_report) {
   nlohmann::json j = stats_json(path, s, st);
   j["leveling_report"] = leveling_report;
-  return json_to_py(j);
+  add_psd_and_tis_json(j, s, path, nullptr);
+  return j;
 }
 
 }  // namespace
@@ -230,6 +233,7 @@ Raises FileError (an OSError naming the file) for a missing, unreadable or corru
           std::string report;
           SurfaceStats st;
           const Surface* sp = nullptr;
+          nlohmann::json record;
           call_released([&] {
             if (!in.surfaces[i])
               keep = read_surface(in.paths[i], ro);
@@ -241,9 +245,10 @@ Raises FileError (an OSError naming the file) for a missing, unreadable or corru
             else
               report = "none";
             st = compute_stats(*sp);
+            record = statistics_record(in.paths[i].empty() ? sp->meta.source_path : in.paths[i],
+                                       *sp, st, report);
           });
-          out.append(statistics_record(in.paths[i].empty() ? sp->meta.source_path : in.paths[i],
-                                       *sp, st, report));
+          out.append(json_to_py(record));
         }
         if (in.size() == 1 && (py::isinstance<Surface>(scans) || is_path(scans)) &&
             in.paths.size() == 1)
@@ -259,7 +264,9 @@ level: 'none' | 'plane' | 'poly2'..'poly6', applied first (on a copy for a Surfa
 Keys: nx, ny, dx_m, dy_m, valid_count, valid_fraction, mean_m, min_m, max_m, sq_m (rms height),
 sa_m, skewness, kurtosis (3 for Gaussian), slope_rms_x, slope_rms_y (central differences),
 corr_length_x_m, corr_length_y_m, corr_length_m (1/e of the normalised ACF; None when longer
-than the scan), path, format, invalid_count, leveling, z0_m, ...)");
+than the scan), path, format, invalid_count, leveling, z0_m, ...; psd (the areal PSD's record:
+cycles/m, m^4, docs/rayleigh_rice.md) and tis (the Rayleigh factor per wavelength and angle; the
+TIS itself with a material: mb.tis).)");
 }
 
 }  // namespace microbrdf::python

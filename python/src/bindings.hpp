@@ -30,6 +30,7 @@ void bind_surface(py::module_& m);
 void bind_ndf(py::module_& m);
 void bind_fit(py::module_& m);
 void bind_brdf(py::module_& m);
+void bind_rayleigh_rice(py::module_& m);
 void bind_simulate(py::module_& m);
 void bind_render(py::module_& m);
 void bind_measured(py::module_& m);

@@ -122,6 +122,7 @@ PYBIND11_MODULE(_microbrdf, m) {
   bind_ndf(m);
   bind_fit(m);
   bind_brdf(m);
+  bind_rayleigh_rice(m);
   bind_simulate(m);
   bind_render(m);
   bind_measured(m);
