@@ -117,10 +117,7 @@ void preflight(const ExportArgs& a, bool dir) {
   if (!a.input.empty()) pre.input("file", a.input);
   if (!a.bsdf.empty()) pre.input("--bsdf", a.bsdf);
   check_spec_files(pre, a.spec);
-  if (dir)
-    pre.output_dir("-o", a.output);
-  else
-    pre.output("-o", a.output, {".bsdf"});
+  dir ? pre.output_dir("-o", a.output) : pre.output("-o", a.output, {".bsdf"});
   if (!a.envmap.empty()) pre.envmap("--envmap", a.envmap);
   pre.done();
 }

@@ -159,14 +159,15 @@ void run_kirchhoff(const NdfArgs& a) {
                  "window %s -> %s (%zu x %zu); integral before normalising %.4g; rms slope x "
                  "%.4g, y %.4g\n",
                  format_length(o.wavelength_q).c_str(),
-                 layers.size() > 1 ? (" and a stack of " + std::to_string(layers.size()) +
-                                      " tables over " + format_length(layers.front().meta.wavelength_m) +
-                                      " .. " + format_length(layers.back().meta.wavelength_m))
-                                         .c_str()
-                                   : "",
-                 paths.size(), acc->patches(), to_string(o.window).c_str(),
-                 a.output.c_str(), ndf.resolution(), ndf.resolution(), acc->raw_integral(),
-                 ndf.rms_slope(0), ndf.rms_slope(M_PI / 2));
+                 layers.size() > 1
+                     ? (" and a stack of " + std::to_string(layers.size()) + " tables over " +
+                        format_length(layers.front().meta.wavelength_m) + " .. " +
+                        format_length(layers.back().meta.wavelength_m))
+                           .c_str()
+                     : "",
+                 paths.size(), acc->patches(), to_string(o.window).c_str(), a.output.c_str(),
+                 ndf.resolution(), ndf.resolution(), acc->raw_integral(), ndf.rms_slope(0),
+                 ndf.rms_slope(M_PI / 2));
   }
 }
 

@@ -73,22 +73,6 @@ void add_filter_sigma_flags(CLI::App* cmd, std::string& filter_sigma, std::size_
       ->check(count_in(17, 8193));
 }
 
-std::vector<double> kirchhoff_stack_layers(const std::string& stack, double lambda) {
-  std::vector<double> all;
-  if (stack == "visible")
-    all = kirchhoff_stack_wavelengths(std::min(lambda, kKirchhoffVisibleLo),
-                                      std::max(lambda, kKirchhoffVisibleHi));
-  else if (stack == "wavelength")
-    all = kirchhoff_stack_wavelengths(lambda, lambda);
-  else if (stack != "single")
-    throw InputError("--dk-stack must be visible, wavelength or single, not '" + stack + "'");
-  // The table at --wavelength is the primary one; layers within 1 % of it would only repeat it.
-  std::vector<double> out;
-  for (double l : all)
-    if (std::fabs(l / lambda - 1) > 0.01) out.push_back(l);
-  return out;
-}
-
 KirchhoffOptions kirchhoff_options(const KirchhoffFlags& f, const std::string& wavelength) {
   KirchhoffOptions o;
   o.wavelength_q = parse_length(wavelength);

@@ -32,9 +32,6 @@ void add_kirchhoff_flags(CLI::App* cmd, KirchhoffFlags& f, const std::string& pr
 void add_filter_sigma_flags(CLI::App* cmd, std::string& filter_sigma, std::size_t& sweep_resolution,
                             const std::string& prefix);
 
-/// The lambda_q (m) of --dk-stack besides the table at `lambda` (visible | wavelength | single).
-std::vector<double> kirchhoff_stack_layers(const std::string& stack, double lambda);
-
 /// KirchhoffOptions from the flags and the --wavelength text (resolution, direct and progress
 /// are the caller's). Throws InputError naming the flag for a bad value.
 KirchhoffOptions kirchhoff_options(const KirchhoffFlags& f, const std::string& wavelength);

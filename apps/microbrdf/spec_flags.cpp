@@ -5,10 +5,10 @@
 #include <filesystem>
 
 #include "microbrdf/error.hpp"
-#include "microbrdf/json_read.hpp"
-#include "microbrdf/units.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/json_read.hpp"
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
 
@@ -83,7 +83,8 @@ void add_brdf_flags(CLI::App* c, SpecFlags& f, unsigned set) {
   if (set & kFlagKirchhoff)
     c->add_option("--kirchhoff", f.kirchhoff,
                   "Kirchhoff BRDF (Dong eq. 8) from D_K tables of `microbrdf ndf --method "
-                  "kirchhoff` (a stack over lambda_q, interpolated per direction; repeat the flag to add tables); shadowing from --model/--alpha "
+                  "kirchhoff` (a stack over lambda_q, interpolated per direction; repeat the flag "
+                  "to add tables); shadowing from --model/--alpha "
                   "if given");
   if (set & kFlagSun)
     c->add_option("--sun", f.text["sun"], "Sun 2002 analytic BRDF with smoothness s = tau/sigma")

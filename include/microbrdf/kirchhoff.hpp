@@ -17,7 +17,8 @@
 //    with A_T the projected area and exp[.,.,.] the second divided difference of exp
 //    (exp_divided_difference). Triangles with an invalid vertex are left out; the window is
 //    constant on a triangle (the mean of its vertices' weights).
-//  - Midpoint (default): each valid sample j stands for its projected cell dx dy, at s_j, with the slope
+//  - Midpoint (default): each valid sample j stands for its projected cell dx dy, at s_j, with the
+//  slope
 //    (g_x, g_y) of central differences over its valid neighbours (one-sided beside a hole or the
 //    edge of the surface, 0 along an axis with no valid neighbour):
 //      I(q) = dx dy sum_j w_j (q_z - q_x g_xj - q_y g_yj) exp(-i q.s_j).
@@ -218,6 +219,10 @@ inline constexpr std::size_t kKirchhoffMinTilesCoherent = 8;
 inline constexpr double kKirchhoffStackSpan = 6.0;
 inline constexpr double kKirchhoffStackRatio = 1.3;
 std::vector<double> kirchhoff_stack_wavelengths(double lo, double hi);
+/// The lambda_q (m) of a named stack besides the table at `lambda` (m): "visible" (the default:
+/// kirchhoff_stack_wavelengths over the renderer's band and lambda), "wavelength" (over lambda
+/// only) or "single" (none); layers within 1 % of lambda are left out. Throws InputError.
+std::vector<double> kirchhoff_stack_layers(const std::string& stack, double lambda);
 /// The band the default stack covers (m): the renderer's hero wavelengths.
 inline constexpr double kKirchhoffVisibleLo = 360e-9, kKirchhoffVisibleHi = 830e-9;
 
@@ -272,7 +277,7 @@ class KirchhoffAccumulator {
 
  private:
   KirchhoffOptions opt_;
-  TabulatedNdf acc_;  // sum over patches of A_w,p D_K,p
+  TabulatedNdf acc_;                 // sum over patches of A_w,p D_K,p
   std::vector<TabulatedNdf> stack_;  // the same at opt_.stack_wavelengths_q
   std::vector<double> stack_aliased_;
   std::vector<std::vector<std::complex<double>>> coherent_;  // per layer, as in the partials

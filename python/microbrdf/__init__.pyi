@@ -105,20 +105,21 @@ def ndf(
     instrument_fwhm: float = 0.0,
     wavelength: float = 555e-9,
     patch: Optional[Length2] = (70e-6, 53e-6),
-    window: str = "none",
+    window: str = "hann",
     accuracy: float = 1e-3,
     direct: bool = False,
     keep_aliases: bool = False,
     progress: Optional[Callable[[float], None]] = None,
     integration: str = "midpoint",
     supersample: int = 0,
-) -> TabulatedNdf: ...
+    stack: str = "visible",
+) -> Union[TabulatedNdf, List[TabulatedNdf]]: ...
 def hellinger_distance(a: TabulatedNdf, b: TabulatedNdf) -> float: ...
 def filter_sigma_auto(
     surface: Scans,
     wavelength: float = 555e-9,
     patch: Optional[Length2] = (70e-6, 53e-6),
-    window: str = "none",
+    window: str = "hann",
     accuracy: float = 1e-3,
     keep_aliases: bool = False,
     resolution: int = 257,
@@ -351,5 +352,5 @@ def predict(
     progress: Optional[Callable[[str], None]] = None,
     integration: str = "midpoint",
     supersample: int = 0,
-    window: str = "none",
+    window: str = "hann",
 ) -> dict[str, Any]: ...

@@ -90,8 +90,9 @@ struct ReleaseKirchhoffBuffers {
   ~ReleaseKirchhoffBuffers() { kirchhoff_release_buffers(); }
 };
 
-TabulatedNdf kirchhoff_ndf(const ScanInputs& in, KirchhoffOptions o, const ReadOptions& read,
-                           const LevelingSpec& level, const std::function<void(double)>& hook) {
+std::vector<TabulatedNdf> kirchhoff_ndf(const ScanInputs& in, KirchhoffOptions o,
+                                        const ReadOptions& read, const LevelingSpec& level,
+                                        const std::function<void(double)>& hook) {
   const ReleaseKirchhoffBuffers release;
   std::size_t scan = 0;
   o.progress = [&](double f) { hook((double(scan) + f) / double(in.size())); };
@@ -101,7 +102,7 @@ TabulatedNdf kirchhoff_ndf(const ScanInputs& in, KirchhoffOptions o, const ReadO
     Surface keep;
     acc.add(load_scan(in, i, read, level, keep));
   }
-  return acc.result();
+  return acc.stack_result();
 }
 
 /// --filter-sigma auto (filter_sigma_auto.hpp): the sweep's result as a dict, with its tables.
@@ -147,12 +148,12 @@ py::dict filter_sigma_auto(const py::object& scans, double wavelength, const py:
   return d;
 }
 
-TabulatedNdf ndf(const py::object& scans, const std::string& method, double filter_sigma,
+py::object ndf(const py::object& scans, const std::string& method, double filter_sigma,
                  std::size_t resolution, const std::string& level, const py::object& spacing,
                  double min_support, double instrument_fwhm, double wavelength,
                  const py::object& patch, const std::string& window, double accuracy, bool direct,
                  bool keep_aliases, const py::object& progress, const std::string& integration,
-                 std::size_t supersample) {
+                 std::size_t supersample, const std::string& stack) {
   check_resolution(resolution);
   const auto lev = LevelingSpec::parse(level);
   const ReadOptions read = read_options(spacing);
@@ -175,9 +176,14 @@ TabulatedNdf ndf(const py::object& scans, const std::string& method, double filt
     o.integration = parse_kirchhoff_integration(integration);
     o.supersample = supersample;
     if (!(o.wavelength_q > 0)) throw InputError("wavelength must be > 0 (metres)");
+    o.stack_wavelengths_q = kirchhoff_stack_layers(stack, o.wavelength_q);
     if (!(o.accuracy > 0 && o.accuracy < 1)) throw InputError("accuracy must be in (0, 1)");
     const ScanInputs in = scan_inputs(scans);
-    return call_released([&] { return kirchhoff_ndf(in, o, read, lev, hook); });
+    auto layers = call_released([&] { return kirchhoff_ndf(in, o, read, lev, hook); });
+    if (layers.size() == 1) return py::cast(std::make_shared<TabulatedNdf>(std::move(layers[0])));
+    py::list out;
+    for (auto& t : layers) out.append(std::make_shared<TabulatedNdf>(std::move(t)));
+    return out;
   }
   NdfEstimateOptions o;
   if (method == "naive")
@@ -193,7 +199,7 @@ TabulatedNdf ndf(const py::object& scans, const std::string& method, double filt
   o.resolution = resolution;
   o.min_support = min_support;
   const ScanInputs in = scan_inputs(scans);
-  return call_released([&] {
+  return py::cast(call_released([&] {
     TabulatedNdf d = geometric_ndf(in, o, read, lev, hook);
     if (instrument_fwhm > 0) {
       d = convolve_angular_gaussian(d, instrument_fwhm);
@@ -202,8 +208,8 @@ TabulatedNdf ndf(const py::object& scans, const std::string& method, double filt
                     instrument_fwhm * 180 / M_PI);
       d.meta.notes = note;
     }
-    return d;
-  });
+    return std::make_shared<TabulatedNdf>(std::move(d));
+  }));
 }
 
 }  // namespace
@@ -371,10 +377,11 @@ TabulatedNdf(values): a table from an (N, N) array (copied once; not normalised)
         py::arg("filter_sigma") = 1e-6, py::arg("resolution") = 1025, py::arg("level") = "plane",
         py::arg("spacing") = py::none(), py::arg("min_support") = 0.5,
         py::arg("instrument_fwhm") = 0.0, py::arg("wavelength") = 555e-9,
-        py::arg("patch") = py::make_tuple(70e-6, 53e-6), py::arg("window") = "none",
+        py::arg("patch") = py::make_tuple(70e-6, 53e-6), py::arg("window") = "hann",
         py::arg("accuracy") = KirchhoffOptions{}.accuracy, py::arg("direct") = false,
         py::arg("keep_aliases") = false, py::arg("progress") = py::none(),
         py::arg("integration") = "midpoint", py::arg("supersample") = 0,
+        py::arg("stack") = "visible",
         R"(The normal distribution function of one scan or of a scan set, as `microbrdf ndf`.
 
 surface: a Surface, a path (or glob, directory, @manifest), or a list of them; several scans
@@ -388,7 +395,7 @@ level: levelling of every scan first: 'none' | 'plane' | 'poly2'..'poly6' (on a 
 min_support: filtered: minimum weighted support, fraction of the full kernel.
 instrument_fwhm: naive/filtered: convolve with an angular Gaussian of this FWHM (radians).
 wavelength: kirchhoff: lambda_q, metres. patch: kirchhoff: tile size (dx, dy) in metres, or
-    None for one tile per scan. window: 'none' | 'hann' | 'gauss'. accuracy: tail bound of the
+    None for one tile per scan. window: 'hann' (default) | 'gauss' | 'none'. accuracy: tail bound of the
     fast method. direct: direct sums (slow reference). keep_aliases: keep nodes beyond the
     scan's Nyquist band.
 progress: optional callable(fraction in [0, 1]), called from the calling thread.
@@ -398,15 +405,21 @@ integration: kirchhoff: 'midpoint' (the midpoint rule per sample; the default, a
     cell averages over S x S sub-nodes (S odd, 1..15); 0 chooses S from the tile size and
     lambda_q (the CLI's --dk-supersample auto), 1 takes point samples.
 
+stack: kirchhoff: 'visible' (default: tables over lambda_q from 360 nm to 6 x 830 nm and at
+    wavelength, for brdf(kirchhoff=...) to interpolate at each direction's lambda_q),
+    'wavelength' (over wavelength .. 6 x wavelength) or 'single' (one table).
+
 Runs without the GIL; Ctrl-C interrupts it (between scans, and between Kirchhoff patches).
-Returns a TabulatedNdf equal bit for bit to what the CLI writes for the same inputs and flags.)");
+Returns a TabulatedNdf equal bit for bit to what the CLI writes for the same inputs and flags;
+for a D_K stack, a list of TabulatedNdf sorted by lambda_q (metadata['wavelength_m']), the
+layers of the CLI's 3-D .npy.)");
 
   m.def("hellinger_distance", &hellinger_distance, py::arg("a"), py::arg("b"),
         "Hellinger distance between two tables of the same resolution, in [0, 1]: H^2 = 1 - "
         "sum sqrt(p q) over the nodes, p and q the nodes' probabilities under D(m)(m.n) dw.");
   m.def(
       "filter_sigma_auto", &filter_sigma_auto, py::arg("surface"), py::arg("wavelength") = 555e-9,
-      py::arg("patch") = py::make_tuple(70e-6, 53e-6), py::arg("window") = "none",
+      py::arg("patch") = py::make_tuple(70e-6, 53e-6), py::arg("window") = "hann",
       py::arg("accuracy") = KirchhoffOptions{}.accuracy, py::arg("keep_aliases") = false,
       py::arg("resolution") = 257, py::arg("level") = "plane", py::arg("spacing") = py::none(),
       py::arg("min_support") = 0.5,

@@ -170,6 +170,8 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
   o.kirchhoff_options.integration = parse_kirchhoff_integration(integration);
   o.kirchhoff_options.supersample = supersample;
   o.kirchhoff_options.window = parse_kirchhoff_window(window);
+  if (wavelength > 0)  // a bad wavelength is refused below, naming it
+    o.kirchhoff_options.stack_wavelengths_q = kirchhoff_stack_layers("visible", wavelength);
   o.inputs = path_list(inputs, "inputs");
   o.read = read_options(spacing);
   o.leveling = LevelingSpec::parse(level);
@@ -279,7 +281,7 @@ calling thread; Ctrl-C is honoured when the image is finished.)");
         py::arg("threads") = 0, py::arg("level") = "plane", py::arg("spacing") = py::none(),
         py::arg("render_ndf") = "filtered", py::arg("sweep_resolution") = 257,
         py::arg("progress") = py::none(), py::arg("integration") = "midpoint",
-        py::arg("supersample") = 0, py::arg("window") = "none",
+        py::arg("supersample") = 0, py::arg("window") = "hann",
         R"(The whole pipeline, as `microbrdf predict`: scans -> NDFs -> fits -> BRDF slices ->
 renders -> out_dir/report.html and summary.json. Returns the summary (a dict, SI units).
 

@@ -170,7 +170,8 @@ def test_kirchhoff_brdf_is_dong_eq_8_with_the_table():
     from conftest import gaussian_surface
 
     s = mb.Surface(gaussian_surface(nx=64, ny=64, spacing=0.1e-6, sigma=0.05e-6, tau=0.6e-6), spacing=0.1e-6)
-    DK = mb.ndf(s, method="kirchhoff", wavelength=555e-9, patch=None, resolution=129, level="none")
+    DK = mb.ndf(s, method="kirchhoff", wavelength=555e-9, patch=None, resolution=129, level="none",
+                stack="single")
     b = mb.brdf(kirchhoff=DK, n=1.2, k=3.5)
     rng = np.random.default_rng(2)
     wi, wo = random_hemisphere(rng, 3000), random_hemisphere(rng, 3000)

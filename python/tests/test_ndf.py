@@ -48,11 +48,19 @@ def test_kirchhoff_equals_cli_bit_for_bit(cli, data, tmp_path):
                   "--wavelength", metres(600e-9), "--patch", f"{100e-6!r}x{80e-6!r}m",
                   "--window", "hann")
     fractions = []
-    D = mb.ndf(path, method="kirchhoff", resolution=129, wavelength=600e-9, patch=(100e-6, 80e-6),
-               window="hann", progress=fractions.append)
-    assert np.array_equal(np.asarray(D), ref)
+    stack = mb.ndf(path, method="kirchhoff", resolution=129, wavelength=600e-9,
+                   patch=(100e-6, 80e-6), window="hann", progress=fractions.append)
+    # The default is a stack over lambda_q: the CLI's 3-D .npy holds the same layers in order.
+    lq = [t.metadata["wavelength_m"] for t in stack]
+    assert ref.shape == (len(stack), 129, 129) and lq == sorted(lq) and 600e-9 in lq
+    assert lq[0] == pytest.approx(360e-9) and lq[-1] == pytest.approx(6 * 830e-9)
+    for layer, t in zip(ref, stack):
+        assert np.array_equal(np.asarray(t), layer)
     assert fractions[0] == 0.0 and fractions[-1] == 1.0 and fractions == sorted(fractions)
+    D = stack[lq.index(600e-9)]
     assert D.metadata["method"] == "kirchhoff" and D.metadata["wavelength_m"] == 600e-9
+    side = json.load(open(tmp_path / "cli.json"))
+    assert side["stack"]["wavelengths_q_m"] == lq and side["wavelength_m"] == 600e-9
 
 
 def test_kirchhoff_integration_rules_equal_cli_bit_for_bit(cli, data, tmp_path):
@@ -60,13 +68,13 @@ def test_kirchhoff_integration_rules_equal_cli_bit_for_bit(cli, data, tmp_path):
     # give different tables (the midpoint rule is not exact on a rough scan).
     path = data / "metropro-1.dat"
     flags = ["--method", "kirchhoff", "--resolution", "65", "--patch", f"{60e-6!r}x{50e-6!r}m",
-             "--wavelength", metres(600e-9)]
+             "--wavelength", metres(600e-9), "--dk-stack", "single"]
     ref = cli_ndf(cli, tmp_path, [path], *flags, "--dk-integration", "exact", "--dk-supersample", "3")
     D = mb.ndf(path, method="kirchhoff", resolution=65, patch=(60e-6, 50e-6), wavelength=600e-9,
-               integration="exact", supersample=3)
+               integration="exact", supersample=3, stack="single")
     assert np.array_equal(np.asarray(D), ref)
     mid = mb.ndf(path, method="kirchhoff", resolution=65, patch=(60e-6, 50e-6), wavelength=600e-9,
-                 supersample=3)
+                 supersample=3, stack="single")
     assert not np.array_equal(np.asarray(mid), ref)
     with pytest.raises(mb.InputError, match="integration|exact"):
         mb.ndf(path, method="kirchhoff", resolution=65, integration="simpson")
@@ -188,7 +196,7 @@ def test_kirchhoff_buffers_are_released_after_the_call(data):
             return int(f.read().split()[1]) * 4096 / 1e6
 
     before = resident_mb()
-    D = mb.ndf(data / "sur-2.sur", method="kirchhoff", resolution=1025, patch=None)
+    D = mb.ndf(data / "sur-2.sur", method="kirchhoff", resolution=1025, patch=None, stack="single")
     assert D.integral() == pytest.approx(1, rel=1e-9)
     # The table itself is 8.4 MB; kept buffers would add more than 100 MB.
     assert resident_mb() - before < 90

@@ -39,6 +39,22 @@ std::vector<double> kirchhoff_stack_wavelengths(double lo, double hi) {
   return out;
 }
 
+std::vector<double> kirchhoff_stack_layers(const std::string& stack, double lambda) {
+  std::vector<double> all;
+  if (stack == "visible")
+    all = kirchhoff_stack_wavelengths(std::min(lambda, kKirchhoffVisibleLo),
+                                      std::max(lambda, kKirchhoffVisibleHi));
+  else if (stack == "wavelength")
+    all = kirchhoff_stack_wavelengths(lambda, lambda);
+  else if (stack != "single")
+    throw InputError("the D_K stack must be visible, wavelength or single, not '" + stack + "'");
+  // The table at --wavelength is the primary one; layers within 1 % of it would only repeat it.
+  std::vector<double> out;
+  for (double l : all)
+    if (std::fabs(l / lambda - 1) > 0.01) out.push_back(l);
+  return out;
+}
+
 std::size_t kirchhoff_auto_supersample(std::size_t resolution, double lambda_q, double lx,
                                        double ly) {
   const double delta = 2.0 / static_cast<double>(resolution - 1);
@@ -164,7 +180,8 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
     const double wgt = aw / static_cast<double>(S * S);
     for (std::size_t iy = 0; iy < N; ++iy)
       for (std::size_t ix = 0; ix < N; ++ix) {
-        const auto cx = static_cast<std::ptrdiff_t>(S * ix), cy = static_cast<std::ptrdiff_t>(S * iy);
+        const auto cx = static_cast<std::ptrdiff_t>(S * ix),
+                   cy = static_cast<std::ptrdiff_t>(S * iy);
         double sum = 0;
         for (std::ptrdiff_t fy = std::max<std::ptrdiff_t>(cy - half, 0);
              fy <= std::min(cy + half, nf - 1); ++fy)
@@ -190,8 +207,8 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
         if (l == 0)
           add_layer(p, aw, lqs[0], subnodes[0], r.table, r.aliased, &r.info, r.coherent[0]);
         else
-          add_layer(p, aw, lqs[l], subnodes[l], r.stack[l - 1], r.stack_aliased[l - 1],
-                    &layer_info, r.coherent[l]);
+          add_layer(p, aw, lqs[l], subnodes[l], r.stack[l - 1], r.stack_aliased[l - 1], &layer_info,
+                    r.coherent[l]);
         tick(1);
       }
       r.area_w2 += aw;
@@ -213,8 +230,7 @@ void KirchhoffAccumulator::merge(const KirchhoffScanPartial& p) {
     for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
   };
   add(acc_, p.table);
-  if (p.stack.size() != opt_.stack_wavelengths_q.size() ||
-      p.stack_aliased.size() != p.stack.size())
+  if (p.stack.size() != opt_.stack_wavelengths_q.size() || p.stack_aliased.size() != p.stack.size())
     throw InputError("Kirchhoff accumulator: a scan's share has the wrong number of lambda_q");
   if (stack_.empty()) {
     stack_.assign(p.stack.size(), TabulatedNdf(acc_.resolution()));
@@ -331,9 +347,9 @@ double separate_specular(TabulatedNdf& t, const std::vector<std::complex<double>
 
 }  // namespace
 
-TabulatedNdf KirchhoffAccumulator::labelled(const TabulatedNdf& sum, double lambda_q,
-                                            double aliased,
-                                            const std::vector<std::complex<double>>& coherent) const {
+TabulatedNdf KirchhoffAccumulator::labelled(
+    const TabulatedNdf& sum, double lambda_q, double aliased,
+    const std::vector<std::complex<double>>& coherent) const {
   if (patches_ == 0 || !(sum.integral() > 0))
     throw InputError("Kirchhoff: no valid samples were accumulated");
   TabulatedNdf out = sum;

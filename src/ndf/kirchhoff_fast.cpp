@@ -808,8 +808,7 @@ std::vector<double> kirchhoff_table_fast(const KirchhoffPatch& p, double lambda_
                                          KirchhoffFastInfo* info, bool chirp_z,
                                          KirchhoffIntegration m, double band_x, double band_y,
                                          std::vector<std::complex<double>>* amplitude) {
-  return table_fast(p, lambda_q, resolution, accuracy, info, chirp_z, m, band_x, band_y,
-                    amplitude);
+  return table_fast(p, lambda_q, resolution, accuracy, info, chirp_z, m, band_x, band_y, amplitude);
 }
 
 }  // namespace microbrdf

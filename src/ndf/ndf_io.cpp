@@ -324,8 +324,8 @@ StackInfo read_stack_info(const std::string& side, std::size_t layers) {
     for (const auto& v : k["notes"]) st.notes.push_back(v.is_string() ? v.get<std::string>() : "");
   if (k.contains("primary")) {
     if (!k["primary"].is_number_unsigned() || k["primary"].get<std::size_t>() >= layers)
-      throw FileError(side, "\"stack\".\"primary\" must be a layer index below " +
-                                std::to_string(layers));
+      throw FileError(
+          side, "\"stack\".\"primary\" must be a layer index below " + std::to_string(layers));
     st.primary = k["primary"].get<std::size_t>();
   }
   return st;

@@ -58,7 +58,8 @@ TabulatedNdf unpack_rows_at(const std::vector<double>& in, std::size_t& at, std:
 // The one table that ends the message.
 TabulatedNdf unpack_rows(const std::vector<double>& in, std::size_t at, std::size_t n) {
   TabulatedNdf t = unpack_rows_at(in, at, n);
-  if (at != in.size()) throw std::runtime_error("NDF share: table rows do not match the resolution");
+  if (at != in.size())
+    throw std::runtime_error("NDF share: table rows do not match the resolution");
   return t;
 }
 
@@ -133,20 +134,24 @@ KirchhoffScanPartial unpack_kirchhoff_partial(const WorkResult& r, std::size_t r
   KirchhoffScanPartial p;
   const std::size_t layers = j.value("stack", std::size_t{0});
   if (r.values.size() < 6 + layers) throw std::runtime_error("Kirchhoff share: short message");
-  p.stack_aliased.assign(r.values.begin() + 6, r.values.begin() + 6 + static_cast<std::ptrdiff_t>(layers));
+  p.stack_aliased.assign(r.values.begin() + 6,
+                         r.values.begin() + 6 + static_cast<std::ptrdiff_t>(layers));
   std::size_t at = 6 + layers;
   p.table = unpack_rows_at(r.values, at, resolution);
-  for (std::size_t l = 0; l < layers; ++l) p.stack.push_back(unpack_rows_at(r.values, at, resolution));
+  for (std::size_t l = 0; l < layers; ++l)
+    p.stack.push_back(unpack_rows_at(r.values, at, resolution));
   p.coherent.resize(layers + 1);
   for (auto& m : p.coherent) {
     if (at >= r.values.size()) throw std::runtime_error("Kirchhoff share: short message");
     const auto n = static_cast<std::size_t>(r.values[at++]);
-    if (n != 0 && n < resolution * resolution) throw std::runtime_error("Kirchhoff share: bad mean field");
+    if (n != 0 && n < resolution * resolution)
+      throw std::runtime_error("Kirchhoff share: bad mean field");
     if (r.values.size() < at + 2 * n) throw std::runtime_error("Kirchhoff share: short message");
     m.resize(n);
     for (std::size_t i = 0; i < n; ++i, at += 2) m[i] = {r.values[at], r.values[at + 1]};
   }
-  if (at != r.values.size()) throw std::runtime_error("Kirchhoff share: tables do not match the resolution");
+  if (at != r.values.size())
+    throw std::runtime_error("Kirchhoff share: tables do not match the resolution");
   p.area_w2 = r.values[0];
   p.valid_area = r.values[1];
   p.aliased = r.values[2];
