@@ -49,8 +49,11 @@ void add_kirchhoff_flags(CLI::App* cmd, KirchhoffFlags& f, const std::string& pr
                   prefix +
                       "midpoint (one point per sample with central-difference slopes; default: "
                       "20-60x faster, about 1% off on brushed steel, more on steep or coarse "
-                      "scans) | exact (the surface integral over each triangle of the "
-                      "piecewise-linear surface, in closed form: the reference)")
+                      "scans; right for sampled, band-limited data) | exact (the integral over "
+                      "each triangle of the "
+                      "piecewise-linear surface, in closed form: right for truly faceted surfaces; "
+                      "on a sampled "
+                      "smooth one its power falls as sinc^4(q d/2))")
       ->capture_default_str();
   cmd->add_option("--dk-supersample", f.supersample,
                   prefix +

@@ -149,11 +149,11 @@ py::dict filter_sigma_auto(const py::object& scans, double wavelength, const py:
 }
 
 py::object ndf(const py::object& scans, const std::string& method, double filter_sigma,
-                 std::size_t resolution, const std::string& level, const py::object& spacing,
-                 double min_support, double instrument_fwhm, double wavelength,
-                 const py::object& patch, const std::string& window, double accuracy, bool direct,
-                 bool keep_aliases, const py::object& progress, const std::string& integration,
-                 std::size_t supersample, const std::string& stack) {
+               std::size_t resolution, const std::string& level, const py::object& spacing,
+               double min_support, double instrument_fwhm, double wavelength,
+               const py::object& patch, const std::string& window, double accuracy, bool direct,
+               bool keep_aliases, const py::object& progress, const std::string& integration,
+               std::size_t supersample, const std::string& stack) {
   check_resolution(resolution);
   const auto lev = LevelingSpec::parse(level);
   const ReadOptions read = read_options(spacing);
@@ -401,7 +401,8 @@ wavelength: kirchhoff: lambda_q, metres. patch: kirchhoff: tile size (dx, dy) in
 progress: optional callable(fraction in [0, 1]), called from the calling thread.
 integration: kirchhoff: 'midpoint' (the midpoint rule per sample; the default, as in the CLI)
     or 'exact' (exactly over the triangles of the piecewise-linear surface: the reference,
-    20-60x slower; quote it for numbers that matter). supersample: kirchhoff: node values as
+    20-60x slower; right for truly faceted surfaces, while on sampled band-limited data its
+    power falls as sinc^4(q d/2)). supersample: kirchhoff: node values as
     cell averages over S x S sub-nodes (S odd, 1..15); 0 chooses S from the tile size and
     lambda_q (the CLI's --dk-supersample auto), 1 takes point samples.
 

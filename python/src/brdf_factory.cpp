@@ -110,6 +110,12 @@ py::object make_brdf(const py::kwargs& kwargs) {
   } else {
     throw InputError("brdf: a TabulatedNdf goes with ndf= or kirchhoff= only");
   }
+  if (const auto* k = dynamic_cast<const KirchhoffBrdf*>(b.get()); k && k->single_table())
+    PyErr_WarnEx(PyExc_UserWarning,
+                 "brdf: kirchhoff= is one D_K table, used at every direction although each "
+                 "direction's lambda_q = 2 lambda / |wi + wo| differs from its lambda_q; "
+                 "mb.ndf(method='kirchhoff') returns a stack over lambda_q by default",
+                 1);
   return py::cast(std::const_pointer_cast<Brdf>(b));
 }
 

@@ -327,6 +327,7 @@ PredictResult predict_staged(const PredictOptions& given, const std::string& out
   timed("inputs", [&] { summary["inputs"] = report::stage_inputs(c, paths, ndfs, &work); });
   // How the per-scan stage was shared over MPI ranks (like "timing", it varies between runs).
   summary["mpi"] = work.to_json("scans_per_rank");
+  summary["regime"] = report::stage_regime(c, summary["inputs"]);
   const SoloAfterwards solo;
   mpi_set_solo(true);
   timed("ndf_zoom", [&] { report::stage_zoom(c, paths, ndfs); });

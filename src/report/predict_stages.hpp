@@ -71,6 +71,11 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
 /// rms slope (at most what keeps the lobe 10 nodes wide), refined up to three times, into
 /// ndfs.naive_zoom / filtered_zoom. Call on rank 0 after the distributed stage (mpi_set_solo).
 void stage_zoom(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs);
+/// The scattering regime (Rayleigh-Rice, Kirchhoff, geometric) of the scans' mean statistics at
+/// the slices' wavelength, at normal incidence and each slice's theta_i, with the numbers that
+/// decided; warns (method_outside_validity) when the slices and renders use the geometric NDF on
+/// a smooth surface. Returns the "regime" object (null without statistics).
+nlohmann::json stage_regime(const Context& c, const nlohmann::json& inputs);
 /// Writes the tables and previews; returns the "ndf" object.
 nlohmann::json stage_ndfs(const Context& c, const NdfSet& ndfs);
 /// Fits ellipsoid, Beckmann, GGX to the filtered NDF; returns the "fits" array (seconds of each
