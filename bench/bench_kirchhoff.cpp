@@ -286,6 +286,43 @@ void BM_KirchhoffMidpointSummary(benchmark::State& state) {
   state.counters["load_after"] = load_average();
 }
 
+// The default stack over lambda_q (ndf --dk-stack visible: 13 tables for 555 nm) against one
+// table, both through KirchhoffAccumulator on the same scan, between honest units (rounds as
+// above, best of each): what the stack adds to a D_K run, in honest FFT units and as a ratio.
+void BM_KirchhoffStack(benchmark::State& state) {
+  const double load0 = load_average();
+  MeasuredFft g;
+  KirchhoffOptions one;
+  one.resolution = kN;
+  one.wavelength_q = kLq;
+  KirchhoffOptions stack = one;
+  stack.stack_wavelengths_q = kirchhoff_stack_layers("visible", kLq);
+  double t_fft = 1e30, t_one = 1e30, t_stack = 1e30;
+  auto unit = [&] {
+    for (int i = 0; i < 4; ++i) t_fft = std::min(t_fft, seconds([&] { g.run(); }, 1));
+  };
+  for (auto _ : state) {
+    for (int r = 0; r < 2; ++r) {
+      unit();
+      t_one =
+          std::min(t_one, seconds([&] { (void)KirchhoffAccumulator(one).estimate(scan()); }, 1));
+      unit();
+      t_stack = std::min(t_stack,
+                         seconds([&] { (void)KirchhoffAccumulator(stack).estimate(scan()); }, 1));
+    }
+    unit();
+  }
+  state.counters["tables"] = static_cast<double>(stack.stack_wavelengths_q.size() + 1);
+  state.counters["one_s"] = t_one;
+  state.counters["stack_s"] = t_stack;
+  state.counters["fft_ms"] = 1e3 * t_fft;
+  state.counters["one_in_ffts"] = t_one / t_fft;
+  state.counters["stack_in_ffts"] = t_stack / t_fft;
+  state.counters["stack_over_one"] = t_stack / t_one;
+  state.counters["load_before"] = load0;
+  state.counters["load_after"] = load_average();
+}
+
 }  // namespace
 
 BENCHMARK(BM_PaddedFft2d)->UseRealTime()->Unit(benchmark::kMillisecond);
@@ -301,3 +338,4 @@ BENCHMARK(BM_KirchhoffDirect64Nodes)->Unit(benchmark::kMillisecond)->Iterations(
 BENCHMARK(BM_KirchhoffScanToTable)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_KirchhoffMidpointSummary)->Arg(8)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_KirchhoffSummary)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_KirchhoffStack)->Unit(benchmark::kSecond)->Iterations(1);

@@ -37,12 +37,12 @@ TEST(regime, GrazingIncidenceMakesARougherSurfaceSmooth) {
   EXPECT_EQ(scattering_regime(surface(30e-9, 0.01, 5e-6, 0)).method, "kirchhoff");
   const RegimeVerdict v = scattering_regime(surface(30e-9, 0.01, 5e-6, 70));
   EXPECT_EQ(v.method, "rayleigh-rice");
-  EXPECT_NEAR(v.rayleigh_parameter, std::pow(4 * M_PI * 30e-9 * std::cos(70 * M_PI / 180) / 555e-9, 2),
-              1e-15);
+  EXPECT_NEAR(v.rayleigh_parameter,
+              std::pow(4 * M_PI * 30e-9 * std::cos(70 * M_PI / 180) / 555e-9, 2), 1e-15);
 }
 
 TEST(regime, SteepOrIntermediateSurfacesAreKirchhoff) {
-  EXPECT_EQ(scattering_regime(surface(5e-9, 0.2, 5e-6)).method, "kirchhoff");   // smooth, steep
+  EXPECT_EQ(scattering_regime(surface(5e-9, 0.2, 5e-6)).method, "kirchhoff");     // smooth, steep
   EXPECT_EQ(scattering_regime(surface(100e-9, 0.05, 5e-6)).method, "kirchhoff");  // g = 5.1
 }
 

@@ -28,7 +28,7 @@ inline constexpr double kRegimeGeometricG = 10.0;
 inline constexpr double kRegimeMinTauOverLambda = 1.0;
 
 struct RegimeVerdict {
-  std::string method;  ///< "rayleigh-rice" | "kirchhoff" | "geometric"
+  std::string method;             ///< "rayleigh-rice" | "kirchhoff" | "geometric"
   double rayleigh_parameter = 0;  ///< g = (4 pi sigma cos theta / lambda)^2
   double specular_share = 0;      ///< exp(-g), the coherent (specular) share of the light
   double tau_over_lambda = 0;     ///< tau / lambda (NaN when tau is unknown)

@@ -59,7 +59,8 @@ nlohmann::json stage_regime(const Context& c, const nlohmann::json& inputs) {
                    {"used_is_valid", regime_allows(v, used)},
                    {"reason", v.reason}});
     if (v.method == "rayleigh-rice" && used == "geometric" && first_smooth.empty())
-      first_smooth = v.reason + " at theta_i " + std::to_string(std::lround(ti * 180 / M_PI)) + " deg";
+      first_smooth =
+          v.reason + " at theta_i " + std::to_string(std::lround(ti * 180 / M_PI)) + " deg";
   }
   nlohmann::json out = {{"wavelength_m", in.wavelength_m},
                         {"sigma_m", in.sigma_m},
