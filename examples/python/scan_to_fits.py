@@ -48,8 +48,10 @@ def main():
     ndfs = {
         "naive": mb.ndf(surface, method="naive", resolution=n, level="none"),
         "filtered": mb.ndf(surface, method="filtered", filter_sigma=2 * max(dx, dy), resolution=n, level="none"),
+        # One table at the wavelength, to fit (a BRDF takes the default stack over lambda_q).
         "kirchhoff": mb.ndf(surface, method="kirchhoff", wavelength=args.wavelength,
-                            patch=(args.patch, args.patch), resolution=n, level="none"),
+                            patch=(args.patch, args.patch), resolution=n, level="none",
+                            stack="single"),
     }
 
     # 3. Fits of each (Dong section 8).

@@ -83,10 +83,10 @@ stopped_case 0 "rank 0 stopped"
 # Busy is not stopped. Items that each take several times the 1 s timeout (1025^2 D_K tables,
 # 3.5 s a scan on an idle 2-core machine; 513^2 ones took 0.94 s there, under the timeout; the
 # JSON's seconds per scan say so): the run completes, with the table of a plain run.
-$BIN ndf "${SCANS[@]:0:3}" --method kirchhoff --resolution 1025 -o "$T/plain.npy" \
+$BIN ndf "${SCANS[@]:0:3}" --method kirchhoff --resolution 1025 --dk-stack single -o "$T/plain.npy" \
   >/dev/null 2>&1 || fail "plain ndf"
 t0=$SECONDS
-timeout 120 "${MPI[@]}" $BIN --mpi-timeout 1s ndf "${SCANS[@]:0:3}" --method kirchhoff \
+timeout 120 "${MPI[@]}" $BIN --mpi-timeout 1s ndf "${SCANS[@]:0:3}" --method kirchhoff --dk-stack single \
   --resolution 1025 -o "$T/busy.npy" --json >"$T/out.txt" 2>"$T/err.txt" \
   || { cat "$T/err.txt"; fail "busy ranks taken for stopped ones (ndf, --mpi-timeout 1s)"; }
 cmp -s "$T/plain.npy" "$T/busy.npy" || fail "busy run: not the plain run's table"
