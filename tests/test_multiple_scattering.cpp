@@ -77,8 +77,11 @@ Albedo albedo_quadrature(const MultipleScatteringBrdf& b, const Case& c, const V
   // The multiple-scattering lobe hugs the horizon at grazing incidence and small alpha:
   // Gauss-Legendre in s with cos(theta_o) = s^2 puts more nodes there; midpoint in phi.
   std::vector<double> x, w;
-  gauss_legendre(32, x, w);
-  const int nphi = 96;
+  // Each walk's next-event estimates form a lobe as narrow as the NDF: a finer grid for alpha
+  // 0.1 (32 nodes under-resolve its lobe at the horizon by half at theta_i = 80 deg).
+  const int nu = std::min(c.ax, c.ay) < 0.3 ? 64 : 32;
+  gauss_legendre(nu, x, w);
+  const int nphi = 3 * nu;
   const double phi_f = std::atan2(-wi.y(), -wi.x());
   std::vector<Vec3> nodes;
   std::vector<double> weights, lam;
