@@ -13,6 +13,8 @@
 #include <random>
 #include <vector>
 
+#include "microbrdf/brdf_spec.hpp"
+#include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/multiple_scattering.hpp"
 #include "microbrdf/quadrature.hpp"
@@ -267,4 +269,24 @@ TEST(MultipleScattering, SampleMatchesPdfChiSquare) {
       EXPECT_NEAR(r.total_expected, 1.0, 0.02);
     }
   }
+}
+
+// The vocabulary: JSON / CLI keys build the multiple-scattering BRDF, off by default.
+TEST(MultipleScattering, SpecKeys) {
+  MaterialSpec cu = MaterialSpec::named_metal("Cu");
+  const auto plain = make_brdf(parse_brdf({{"model", "ggx"}, {"alpha", 0.4}}), cu);
+  EXPECT_NE(dynamic_cast<const MicrofacetBrdf*>(plain.get()), nullptr);
+  const auto ms = make_brdf(
+      parse_brdf(
+          {{"model", "ggx"}, {"alpha", 0.4}, {"multiple_scattering", true}, {"ms_walks", 8}}),
+      cu);
+  const auto* m = dynamic_cast<const MultipleScatteringBrdf*>(ms.get());
+  ASSERT_NE(m, nullptr);
+  EXPECT_NE(m->describe().find("8 walks per eval"), std::string::npos);
+  EXPECT_THROW(parse_brdf({{"sun", 3}, {"multiple_scattering", true}}), InputError);
+  EXPECT_THROW(parse_brdf({{"model", "ggx"}, {"alpha", 0.4}, {"ms_walks", 8}}), InputError);
+  EXPECT_THROW(
+      parse_brdf(
+          {{"model", "ggx"}, {"alpha", 0.4}, {"multiple_scattering", true}, {"separable_g", true}}),
+      InputError);
 }
