@@ -167,12 +167,14 @@ struct MultipleScatteringOptions {
 ///    term. The walks are seeded from the bits of (wi, wo) and the seed, not the wavelength:
 ///    repeated calls give the same number, and a spectrum is smooth in lambda. Its relative
 ///    standard error falls as 1/sqrt(eval_walks) (docs/multiple_scattering.md).
-///  - sample(wi, u1, u2) runs one walk (first normal from u1, u2; the rest from a stream
-///    seeded by their bits): weight = the product of F along the walk (the walk draws exit
-///    directions with density f_{F=1}(wi, wo) cos(theta_o)), pdf = pdf(wi, wo).
-///  - pdf(wi, wo) = f_{F=1}(wi, wo) cos(theta_o) with the single-scattering part exact and
-///    orders >= 2 from the F = 1 MsTable built in the constructor: the walk's exit density to
-///    the table's accuracy.
+///  - sample(wi, u1, u2) draws wo from a mixture whose density pdf() gives exactly: with
+///    probability c(wi) a cosine lobe (for orders >= 2, which are broad), else the
+///    single-scattering lobe (visible normals of wi, reflected); weight = eval cos / pdf.
+///    c(wi) = the F = 1 energy of orders >= 2 (the MsTable built in the constructor), clamped
+///    to [0.02, 0.9]. (A walk's exit direction has no closed-form density, and the renderer
+///    weights every wavelength by eval / pdf, so sample() does not return walk exits;
+///    MicrofacetRandomWalk::sample does.)
+///  - pdf(wi, wo) = (1 - c) MicrofacetBrdf::pdf + c cos(theta_o) / pi.
 class MultipleScatteringBrdf final : public Brdf {
  public:
   MultipleScatteringBrdf(std::shared_ptr<const MicrofacetDistribution> d,
@@ -197,7 +199,8 @@ class MultipleScatteringBrdf final : public Brdf {
   const MicrofacetBrdf& single() const { return single_; }
 
  private:
-  MicrofacetBrdf single_, single_f1_;
+  double cosine_share(const Vec3& wi) const;
+  MicrofacetBrdf single_;
   std::shared_ptr<const Fresnel> f_;
   MicrofacetRandomWalk walk_;
   MultipleScatteringOptions opt_;

@@ -196,3 +196,15 @@ def test_multiple_scattering_adds_what_single_scattering_loses():
     assert ms.albedo(up, method="sampled", n=128) == pytest.approx(1.0, abs=0.02)
     with pytest.raises(ValueError, match="multiple_scattering"):
         mb.brdf(sun=3, metal="Cu", multiple_scattering=True)
+
+
+def test_multiple_scattering_white_furnace_render():
+    # A white (F = 1) rough sphere under a uniform white sky: with multiple scattering it
+    # disappears (radiance 1 within noise); single scattering leaves it dark at alpha 1.
+    def centre(**kw):
+        b = mb.brdf(model="ggx", alpha=1.0, n=1, k=1e4, **kw)
+        return mb.render(b, scene="furnace_sphere", size=32, spp=64, white_env=True)[8:24, 8:24, 1]
+
+    ms = centre(multiple_scattering=True, ms_walks=4)
+    assert ms.mean() == pytest.approx(1.0, abs=0.01)
+    assert centre().mean() < 0.45

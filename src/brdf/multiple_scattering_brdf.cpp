@@ -1,5 +1,7 @@
 // Single plus multiple scattering (include/microbrdf/multiple_scattering.hpp,
 // MultipleScatteringBrdf).
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -22,19 +24,14 @@ std::uint64_t hash_seed(std::uint64_t seed, std::initializer_list<double> xs) {
   return h;
 }
 
-// Distinguishes the streams of eval and sample that share a seed.
-constexpr std::uint64_t kSampleSalt = 0x5A3C'96E1'0F2B'7D48ull;
+constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
 
 MultipleScatteringBrdf::MultipleScatteringBrdf(std::shared_ptr<const MicrofacetDistribution> d,
                                                std::shared_ptr<const Fresnel> f,
                                                const MultipleScatteringOptions& opt)
-    : single_(d, f, false),
-      single_f1_(d, std::make_shared<PerfectMirrorFresnel>(), false),
-      f_(std::move(f)),
-      walk_(std::move(d), opt.max_order),
-      opt_(opt) {
+    : single_(d, f, false), f_(std::move(f)), walk_(std::move(d), opt.max_order), opt_(opt) {
   if (opt_.eval_walks < 1)
     throw std::invalid_argument("MultipleScatteringBrdf: eval_walks must be >= 1");
   MsTableOptions t = opt_.table;
@@ -64,23 +61,39 @@ double MultipleScatteringBrdf::eval(const Vec3& wi, const Vec3& wo, double wavel
   return single_.eval(wi, wo, wavelength_m) + eval_multiple(wi, wo, wavelength_m, opt_.eval_walks);
 }
 
+double MultipleScatteringBrdf::cosine_share(const Vec3& wi) const {
+  // The energy of orders >= 2 on a white surface, kept inside [0.02, 0.9]: the cosine lobe must
+  // cover the multiple-scattering lobe wherever it is not 0, and the single lobe stays sampled.
+  return std::clamp(table_.energy(wi), 0.02, 0.9);
+}
+
 std::optional<BrdfSample> MultipleScatteringBrdf::sample(const Vec3& wi, double u1, double u2,
                                                          double wavelength_m) const {
   if (!(wi.z() > 0)) return std::nullopt;
-  WalkRng rng(hash_seed(opt_.seed ^ kSampleSalt, {u1, u2, wi.x(), wi.y(), wi.z()}));
-  const auto e = walk_.sample(wi, u1, u2, rng, f_.get(), wavelength_m);
-  if (!e || !(e->wo.z() > 0)) return std::nullopt;
+  const double c = cosine_share(wi);
+  Vec3 wo;
+  if (u1 < c) {  // the cosine lobe
+    const double r = std::sqrt(u1 / c), p = 2 * kPi * u2;
+    wo = Vec3(r * std::cos(p), r * std::sin(p), std::sqrt(std::max(0.0, 1 - r * r)));
+  } else {  // the single-scattering lobe (visible normals of wi, reflected)
+    const Vec3 m = single_.distribution().sample_visible(wi, (u1 - c) / (1 - c), u2);
+    const double im = wi.dot(m);
+    if (!(im > 0)) return std::nullopt;
+    wo = 2 * im * m - wi;
+  }
+  if (!(wo.z() > 0)) return std::nullopt;
   BrdfSample s;
-  s.wo = e->wo;
-  s.pdf = pdf(wi, e->wo);
+  s.wo = wo;
+  s.pdf = pdf(wi, wo);
   if (!(s.pdf > 0)) return std::nullopt;
-  s.weight = e->weight;
+  s.weight = eval(wi, wo, wavelength_m) * wo.z() / s.pdf;
   return s;
 }
 
 double MultipleScatteringBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
   if (!(wi.z() > 0) || !(wo.z() > 0)) return 0;
-  return (single_f1_.eval(wi, wo, 0) + table_.eval(wi, wo)) * wo.z();
+  const double c = cosine_share(wi);
+  return (1 - c) * single_.pdf(wi, wo) + c * wo.z() / kPi;
 }
 
 std::string MultipleScatteringBrdf::describe() const {
