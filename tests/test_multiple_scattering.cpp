@@ -16,6 +16,7 @@
 #include "microbrdf/brdf_spec.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/microscene.hpp"
 #include "microbrdf/multiple_scattering.hpp"
 #include "microbrdf/quadrature.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
@@ -295,4 +296,25 @@ TEST(MultipleScattering, SpecKeys) {
       parse_brdf(
           {{"model", "ggx"}, {"alpha", 0.4}, {"multiple_scattering", true}, {"separable_g", true}}),
       InputError);
+}
+
+// The micro-scene JSON takes the key too (a microfacet material of `simulate`).
+TEST(MultipleScattering, MicroSceneMaterial) {
+  const nlohmann::json j = nlohmann::json::parse(R"({
+    "tile": "10x10um",
+    "materials": {
+      "rough": {"type": "microfacet", "model": "ggx", "alpha": 0.5, "metal": "Cu",
+                "multiple_scattering": true, "ms_walks": 2},
+      "plain": {"type": "microfacet", "model": "ggx", "alpha": 0.5, "metal": "Cu"}
+    },
+    "objects": [{"type": "plane", "z": "0um", "material": "rough"}]
+  })");
+  const MicroSceneDesc d = parse_micro_scene(j, ".", "test.json");
+  int ms = 0, plain = 0;
+  for (const auto& m : d.materials) {
+    if (dynamic_cast<const MultipleScatteringBrdf*>(m.brdf.get())) ++ms;
+    if (dynamic_cast<const MicrofacetBrdf*>(m.brdf.get())) ++plain;
+  }
+  EXPECT_EQ(ms, 1);
+  EXPECT_EQ(plain, 1);
 }
