@@ -33,6 +33,14 @@ $BIN tabulate --model ggx --alpha 0.5 --resolution 129 -o "$T/t.npy" >/dev/null 
 $BIN brdf slice --ndf "$T/t.npy" --metal Cu --theta-i 30 --multiple-scattering --ms-walks 16 \
   -o "$T/t.csv" >/dev/null || fail "slice --ndf"
 
+# Export: the .bsdf table holds the multiple-scattering BRDF; glTF's GGX cannot and says so.
+$BIN export bsdf --model ggx --alpha 0.5 --metal Cu --multiple-scattering --ms-walks 2 \
+  --theta-i 4 --ndf-grid 8 --samples 4 --wavelengths 2 -o "$T/m.bsdf" >/dev/null 2>&1 || fail "export bsdf"
+[ -s "$T/m.bsdf" ] || fail "no .bsdf"
+$BIN export gltf --model ggx --alpha 0.5 --metal Cu --multiple-scattering -o "$T/m.gltf" \
+  2>"$T/gltf.err" >/dev/null || fail "export gltf"
+grep -q "warning: multiple scattering" "$T/gltf.err" || fail "glTF says nothing of multiple scattering"
+
 # Usage errors: exit 2 with the flag named.
 expect2() {
   local what=$1; shift
