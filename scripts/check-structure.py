@@ -49,6 +49,7 @@ PUBLIC_HEADERS = {
     "sh_basis": "models", "tabulated_distribution": "models", "material_spec": "models",
     # brdf: the Brdf interface and every BRDF, the material and BRDF vocabulary
     "brdf": "brdf", "microfacet_brdf": "brdf", "brdf_albedo": "brdf", "brdf_slice": "brdf",
+    "multiple_scattering": "brdf",
     "kirchhoff_brdf": "brdf", "sun_brdf": "brdf", "sh_brdf": "brdf", "lambertian_brdf": "brdf",
     "mirror_brdf": "brdf", "rayleigh_rice": "brdf", "regime": "brdf", "svbrdf": "brdf", "brdf_spec": "brdf", "measured": "brdf",
     "measured_ndf": "brdf", "rgl_bsdf": "brdf", "rgl_coords": "brdf", "tensor_file": "brdf",

@@ -80,7 +80,7 @@ Source source_of(const ExportArgs& a, const char* cmd) {
             d->describe() + ")");
   } else {
     s.brdf = make_brdf(spec, material);
-    if (spec.kind == BrdfSpec::Kind::Analytic)
+    if (spec.kind == BrdfSpec::Kind::Analytic && !spec.multiple_scattering)
       s.analytic = std::shared_ptr<const MicrofacetDistribution>(
           s.brdf, &static_cast<const MicrofacetBrdf&>(*s.brdf).distribution());
   }

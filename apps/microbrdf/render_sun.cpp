@@ -58,7 +58,9 @@ BrdfSpec render_brdf_spec(const SpecFlags& spec, const sun2002::SunRenderOptions
 
 std::vector<std::shared_ptr<const Svbrdf>> render_materials(const SpecFlags& spec,
                                                             const sun2002::SunRenderOptions& sun) {
-  const BrdfSpec b = render_brdf_spec(spec, sun);
+  BrdfSpec b = render_brdf_spec(spec, sun);
+  // A pixel averages many BRDF values: few walks each cost less than the noise they add.
+  if (b.multiple_scattering && b.ms_walks == 0) b.ms_walks = 4;
   const MaterialSpec mat = material_spec(spec, MaterialSpec::named_metal("Al"));
   if (b.kind == BrdfSpec::Kind::Sun && sun.given())
     return {sun2002::make_sun_svbrdf(sun, b.sun_s, make_fresnel(mat))};

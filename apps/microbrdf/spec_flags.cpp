@@ -19,6 +19,7 @@ nlohmann::json SpecFlags::keys() const {
   if (!kirchhoff.empty()) j["kirchhoff"] = kirchhoff;
   if (mirror) j["mirror"] = true;
   if (separable_g) j["separable_g"] = true;
+  if (multiple_scattering) j["multiple_scattering"] = true;
   if (isotropic_average) j["isotropic_average"] = true;
   return j;
 }
@@ -113,6 +114,15 @@ void add_brdf_flags(CLI::App* c, SpecFlags& f, unsigned set) {
         ->check(number_in(0, 1));
   if (set & kFlagMirror)
     c->add_flag("--mirror", f.mirror, "Ideal mirror with the material's Fresnel term");
+  if (set & (kFlagModel | kFlagNdf))
+    c->add_flag("--multiple-scattering", f.multiple_scattering,
+                "With --model/--alpha or --ndf: add light that bounces between microfacets more "
+                "than once (microfacet random walk, Heitz 2016; docs/multiple_scattering.md)");
+  if (set & (kFlagModel | kFlagNdf))
+    c->add_option("--ms-walks", f.text["ms_walks"],
+                  "With --multiple-scattering: random walks per BRDF value (noise ~ "
+                  "1/sqrt(N); default 64, render 4)")
+        ->check(count_in(1, 1e6));
   if (set & kFlagSeparable)
     c->add_flag("--separable-g", f.separable_g,
                 "Separable Smith G1 G1 (Dong eq. 13) instead of height-correlated");

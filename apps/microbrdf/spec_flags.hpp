@@ -21,6 +21,7 @@ struct SpecFlags {
   std::map<std::string, std::string> text;  ///< key -> value as typed ("" = not given)
   std::vector<std::string> kirchhoff;
   bool mirror = false, separable_g = false, isotropic_average = false;
+  bool multiple_scattering = false;
   /// The given flags as a JSON object of vocabulary keys (the parsers' input).
   nlohmann::json keys() const;
 };

@@ -23,6 +23,12 @@
 //   mirror       an ideal mirror (true/false) with the material's Fresnel term
 //   separable_g  microfacet BRDFs: separable Smith G1 G1 (Dong eq. 13) instead of the
 //                height-correlated G2
+//   multiple_scattering  microfacet BRDFs (model or ndf): add the light that bounces between
+//                microfacets more than once (the microfacet random walk of Heitz 2016,
+//                multiple_scattering.hpp; true/false, default false)
+//   ms_walks     with multiple_scattering: random walks per eval() (its relative noise falls as
+//                1/sqrt(ms_walks); cost about 0.5 us per walk); default 64, the preview
+//                renderer 4 (its pixels average the noise)
 // At most one of: an analytic model (model / alpha*), ndf, kirchhoff, sun, sh, texture,
 // lambertian, mirror.
 
@@ -53,12 +59,17 @@ struct BrdfSpec {
   std::string texture;                 ///< texture: parameter texture file
   double lambertian_albedo = 1;        ///< lambertian: albedo in [0, 1]
   bool separable_g = false;            ///< analytic / tabulated: Smith G1 G1 (Dong eq. 13)
+  bool multiple_scattering = false;    ///< analytic / tabulated: + orders >= 2 (random walk)
+  int ms_walks = 0;                    ///< walks per eval (0: the default, kDefaultMsWalks)
 
   /// True for the kinds that take a material's Fresnel term (all but sh and lambertian).
   bool uses_material() const;
   /// One line for reports, e.g. "ggx alpha 0.1 x 0.3" or "tabulated NDF ndf.npy".
   std::string describe() const;
 };
+
+/// Walks per eval() of a multiple-scattering BRDF when ms_walks is not given.
+inline constexpr int kDefaultMsWalks = 64;
 
 /// The BRDF keys, in the order --help lists them.
 const std::vector<std::string>& brdf_keys();
@@ -77,5 +88,11 @@ BrdfSpec parse_brdf(const nlohmann::json& keys,
 /// caller reports (BrdfSpec::uses_material). Throws InputError for the texture kind (spatially
 /// varying: make_svbrdf, texture.hpp).
 std::shared_ptr<const Brdf> make_brdf(const BrdfSpec& spec, const MaterialSpec& material);
+
+/// The microfacet BRDF of a spec's distribution: MicrofacetBrdf, or MultipleScatteringBrdf
+/// (multiple_scattering.hpp) when spec.multiple_scattering is set.
+std::shared_ptr<const Brdf> make_microfacet_brdf(std::shared_ptr<const MicrofacetDistribution> d,
+                                                 std::shared_ptr<const Fresnel> f,
+                                                 const BrdfSpec& spec);
 
 }  // namespace microbrdf

@@ -183,7 +183,12 @@ class ShBrdf(Brdf):
     @staticmethod
     def load(path: PathLike) -> ShBrdf: ...
 
-def brdf(**flags: Any) -> Brdf: ...
+def brdf(**flags: Any) -> Brdf:
+    """A BRDF from the keys of the CLI's BRDF and material flags (model=, alpha=, ndf=, ...,
+    metal=, ...). multiple_scattering=True (model or ndf only; default False) adds the light
+    that bounces between microfacets more than once (microfacet random walk, Heitz 2016):
+    eval() is then a Monte Carlo estimate seeded from its arguments (repeated calls agree),
+    sample() runs one walk. See docs/multiple_scattering.md."""
 
 class Psd:
     """Areal PSD of a scan: cycles/m, m^4, two-sided; value[iy, ix] at (fx[ix], fy[iy])."""

@@ -99,9 +99,8 @@ py::object make_brdf(const py::kwargs& kwargs) {
     b = call_released([&] { return make_brdf(spec, material); });
   } else if (spec.kind == BrdfSpec::Kind::Tabulated) {
     // The factory's tabulated kind, with the table from memory instead of a file.
-    b = std::make_shared<MicrofacetBrdf>(
-        std::make_shared<TabulatedDistribution>(table(spec.ndf, mem)), make_fresnel(material),
-        spec.separable_g);
+    b = make_microfacet_brdf(std::make_shared<TabulatedDistribution>(table(spec.ndf, mem)),
+                             make_fresnel(material), spec);
   } else if (spec.kind == BrdfSpec::Kind::Kirchhoff) {
     std::vector<TabulatedNdf> tables;
     for (const auto& name : spec.kirchhoff) tables.push_back(table(name, mem));
@@ -126,7 +125,11 @@ Angles in radians (or a string with a unit, "5deg"); files as str or pathlib.Pat
 Microfacet (Dong 2015 eq. 1): model='ggx'|'beckmann'|'ellipsoid' with alpha= (both axes) or
 alpha_x=, alpha_y=; phi= (beckmann/ggx: azimuth of the alpha_x axis); theta_x=, theta_y=,
 theta_z= (ellipsoid); or ndf=D (a TabulatedNdf, or the path of a table) instead of the model;
-separable_g=True: G1 G1 (Dong eq. 13) instead of the height-correlated Smith G2.
+separable_g=True: G1 G1 (Dong eq. 13) instead of the height-correlated Smith G2;
+multiple_scattering=True: adds the light that bounces between microfacets more than once (the
+microfacet random walk of Heitz 2016 with the NDF's own Smith Lambda and visible normals; eval is
+a Monte Carlo estimate seeded from its arguments, so repeated calls agree; default False; see
+docs/multiple_scattering.md).
 Kirchhoff (Dong eq. 8): kirchhoff=D_K (a table, a path, or a list of them at several lambda_q);
 a model given with it supplies the shadowing G.
 Others: sun=s (Sun 2002, s = tau/sigma), sh=path (.shbrdf; l_filter=, filter_width=,

@@ -10,6 +10,7 @@
 #include "microbrdf/lambertian_brdf.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/mirror_brdf.hpp"
+#include "microbrdf/multiple_scattering.hpp"
 #include "microbrdf/ndf_io.hpp"
 #include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/sun2002.hpp"
@@ -60,7 +61,8 @@ const std::vector<std::string>& brdf_keys() {
       "model",   "alpha",      "alpha_x",  "alpha_y",      "phi",
       "theta_x", "theta_y",    "theta_z",  "ndf",          "kirchhoff",
       "sun",     "sh",         "l_filter", "filter_width", "isotropic_average",
-      "texture", "lambertian", "mirror",   "separable_g"};
+      "texture", "lambertian", "mirror",   "separable_g",  "multiple_scattering",
+      "ms_walks"};
   return keys;
 }
 
@@ -169,7 +171,35 @@ BrdfSpec parse_brdf(const json& keys, const std::optional<BrdfSpec>& fallback, K
   if (s.separable_g && s.kind != BrdfSpec::Kind::Analytic && s.kind != BrdfSpec::Kind::Tabulated)
     throw InputError(r.name("separable_g") + " applies to microfacet BRDFs (" + r.name("model") +
                      " or " + r.name("ndf") + ") only");
+  s.multiple_scattering = r.flag("multiple_scattering");
+  if (s.multiple_scattering && s.kind != BrdfSpec::Kind::Analytic &&
+      s.kind != BrdfSpec::Kind::Tabulated)
+    throw InputError(r.name("multiple_scattering") + " applies to microfacet BRDFs (" +
+                     r.name("model") + " or " + r.name("ndf") + ") only");
+  if (r.given("ms_walks")) {
+    const double w = r.number("ms_walks");
+    if (!s.multiple_scattering)
+      throw InputError(r.name("ms_walks") + " goes with " + r.name("multiple_scattering"));
+    if (!(w >= 1 && w <= 1e6) || w != std::floor(w))
+      throw InputError(r.name("ms_walks") + " must be a whole number in [1, 1000000]");
+    s.ms_walks = static_cast<int>(w);
+  }
+  if (s.multiple_scattering && s.separable_g)
+    throw InputError(r.name("multiple_scattering") + " and " + r.name("separable_g") +
+                     " exclude each other: the random walk's first order is the "
+                     "height-correlated G2");
   return s;
+}
+
+std::shared_ptr<const Brdf> make_microfacet_brdf(std::shared_ptr<const MicrofacetDistribution> d,
+                                                 std::shared_ptr<const Fresnel> f,
+                                                 const BrdfSpec& spec) {
+  if (spec.multiple_scattering) {
+    MultipleScatteringOptions o;
+    o.eval_walks = spec.ms_walks > 0 ? spec.ms_walks : kDefaultMsWalks;
+    return std::make_shared<MultipleScatteringBrdf>(std::move(d), std::move(f), o);
+  }
+  return std::make_shared<MicrofacetBrdf>(std::move(d), std::move(f), spec.separable_g);
 }
 
 std::string BrdfSpec::describe() const {
@@ -178,9 +208,10 @@ std::string BrdfSpec::describe() const {
     case Kind::Analytic:
       os << model.model << " alpha " << model.alpha_x;
       if (model.alpha_y != model.alpha_x) os << " x " << model.alpha_y;
+      if (multiple_scattering) os << " + multiple scattering";
       return os.str();
     case Kind::Tabulated:
-      return "tabulated NDF " + ndf;
+      return "tabulated NDF " + ndf + (multiple_scattering ? " + multiple scattering" : "");
     case Kind::Kirchhoff:
       return "Kirchhoff D_K " + kirchhoff.front() +
              (kirchhoff.size() > 1 ? " (+" + std::to_string(kirchhoff.size() - 1) + ")" : "");
@@ -203,12 +234,10 @@ std::string BrdfSpec::describe() const {
 std::shared_ptr<const Brdf> make_brdf(const BrdfSpec& s, const MaterialSpec& material) {
   switch (s.kind) {
     case BrdfSpec::Kind::Analytic:
-      return std::make_shared<MicrofacetBrdf>(make_distribution(s.model), make_fresnel(material),
-                                              s.separable_g);
+      return make_microfacet_brdf(make_distribution(s.model), make_fresnel(material), s);
     case BrdfSpec::Kind::Tabulated:
-      return std::make_shared<MicrofacetBrdf>(
-          std::make_shared<TabulatedDistribution>(read_ndf(s.ndf)), make_fresnel(material),
-          s.separable_g);
+      return make_microfacet_brdf(std::make_shared<TabulatedDistribution>(read_ndf(s.ndf)),
+                                  make_fresnel(material), s);
     case BrdfSpec::Kind::Kirchhoff: {
       std::vector<TabulatedNdf> tables;
       for (const auto& f : s.kirchhoff)

@@ -198,6 +198,10 @@ GltfMaterial gltf_material(const BrdfSpec& spec, const MaterialSpec& material) {
           f0));
     }
   }
+  if (spec.multiple_scattering)
+    warn.push_back(
+        "multiple scattering: glTF's GGX counts one bounce between microfacets; the light of "
+        "--multiple-scattering is not in the material");
   if (spec.separable_g)
     warn.push_back(
         "shadowing: glTF uses GGX's height-correlated Smith G2, not the separable G1 G1 "

@@ -157,8 +157,7 @@ MicroMaterial material(const Ctx& c, const std::string& name, const json& m) {
       const BrdfSpec spec = parse_brdf(keys, std::nullopt, KeyStyle::Json);
       if (spec.kind != BrdfSpec::Kind::Analytic)
         c.fail("material '" + name + "': a microfacet material takes an analytic model");
-      out.brdf =
-          std::make_shared<MicrofacetBrdf>(make_distribution(spec.model), f, spec.separable_g);
+      out.brdf = make_microfacet_brdf(make_distribution(spec.model), f, spec);
     } catch (const InputError& e) {
       c.fail("material '" + name + "': " + e.what());
     }
