@@ -146,7 +146,9 @@ void furnace(const std::vector<Case>& cases, const std::vector<double>& thetas) 
       EXPECT_LE(a.total(), 1.01 + 3 * a.multiple_se)
           << c.model << " " << c.ax << "x" << c.ay << " at " << t;
       // Single scattering alone loses energy wherever the multiple part is resolved.
-      if (a.multiple > 5 * a.multiple_se) EXPECT_LT(a.single, 1 - 0.5 * a.multiple);
+      if (a.multiple > 5 * a.multiple_se) {
+        EXPECT_LT(a.single, 1 - 0.5 * a.multiple);
+      }
     }
   }
 }
