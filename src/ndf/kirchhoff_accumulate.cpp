@@ -307,7 +307,8 @@ namespace {
 // The diffuse part (P/(P-1)) (sum |I_p|^2 - |sum I_p|^2 / P) of the intensity sums, and the
 // coherent energy (the rest) put on the node where the mean field peaks (Beckmann and
 // Spizzichino's coherent + incoherent split, the mean over tiles standing for the ensemble
-// mean). Returns the coherent share of the total.
+// mean). Returns the coherent share of the total, or -1 when the mean field is no larger than
+// the tiles' random sum would make it (nothing separated).
 double separate_specular(TabulatedNdf& t, const std::vector<std::complex<double>>& m,
                          std::size_t patches) {
   auto& v = t.values();
@@ -319,8 +320,12 @@ double separate_specular(TabulatedNdf& t, const std::vector<std::complex<double>
   const std::size_t S = (nf - 1) / (N - 1);
   const auto half = static_cast<std::ptrdiff_t>(S / 2), snf = static_cast<std::ptrdiff_t>(nf);
   const double p = static_cast<double>(patches), total = t.integral();
-  std::size_t peak = 0;
-  double peak_norm = -1;
+  // Cell averages of |sum I_p|^2 first: without a coherent part (a rough surface) their integral
+  // over P is about total / P (the tiles' fields add at random), and taking it out would only
+  // put a random share of the energy on one node. The split is made when the mean field holds
+  // more than twice that.
+  std::vector<double> cm(v.size());
+  double coherent_est = 0;
   for (std::size_t iy = 0; iy < N; ++iy)
     for (std::size_t ix = 0; ix < N; ++ix) {
       const auto cx = static_cast<std::ptrdiff_t>(S * ix), cy = static_cast<std::ptrdiff_t>(S * iy);
@@ -331,15 +336,17 @@ double separate_specular(TabulatedNdf& t, const std::vector<std::complex<double>
              fx <= std::min(cx + half, snf - 1); ++fx)
           c += std::norm(m[static_cast<std::size_t>(fy * snf + fx)]);
       c /= static_cast<double>(S * S);
-      const std::size_t i = iy * N + ix;
-      if (c > peak_norm) {
-        peak_norm = c;
-        peak = i;
-      }
-      v[i] = std::max(0.0, v[i] - c / p) * p / (p - 1);
+      cm[iy * N + ix] = c;
+      coherent_est += c / p;
     }
-  const double diffuse = t.integral();
   const double cell = (2.0 / static_cast<double>(N - 1)) * (2.0 / static_cast<double>(N - 1));
+  if (!(coherent_est * cell > 2 * total / p)) return -1;
+  std::size_t peak = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (cm[i] > cm[peak]) peak = i;
+    v[i] = std::max(0.0, v[i] - cm[i] / p) * p / (p - 1);
+  }
+  const double diffuse = t.integral();
   const double coherent = std::max(0.0, total - diffuse);
   v[peak] += coherent / cell;
   return total > 0 ? coherent / total : 0;
@@ -383,7 +390,11 @@ TabulatedNdf KirchhoffAccumulator::labelled(
   else
     std::snprintf(sampling, sizeof sampling, "node values are point samples");
   char spec[200];
-  if (!coherent.empty())
+  if (!coherent.empty() && specular < 0)
+    std::snprintf(spec, sizeof spec,
+                  "no specular part separated (the mean field over the tiles is within twice "
+                  "what random phases give)");
+  else if (!coherent.empty())
     std::snprintf(spec, sizeof spec,
                   "specular part (the mean field over the tiles, %.4g of the energy) on its peak "
                   "node",
