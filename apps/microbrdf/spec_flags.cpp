@@ -1,14 +1,11 @@
 #include "spec_flags.hpp"
 
-#include <algorithm>
 #include <cstdio>
-#include <filesystem>
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
-#include "microbrdf/json_read.hpp"
 #include "microbrdf/microfacet.hpp"
-#include "microbrdf/units.hpp"
+#include "microbrdf/ndf_io.hpp"
 
 namespace microbrdf::cli {
 
@@ -145,32 +142,16 @@ BrdfSpec brdf_spec(const SpecFlags& f, const std::optional<BrdfSpec>& fallback) 
 
 void warn_single_dk_table(const SpecFlags& f, const std::string& command) {
   if (f.kirchhoff.empty()) return;
-  // Layers from the sidecars alone (the tables are read later, once): a stack lists its
-  // lambda_q; a plain table or an .exr is one layer.
-  std::size_t layers = 0;
-  double lambda_q = 0;
-  for (const auto& path : f.kirchhoff) {
-    const std::filesystem::path side = std::filesystem::path(path).replace_extension(".json");
-    std::size_t n = 1;
-    std::error_code ec;
-    if (std::filesystem::path(path).extension() == ".npy" && std::filesystem::exists(side, ec)) {
-      const nlohmann::json j = read_json_file(side.string());
-      if (j.contains("stack") && j["stack"].contains("wavelengths_q_m") &&
-          j["stack"]["wavelengths_q_m"].is_array())
-        n = std::max<std::size_t>(j["stack"]["wavelengths_q_m"].size(), 1);
-      else if (j.contains("wavelength_m") && j["wavelength_m"].is_number())
-        lambda_q = j["wavelength_m"].get<double>();
-    }
-    layers += n;
-  }
+  std::size_t layers = 0;  // from the sidecars alone: the tables are read later, once
+  for (const auto& path : f.kirchhoff) layers += ndf_file_layers(path);
   if (layers != 1) return;
   std::fprintf(stderr,
-               "microbrdf %s: warning: --kirchhoff: one D_K table%s stands for every direction, "
-               "but each direction's lambda_q = 2 lambda / |wi + wo| differs from it away from "
-               "backscatter (1/cos(theta_i) times lambda at the mirror direction); `microbrdf ndf "
-               "--method kirchhoff` writes a stack over lambda_q by default (docs/kirchhoff.md)\n",
-               command.c_str(),
-               lambda_q > 0 ? (" (lambda_q " + format_length(lambda_q) + ")").c_str() : "");
+               "microbrdf %s: warning: --kirchhoff: one D_K table stands for every direction, "
+               "but each direction's lambda_q = 2 lambda / |wi + wo| differs from its lambda_q "
+               "away from backscatter (1/cos(theta_i) times lambda at the mirror direction); "
+               "`microbrdf ndf --method kirchhoff` writes a stack over lambda_q by default "
+               "(docs/kirchhoff.md)\n",
+               command.c_str());
 }
 
 std::shared_ptr<const Brdf> brdf_from_flags(const SpecFlags& f, BrdfSpec* spec_out) {

@@ -26,6 +26,9 @@ TabulatedNdf read_ndf(const std::string& path);
 /// Atomic. Throws FileError.
 bool write_ndf_stack(const std::vector<TabulatedNdf>& layers, std::size_t primary,
                      const std::string& path);
+/// How many tables the file holds, from its sidecar alone (1 for a plain table or an .exr):
+/// cheap, for callers that only need to know whether a file is a stack. Throws FileError.
+std::size_t ndf_file_layers(const std::string& path);
 /// Every table of the file, sorted by lambda_q (one for a 2-D .npy or an .exr). Throws FileError.
 std::vector<TabulatedNdf> read_ndf_stack(const std::string& path);
 

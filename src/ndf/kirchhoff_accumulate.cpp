@@ -6,6 +6,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
+#include "microbrdf/memory_budget.hpp"
 
 namespace microbrdf {
 namespace {
@@ -21,6 +22,21 @@ void tiling(std::size_t n, double d, double patch, std::size_t& count, std::size
   }
   count = std::clamp<std::size_t>(count, 1, std::max<std::size_t>(n, 1));
   len = n / count;
+}
+
+// Sum of value(i) over the sub-nodes of node (ix, iy)'s cell on a grid of nf x nf sub-nodes,
+// S per node (S odd: the centre sub-node is the node; cells are clipped at the grid's edge).
+template <class Value>
+double cell_sum(std::size_t ix, std::size_t iy, std::size_t S, std::size_t nf, Value value) {
+  const auto half = static_cast<std::ptrdiff_t>(S / 2), n = static_cast<std::ptrdiff_t>(nf);
+  const auto cx = static_cast<std::ptrdiff_t>(S * ix), cy = static_cast<std::ptrdiff_t>(S * iy);
+  double sum = 0;
+  for (std::ptrdiff_t fy = std::max<std::ptrdiff_t>(cy - half, 0); fy <= std::min(cy + half, n - 1);
+       ++fy)
+    for (std::ptrdiff_t fx = std::max<std::ptrdiff_t>(cx - half, 0);
+         fx <= std::min(cx + half, n - 1); ++fx)
+      sum += value(static_cast<std::size_t>(fy * n + fx));
+  return sum;
 }
 
 }  // namespace
@@ -123,6 +139,18 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
                                                    static_cast<double>(ly) * s.dy);
   }
   r.supersample = subnodes[0];  // the table at wavelength_q (the stack's layers may differ)
+  // What the scan's share holds beyond one table: the stack's tables and, per layer, the mean
+  // field on its sub-node grid (16 bytes a sub-node).
+  {
+    double bytes = 8.0 * static_cast<double>(N * N) * static_cast<double>(lqs.size() - 1);
+    if (opt_.separate_specular && !opt_.direct && cx * cy >= kKirchhoffMinTilesCoherent)
+      for (std::size_t S : subnodes) {
+        const double nf = static_cast<double>(S * (N - 1) + 1);
+        bytes += 16.0 * nf * nf;
+      }
+    check_memory(s.meta.source_path, static_cast<std::uint64_t>(std::min(bytes, 1.8e19)),
+                 "the D_K tables over lambda_q and their mean fields");
+  }
   const double n_steps = static_cast<double>(cx * cy * lqs.size());
   std::size_t done = 0;
   auto tick = [&](std::size_t steps) {
@@ -176,20 +204,10 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
       for (std::size_t i = 0; i < v.size(); ++i) v[i] += aw * d[i];
       return;
     }
-    const auto half = static_cast<std::ptrdiff_t>(S / 2), nf = static_cast<std::ptrdiff_t>(NF);
     const double wgt = aw / static_cast<double>(S * S);
     for (std::size_t iy = 0; iy < N; ++iy)
-      for (std::size_t ix = 0; ix < N; ++ix) {
-        const auto cx = static_cast<std::ptrdiff_t>(S * ix),
-                   cy = static_cast<std::ptrdiff_t>(S * iy);
-        double sum = 0;
-        for (std::ptrdiff_t fy = std::max<std::ptrdiff_t>(cy - half, 0);
-             fy <= std::min(cy + half, nf - 1); ++fy)
-          for (std::ptrdiff_t fx = std::max<std::ptrdiff_t>(cx - half, 0);
-               fx <= std::min(cx + half, nf - 1); ++fx)
-            sum += d[static_cast<std::size_t>(fy * nf + fx)];
-        v[iy * N + ix] += wgt * sum;
-      }
+      for (std::size_t ix = 0; ix < N; ++ix)
+        v[iy * N + ix] += wgt * cell_sum(ix, iy, S, NF, [&](std::size_t i) { return d[i]; });
   };
   for (std::size_t ty = 0; ty < cy; ++ty)
     for (std::size_t tx = 0; tx < cx; ++tx) {
@@ -318,7 +336,6 @@ double separate_specular(TabulatedNdf& t, const std::vector<std::complex<double>
   const auto nf = static_cast<std::size_t>(std::llround(std::sqrt(static_cast<double>(m.size()))));
   if (patches < 2 || nf * nf != m.size() || nf < N || (nf - 1) % (N - 1) != 0) return 0;
   const std::size_t S = (nf - 1) / (N - 1);
-  const auto half = static_cast<std::ptrdiff_t>(S / 2), snf = static_cast<std::ptrdiff_t>(nf);
   const double p = static_cast<double>(patches), total = t.integral();
   // Cell averages of |sum I_p|^2 first: without a coherent part (a rough surface) their integral
   // over P is about total / P (the tiles' fields add at random), and taking it out would only
@@ -328,13 +345,7 @@ double separate_specular(TabulatedNdf& t, const std::vector<std::complex<double>
   double coherent_est = 0;
   for (std::size_t iy = 0; iy < N; ++iy)
     for (std::size_t ix = 0; ix < N; ++ix) {
-      const auto cx = static_cast<std::ptrdiff_t>(S * ix), cy = static_cast<std::ptrdiff_t>(S * iy);
-      double c = 0;
-      for (std::ptrdiff_t fy = std::max<std::ptrdiff_t>(cy - half, 0);
-           fy <= std::min(cy + half, snf - 1); ++fy)
-        for (std::ptrdiff_t fx = std::max<std::ptrdiff_t>(cx - half, 0);
-             fx <= std::min(cx + half, snf - 1); ++fx)
-          c += std::norm(m[static_cast<std::size_t>(fy * snf + fx)]);
+      double c = cell_sum(ix, iy, S, nf, [&](std::size_t i) { return std::norm(m[i]); });
       c /= static_cast<double>(S * S);
       cm[iy * N + ix] = c;
       coherent_est += c / p;

@@ -544,6 +544,17 @@ TabulatedNdf read_ndf(const std::string& path) {
   return kind_of(path) == Kind::Npy ? read_npy_ndf(path) : read_exr_ndf(path);
 }
 
+std::size_t ndf_file_layers(const std::string& path) {
+  if (kind_of(path) != Kind::Npy) return 1;
+  const std::string side = sidecar_path(path);
+  std::error_code ec;
+  if (!fs::exists(side, ec)) return 1;
+  const nlohmann::json j = read_json_file(side);
+  if (!j.is_object() || !j.contains("stack") || !j["stack"].is_object()) return 1;
+  const auto& lq = j["stack"].value("wavelengths_q_m", nlohmann::json());
+  return lq.is_array() && !lq.empty() ? lq.size() : 1;
+}
+
 std::vector<TabulatedNdf> read_ndf_stack(const std::string& path) {
   if (kind_of(path) == Kind::Npy) return read_npy_stack(path, nullptr);
   return {read_exr_ndf(path)};

@@ -38,4 +38,12 @@ grep -q -- "--dk-supersample" "$T/err" || fail "error does not name --dk-supersa
 $BIN ndf "$T/g.x3p" --method kirchhoff --dk-integration simpson -o "$T/x.npy" 2>"$T/err" &&
   fail "unknown --dk-integration accepted"
 grep -q "simpson" "$T/err" || fail "error does not name the bad integration"
+# The stack over lambda_q (13 tables of 8.4 MB at 1025^2) is checked against --max-memory before
+# it is allocated, naming the file; one table fits the same budget.
+$BIN --max-memory 64M ndf "$T/g.x3p" --method kirchhoff --resolution 1025 -o "$T/s.npy" \
+  2>"$T/err" && fail "a 96 MiB stack accepted under --max-memory 64M"
+grep -q "g.x3p: needs .* for the D_K tables over lambda_q" "$T/err" || fail "message: $(cat "$T/err")"
+[ -e "$T/s.npy" ] && fail "a refused stack left its file"
+$BIN --max-memory 64M ndf "$T/g.x3p" --method kirchhoff --resolution 1025 --dk-stack single \
+  -o "$T/s.npy" 2>"$T/err" || fail "one table under 64M: $(cat "$T/err")"
 echo "ok"
