@@ -1,6 +1,6 @@
 // predict: the scattering regime of the scans at the slices' wavelength and incidences
-// (include/microbrdf/regime.hpp, docs/regime.md), and a warning when the BRDF the run renders
-// and slices uses a theory outside its validity.
+// (include/microbrdf/regime.hpp, docs/regime.md). stage_theory (predict_theory.cpp) picks the
+// theory of the run's BRDF from it.
 #include <cmath>
 #include <set>
 #include <string>
@@ -40,11 +40,8 @@ nlohmann::json stage_regime(const Context& c, const nlohmann::json& inputs) {
   in.slope_rms = slope / static_cast<double>(n);
   in.corr_length_m = ntau ? tau / static_cast<double>(ntau) : NAN;
   in.wavelength_m = c.opt.wavelength_m;
-  // What the run's slices and renders use: the geometric NDF (naive or filtered) or D_K.
-  const std::string used = c.opt.render_ndf == "kirchhoff" ? "kirchhoff" : "geometric";
   nlohmann::json per = nlohmann::json::array();
   std::set<std::string> methods;
-  std::string first_smooth;
   std::vector<double> angles{0.0};
   angles.insert(angles.end(), c.opt.slice_theta_i_rad.begin(), c.opt.slice_theta_i_rad.end());
   for (double ti : angles) {
@@ -55,12 +52,9 @@ nlohmann::json stage_regime(const Context& c, const nlohmann::json& inputs) {
                    {"method", v.method},
                    {"rayleigh_parameter", v.rayleigh_parameter},
                    {"specular_share", v.specular_share},
+                   {"tau_over_lambda", ntau ? nlohmann::json(v.tau_over_lambda) : nullptr},
                    {"none_strictly_valid", v.none_strictly_valid},
-                   {"used_is_valid", regime_allows(v, used)},
                    {"reason", v.reason}});
-    if (v.method == "rayleigh-rice" && used == "geometric" && first_smooth.empty())
-      first_smooth =
-          v.reason + " at theta_i " + std::to_string(std::lround(ti * 180 / M_PI)) + " deg";
   }
   nlohmann::json out = {{"wavelength_m", in.wavelength_m},
                         {"sigma_m", in.sigma_m},
@@ -68,18 +62,9 @@ nlohmann::json stage_regime(const Context& c, const nlohmann::json& inputs) {
                         {"corr_length_m", ntau ? nlohmann::json(in.corr_length_m) : nullptr},
                         {"scans", n},
                         {"methods", methods},
-                        {"used", used},
                         {"per_incidence", per}};
   c.log("regime: " + per.front().at("method").get<std::string>() + " at normal incidence (" +
         per.front().at("reason").get<std::string>() + ")");
-  // The geometric NDF has no specular part: on a smooth surface it spreads the mirror
-  // reflection into a lobe of the slopes' width and misses the diffuse halo's shape.
-  if (!first_smooth.empty())
-    c.warn("method_outside_validity",
-           "the BRDF slices and renders use the geometric (" + c.opt.render_ndf +
-               ") NDF, but the surface is in the smooth (Rayleigh-Rice) regime: " + first_smooth,
-           "add --kirchhoff --render-ndf kirchhoff for the wave-optics BRDF (slower), or see "
-           "`microbrdf brdf slice --rayleigh-rice` (docs/regime.md)");
   return out;
 }
 

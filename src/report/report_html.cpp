@@ -521,6 +521,9 @@ std::string pct(const json& v) { return report::num(100 * d(v), 3) + " %"; }
 // The NDF the measured renders use ("naive", "filtered" or "kirchhoff"; --render-ndf), for
 // captions: "filtered NDF" unless the run chose another.
 std::string render_ndf_label(const json& s) {
+  if (s.contains("regime") && s["regime"].is_object() &&
+      s["regime"].value("used", "") == "rayleigh-rice")
+    return "Rayleigh-Rice BRDF of the scans' PSD";
   std::string k = "filtered";
   if (s.contains("ndf_comparison") && s["ndf_comparison"].is_object())
     k = s["ndf_comparison"].value("render_ndf", k);
