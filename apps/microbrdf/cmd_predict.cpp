@@ -32,8 +32,7 @@ struct PredictArgs {
   SpecFlags material;
   std::string output, filter_sigma = "1um", wavelength = "555nm";
   std::string theta_i = "20,45,70", envmap, texel = "53um";
-  std::string measured, instrument_fwhm = "0", instrument, render_ndf = "filtered",
-              theory = "auto";
+  std::string measured, instrument_fwhm = "0", instrument, render_ndf = "filtered", theory = "auto";
   std::size_t sweep_resolution = predict_defaults().filter_sigma_sweep_resolution;
   std::size_t resolution = 1025, texture_size = 128;
   double envmap_scale = 1;

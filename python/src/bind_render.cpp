@@ -155,18 +155,15 @@ py::object render_image(const py::object& brdfs, const std::string& scene, int s
   return out;
 }
 
-py::object predict_run(const py::object& inputs, const py::object& out_dir,
-                       const std::string& metal, const py::object& filter_sigma,
-                       std::size_t resolution, bool kirchhoff, double wavelength,
-                       const py::object& patch, const std::vector<double>& theta_i,
-                       const py::object& envmap, double envmap_scale, int render_width, int spp,
-                       bool no_render, const std::string& renders, const py::object& strips,
-                       double texel, std::size_t texture_size, std::uint64_t seed, int threads,
-                       const std::string& level, const py::object& spacing,
-                       const std::string& render_ndf, std::size_t sweep_resolution,
-                       const py::object& progress, const std::string& integration,
-                       std::size_t supersample, const std::string& window,
-                       const std::string& theory) {
+py::object predict_run(
+    const py::object& inputs, const py::object& out_dir, const std::string& metal,
+    const py::object& filter_sigma, std::size_t resolution, bool kirchhoff, double wavelength,
+    const py::object& patch, const std::vector<double>& theta_i, const py::object& envmap,
+    double envmap_scale, int render_width, int spp, bool no_render, const std::string& renders,
+    const py::object& strips, double texel, std::size_t texture_size, std::uint64_t seed,
+    int threads, const std::string& level, const py::object& spacing, const std::string& render_ndf,
+    std::size_t sweep_resolution, const py::object& progress, const std::string& integration,
+    std::size_t supersample, const std::string& window, const std::string& theory) {
   PredictOptions o;
   o.kirchhoff_options.integration = parse_kirchhoff_integration(integration);
   o.kirchhoff_options.supersample = supersample;

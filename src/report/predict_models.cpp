@@ -9,9 +9,9 @@
 #include "microbrdf/brdf_albedo.hpp"
 #include "microbrdf/brdf_slice.hpp"
 #include "microbrdf/kirchhoff_brdf.hpp"
-#include "microbrdf/rayleigh_rice.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/plot.hpp"
+#include "microbrdf/rayleigh_rice.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "microbrdf/units.hpp"
 #include "report/predict_stages.hpp"
@@ -312,8 +312,9 @@ std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResu
   // Beside the run's theory, the others it computed: D_K (unless it is the measured BRDF) and,
   // for a Rayleigh-Rice run, the geometric BRDF of the filtered NDF.
   if (ndfs.kirchhoff && !(ndfs.theory == "kirchhoff"))
-    models.push_back({"kirchhoff", "Kirchhoff D_K (Dong eq. 8)",
-                      std::make_shared<KirchhoffBrdf>(dk_tables(ndfs), fresnel, ellipsoid_of(fits))});
+    models.push_back(
+        {"kirchhoff", "Kirchhoff D_K (Dong eq. 8)",
+         std::make_shared<KirchhoffBrdf>(dk_tables(ndfs), fresnel, ellipsoid_of(fits))});
   if (ndfs.theory == "rayleigh-rice" && ndfs.psd && ndfs.filtered)
     models.push_back({"geometric", "geometric (filtered NDF)",
                       std::make_shared<MicrofacetBrdf>(

@@ -7,9 +7,9 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/level.hpp"
-#include "microbrdf/scanset.hpp"
 #include "microbrdf/psd.hpp"
 #include "microbrdf/regime.hpp"
+#include "microbrdf/scanset.hpp"
 #include "report/predict_stages.hpp"
 
 namespace microbrdf::report {
@@ -114,13 +114,13 @@ void stage_theory(const Context& c, const std::vector<std::string>& paths, NdfSe
       why = "auto: no scan statistics to decide from; geometric optics";
     }
   } else {
-    why = "asked for (" + std::string(o.render_ndf == "kirchhoff" && o.theory == "auto"
-                                          ? "--render-ndf kirchhoff"
-                                          : "--theory " + o.theory) +
+    why = "asked for (" +
+          std::string(o.render_ndf == "kirchhoff" && o.theory == "auto" ? "--render-ndf kirchhoff"
+                                                                        : "--theory " + o.theory) +
           ")";
   }
   ndfs.theory = chosen;
-  ndfs.render = chosen == "kirchhoff" ? "kirchhoff"
+  ndfs.render = chosen == "kirchhoff"         ? "kirchhoff"
                 : o.render_ndf == "kirchhoff" ? "filtered"
                                               : o.render_ndf;
   nlohmann::json rec = {{"requested", requested}, {"chosen", chosen}, {"why", why}};
@@ -148,13 +148,13 @@ void stage_theory(const Context& c, const std::vector<std::string>& paths, NdfSe
   // A forced theory outside its validity, or auto's pick (made at normal incidence) failing at a
   // slice's incidence.
   const std::string label = chosen == "geometric" ? "geometric (" + ndfs.render + " NDF)" : chosen;
-  c.warn("method_outside_validity",
-         "the BRDF slices and renders use " + label + " scattering, outside its validity: " +
-             outside,
-         requested == "auto"
-             ? "the theory was picked at normal incidence; read the slices at this incidence "
-               "with care (docs/regime.md)"
-             : "leave --theory at auto for the valid theory, or see docs/regime.md");
+  c.warn(
+      "method_outside_validity",
+      "the BRDF slices and renders use " + label + " scattering, outside its validity: " + outside,
+      requested == "auto"
+          ? "the theory was picked at normal incidence; read the slices at this incidence "
+            "with care (docs/regime.md)"
+          : "leave --theory at auto for the valid theory, or see docs/regime.md");
 }
 
 }  // namespace microbrdf::report

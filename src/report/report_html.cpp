@@ -13,6 +13,7 @@
 #include "report/ndf_hover.hpp"
 #include "report/predict_measured.hpp"
 #include "report/predict_ndf_compare.hpp"
+#include "report/predict_regime.hpp"
 
 namespace microbrdf {
 namespace {
@@ -972,6 +973,7 @@ std::string render_report_html(const json& summary, const std::string& dir) {
        "<li><a href=\"#s10\">Files</a></li></ol></nav>\n";
   section_inputs(p, s);
   section_stats(p, s);
+  p << report::regime_section_html(s, dir);
   section_ndf(p, s);
   p << report::ndf_comparison_html(s, dir);
   section_fits(p, s);
