@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "models/beckmann_math.hpp"
+
 namespace microbrdf::student_t {
 namespace {
 
@@ -116,8 +118,16 @@ double Shape::quantile(double u) const {
     return std::pair{std::log(t) - lq, density(w) * std::cosh(s) / t};
   };
   const double lo = std::asinh(w_lo), hi = std::asinh(w_hi);
-  // The tail bound is the asymptote for small q, the tangent for q near 1/2.
-  const double w = std::sinh(solve_increasing(h, lo, hi, q < 0.05 ? lo : hi));
+  // Start: for b >= 1 the Cornish-Fisher expansion of the quantile of Student's t with nu = 2b
+  // degrees of freedom, t = z + (z^3 + z)/(4 nu) + (5z^5 + 16z^3 + 3z)/(96 nu^2), w = t/sqrt(nu)
+  // (z the normal quantile); else the tail bound (the asymptote for small q) or the tangent.
+  double start = q < 0.05 ? lo : hi;
+  if (b_ >= 1) {
+    const double nu = 2 * b_, z = std::sqrt(2.0) * beckmann::gauss_quantile(q), z2 = z * z;
+    const double t = z * (1 + (z2 + 1) / (4 * nu) + ((5 * z2 + 16) * z2 + 3) / (96 * nu * nu));
+    start = std::asinh(t / std::sqrt(nu));
+  }
+  const double w = std::sinh(solve_increasing(h, lo, hi, start));
   return u <= 0.5 ? w : -w;
 }
 
@@ -148,8 +158,8 @@ double Slopes::lambda(double mu) const {
 
 double Slopes::C(double mu, double x) const { return mu * x_.cdf(x * inv_sqrt_a_) + G(x); }
 
-double Slopes::C_above(double mu, double x) const {
-  const double tm = x_.tail(mu * inv_sqrt_a_), tx = x_.tail(x * inv_sqrt_a_);
+double Slopes::C_above(double mu, double tm, double x) const {
+  const double tx = x_.tail(x * inv_sqrt_a_);
   const double df = x >= 0 ? tx - tm : (1 - tm) - tx;  // F(mu) - F(x) from the smaller tails
   return std::max(0.0, mu * df + (G(mu) - G(x)));
 }
@@ -157,7 +167,7 @@ double Slopes::C_above(double mu, double x) const {
 double Slopes::visible_slope(double mu, double u) const {
   // Far from grazing the weight (mu - x) is constant to rounding: the marginal itself.
   if (!finite_ || !(mu * 1e-16 < g0_)) return sqrt_a_ * x_.quantile(u);
-  const double c_mu = mu * (1 - x_.tail(mu * inv_sqrt_a_)) + G(mu);  // mu (1 + Lambda)
+  const double t_mu = x_.tail(mu * inv_sqrt_a_), c_mu = mu * (1 - t_mu) + G(mu);  // mu (1 + Lambda)
   const double hi = std::asinh(mu);
   // Lower bound of any root below the median: for x <= -mu, C(x) <= G(x) (1 + mu/|x|) <= 2 G(x)
   // (since F(x) <= G(x)/|x|), so C <= y where G = y/2.
@@ -174,7 +184,7 @@ double Slopes::visible_slope(double mu, double u) const {
   } else {
     const double target = (1 - u) * c_mu, rt = std::sqrt(target);
     auto h = [&](double s) {
-      const double x = std::sinh(s), r = std::sqrt(C_above(mu, x));
+      const double x = std::sinh(s), r = std::sqrt(C_above(mu, t_mu, x));
       return std::pair{rt - r, (mu - x) * marginal(x) * std::cosh(s) / (2 * r)};
     };
     // Near mu, C(mu) - C(x) ~ P2(mu) (mu - x)^2 / 2.

@@ -71,12 +71,12 @@ class Slopes {
   double perpendicular_slope(double x, double u) const;
 
  private:
-  double C(double mu, double x) const;        // mu F(x) + G(x)
-  double C_above(double mu, double x) const;  // C(mu) - C(x), without cancelling
-  double G(double x) const;                   // integral_-inf^x (-t) P2(t) dt
-  double G_inverse(double y) const;           // |x| with G(x) = y (0 if y >= G(0))
-  Shape x_, y_;                               // f_a (marginal) and f_(a + 1/2) (conditional)
-  double a_, sqrt_a_, inv_sqrt_a_, g0_;       // g0_ = G(0)
+  double C(double mu, double x) const;                        // mu F(x) + G(x)
+  double C_above(double mu, double tail_mu, double x) const;  // C(mu) - C(x), no cancelling
+  double G(double x) const;                                   // integral_-inf^x (-t) P2(t) dt
+  double G_inverse(double y) const;                           // |x| with G(x) = y (0 if y >= G(0))
+  Shape x_, y_;                          // f_a (marginal) and f_(a + 1/2) (conditional)
+  double a_, sqrt_a_, inv_sqrt_a_, g0_;  // g0_ = G(0)
   bool finite_;
 };
 
