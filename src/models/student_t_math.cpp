@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "microbrdf/quadrature.hpp"
 #include "models/beckmann_math.hpp"
 
 namespace microbrdf::student_t {
@@ -104,6 +105,12 @@ double Shape::tail(double w) const {
   return 0.5 * ibeta_half(b_, 1 / (1 + w2), w2 / (1 + w2), log_beta_);
 }
 
+double Shape::approximate_quantile(double u) const {
+  const double nu = 2 * b_, z = std::sqrt(2.0) * beckmann::gauss_quantile(u), z2 = z * z;
+  const double t = z * (1 + (z2 + 1) / (4 * nu) + ((5 * z2 + 16) * z2 + 3) / (96 * nu * nu));
+  return t / std::sqrt(nu);
+}
+
 double Shape::quantile(double u) const {
   const double q = std::max(u <= 0.5 ? u : 1 - u, 1e-300);
   if (q >= 0.5) return 0;
@@ -118,15 +125,9 @@ double Shape::quantile(double u) const {
     return std::pair{std::log(t) - lq, density(w) * std::cosh(s) / t};
   };
   const double lo = std::asinh(w_lo), hi = std::asinh(w_hi);
-  // Start: for b >= 1 the Cornish-Fisher expansion of the quantile of Student's t with nu = 2b
-  // degrees of freedom, t = z + (z^3 + z)/(4 nu) + (5z^5 + 16z^3 + 3z)/(96 nu^2), w = t/sqrt(nu)
-  // (z the normal quantile); else the tail bound (the asymptote for small q) or the tangent.
-  double start = q < 0.05 ? lo : hi;
-  if (b_ >= 1) {
-    const double nu = 2 * b_, z = std::sqrt(2.0) * beckmann::gauss_quantile(q), z2 = z * z;
-    const double t = z * (1 + (z2 + 1) / (4 * nu) + ((5 * z2 + 16) * z2 + 3) / (96 * nu * nu));
-    start = std::asinh(t / std::sqrt(nu));
-  }
+  // Start: the Cornish-Fisher value for b >= 1, else the tail bound (the asymptote for small q)
+  // or the tangent.
+  const double start = b_ >= 1 ? std::asinh(approximate_quantile(q)) : (q < 0.05 ? lo : hi);
   const double w = std::sinh(solve_increasing(h, lo, hi, start));
   return u <= 0.5 ? w : -w;
 }
@@ -140,6 +141,7 @@ Slopes::Slopes(double gamma)
       inv_sqrt_a_(1 / std::sqrt(gamma - 1)),
       finite_(gamma > 1.5) {
   g0_ = finite_ ? sqrt_a_ * std::exp(-x_.log_beta()) / (2 * a_ - 1) : kInf;
+  gauss_legendre(10, gl_x_, gl_w_);
 }
 
 double Slopes::G(double x) const { return g0_ * std::exp((0.5 - a_) * std::log1p(x * x / a_)); }
@@ -159,6 +161,18 @@ double Slopes::lambda(double mu) const {
 double Slopes::C(double mu, double x) const { return mu * x_.cdf(x * inv_sqrt_a_) + G(x); }
 
 double Slopes::C_above(double mu, double tm, double x) const {
+  if (mu - x < 0.25) {
+    // Close to mu the closed form below cancels to ~1e-16 absolute against a value
+    // ~P2 (mu - x)^2/2; integrate (mu - t) P2(t) over [x, mu] instead (P2's poles at +-i sqrt(a),
+    // a > 1/2, are > 0.7 away: 10 Gauss points are exact to rounding on this short interval).
+    const double h = 0.5 * (mu - x), c = 0.5 * (mu + x);
+    double sum = 0;
+    for (std::size_t i = 0; i < gl_x_.size(); ++i) {
+      const double t = c + h * gl_x_[i];
+      sum += gl_w_[i] * (mu - t) * marginal(t);
+    }
+    return sum * h;
+  }
   const double tx = x_.tail(x * inv_sqrt_a_);
   const double df = x >= 0 ? tx - tm : (1 - tm) - tx;  // F(mu) - F(x) from the smaller tails
   return std::max(0.0, mu * df + (G(mu) - G(x)));
@@ -172,6 +186,15 @@ double Slopes::visible_slope(double mu, double u) const {
   // Lower bound of any root below the median: for x <= -mu, C(x) <= G(x) (1 + mu/|x|) <= 2 G(x)
   // (since F(x) <= G(x)/|x|), so C <= y where G = y/2.
   auto lower = [&](double y) { return std::asinh(-std::max(mu, G_inverse(0.5 * y))); };
+  // Away from grazing (mu >= 2) and for a >= 1, a close start: the marginal's approximate
+  // quantile x0 and one Newton step on C towards u C(mu), using F(x0) ~ u:
+  // x1 = x0 - (G(x0) - u mu Lambda) / ((mu - x0) P2(x0)).
+  double x1 = std::numeric_limits<double>::quiet_NaN();
+  if (a_ >= 1 && mu >= 2) {
+    const double x0 = sqrt_a_ * x_.approximate_quantile(u), lambda = c_mu / mu - 1;
+    x1 = x0 - (G(x0) - u * mu * lambda) / ((mu - x0) * marginal(x0));
+  }
+  const bool close = x1 < mu;  // false for NaN
   double s;
   if (u <= 0.5) {
     const double target = std::max(u * c_mu, 1e-300), lt = std::log(target);
@@ -180,7 +203,7 @@ double Slopes::visible_slope(double mu, double u) const {
       return std::pair{std::log(c) - lt, (mu - x) * marginal(x) * std::cosh(s) / c};
     };
     // C(x) >= G(x): the root lies above -G^-1(target), the lower tail's asymptote.
-    s = solve_increasing(h, lower(target), hi, std::asinh(-G_inverse(target)));
+    s = solve_increasing(h, lower(target), hi, std::asinh(close ? x1 : -G_inverse(target)));
   } else {
     const double target = (1 - u) * c_mu, rt = std::sqrt(target);
     auto h = [&](double s) {
@@ -188,7 +211,7 @@ double Slopes::visible_slope(double mu, double u) const {
       return std::pair{rt - r, (mu - x) * marginal(x) * std::cosh(s) / (2 * r)};
     };
     // Near mu, C(mu) - C(x) ~ P2(mu) (mu - x)^2 / 2.
-    const double start = mu - std::sqrt(2 * target / marginal(mu));
+    const double start = close ? x1 : mu - std::sqrt(2 * target / marginal(mu));
     s = solve_increasing(h, lower(0.5 * c_mu), hi, std::asinh(start));
   }
   return std::min(mu, std::sinh(s));

@@ -12,6 +12,8 @@
 // continued fraction), which is the Gauss hypergeometric 2F1 of the paper's formulas:
 // I_x(b, 1/2) = x^b (1 - x)^(1/2) 2F1(b + 1/2, 1; b + 1; x) / (b B(b, 1/2)) (DLMF 8.17.8).
 
+#include <vector>
+
 namespace microbrdf::student_t {
 
 /// ln B(b, 1/2) = ln(sqrt(pi) Gamma(b) / Gamma(b + 1/2)), b > 0: std::lgamma below b = 30, an
@@ -40,6 +42,10 @@ class Shape {
   /// -+1e150): safeguarded Newton on ln tail in s = asinh(w), converged to |ds| < 1e-12, i.e.
   /// |dw| < 1e-12 (1 + |w|).
   double quantile(double u) const;
+  /// The Cornish-Fisher expansion of that quantile for b >= 1 (Student's t with nu = 2b degrees
+  /// of freedom, t = z + (z^3 + z)/(4 nu) + (5z^5 + 16z^3 + 3z)/(96 nu^2), w = t/sqrt(nu), z the
+  /// normal quantile): a start for the iterations, good to ~nu^-3.
+  double approximate_quantile(double u) const;
 
  private:
   double b_, log_beta_, inv_beta_;
@@ -75,6 +81,7 @@ class Slopes {
   double C_above(double mu, double tail_mu, double x) const;  // C(mu) - C(x), no cancelling
   double G(double x) const;                                   // integral_-inf^x (-t) P2(t) dt
   double G_inverse(double y) const;                           // |x| with G(x) = y (0 if y >= G(0))
+  std::vector<double> gl_x_, gl_w_;                           // 10-point Gauss-Legendre rule
   Shape x_, y_;                          // f_a (marginal) and f_(a + 1/2) (conditional)
   double a_, sqrt_a_, inv_sqrt_a_, g0_;  // g0_ = G(0)
   bool finite_;
