@@ -14,6 +14,7 @@
 #include "microbrdf/mixture_ndf.hpp"
 #include "microbrdf/student_t.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
+#include "models/student_t_math.hpp"
 #include "test_microfacet_common.hpp"
 
 using namespace microbrdf;
@@ -63,18 +64,28 @@ double tanh_sinh(const F& f, double a, double b) {
   return sum * kH * 0.5 * (b - a);
 }
 
+/// tanh_sinh over pieces of [a, b] at most `piece` long (its nodes are sparse mid-interval).
+template <class F>
+double tanh_sinh_pieces(const F& f, double a, double b, double piece) {
+  const int n = std::max(1, int(std::ceil((b - a) / piece)));
+  double sum = 0;
+  for (int i = 0; i < n; ++i) sum += tanh_sinh(f, a + (b - a) * i / n, a + (b - a) * (i + 1) / n);
+  return sum;
+}
+
 // ---- the paper's slope density, written out independently of the code -----------------------
 struct Lobe {
   double ax, ay, phi, gamma;
 };
 
 /// P22 of Ribardiere et al. 2017 in the global frame: (g-1)^g / (pi ax ay) (g-1 + q)^-g with q the
-/// slopes turned by -phi and scaled by the alphas; the power taken as exp(g (ln(g-1) - ln(g-1+q))).
+/// slopes turned by -phi and scaled by the alphas; the power taken as (1 + q/(g-1))^-g =
+/// exp(-g log1p(q/(g-1))), which does not lose g ulps for large g.
 double paper_p22(const Lobe& l, double sx, double sy) {
   const double c = std::cos(l.phi), s = std::sin(l.phi);
   const double x = c * sx + s * sy, y = -s * sx + c * sy;
   const double q = x * x / (l.ax * l.ax) + y * y / (l.ay * l.ay), g = l.gamma;
-  return std::exp(g * (std::log(g - 1) - std::log(g - 1 + q))) / (kPi * l.ax * l.ay);
+  return std::exp(-g * std::log1p(q / (g - 1))) / (kPi * l.ax * l.ay);
 }
 
 /// integral of f(sx, sy) over the slope half-plane p <= p_max, with p the slope along azimuth
@@ -302,6 +313,63 @@ TEST(student_t, LambdaMatchesTheSmithIntegral) {
     }
   std::printf("max |G1 - vz/sigma+| over %d Student-t (lobe, view) pairs: %.2e; sigma+: %.2e\n", n,
               worst, worst_sigma);
+}
+
+TEST(student_t, SlopeInversionsSolveTheirCdfs) {
+  // The 1-D inversions behind sample_visible, in the stretched configuration (alpha = 1): the
+  // visible slope x solves C(x) = u C(mu), C(x) = integral_-inf^x (mu - t) P2(t) dt, and the
+  // family's quantile w solves F(w) = u. References by quadrature of the paper's P22 (P2 its
+  // integral over y) and of (1 + w^2)^-(b + 1/2), normalised numerically. Error measure: the
+  // residual divided by the density, i.e. the error in the slope to first order, per (1 + |x|).
+  double worst_x = 0, worst_w = 0;
+  for (double g : {1.6, 2.0, 3.0, 8.0, 1e4}) {
+    const Lobe unit{1, 1, 0, g};
+    const double a = g - 1;
+    auto p2 = [&](double t) {
+      return sinh_sinh([&](double y) { return paper_p22(unit, t, y); }, 0,
+                       std::sqrt((a + t * t) / a));
+    };
+    auto below = [&](double mu, double x) {  // integral_-inf^x (mu - t) P2(t) dt
+      auto f = [&](double t) { return (mu - t) * p2(t); };
+      const double lo = std::min(x, 0.0);
+      // exp-sinh spaces its nodes evenly in ln d only near its scale: put it at |lo|
+      const double tail = exp_sinh([&](double d) { return f(lo - d); }, std::max(1.0, -lo));
+      return x > 0 ? tail + tanh_sinh_pieces(f, 0, x, 2) : tail;
+    };
+    const microbrdf::student_t::Slopes slopes(g);
+    for (double mu : {0.05, 0.5, 2.0, 30.0}) {
+      const double total = below(mu, mu);
+      for (double u : {1e-9, 0.01, 0.3, 0.5, 0.8, 0.999, 1 - 1e-7}) {
+        const double x = slopes.visible_slope(mu, u);
+        // above the median, the part over [x, mu] (no cancellation against the total)
+        const double r =
+            u <= 0.5 ? below(mu, x) - u * total
+                     : tanh_sinh_pieces([&](double t) { return (mu - t) * p2(t); }, x, mu, 2) -
+                           (1 - u) * total;
+        const double e = std::abs(r) / ((mu - x) * p2(x)) / (1 + std::abs(x));
+        EXPECT_LT(e, 1e-10) << "gamma " << g << " mu " << mu << " u " << u << " x " << x;
+        worst_x = std::max(worst_x, e);
+      }
+    }
+    // The family f_b for the marginal (b = a) and for the slope across the view (b = a + 1/2).
+    for (double b : {a, a + 0.5}) {
+      const microbrdf::student_t::Shape shape(b);
+      auto f = [&](double w) { return std::exp(-(b + 0.5) * std::log1p(w * w)); };
+      const double sb = 1 / std::sqrt(b + 0.5);  // the width of f
+      const double norm = sinh_sinh(f, 0, sb);
+      for (double u : {1e-12, 1e-4, 0.1, 0.45, 0.7, 0.99999}) {
+        const double w = shape.quantile(u);
+        const double sw = std::max(sb, std::abs(w));
+        const double lower = w <= 0 ? exp_sinh([&](double d) { return f(w - d); }, sw)
+                                    : norm - exp_sinh([&](double d) { return f(w + d); }, sw);
+        const double e = std::abs(lower / norm - u) / (f(w) / norm) / (1 + std::abs(w));
+        EXPECT_LT(e, 1e-10) << "b " << b << " u " << u << " w " << w;
+        worst_w = std::max(worst_w, e);
+      }
+    }
+  }
+  std::printf("slope inversions: visible slope %.2e (1 + |x|), quantile %.2e (1 + |w|)\n", worst_x,
+              worst_w);
 }
 
 TEST(student_t, LambdaInfiniteForGammaAtMostOneAndAHalf) {
