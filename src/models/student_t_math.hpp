@@ -12,6 +12,7 @@
 // continued fraction), which is the Gauss hypergeometric 2F1 of the paper's formulas:
 // I_x(b, 1/2) = x^b (1 - x)^(1/2) 2F1(b + 1/2, 1; b + 1; x) / (b B(b, 1/2)) (DLMF 8.17.8).
 
+#include <array>
 #include <vector>
 
 namespace microbrdf::student_t {
@@ -79,6 +80,7 @@ class Slopes {
  private:
   double C(double mu, double x) const;                        // mu F(x) + G(x)
   double C_above(double mu, double tail_mu, double x) const;  // C(mu) - C(x), no cancelling
+  std::array<double, 2> weight(double mu, double s) const;    // d/ds C(sinh s) and its derivative
   double G(double x) const;                                   // integral_-inf^x (-t) P2(t) dt
   double G_inverse(double y) const;                           // |x| with G(x) = y (0 if y >= G(0))
   std::vector<double> gl_x_, gl_w_;                           // 10-point Gauss-Legendre rule
