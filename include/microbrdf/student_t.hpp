@@ -72,10 +72,10 @@ inline constexpr double kStudentTGammaMax = 1e6;  ///< inclusive
 /// - lambda(v): with mu = 1/(alpha_v tan theta_v) (alpha_v as for GGX) and a = gamma - 1,
 ///   Lambda = G(mu)/mu - S(mu): S the upper tail of the marginal slope density P2 (an incomplete
 ///   beta function, the paper's 2F1), G(mu) = sqrt(a) (1 + mu^2/a)^(1/2 - a) / ((2a - 1) B(a,
-///   1/2)). Closed form, evaluated to ~1e-15 relative (tests/test_student_t.cpp). gamma <= 1.5:
-///   +inf off the normal (G1 = 0), 0 at the normal.
+///   1/2)). Closed form (G1 agrees with quadrature of the Smith integral to 8e-12,
+///   tests/test_student_t.cpp). gamma <= 1.5: +inf off the normal (G1 = 0), 0 at the normal.
 /// - sample_visible(v, u1, u2): stretch the view to alpha = 1, draw the slope along its azimuth
-///   from <mu - x>+ P2(x) by inverting the CDF numerically (|error| < 1e-11 (1 + |x|)), the slope
+///   from <mu - x>+ P2(x) by inverting the CDF numerically (error ~1e-11 (1 + |x|)), the slope
 ///   across it from its conditional Student-t (a quantile, same accuracy), turn back, unstretch:
 ///   the density is pdf_visible exactly. gamma <= 1.5 with v off the normal, where D_v does not
 ///   exist (sigma+ = inf): draws D(m)(m.n) instead, and sampling_pdf says so.

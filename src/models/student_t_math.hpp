@@ -40,8 +40,7 @@ class Shape {
   /// P(W <= w).
   double cdf(double w) const { return w <= 0 ? tail(w) : 1 - tail(w); }
   /// The w with cdf(w) = u, u in [0, 1) (u = 0 and results beyond 1e150 are clamped to
-  /// -+1e150): safeguarded Newton on ln tail in s = asinh(w), converged to |ds| < 1e-12, i.e.
-  /// |dw| < 1e-12 (1 + |w|).
+  /// -+1e150): safeguarded Halley iteration on ln tail in s = asinh(w); |dw| ~1e-12 (1 + |w|).
   double quantile(double u) const;
   /// The Cornish-Fisher expansion of that quantile for b >= 1 (Student's t with nu = 2b degrees
   /// of freedom, t = z + (z^3 + z)/(4 nu) + (5z^5 + 16z^3 + 3z)/(96 nu^2), w = t/sqrt(nu), z the
@@ -69,9 +68,9 @@ class Slopes {
   double lambda(double mu) const;
   /// The slope along the view azimuth of a visible normal: x with density proportional to
   /// <mu - x>+ P2(x), from u in [0, 1) by inverting its CDF C(x) = mu F(x) + G(x) (x <= mu;
-  /// C(mu) = mu (1 + Lambda)) with safeguarded Newton in s = asinh(x): on ln C below the median,
-  /// on sqrt(C(mu) - C(x)) above it (both nearly linear in s at their ends); |dx| < 1e-12 (1 +
-  /// |x|). mu = inf (or gamma <= 1.5): the marginal P2 itself.
+  /// C(mu) = mu (1 + Lambda)) with safeguarded Halley iteration in s = asinh(x): on ln C below
+  /// the median, on sqrt(C(mu) - C(x)) above it (both nearly linear in s at their ends);
+  /// |dx| ~1e-11 (1 + |x|). mu = inf (or gamma <= 1.5): the marginal P2 itself.
   double visible_slope(double mu, double u) const;
   /// The slope across the view given the slope x along it: sqrt(a + x^2) times the quantile of
   /// f_(a + 1/2) at u.
