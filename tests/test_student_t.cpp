@@ -142,6 +142,16 @@ std::vector<Lobe> lobes() {
   return v;
 }
 
+/// n normals drawn by d.sample_visible(v, ...) from the generator seeded with `seed`.
+std::vector<Vec3> draws(const MicrofacetDistribution& d, const Vec3& v, std::size_t n,
+                        std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3> s(n);
+  for (auto& m : s) m = d.sample_visible(v, u(rng), u(rng));
+  return s;
+}
+
 StudentTDistribution make(const Lobe& l) {
   return StudentTDistribution(l.ax, l.ay, l.phi, l.gamma);
 }
@@ -488,13 +498,9 @@ TEST(student_t, VisibleNormalSamplingChiSquareHeavyTails) {
 
 TEST(student_t, SamplingTellsGammasApart) {
   // The chi-square above can fail: gamma 3 samples against the gamma 4 density.
-  std::mt19937_64 rng(6);
-  std::uniform_real_distribution<double> u(0, 1);
   StudentTDistribution a(0.2, 0.2, 0, 3), b(0.2, 0.2, 0, 4);
   Vec3 v = direction(50, 0);
-  std::vector<Vec3> s(100000);
-  for (auto& m : s) m = a.sample_visible(v, u(rng), u(rng));
-  auto r = mtest::chi_square(Chart(mtest::lobe_stretch(0.2, 0.2, 0)), s,
+  auto r = mtest::chi_square(Chart(mtest::lobe_stretch(0.2, 0.2, 0)), draws(a, v, 100000, 6),
                              [&](const Vec3& m) { return b.pdf_visible(v, m); });
   EXPECT_GT(r.chi2, r.critical);
 }
@@ -649,15 +655,12 @@ TEST(mixture_ndf, LambdaIsTheIntegralOfItsD) {
 }
 
 TEST(mixture_ndf, SamplingChiSquare) {
-  std::mt19937_64 rng(99);
-  std::uniform_real_distribution<double> u(0, 1);
   for (double w : {0.3, 0.8}) {
     auto d = ggx_beckmann(w);
     Chart chart(mtest::lobe_stretch(0.15, 0.15, 0));
     for (double th : {0.0, 50.0, 85.0}) {
       Vec3 v = direction(th, 60);
-      std::vector<Vec3> s(200000);
-      for (auto& m : s) m = d->sample_visible(v, u(rng), u(rng));
+      const std::vector<Vec3> s = draws(*d, v, 200000, 99 + int(th) + int(100 * w));
       auto r = mtest::chi_square(
           chart, s, [&](const Vec3& m) { return d->pdf_visible(v, m); }, 0.01 / 6, 32, 64);
       EXPECT_NEAR(r.total_expected, 1.0, 2e-3);
@@ -677,14 +680,11 @@ TEST(mixture_ndf, SamplingPdfIsTheMixtureOfTheLobesSamplers) {
   auto table = std::make_shared<TabulatedDistribution>(
       tabulate(BeckmannDistribution(0.3, 0.2, 0.5), "beckmann", 257), o);
   MixtureDistribution d(std::make_shared<GgxDistribution>(0.1), table, 0.5);
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(0, 1);
   for (double th : {30.0, 70.0}) {
     Vec3 v = direction(th, 20);
     const double p1 = d.first_lobe_probability(v);
     EXPECT_NEAR(p1, 0.5 * d.first().projected_area(v) / d.projected_area(v), 1e-12);
-    std::vector<Vec3> s(200000);
-    for (auto& m : s) m = d.sample_visible(v, u(rng), u(rng));
+    const std::vector<Vec3> s = draws(d, v, 200000, 5 + int(th));
     auto r = mtest::chi_square(
         Chart(mtest::lobe_stretch(0.2, 0.2, 0)), s,
         [&](const Vec3& m) { return d.sampling_pdf(v, m); }, 0.01 / 2);
