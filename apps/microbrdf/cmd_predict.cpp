@@ -33,6 +33,7 @@ struct PredictArgs {
   std::string output, filter_sigma = "1um", wavelength = "555nm";
   std::string theta_i = "20,45,70", envmap, texel = "53um";
   std::string measured, instrument_fwhm = "0", instrument, render_ndf = "filtered", theory = "auto";
+  std::string multiple_scattering = "auto";
   std::size_t sweep_resolution = predict_defaults().filter_sigma_sweep_resolution;
   std::size_t resolution = 1025, texture_size = 128;
   double envmap_scale = 1;
@@ -71,6 +72,7 @@ void run(const PredictArgs& a) {
   o.filter_sigma_sweep_resolution = a.sweep_resolution;
   o.render_ndf = a.render_ndf;
   o.theory = a.theory;
+  o.multiple_scattering = a.multiple_scattering;
   o.wavelength_m = parse_length(a.wavelength);
   o.ndf_resolution = a.resolution;
   o.kirchhoff = a.kirchhoff;
@@ -174,6 +176,13 @@ void register_predict(CLI::App& app) {
                 "geometric | kirchhoff | rayleigh-rice. Forcing one outside its validity warns")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "geometric", "kirchhoff", "rayleigh-rice"}));
+  c->add_option("--multiple-scattering", a->multiple_scattering,
+                "The multiple-scattering BRDF of the geometric NDF (microfacet random walk) in "
+                "the comparison strip beside the single one, with a difference image: auto (when "
+                "single scattering loses > 2 % of a white surface's light at some theta_i <= 70 "
+                "deg; the loss per incidence is always in the report) | on | off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "on", "off"}));
   c->add_option("--render-ndf", a->render_ndf,
                 "NDF of the geometric BRDF: naive | filtered | kirchhoff (= --theory kirchhoff)")
       ->capture_default_str()

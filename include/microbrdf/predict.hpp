@@ -61,6 +61,11 @@ struct PredictOptions {
   /// `kirchhoff`) or "geometric" (the render_ndf table). Forcing one outside its validity warns
   /// (method_outside_validity). render_ndf "kirchhoff" means "kirchhoff" here.
   std::string theory = "auto";
+  /// The multiple-scattering BRDF (microfacet random walk on the geometric NDF, Heitz 2016;
+  /// docs/multiple_scattering.md) in the comparison strip, beside the single-scattering one:
+  /// "auto" (default: when single scattering loses more than 2 % of a white surface's light at
+  /// some theta_i <= 70 deg; the loss per incidence is always in summary.json), "on" or "off".
+  std::string multiple_scattering = "auto";
   std::size_t ndf_resolution = 1025;
   bool kirchhoff = false;        ///< also compute D_K (slow: ~20 s per 2 M samples)
   double wavelength_m = 555e-9;  ///< lambda_q of D_K and the wavelength of the BRDF slices, m

@@ -359,4 +359,5 @@ def predict(
     supersample: int = 0,
     window: str = "hann",
     theory: str = "auto",
+    multiple_scattering: str = "auto",
 ) -> dict[str, Any]: ...

@@ -55,9 +55,15 @@ def test_predict_filter_sigma_auto_and_render_ndf(tmp_path):
     z = np.random.default_rng(2).standard_normal((64, 64)) * 20e-9
     np.save(tmp_path / "s.npy", z)
     s = mb.predict(tmp_path / "s.npy", tmp_path / "out", spacing=50e-9, level="none", resolution=65,
-                   no_render=True, filter_sigma="auto", sweep_resolution=33, render_ndf="naive")
+                   no_render=True, filter_sigma="auto", sweep_resolution=33, render_ndf="naive",
+                   theory="geometric")
     c = s["ndf_comparison"]
     assert c["render_ndf"] == "naive" and s["settings"]["filter_sigma_auto"]
+    # sigma 20 nm: Kirchhoff by the regime, so forcing geometric optics warns.
+    assert s["regime"]["per_incidence"][0]["method"] == "kirchhoff"
+    assert s["regime"]["theory"] == {"requested": "geometric", "chosen": "geometric",
+                                     "why": "asked for (--theory geometric)"}
+    assert "method_outside_validity" in [w["code"] for w in s["warnings"]]
     assert s["settings"]["filter_sigma_m"] == c["filter_sigma_auto"]["sigma_m"]
     h = [p["hellinger"] for p in c["filter_sigma_auto"]["curve"]]
     assert c["filter_sigma_auto"]["hellinger"] == min(h)

@@ -26,6 +26,7 @@
 #include "microbrdf/units.hpp"
 #include "microbrdf/version.hpp"
 #include "report/predict_measured.hpp"
+#include "report/predict_multiple_scattering.hpp"
 #include "report/predict_ndf_compare.hpp"
 #include "report/predict_stages.hpp"
 
@@ -137,6 +138,7 @@ nlohmann::json settings_json(const PredictOptions& o, const OpticalConstants& m)
           {"filter_sigma_sweep_resolution", o.filter_sigma_sweep_resolution},
           {"render_ndf", o.render_ndf},
           {"theory", o.theory},
+          {"multiple_scattering", o.multiple_scattering},
           {"ndf_resolution", o.ndf_resolution},
           {"kirchhoff", o.kirchhoff},
           {"wavelength_m", o.wavelength_m},
@@ -221,6 +223,9 @@ void check_predict_options(const PredictOptions& o) {
   if (o.theory != "auto" && o.theory != "geometric" && o.theory != "kirchhoff" &&
       o.theory != "rayleigh-rice")
     throw InputError("theory '" + o.theory + "': auto | geometric | kirchhoff | rayleigh-rice");
+  if (o.multiple_scattering != "auto" && o.multiple_scattering != "on" &&
+      o.multiple_scattering != "off")
+    throw InputError("multiple scattering '" + o.multiple_scattering + "': auto | on | off");
   if (o.render_ndf == "kirchhoff" && o.theory != "auto" && o.theory != "kirchhoff")
     throw InputError("--render-ndf kirchhoff contradicts --theory " + o.theory);
   if (o.ndf_resolution < 65 || o.ndf_resolution > 4097)
@@ -344,6 +349,9 @@ PredictResult predict_staged(const PredictOptions& given, const std::string& out
   timed("fits", [&] { summary["fits"] = report::stage_fits(c, ndfs, fits, timing); });
   timed("ndf_cuts", [&] { summary["ndf_cuts"] = report::stage_ndf_slices(c, ndfs, fits); });
   timed("exports", [&] { summary["exports"] = report::stage_exports(c, fits); });
+  timed("energy_loss",
+        [&] { summary["multiple_scattering"] = report::stage_energy_loss(c, ndfs); });
+  ndfs.multiple_scattering = summary["multiple_scattering"].value("in_comparison_strip", false);
   c.log("[3/6] BRDF slices");
   const auto measured = report::measured_brdf(ndfs, fresnel, material, fits);
   timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, fresnel, measured); });

@@ -201,6 +201,32 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
     list.push_back(std::move(entry));
   }
   out["models"] = std::move(list);
+  // Multiple against single scattering on the same NDF: the light the single-scattering BRDF
+  // drops, on the strip's difference scale. The single form is the "geometric" model, or the
+  // reference itself when the run's theory is geometric.
+  std::size_t ms = models.size(), single = models.size();
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    if (models[k].key == "multiple_scattering") ms = k;
+    if (models[k].key == "geometric") single = k;
+  }
+  if (ms < models.size()) {
+    const std::vector<double>& s_s = single < models.size() ? yss[single] : ref_s;
+    const std::vector<double>& s_y = single < models.size() ? ys[single] : ref_y;
+    std::vector<double> dlt(s_s.size());
+    double sum_ms = 0, sum_single = 0;
+    for (std::size_t i = 0; i < dlt.size(); ++i) {
+      dlt[i] = std::fabs(yss[ms][i] - s_s[i]);
+      sum_ms += ys[ms][i];
+      sum_single += s_y[i];
+    }
+    const std::string file = "img/compare_" + prefix + "ms_vs_single_difference.png";
+    write_difference(dlt, file);
+    out["multiple_scattering"] = {
+        {"single", single < models.size() ? "geometric" : "measured"},
+        {"difference_image", file},
+        {"mean_luminance_ratio", sum_single > 0 ? sum_ms / sum_single : 1.0},
+        {"rms_relative_smoothed", detail::rms_relative(yss[ms], s_s)}};
+  }
   return out;
 }
 

@@ -10,10 +10,12 @@
 #include "microbrdf/brdf_slice.hpp"
 #include "microbrdf/kirchhoff_brdf.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/multiple_scattering.hpp"
 #include "microbrdf/plot.hpp"
 #include "microbrdf/rayleigh_rice.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "microbrdf/units.hpp"
+#include "report/predict_multiple_scattering.hpp"
 #include "report/predict_stages.hpp"
 
 namespace microbrdf::report {
@@ -273,6 +275,7 @@ nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
 }
 
 namespace {
+constexpr int kReportMsWalks = 4;  // walks per eval of the multiple-scattering BRDF
 std::vector<TabulatedNdf> dk_tables(const NdfSet& ndfs) {
   return ndfs.kirchhoff_stack.empty() ? std::vector<TabulatedNdf>{*ndfs.kirchhoff}
                                       : ndfs.kirchhoff_stack;
@@ -315,10 +318,26 @@ std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResu
     models.push_back(
         {"kirchhoff", "Kirchhoff D_K (Dong eq. 8)",
          std::make_shared<KirchhoffBrdf>(dk_tables(ndfs), fresnel, ellipsoid_of(fits))});
-  if (ndfs.theory == "rayleigh-rice" && ndfs.psd && ndfs.filtered)
-    models.push_back({"geometric", "geometric (filtered NDF)",
-                      std::make_shared<MicrofacetBrdf>(
-                          std::make_shared<TabulatedDistribution>(*ndfs.filtered), fresnel)});
+  // The geometric BRDF of the NDF beside a wave-optics run, and with multiple scattering (4
+  // walks per eval: the renders' noise, not the estimate's, dominates) beside its single form.
+  const bool geometric_run = ndfs.theory == "geometric";
+  if (ndfs.filtered && !geometric_run &&
+      (ndfs.theory == "rayleigh-rice" || ndfs.multiple_scattering))
+    models.push_back(
+        {"geometric",
+         "geometric (" +
+             std::string(&ms_table_of(ndfs) == ndfs.naive.get() ? "naive" : "filtered") +
+             " NDF), single scattering",
+         std::make_shared<MicrofacetBrdf>(
+             std::make_shared<TabulatedDistribution>(ms_table_of(ndfs)), fresnel)});
+  if (ndfs.filtered && ndfs.multiple_scattering) {
+    MultipleScatteringOptions mo;
+    mo.eval_walks = kReportMsWalks;
+    models.push_back(
+        {"multiple_scattering", "geometric, single + multiple scattering",
+         std::make_shared<MultipleScatteringBrdf>(
+             std::make_shared<TabulatedDistribution>(ms_table_of(ndfs)), fresnel, mo)});
+  }
   return models;
 }
 

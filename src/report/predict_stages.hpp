@@ -60,6 +60,9 @@ struct NdfSet {
   std::string theory = "geometric";
   /// The scans' mean PSD (those sharing the first scan's grid) when theory is Rayleigh-Rice.
   std::shared_ptr<const AreaPsd> psd;
+  /// The comparison strip shows the multiple-scattering BRDF of the geometric NDF
+  /// (stage_energy_loss decides).
+  bool multiple_scattering = false;
   const TabulatedNdf& for_render() const {
     if (render == "naive" && naive) return *naive;
     if (render == "kirchhoff" && kirchhoff) return *kirchhoff;

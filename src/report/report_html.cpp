@@ -12,6 +12,7 @@
 #include "report/material_view.hpp"
 #include "report/ndf_hover.hpp"
 #include "report/predict_measured.hpp"
+#include "report/predict_multiple_scattering.hpp"
 #include "report/predict_ndf_compare.hpp"
 #include "report/predict_regime.hpp"
 
@@ -675,6 +676,15 @@ void comparison_scene(Page& p, json& rc, bool first, const std::string& ndf_labe
          "luminance Y<sub>99%</sub> = "
       << report::num(d(sc["reference_luminance"]), 3) << " (linear sRGB).</figcaption></figure>";
   }
+  if (rc.contains("multiple_scattering") && rc["multiple_scattering"].is_object()) {
+    json& ms = rc["multiple_scattering"];
+    p << fig << p.image(str(ms["difference_image"]), "multiple against single scattering", w)
+      << difference_bar(sc)
+      << "<figcaption>Multiple against single scattering on the same NDF: |&Delta;Y| between "
+         "the two renders, the light the single-scattering BRDF drops (same scale). Mean "
+         "luminance, multiple / single: "
+      << report::num(d(ms["mean_luminance_ratio"]), 4) << ".</figcaption></figure>";
+  }
   p << "</div>\n";
 }
 
@@ -978,6 +988,7 @@ std::string render_report_html(const json& summary, const std::string& dir) {
   p << report::ndf_comparison_html(s, dir);
   section_fits(p, s);
   section_brdf(p, s);
+  p << report::energy_loss_html(s);
   section_renders(p, s);
   section_texture(p, s);
   p << report::measured_section_html(s, dir);
