@@ -73,6 +73,8 @@ PredictOptions small_options(const std::string& scan) {
   o.slice_theta_i_rad = {0.5};
   o.slice_samples = 101;
   o.render = false;
+  // The geometric path, whatever the scan's regime (the automatic choice: cli.predict_regime).
+  o.theory = "geometric";
   return o;
 }
 

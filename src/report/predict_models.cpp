@@ -275,7 +275,7 @@ nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
 }
 
 namespace {
-constexpr int kReportMsWalks = 4;  // walks per eval of the multiple-scattering BRDF
+constexpr int kReportMsWalks = 1;  // walks per eval of the multiple-scattering BRDF (unbiased)
 std::vector<TabulatedNdf> dk_tables(const NdfSet& ndfs) {
   return ndfs.kirchhoff_stack.empty() ? std::vector<TabulatedNdf>{*ndfs.kirchhoff}
                                       : ndfs.kirchhoff_stack;

@@ -98,8 +98,10 @@ nlohmann::json stage_ndf_comparison(const Context& c, const NdfSet& ndfs,
   if (ndfs.render == "naive") {
     why = "the naive NDF, as asked with --render-ndf naive";
   } else if (ndfs.render == "kirchhoff") {
-    why = "D_K at lambda_q " + format_length(o.wavelength_m) +
-          " as the NDF of the microfacet BRDF, as asked with --render-ndf kirchhoff";
+    why = "D_K over lambda_q (the Kirchhoff BRDF, Dong eq. 8), " +
+          std::string(o.theory == "auto" && o.render_ndf != "kirchhoff"
+                          ? "the theory the scans' regime picked (summary.json regime.theory)"
+                          : "as asked (--theory kirchhoff or --render-ndf kirchhoff)");
   } else if (sweep) {
     why = "the filtered NDF (the default) at the filter sigma chosen by --filter-sigma auto, " +
           sig + ": of " + std::to_string(sweep->curve.size()) + " sigmas from " +

@@ -67,7 +67,7 @@ grep -q "is too small for it" "$T/e2" || fail "$(cat "$T/e2")"
 test -e "$T/tiny.npy" && fail "output left behind"
 
 # predict: the comparison section, the curve, the NDF of the renders.
-$BIN predict "$T/two.npy" --spacing 25nm --level none --filter-sigma auto --resolution 129 \
+$BIN predict "$T/two.npy" --spacing 25nm --level none --theory geometric --filter-sigma auto --resolution 129 \
   --sweep-resolution 129 --no-render --quiet -o "$T/p" >/dev/null || fail "predict auto"
 /usr/bin/python3 - "$T/p" "$T/two_out.json" <<'PY' || fail "predict --filter-sigma auto summary/report"
 import json, os, sys
@@ -92,7 +92,7 @@ PY
 
 # --render-ndf naive: the measured BRDF is the naive NDF's, and the report says D_K is nearer
 # the filtered one (a warning).
-$BIN predict "$T/two.npy" --spacing 25nm --level none --filter-sigma auto --resolution 129 \
+$BIN predict "$T/two.npy" --spacing 25nm --level none --theory geometric --filter-sigma auto --resolution 129 \
   --sweep-resolution 129 --render-ndf naive --no-render --quiet -o "$T/pn" >/dev/null ||
   fail "predict --render-ndf naive"
 /usr/bin/python3 - "$T/pn" <<'PY' || fail "predict --render-ndf naive"
@@ -116,9 +116,12 @@ a = s["ndf_comparison"]["filter_sigma_auto"]
 assert a["sweep"]["kirchhoff_aliased_fraction"] > 0.5, a["sweep"]
 assert "filter_sigma_auto_aliased" in [w["code"] for w in s["warnings"]], s["warnings"]
 PY
-if $BIN predict "$T/two.npy" --spacing 25nm --render-ndf kirchhoff -o "$T/pk" 2>"$T/e3"; then
-  fail "--render-ndf kirchhoff without --kirchhoff accepted"
+# --render-ndf kirchhoff means the Kirchhoff theory (D_K is computed for it): with another
+# --theory it is a contradiction, refused before any work.
+if $BIN predict "$T/two.npy" --spacing 25nm --render-ndf kirchhoff --theory geometric -o "$T/pk" \
+  2>"$T/e3"; then
+  fail "--render-ndf kirchhoff with --theory geometric accepted"
 fi
-grep -q "needs --kirchhoff" "$T/e3" || fail "$(cat "$T/e3")"
+grep -q "contradicts --theory geometric" "$T/e3" || fail "$(cat "$T/e3")"
 test -e "$T/pk" && fail "predict output left behind"
 echo OK
