@@ -100,17 +100,17 @@ std::array<double, 3> base_colour(const MaterialSpec& material, std::vector<std:
 AnisotropicAlpha ggx_fit(const TabulatedNdf& table, const std::string& what,
                          std::vector<std::string>& warn) {
   FitOptions fo;
-  fo.model = FitModel::Ggx;
+  fo.model = "ggx";
   const FitResult r = fit_ndf(table, fo);
   warn.push_back(fmt::format(
       "shape: glTF's microfacet distribution is GGX; {} becomes the GGX fit alpha_x {:.4g}, "
       "alpha_y {:.4g}, phi {:.4g} deg (Hellinger distance {:.3g}, relative L2 error {:.3g}), "
       "with GGX's Smith shadowing",
-      what, r.params.alpha_x, r.params.alpha_y, r.phi * 180 / M_PI + 0.0, r.hellinger,
+      what, r.params.at("alpha_x"), r.params.at("alpha_y"), r.phi * 180 / M_PI + 0.0, r.hellinger,
       r.relative_l2_error));
   if (!r.at_bound.empty())
     warn.back() += "; the fit ended on " + r.at_bound + " (its optimum may lie beyond that bound)";
-  return {r.params.alpha_x, r.params.alpha_y, r.phi};
+  return {r.params.at("alpha_x"), r.params.at("alpha_y"), r.phi};
 }
 
 /// The texture's per-texel GGX (each ellipsoid without its tilts), invalid texels the mean.

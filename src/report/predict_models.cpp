@@ -82,7 +82,7 @@ std::string fit_verdict(const FitResult& r) {
 }
 
 void warn_fit(const Context& c, const FitResult& r, bool zoomed) {
-  const std::string m = fit_model_name(r.model);
+  const std::string& m = r.model;
   if (!r.at_bound.empty()) {
     const bool floor = r.at_bound.find("lower alpha") != std::string::npos;
     c.warn("fit_at_bound",
@@ -147,8 +147,9 @@ double slope_kurtosis(const TabulatedNdf& t, double phi) {
 // are not Gaussian: a narrow core with heavy tails, or the reverse).
 void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf& t,
                        const std::string& where, nlohmann::json& j) {
-  if (r.model != FitModel::Beckmann || !r.at_bound.empty()) return;  // (a bound fit warns)
-  const double ax = r.params.alpha_x / std::sqrt(2.0), ay = r.params.alpha_y / std::sqrt(2.0);
+  if (r.model != "beckmann" || !r.at_bound.empty()) return;  // (a bound fit warns)
+  const double ax = r.params.at("alpha_x") / std::sqrt(2.0),
+               ay = r.params.at("alpha_y") / std::sqrt(2.0);
   const double sx = t.rms_slope(r.phi), sy = t.rms_slope(r.phi + M_PI / 2);
   const double dx = sx > 0 ? ax / sx - 1 : 0, dy = sy > 0 ? ay / sy - 1 : 0;
   const double kx = slope_kurtosis(t, r.phi), ky = slope_kurtosis(t, r.phi + M_PI / 2);
@@ -180,21 +181,20 @@ void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf&
 nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitResult>& fits,
                           nlohmann::json& timing) {
   nlohmann::json out = nlohmann::json::array();
-  for (FitModel m : {FitModel::Ellipsoid, FitModel::Beckmann, FitModel::Ggx}) {
+  for (const std::string m : {"ellipsoid", "beckmann", "ggx"}) {
     // A zoomed table when the whole-disk one does not resolve the lobe (stage_zoom).
     const TabulatedNdf& table = ndfs.filtered_zoom ? *ndfs.filtered_zoom : *ndfs.filtered;
-    c.log("fits: " + fit_model_name(m) + " to the filtered NDF" +
-          (ndfs.filtered_zoom ? " (zoomed table)" : ""));
+    c.log("fits: " + m + " to the filtered NDF" + (ndfs.filtered_zoom ? " (zoomed table)" : ""));
     FitOptions fo;
     fo.model = m;
     fo.threads = c.opt.threads;
     FitResult r = fit_ndf(table, fo);
     nlohmann::json j = fit_result_json(r);
     j.erase("seconds");  // wall time lives under "timing" only (determinism)
-    timing["fit_" + fit_model_name(m) + "_s"] = r.seconds;
+    timing["fit_" + m + "_s"] = r.seconds;
     j["source"] = ndfs.filtered_zoom ? "filtered_zoom" : "filtered";
     j["verdict"] = fit_verdict(r);
-    if (m == FitModel::Ellipsoid) {
+    if (m == "ellipsoid") {
       write_fit_report(table, r, c.path("fit_ellipsoid"));
       j["compare_image"] = "fit_ellipsoid/compare.png";
     }
@@ -250,9 +250,9 @@ nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
         const Vec3 m(t * std::cos(phi), t * std::sin(phi), std::sqrt(std::max(0.0, 1 - t * t)));
         v.push_back(models[k]->D(m));
       }
-      const std::string key = fit_model_name(fits[k].model) + "_fit";
+      const std::string key = fits[k].model + "_fit";
       series[key] = finite_array(v);
-      p.add(PlotSeries(theta_deg, v, fit_model_name(fits[k].model) + " fit", PlotStyle::Dashed));
+      p.add(PlotSeries(theta_deg, v, fits[k].model + " fit", PlotStyle::Dashed));
     }
     p.x.min = -theta_max;
     p.x.max = theta_max;
@@ -283,9 +283,8 @@ std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResu
   std::shared_ptr<MicrofacetDistribution> ellipsoid;
   for (const auto& r : fits) {
     auto d = fitted_distribution(r);
-    if (r.model == FitModel::Ellipsoid) ellipsoid = d;
-    models.push_back({fit_model_name(r.model), fit_model_name(r.model) + " fit",
-                      std::make_shared<MicrofacetBrdf>(d, fresnel)});
+    if (r.model == "ellipsoid") ellipsoid = d;
+    models.push_back({r.model, r.model + " fit", std::make_shared<MicrofacetBrdf>(d, fresnel)});
   }
   if (ndfs.kirchhoff)
     models.push_back({"kirchhoff", "Kirchhoff D_K (Dong eq. 8)",
