@@ -1,6 +1,7 @@
 // The one BRDF vocabulary and its factory (include/microbrdf/brdf_spec.hpp).
 #include "microbrdf/brdf_spec.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -159,7 +160,16 @@ BrdfSpec parse_brdf(const json& keys, const std::optional<BrdfSpec>& fallback, K
     const double ay = r.given("alpha_y") ? r.number("alpha_y") : 0;
     s.model.alpha_x = ax > 0 ? ax : alpha;
     s.model.alpha_y = ay > 0 ? ay : (alpha > 0 ? alpha : s.model.alpha_x);
-    if (!(s.model.alpha_x > 0))
+    // (Models without alpha_x, e.g. one with a single roughness parameter of its own, do not
+    // need it; an unknown model is reported when the distribution is made.)
+    bool needs_alpha = true;
+    try {
+      const auto& ps = ndf_model(s.model.model).params();
+      needs_alpha = std::any_of(ps.begin(), ps.end(),
+                                [](const NdfParam& p) { return p.name == "alpha_x"; });
+    } catch (const InputError&) {
+    }
+    if (needs_alpha && !(s.model.alpha_x > 0))
       throw InputError("give the roughness: " + r.name("alpha") + ", or " + r.name("alpha_x") +
                        " (and " + r.name("alpha_y") + ")");
     if (r.given("phi")) s.model.phi = r.angle("phi");
