@@ -10,6 +10,7 @@
 #include "microbrdf/brdf_slice.hpp"
 #include "microbrdf/kirchhoff_brdf.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
+#include "microbrdf/ndf_model.hpp"
 #include "microbrdf/plot.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "microbrdf/units.hpp"
@@ -142,11 +143,48 @@ double slope_kurtosis(const TabulatedNdf& t, double phi) {
   return m2 > 0 ? (m4 / w) / ((m2 / w) * (m2 / w)) : 3;
 }
 
+// A heavy-tailed model (one with a tail exponent, e.g. Student-t) "fixes" the Beckmann fit's
+// width problem when its own fit converged and lowers the Hellinger distance by at least 30 %.
+constexpr double kHeavyTailGain = 0.3;
+
+const FitResult* heavy_tail_fit(const FitResult& beckmann, const std::vector<FitResult>& fits) {
+  const FitResult* best = nullptr;
+  for (const auto& f : fits) {
+    const NdfModel& m = ndf_model(f.model);
+    if (!m.has_kind(NdfParam::Kind::Exponent) || !f.converged) continue;
+    if (!(f.hellinger <= (1 - kHeavyTailGain) * beckmann.hellinger)) continue;
+    if (!best || f.hellinger < best->hellinger) best = &f;
+  }
+  return best;
+}
+
+// The sentence the width warning ends with when a heavy-tailed fit fixes it.
+std::string heavy_tail_sentence(const FitResult& beckmann, const FitResult* best) {
+  if (!best) return "";
+  const NdfModel& m = ndf_model(best->model);
+  std::string tail;
+  for (std::size_t i = 0; i < best->params.size(); ++i)
+    if (m.params()[i].kind == NdfParam::Kind::Exponent) {
+      char b[64];
+      std::snprintf(b, sizeof b, "%s%s %.3g", tail.empty() ? "" : ", ",
+                    best->params.names[i].c_str(), best->params.values[i]);
+      tail += b;
+    }
+  char b[320];
+  std::snprintf(b, sizeof b,
+                "; the heavy-tailed %s fit (%s) holds the core and the tails at once: Hellinger "
+                "distance %.3g against the Beckmann fit's %.3g",
+                best->model.c_str(), tail.c_str(), best->hellinger, beckmann.hellinger);
+  return b;
+}
+
 // The Beckmann fit's widths against the table's own rms slopes along the fitted axes (alpha =
 // sqrt 2 x rms slope for Beckmann): a departure above kWidthVsRms warns and says why (the slopes
 // are not Gaussian: a narrow core with heavy tails, or the reverse).
+// The warning names the heavy-tailed fit that fixes it, if one does.
 void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf& t,
-                       const std::string& where, nlohmann::json& j) {
+                       const std::string& where, nlohmann::json& j,
+                       const std::vector<FitResult>& fits) {
   if (r.model != "beckmann" || !r.at_bound.empty()) return;  // (a bound fit warns)
   const double ax = r.params.at("alpha_x") / std::sqrt(2.0),
                ay = r.params.at("alpha_y") / std::sqrt(2.0);
@@ -158,6 +196,9 @@ void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf&
                        {"relative_difference", {dx, dy}},
                        {"slope_kurtosis", {kx, ky}}};
   if (!(std::max(std::abs(dx), std::abs(dy)) > kWidthVsRms)) return;
+  const FitResult* fixer = heavy_tail_fit(r, fits);
+  const std::string fix = heavy_tail_sentence(r, fixer);
+  j["width_vs_rms"]["fixed_by"] = fixer ? nlohmann::json(fixer->model) : nlohmann::json(nullptr);
   char b[420];
   std::snprintf(b, sizeof b,
                 "the Beckmann fit's widths correspond to rms slopes %.3g x %.3g (alpha / sqrt 2), "
@@ -169,7 +210,7 @@ void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf&
                                        "the rms slopes weigh the tails"
                                      : "a flat-topped lobe with light tails: the fit widens to "
                                        "the shoulders, the rms slopes stay narrower");
-  c.warn("fit_width_vs_rms", b,
+  c.warn("fit_width_vs_rms", std::string(b) + fix,
          "use the fitted widths for the highlight's shape and the rms slopes (summary.json " +
              where +
              ") for the overall spread; GGX and ellipsoid have no finite rms slope, compare "
@@ -181,7 +222,9 @@ void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf&
 nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitResult>& fits,
                           nlohmann::json& timing) {
   nlohmann::json out = nlohmann::json::array();
-  for (const std::string m : {"ellipsoid", "beckmann", "ggx"}) {
+  // Every registered model, in registration order; ranked by Hellinger distance below.
+  for (const NdfModel* model : ndf_models()) {
+    const std::string m = model->name();
     // A zoomed table when the whole-disk one does not resolve the lobe (stage_zoom).
     const TabulatedNdf& table = ndfs.filtered_zoom ? *ndfs.filtered_zoom : *ndfs.filtered;
     c.log("fits: " + m + " to the filtered NDF" + (ndfs.filtered_zoom ? " (zoomed table)" : ""));
@@ -199,10 +242,21 @@ nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitR
       j["compare_image"] = "fit_ellipsoid/compare.png";
     }
     warn_fit(c, r, ndfs.filtered_zoom != nullptr);
-    warn_width_vs_rms(c, r, table, ndfs.filtered_zoom ? "ndf.filtered.zoom" : "ndf.filtered", j);
     out.push_back(std::move(j));
     fits.push_back(r);
   }
+  // (After all fits: the width warning names a heavy-tailed model that fixes it.)
+  const TabulatedNdf& table = ndfs.filtered_zoom ? *ndfs.filtered_zoom : *ndfs.filtered;
+  for (std::size_t i = 0; i < fits.size(); ++i)
+    warn_width_vs_rms(c, fits[i], table, ndfs.filtered_zoom ? "ndf.filtered.zoom" : "ndf.filtered",
+                      out[i], fits);
+  // Rank 1 = the smallest Hellinger distance to the table.
+  std::vector<std::size_t> order(fits.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return fits[a].hellinger < fits[b].hellinger;
+  });
+  for (std::size_t k = 0; k < order.size(); ++k) out[order[k]]["rank"] = k + 1;
   return out;
 }
 
@@ -277,13 +331,24 @@ std::shared_ptr<const Brdf> measured_brdf(const NdfSet& ndfs,
       std::make_shared<TabulatedDistribution>(ndfs.for_render()), fresnel);
 }
 
+// How many fitted models the BRDF slices and the render comparison show (the best ranked).
+constexpr std::size_t kStripModels = 3;
+
 std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResult>& fits,
                                    const std::shared_ptr<const Fresnel>& fresnel) {
   std::vector<NamedBrdf> models;
   std::shared_ptr<MicrofacetDistribution> ellipsoid;
+  // The kStripModels fits closest to the table (Hellinger distance), in the fits' order.
+  std::vector<double> h;
+  for (const auto& r : fits) h.push_back(r.hellinger);
+  std::sort(h.begin(), h.end());
+  const double cut = h.empty() ? 0 : h[std::min(h.size(), kStripModels) - 1];
+  std::size_t taken = 0;
   for (const auto& r : fits) {
     auto d = fitted_distribution(r);
     if (r.model == "ellipsoid") ellipsoid = d;
+    if (r.hellinger > cut || taken == kStripModels) continue;
+    ++taken;
     models.push_back({r.model, r.model + " fit", std::make_shared<MicrofacetBrdf>(d, fresnel)});
   }
   if (ndfs.kirchhoff)

@@ -22,7 +22,12 @@ import json, re, sys, os
 d, out = sys.argv[1], json.load(open(sys.argv[2]))
 assert out["report"].endswith("report.html") and os.path.exists(out["report"]), out
 s = json.load(open(os.path.join(d, "summary.json")))
-assert [f["model"] for f in s["fits"]] == ["ellipsoid", "beckmann", "ggx"]
+# Every registered model is fitted (the built-ins first) and ranked by Hellinger distance.
+names = [f["model"] for f in s["fits"]]
+assert names[:3] == ["ellipsoid", "beckmann", "ggx"], names
+ranked = sorted(s["fits"], key=lambda f: f["rank"])
+assert [f["rank"] for f in ranked] == list(range(1, len(names) + 1)), ranked
+assert all(a["hellinger"] <= b["hellinger"] for a, b in zip(ranked, ranked[1:])), ranked
 # The compared scenes and the colour swatch (no studio map without --envmap beside it).
 assert [r["scene"] for r in s["renders"]] == ["cylinders", "sphere", "plate", "swatch"], s["renders"]
 assert all(-10 <= r["exposure_stops"] <= 10 for r in s["renders"])
