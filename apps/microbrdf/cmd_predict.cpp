@@ -32,7 +32,7 @@ struct PredictArgs {
   SpecFlags material;
   std::string output, filter_sigma = "1um", wavelength = "555nm";
   std::string theta_i = "20,45,70", envmap, texel = "53um";
-  std::string measured, instrument_fwhm = "0", instrument, render_ndf = "filtered";
+  std::string measured, instrument_fwhm = "0", instrument, render_ndf = "filtered", theory = "auto";
   std::size_t sweep_resolution = predict_defaults().filter_sigma_sweep_resolution;
   std::size_t resolution = 1025, texture_size = 128;
   double envmap_scale = 1;
@@ -70,6 +70,7 @@ void run(const PredictArgs& a) {
   if (!o.filter_sigma_auto) o.filter_sigma_m = parse_length(a.filter_sigma);
   o.filter_sigma_sweep_resolution = a.sweep_resolution;
   o.render_ndf = a.render_ndf;
+  o.theory = a.theory;
   o.wavelength_m = parse_length(a.wavelength);
   o.ndf_resolution = a.resolution;
   o.kirchhoff = a.kirchhoff;
@@ -134,10 +135,14 @@ void register_predict(CLI::App& app) {
       "     --filter-sigma auto first sweeps sigma for the filtered NDF nearest D_K (Hellinger\n"
       "     distance, --sweep-resolution tables); the report compares naive, filtered and D_K\n"
       "     and says which one the renders use (--render-ndf, default filtered);\n"
+      "     the scattering regime (Rayleigh parameter, rms slope, correlation length against\n"
+      "     --wavelength) picks the theory of the predicted BRDF (--theory auto): Rayleigh-Rice\n"
+      "     from the scans' PSD on smooth metals, D_K over lambda_q (computed for it) in\n"
+      "     between, the filtered NDF on rough ones; summary.json \"regime\" says why;\n"
       "  3. fits: ellipsoid, Beckmann and GGX fits of the filtered NDF;\n"
-      "  4. BRDF slices in and out of the plane of incidence at --theta-i for the measured NDF,\n"
-      "     the fits (and D_K), with the material's Fresnel term (--metal, default Fe; --n/--k;\n"
-      "     --nk-csv; --r0; --color; --fresnel exact|schlick);\n"
+      "  4. BRDF slices in and out of the plane of incidence at --theta-i for the predicted\n"
+      "     BRDF, the fits (and D_K), with the material's Fresnel term (--metal, default Fe;\n"
+      "     --n/--k; --nk-csv; --r0; --color; --fresnel exact|schlick);\n"
       "  5. renders: the cylinder pair of Dong Fig. 10 and a sphere (--envmap FILE, else built-in\n"
       "     area lights) and a plate under a small light, each also with every fit (and D_K):\n"
       "     SSIM, RMS error and render noise per scene (--render-width, --spp; --no-render\n"
@@ -162,10 +167,17 @@ void register_predict(CLI::App& app) {
       ->required();
   add_material_flags(c, a->material, "default: Fe");
   add_filter_sigma_flags(c, a->filter_sigma, a->sweep_resolution, "Filtered NDF: ");
+  c->add_option("--theory", a->theory,
+                "Scattering theory of the predicted BRDF (slices, renders): auto (the one valid "
+                "for the scans at normal incidence and --wavelength: rayleigh-rice for smooth "
+                "metals, kirchhoff in between, geometric for rough ones; docs/regime.md) | "
+                "geometric | kirchhoff | rayleigh-rice. Forcing one outside its validity warns")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "geometric", "kirchhoff", "rayleigh-rice"}));
   c->add_option("--render-ndf", a->render_ndf,
-                "NDF of the measured BRDF (slices, renders): naive | filtered | kirchhoff (needs "
-                "--kirchhoff)")
-      ->capture_default_str();
+                "NDF of the geometric BRDF: naive | filtered | kirchhoff (= --theory kirchhoff)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"naive", "filtered", "kirchhoff"}));
   c->add_option("--resolution", a->resolution, "NDF table size N")
       ->capture_default_str()
       ->check(count_in(65, 4097));

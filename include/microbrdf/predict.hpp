@@ -54,6 +54,13 @@ struct PredictOptions {
   /// "naive", "filtered" or "kirchhoff" (needs kirchhoff = true). The fits are of the filtered
   /// NDF whatever this says.
   std::string render_ndf = "filtered";
+  /// The scattering theory of the predicted ("measured") BRDF of the slices, renders and the
+  /// comparison strip's reference: "auto" (default) picks the one valid for the scans at
+  /// normal incidence and wavelength_m (regime.hpp, docs/regime.md): "rayleigh-rice" (the scans'
+  /// own PSD; smooth metals), "kirchhoff" (D_K over lambda_q; computed for it even without
+  /// `kirchhoff`) or "geometric" (the render_ndf table). Forcing one outside its validity warns
+  /// (method_outside_validity). render_ndf "kirchhoff" means "kirchhoff" here.
+  std::string theory = "auto";
   std::size_t ndf_resolution = 1025;
   bool kirchhoff = false;        ///< also compute D_K (slow: ~20 s per 2 M samples)
   double wavelength_m = 555e-9;  ///< lambda_q of D_K and the wavelength of the BRDF slices, m

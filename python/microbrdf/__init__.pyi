@@ -360,4 +360,5 @@ def predict(
     integration: str = "midpoint",
     supersample: int = 0,
     window: str = "hann",
+    theory: str = "auto",
 ) -> dict[str, Any]: ...

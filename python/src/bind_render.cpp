@@ -155,17 +155,15 @@ py::object render_image(const py::object& brdfs, const std::string& scene, int s
   return out;
 }
 
-py::object predict_run(const py::object& inputs, const py::object& out_dir,
-                       const std::string& metal, const py::object& filter_sigma,
-                       std::size_t resolution, bool kirchhoff, double wavelength,
-                       const py::object& patch, const std::vector<double>& theta_i,
-                       const py::object& envmap, double envmap_scale, int render_width, int spp,
-                       bool no_render, const std::string& renders, const py::object& strips,
-                       double texel, std::size_t texture_size, std::uint64_t seed, int threads,
-                       const std::string& level, const py::object& spacing,
-                       const std::string& render_ndf, std::size_t sweep_resolution,
-                       const py::object& progress, const std::string& integration,
-                       std::size_t supersample, const std::string& window) {
+py::object predict_run(
+    const py::object& inputs, const py::object& out_dir, const std::string& metal,
+    const py::object& filter_sigma, std::size_t resolution, bool kirchhoff, double wavelength,
+    const py::object& patch, const std::vector<double>& theta_i, const py::object& envmap,
+    double envmap_scale, int render_width, int spp, bool no_render, const std::string& renders,
+    const py::object& strips, double texel, std::size_t texture_size, std::uint64_t seed,
+    int threads, const std::string& level, const py::object& spacing, const std::string& render_ndf,
+    std::size_t sweep_resolution, const py::object& progress, const std::string& integration,
+    std::size_t supersample, const std::string& window, const std::string& theory) {
   PredictOptions o;
   o.kirchhoff_options.integration = parse_kirchhoff_integration(integration);
   o.kirchhoff_options.supersample = supersample;
@@ -185,6 +183,7 @@ py::object predict_run(const py::object& inputs, const py::object& out_dir,
   }
   o.filter_sigma_sweep_resolution = sweep_resolution;
   o.render_ndf = render_ndf;
+  o.theory = theory;
   o.ndf_resolution = resolution;
   o.kirchhoff = kirchhoff;
   o.wavelength_m = wavelength;
@@ -281,13 +280,16 @@ calling thread; Ctrl-C is honoured when the image is finished.)");
         py::arg("threads") = 0, py::arg("level") = "plane", py::arg("spacing") = py::none(),
         py::arg("render_ndf") = "filtered", py::arg("sweep_resolution") = 257,
         py::arg("progress") = py::none(), py::arg("integration") = "midpoint",
-        py::arg("supersample") = 0, py::arg("window") = "hann",
+        py::arg("supersample") = 0, py::arg("window") = "hann", py::arg("theory") = "auto",
         R"(The whole pipeline, as `microbrdf predict`: scans -> NDFs -> fits -> BRDF slices ->
 renders -> out_dir/report.html and summary.json. Returns the summary (a dict, SI units).
 
 inputs: a path (or glob, directory, @manifest) or a list. metal: optical constants of the BRDFs.
 filter_sigma (m, or 'auto': the sigma nearest D_K, on sweep_resolution tables), render_ndf
-('naive' | 'filtered' | 'kirchhoff': the NDF of the slices and renders), resolution (N), kirchhoff (also D_K), wavelength (m), patch ((dx, dy) m),
+('naive' | 'filtered' | 'kirchhoff': the NDF of the geometric BRDF), theory ('auto' | 'geometric' |
+'kirchhoff' | 'rayleigh-rice': the scattering theory of the predicted BRDF's slices and renders;
+'auto' picks the valid one from the scans' regime and says why in summary['regime']['theory']),
+resolution (N), kirchhoff (also D_K), wavelength (m), patch ((dx, dy) m),
 theta_i (radians, the slices' angles of incidence), envmap, envmap_scale, render_width (pixels),
 spp, no_render, renders ('all': the measured NDF and every model, strip, studio renders and
 swatch | 'measured': the measured NDF's three scenes only | 'none'), strips=(along, across)

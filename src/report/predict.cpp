@@ -136,6 +136,7 @@ nlohmann::json settings_json(const PredictOptions& o, const OpticalConstants& m)
           {"filter_sigma_auto", o.filter_sigma_auto},
           {"filter_sigma_sweep_resolution", o.filter_sigma_sweep_resolution},
           {"render_ndf", o.render_ndf},
+          {"theory", o.theory},
           {"ndf_resolution", o.ndf_resolution},
           {"kirchhoff", o.kirchhoff},
           {"wavelength_m", o.wavelength_m},
@@ -217,8 +218,11 @@ void check_predict_options(const PredictOptions& o) {
     throw InputError("filter sigma sweep resolution must lie in 17..8193");
   if (o.render_ndf != "naive" && o.render_ndf != "filtered" && o.render_ndf != "kirchhoff")
     throw InputError("render NDF '" + o.render_ndf + "': naive | filtered | kirchhoff");
-  if (o.render_ndf == "kirchhoff" && !o.kirchhoff)
-    throw InputError("rendering with D_K (--render-ndf kirchhoff) needs --kirchhoff");
+  if (o.theory != "auto" && o.theory != "geometric" && o.theory != "kirchhoff" &&
+      o.theory != "rayleigh-rice")
+    throw InputError("theory '" + o.theory + "': auto | geometric | kirchhoff | rayleigh-rice");
+  if (o.render_ndf == "kirchhoff" && o.theory != "auto" && o.theory != "kirchhoff")
+    throw InputError("--render-ndf kirchhoff contradicts --theory " + o.theory);
   if (o.ndf_resolution < 65 || o.ndf_resolution > 4097)
     throw InputError("NDF resolution must lie in 65..4097");
   if (!(o.wavelength_m > 100e-9 && o.wavelength_m < 20e-6))
@@ -330,9 +334,9 @@ PredictResult predict_staged(const PredictOptions& given, const std::string& out
   summary["regime"] = report::stage_regime(c, summary["inputs"]);
   const SoloAfterwards solo;
   mpi_set_solo(true);
+  timed("theory", [&] { report::stage_theory(c, paths, ndfs, summary["regime"]); });
   timed("ndf_zoom", [&] { report::stage_zoom(c, paths, ndfs); });
   timed("ndf_write", [&] { summary["ndf"] = report::stage_ndfs(c, ndfs); });
-  ndfs.render = o.render_ndf;
   timed("ndf_comparison", [&] {
     summary["ndf_comparison"] = report::stage_ndf_comparison(c, ndfs, sweep ? &*sweep : nullptr);
   });
@@ -341,7 +345,7 @@ PredictResult predict_staged(const PredictOptions& given, const std::string& out
   timed("ndf_cuts", [&] { summary["ndf_cuts"] = report::stage_ndf_slices(c, ndfs, fits); });
   timed("exports", [&] { summary["exports"] = report::stage_exports(c, fits); });
   c.log("[3/6] BRDF slices");
-  const auto measured = report::measured_brdf(ndfs, fresnel);
+  const auto measured = report::measured_brdf(ndfs, fresnel, material, fits);
   timed("brdf", [&] { summary["brdf"] = report::stage_brdf(c, ndfs, fits, fresnel, measured); });
   c.log("[4/6] renders");
   std::vector<report::ReferenceRender> references;

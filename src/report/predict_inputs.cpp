@@ -157,12 +157,8 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
   fo.filter_sigma_m = o.filter_sigma_m;
   NdfAccumulator naive(no), filtered(fo);
   std::unique_ptr<KirchhoffAccumulator> kirchhoff;
-  KirchhoffOptions ko = o.kirchhoff_options;
-  if (o.kirchhoff) {
-    ko.wavelength_q = o.wavelength_m;
-    ko.resolution = o.ndf_resolution;
-    kirchhoff = std::make_unique<KirchhoffAccumulator>(ko);
-  }
+  const KirchhoffOptions ko = dk_options(o);
+  if (o.kirchhoff) kirchhoff = std::make_unique<KirchhoffAccumulator>(ko);
   // D_K is the slowest step (tens of seconds on a 2048 x 1024 scan): report it in 10 % steps,
   // when one rank does every scan in order.
   const bool local = mpi_size() == 1 || mpi_solo();
@@ -291,15 +287,24 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
   if (stats) *stats = st;
   ndfs.naive = std::make_unique<TabulatedNdf>(naive.result());
   ndfs.filtered = std::make_unique<TabulatedNdf>(filtered.result());
-  if (kirchhoff) {
-    ndfs.kirchhoff = std::make_unique<TabulatedNdf>(kirchhoff->result());
-    ndfs.kirchhoff_stack = kirchhoff->stack_result();
-    ndfs.kirchhoff_raw_integral = kirchhoff->raw_integral();
-    ndfs.kirchhoff_aliased_fraction = kirchhoff->aliased_fraction();
-    ndfs.kirchhoff_patches = kirchhoff->patches();
-    ndfs.kirchhoff_supersample = kirchhoff->supersample();
-  }
+  if (kirchhoff) take_kirchhoff(*kirchhoff, ndfs);
   return inputs;
+}
+
+KirchhoffOptions dk_options(const PredictOptions& o) {
+  KirchhoffOptions ko = o.kirchhoff_options;
+  ko.wavelength_q = o.wavelength_m;
+  ko.resolution = o.ndf_resolution;
+  return ko;
+}
+
+void take_kirchhoff(const KirchhoffAccumulator& acc, NdfSet& ndfs) {
+  ndfs.kirchhoff = std::make_unique<TabulatedNdf>(acc.result());
+  ndfs.kirchhoff_stack = acc.stack_result();
+  ndfs.kirchhoff_raw_integral = acc.raw_integral();
+  ndfs.kirchhoff_aliased_fraction = acc.aliased_fraction();
+  ndfs.kirchhoff_patches = acc.patches();
+  ndfs.kirchhoff_supersample = acc.supersample();
 }
 
 namespace {

@@ -12,6 +12,7 @@
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/ndf_model.hpp"
 #include "microbrdf/plot.hpp"
+#include "microbrdf/rayleigh_rice.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
 #include "microbrdf/units.hpp"
 #include "report/predict_stages.hpp"
@@ -325,10 +326,35 @@ nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
   return out;
 }
 
+namespace {
+std::vector<TabulatedNdf> dk_tables(const NdfSet& ndfs) {
+  return ndfs.kirchhoff_stack.empty() ? std::vector<TabulatedNdf>{*ndfs.kirchhoff}
+                                      : ndfs.kirchhoff_stack;
+}
+std::shared_ptr<MicrofacetDistribution> ellipsoid_of(const std::vector<FitResult>& fits) {
+  for (const auto& r : fits)
+    if (r.model == "ellipsoid") return fitted_distribution(r);
+  return nullptr;
+}
+}  // namespace
+
 std::shared_ptr<const Brdf> measured_brdf(const NdfSet& ndfs,
-                                          const std::shared_ptr<const Fresnel>& fresnel) {
+                                          const std::shared_ptr<const Fresnel>& fresnel,
+                                          const OpticalConstants& material,
+                                          const std::vector<FitResult>& fits) {
+  if (ndfs.theory == "rayleigh-rice" && ndfs.psd)
+    return std::make_shared<RayleighRiceBrdf>(ndfs.psd, material);
+  if (ndfs.theory == "kirchhoff" && ndfs.kirchhoff)
+    return std::make_shared<KirchhoffBrdf>(dk_tables(ndfs), fresnel, ellipsoid_of(fits));
   return std::make_shared<MicrofacetBrdf>(
       std::make_shared<TabulatedDistribution>(ndfs.for_render()), fresnel);
+}
+
+std::string measured_label(const NdfSet& ndfs) {
+  if (ndfs.theory == "rayleigh-rice" && ndfs.psd) return "measured (Rayleigh-Rice, scan PSD)";
+  if (ndfs.theory == "kirchhoff" && ndfs.kirchhoff)
+    return ndfs.kirchhoff_stack.size() > 1 ? "measured (D_K over lambda_q)" : "measured (D_K)";
+  return "measured (" + ndfs.render + " NDF)";
 }
 
 // How many fitted models the BRDF slices and the render comparison show (the best ranked).
@@ -337,7 +363,6 @@ constexpr std::size_t kStripModels = 3;
 std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResult>& fits,
                                    const std::shared_ptr<const Fresnel>& fresnel) {
   std::vector<NamedBrdf> models;
-  std::shared_ptr<MicrofacetDistribution> ellipsoid;
   // The kStripModels fits closest to the table (Hellinger distance), in the fits' order.
   std::vector<double> h;
   for (const auto& r : fits) h.push_back(r.hellinger);
@@ -345,18 +370,21 @@ std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResu
   const double cut = h.empty() ? 0 : h[std::min(h.size(), kStripModels) - 1];
   std::size_t taken = 0;
   for (const auto& r : fits) {
-    auto d = fitted_distribution(r);
-    if (r.model == "ellipsoid") ellipsoid = d;
     if (r.hellinger > cut || taken == kStripModels) continue;
     ++taken;
-    models.push_back({r.model, r.model + " fit", std::make_shared<MicrofacetBrdf>(d, fresnel)});
+    models.push_back({r.model, r.model + " fit",
+                      std::make_shared<MicrofacetBrdf>(fitted_distribution(r), fresnel)});
   }
-  if (ndfs.kirchhoff)
-    models.push_back({"kirchhoff", "Kirchhoff D_K (Dong eq. 8)",
-                      std::make_shared<KirchhoffBrdf>(
-                          ndfs.kirchhoff_stack.empty() ? std::vector<TabulatedNdf>{*ndfs.kirchhoff}
-                                                       : ndfs.kirchhoff_stack,
-                          fresnel, ellipsoid)});
+  // Beside the run's theory, the others it computed: D_K (unless it is the measured BRDF) and,
+  // for a Rayleigh-Rice run, the geometric BRDF of the filtered NDF.
+  if (ndfs.kirchhoff && !(ndfs.theory == "kirchhoff"))
+    models.push_back(
+        {"kirchhoff", "Kirchhoff D_K (Dong eq. 8)",
+         std::make_shared<KirchhoffBrdf>(dk_tables(ndfs), fresnel, ellipsoid_of(fits))});
+  if (ndfs.theory == "rayleigh-rice" && ndfs.psd && ndfs.filtered)
+    models.push_back({"geometric", "geometric (filtered NDF)",
+                      std::make_shared<MicrofacetBrdf>(
+                          std::make_shared<TabulatedDistribution>(*ndfs.filtered), fresnel)});
   return models;
 }
 
@@ -369,8 +397,8 @@ nlohmann::json stage_brdf(const Context& c, const NdfSet& ndfs, const std::vecto
                           const std::shared_ptr<const Brdf>& measured) {
   const auto& o = c.opt;
   std::vector<NamedBrdf> models;
-  c.log("BRDF: tabulated distribution of the " + ndfs.render + " NDF (Smith shadowing)");
-  models.push_back({"measured", "measured (" + ndfs.render + " NDF)", measured});
+  c.log("BRDF: " + measured_label(ndfs));
+  models.push_back({"measured", measured_label(ndfs), measured});
   for (auto& m : model_brdfs(ndfs, fits, fresnel)) models.push_back(std::move(m));
   nlohmann::json jm = nlohmann::json::array();
   for (const auto& m : models)

@@ -1,11 +1,18 @@
 // predict: the scattering regime of the scans at the slices' wavelength and incidences
-// (include/microbrdf/regime.hpp, docs/regime.md), and a warning when the BRDF the run renders
-// and slices uses a theory outside its validity.
+// (include/microbrdf/regime.hpp, docs/regime.md). stage_theory (predict_theory.cpp) picks the
+// theory of the run's BRDF from it.
+#include "report/predict_regime.hpp"
+
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <set>
+#include <sstream>
 #include <string>
 
+#include "microbrdf/plot.hpp"
 #include "microbrdf/regime.hpp"
+#include "report/html.hpp"
 #include "report/predict_stages.hpp"
 
 namespace microbrdf::report {
@@ -13,6 +20,59 @@ namespace microbrdf::report {
 namespace {
 double number(const nlohmann::json& j, const char* key) {
   return j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
+}
+
+// The map: Rayleigh parameter g against rms slope (both log), the three regions bounded by the
+// thresholds of regime.hpp, and the scans as one point per incidence (g falls as cos^2 theta).
+// Each boundary is where two methods part by a stated amount (docs/regime.md "Thresholds"):
+// at g = 0.1 first-order Rayleigh-Rice lies within ~5 % of the Kirchhoff series (its second
+// order is g/2 of the first), at g = 10 the specular share exp(-g) of Kirchhoff drops below
+// 5e-5 and its lobe has become the slope distribution's.
+void write_regime_map(const std::string& path, const nlohmann::json& per, double slope) {
+  constexpr double gx0 = 1e-4, sy0 = 1e-4, sy1 = 3;
+  double gx1 = 1e4;  // wide enough for the roughest scan's points
+  for (const auto& q : per) gx1 = std::max(gx1, 3 * q.at("rayleigh_parameter").get<double>());
+  Plot p;
+  p.title = "Scattering regime of the scans";
+  p.x.label = "Rayleigh parameter g = (4 pi sigma cos theta_i / lambda)^2";
+  p.y.label = "rms slope (per axis)";
+  p.x.scale = p.y.scale = AxisScale::Log;
+  p.x.min = gx0;
+  p.x.max = gx1;
+  p.y.min = sy0;
+  p.y.max = sy1;
+  auto band = [&](double x0, double x1, double y0, double y1, const char* label, PlotColor col) {
+    PlotSeries b({x0, x1}, {y0, y1}, label);
+    b.band_lo = {y0, y0};
+    b.band_hi = {y1, y1};
+    b.y = {y1, y1};
+    b.color = col;
+    b.line_width = 0.5;
+    p.add(b);
+  };
+  band(gx0, kRegimeSmoothG, sy0, kRegimeSmoothSlope, "Rayleigh-Rice (and Kirchhoff)",
+       {0.55, 0.75, 0.95});
+  band(kRegimeGeometricG, gx1, sy0, sy1, "geometric (and Kirchhoff)", {0.95, 0.7, 0.45});
+  PlotSeries l1({kRegimeSmoothG, kRegimeSmoothG}, {sy0, kRegimeSmoothSlope},
+                "g = 0.1: first order within ~5 % of the series", PlotStyle::Dashed);
+  l1.color = PlotColor{0.2, 0.3, 0.7};
+  p.add(l1);
+  PlotSeries l2({kRegimeGeometricG, kRegimeGeometricG}, {sy0, sy1},
+                "g = 10: specular share exp(-g) < 5e-5", PlotStyle::Dashed);
+  l2.color = PlotColor{0.7, 0.35, 0.1};
+  p.add(l2);
+  std::vector<double> gs, ss;
+  for (const auto& q : per) {
+    gs.push_back(std::max(q.at("rayleigh_parameter").get<double>(), gx0));
+    ss.push_back(std::clamp(slope, sy0, sy1));
+  }
+  PlotSeries pts(gs, ss, "the scans at theta_i 0 and the slices' angles (white: Kirchhoff only)",
+                 PlotStyle::LineMarkers);
+  pts.color = PlotColor{0, 0, 0};
+  pts.marker_size = 4.5;
+  p.add(pts);
+  p.legend = LegendPlace::TopLeft;
+  p.write_svg(path, 640, 420);
 }
 }  // namespace
 
@@ -40,11 +100,8 @@ nlohmann::json stage_regime(const Context& c, const nlohmann::json& inputs) {
   in.slope_rms = slope / static_cast<double>(n);
   in.corr_length_m = ntau ? tau / static_cast<double>(ntau) : NAN;
   in.wavelength_m = c.opt.wavelength_m;
-  // What the run's slices and renders use: the geometric NDF (naive or filtered) or D_K.
-  const std::string used = c.opt.render_ndf == "kirchhoff" ? "kirchhoff" : "geometric";
   nlohmann::json per = nlohmann::json::array();
   std::set<std::string> methods;
-  std::string first_smooth;
   std::vector<double> angles{0.0};
   angles.insert(angles.end(), c.opt.slice_theta_i_rad.begin(), c.opt.slice_theta_i_rad.end());
   for (double ti : angles) {
@@ -55,12 +112,9 @@ nlohmann::json stage_regime(const Context& c, const nlohmann::json& inputs) {
                    {"method", v.method},
                    {"rayleigh_parameter", v.rayleigh_parameter},
                    {"specular_share", v.specular_share},
+                   {"tau_over_lambda", ntau ? nlohmann::json(v.tau_over_lambda) : nullptr},
                    {"none_strictly_valid", v.none_strictly_valid},
-                   {"used_is_valid", regime_allows(v, used)},
                    {"reason", v.reason}});
-    if (v.method == "rayleigh-rice" && used == "geometric" && first_smooth.empty())
-      first_smooth =
-          v.reason + " at theta_i " + std::to_string(std::lround(ti * 180 / M_PI)) + " deg";
   }
   nlohmann::json out = {{"wavelength_m", in.wavelength_m},
                         {"sigma_m", in.sigma_m},
@@ -68,19 +122,48 @@ nlohmann::json stage_regime(const Context& c, const nlohmann::json& inputs) {
                         {"corr_length_m", ntau ? nlohmann::json(in.corr_length_m) : nullptr},
                         {"scans", n},
                         {"methods", methods},
-                        {"used", used},
                         {"per_incidence", per}};
+  write_regime_map(c.path("img/regime_map.svg"), per, in.slope_rms);
+  out["map"] = "img/regime_map.svg";
   c.log("regime: " + per.front().at("method").get<std::string>() + " at normal incidence (" +
         per.front().at("reason").get<std::string>() + ")");
-  // The geometric NDF has no specular part: on a smooth surface it spreads the mirror
-  // reflection into a lobe of the slopes' width and misses the diffuse halo's shape.
-  if (!first_smooth.empty())
-    c.warn("method_outside_validity",
-           "the BRDF slices and renders use the geometric (" + c.opt.render_ndf +
-               ") NDF, but the surface is in the smooth (Rayleigh-Rice) regime: " + first_smooth,
-           "add --kirchhoff --render-ndf kirchhoff for the wave-optics BRDF (slower), or see "
-           "`microbrdf brdf slice --rayleigh-rice` (docs/regime.md)");
   return out;
+}
+
+std::string regime_section_html(const nlohmann::json& s, const std::string& dir) {
+  if (!s.contains("regime") || !s["regime"].is_object()) return "";
+  const auto& r = s["regime"];
+  std::ostringstream p;
+  p << "<h3 id=\"regime\">Scattering regime and the theory of the predicted BRDF</h3>\n";
+  if (r.contains("theory") && r["theory"].is_object()) {
+    const auto& t = r["theory"];
+    p << "<p>The predicted BRDF (slices, renders) uses <b>" << escape(t.value("chosen", ""))
+      << "</b> scattering: " << escape(t.value("why", "")) << ".</p>\n";
+  }
+  p << "<p>Mean over " << r.value("scans", 0) << " scan(s): Sq " << length(number(r, "sigma_m"))
+    << ", rms slope " << num(number(r, "slope_rms")) << ", correlation length "
+    << (r["corr_length_m"].is_number() ? length(r["corr_length_m"].get<double>()) : "—")
+    << ", wavelength " << length(number(r, "wavelength_m"))
+    << ".</p>\n<table>\n<tr><th>theta_i</th><th>Rayleigh parameter g</th><th>specular share "
+       "exp(−g)</th><th>valid theory</th><th>the run's theory valid</th></tr>\n";
+  for (const auto& q : r["per_incidence"])
+    p << "<tr><td class=\"n\">" << num(number(q, "theta_i_deg")) << " deg</td><td class=\"n\">"
+      << num(number(q, "rayleigh_parameter")) << "</td><td class=\"n\">"
+      << num(number(q, "specular_share")) << "</td><td>" << escape(q.value("method", ""))
+      << (q.value("none_strictly_valid", false) ? " (none strictly: tau &lt; lambda)" : "")
+      << "</td><td>"
+      << (q.contains("used_is_valid") ? (q["used_is_valid"].get<bool>() ? "yes" : "<b>no</b>")
+                                      : "—")
+      << "</td></tr>\n";
+  p << "</table>\n";
+  if (r.contains("map") && r["map"].is_string())
+    p << "<figure>"
+      << inline_svg((std::filesystem::path(dir) / r["map"].get<std::string>()).string(), "regime-")
+      << "<figcaption>The scans on the regime map, one point per incidence (docs/regime.md). "
+         "Kirchhoff holds in all three regions while the correlation length exceeds the "
+         "wavelength; Rayleigh-Rice only in the smooth one, geometric optics only in the rough "
+         "one.</figcaption></figure>\n";
+  return p.str();
 }
 
 }  // namespace microbrdf::report

@@ -14,7 +14,9 @@
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/fit.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/predict.hpp"
+#include "microbrdf/psd.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/tabulated_ndf.hpp"
 
@@ -53,6 +55,11 @@ struct NdfSet {
   std::size_t kirchhoff_supersample = 1;  ///< S of the node cell averages (1: point samples)
   /// The table of the "measured" BRDF (PredictOptions::render_ndf): naive, filtered or kirchhoff.
   std::string render = "filtered";
+  /// The scattering theory of the "measured" BRDF (stage_theory): "geometric" (the `render`
+  /// table), "kirchhoff" (the D_K stack) or "rayleigh-rice" (`psd`).
+  std::string theory = "geometric";
+  /// The scans' mean PSD (those sharing the first scan's grid) when theory is Rayleigh-Rice.
+  std::shared_ptr<const AreaPsd> psd;
   const TabulatedNdf& for_render() const {
     if (render == "naive" && naive) return *naive;
     if (render == "kirchhoff" && kirchhoff) return *kirchhoff;
@@ -65,6 +72,19 @@ struct NdfSet {
 /// the "inputs" array; `stats` (rank 0): scans and seconds per rank.
 nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs,
                             WorkStats* stats = nullptr);
+/// D_K's options in a predict run: PredictOptions::kirchhoff_options at the slices' wavelength on
+/// the run's table resolution.
+KirchhoffOptions dk_options(const PredictOptions& o);
+/// Moves an accumulator's tables (the layer at the slices' wavelength, the stack) and its
+/// diagnostics into `ndfs`.
+void take_kirchhoff(const KirchhoffAccumulator& acc, NdfSet& ndfs);
+/// Picks the scattering theory of the "measured" BRDF (PredictOptions::theory; "auto": the one
+/// valid at normal incidence by `regime`), computes what it needs on this rank that the input
+/// stage did not (D_K over lambda_q, or the scans' PSD; call after mpi_set_solo), records the
+/// choice and its reason in `regime` ("theory", "used", per-incidence "used_is_valid") and warns
+/// (method_outside_validity) where the theory used is outside its validity.
+void stage_theory(const Context& c, const std::vector<std::string>& paths, NdfSet& ndfs,
+                  nlohmann::json& regime);
 /// For the naive and the filtered NDF whose lobe spans fewer than 10 nodes of its table
 /// (smallest rms slope s: 4 s / Delta < 10): reads and levels the scans again on this rank and
 /// tabulates the same estimator on a window around the mean normal, half-width 12 x the largest
@@ -90,10 +110,17 @@ struct NamedBrdf {
   std::string key, label;
   std::shared_ptr<const Brdf> brdf;
 };
-/// The BRDF of the measured (filtered) NDF: a tabulated distribution with Smith shadowing and
-/// `fresnel`. Built once per run and shared by the slices, the renders and the comparison strip.
+/// The predicted ("measured") BRDF of the scans in the run's theory (ndfs.theory): the
+/// tabulated NDF with Smith shadowing and `fresnel` (geometric), the Kirchhoff BRDF over the D_K
+/// stack shadowed by the ellipsoid fit (kirchhoff) or first-order Rayleigh-Rice of the scans' PSD
+/// with `material`'s complex index (rayleigh-rice). Built once per run and shared by the slices,
+/// the renders and the comparison strip.
 std::shared_ptr<const Brdf> measured_brdf(const NdfSet& ndfs,
-                                          const std::shared_ptr<const Fresnel>& fresnel);
+                                          const std::shared_ptr<const Fresnel>& fresnel,
+                                          const OpticalConstants& material,
+                                          const std::vector<FitResult>& fits);
+/// Its label in the report ("measured (filtered NDF)", "measured (D_K over lambda_q)", ...).
+std::string measured_label(const NdfSet& ndfs);
 /// The BRDFs of the three fitted NDFs closest to the table (Hellinger distance; in the order of
 /// `fits`) and of D_K when it was computed (whose
 /// sampling proposal is the ellipsoid fit), with `fresnel`: what the slices, albedos and the

@@ -13,6 +13,7 @@
 #include "report/ndf_hover.hpp"
 #include "report/predict_measured.hpp"
 #include "report/predict_ndf_compare.hpp"
+#include "report/predict_regime.hpp"
 
 namespace microbrdf {
 namespace {
@@ -530,6 +531,9 @@ std::string pct(const json& v) { return report::num(100 * d(v), 3) + " %"; }
 // The NDF the measured renders use ("naive", "filtered" or "kirchhoff"; --render-ndf), for
 // captions: "filtered NDF" unless the run chose another.
 std::string render_ndf_label(const json& s) {
+  if (s.contains("regime") && s["regime"].is_object() &&
+      s["regime"].value("used", "") == "rayleigh-rice")
+    return "Rayleigh-Rice BRDF of the scans' PSD";
   std::string k = "filtered";
   if (s.contains("ndf_comparison") && s["ndf_comparison"].is_object())
     k = s["ndf_comparison"].value("render_ndf", k);
@@ -978,6 +982,7 @@ std::string render_report_html(const json& summary, const std::string& dir) {
        "<li><a href=\"#s10\">Files</a></li></ol></nav>\n";
   section_inputs(p, s);
   section_stats(p, s);
+  p << report::regime_section_html(s, dir);
   section_ndf(p, s);
   p << report::ndf_comparison_html(s, dir);
   section_fits(p, s);

@@ -34,7 +34,7 @@ assert all(-10 <= r["exposure_stops"] <= 10 for r in s["renders"])
 assert [round(a["theta_i_deg"]) for a in s["brdf"]["albedo"]] == [30, 60]
 html = open(os.path.join(d, "report.html")).read()
 assert len(re.findall(r"<img ", html)) >= 6  # height map, 2 NDFs, fit comparison, 2 renders
-assert html.count("<svg") == 2 + 2 * 2 + html.count('class="zoomp"')  # NDF cuts x, y; in/out slices at 2 angles; zooms
+assert html.count("<svg") == 1 + 2 + 2 * 2 + html.count('class="zoomp"')  # regime map; NDF cuts x, y; in/out slices at 2 angles; zooms
 # The comparison strip: every fit rendered like the measured-NDF cylinders, its difference image,
 # SSIM in (0, 1] and RMS relative error against the measured render, and the render noise.
 rc = s["render_comparison"]
@@ -79,8 +79,9 @@ for k in ("timing", "mpi"): a.pop(k); b.pop(k)
 assert a == b
 PY
 
-# With D_K the strip gains a Kirchhoff render; --no-render has no strip.
+# With D_K beside the geometric theory the strip gains a Kirchhoff render; --no-render has no strip.
 $BIN predict "$T/b.x3p" --level none --resolution 129 --kirchhoff --dk-integration midpoint \
+  --theory geometric \
   --render-width 16 --spp 1 \
   -o "$T/dk" --quiet >/dev/null || fail "--kirchhoff run"
 $BIN predict "$T/b.x3p" --level none --resolution 129 --no-render -o "$T/norender" --quiet \

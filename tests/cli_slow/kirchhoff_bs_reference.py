@@ -6,7 +6,6 @@ g = (q_z sigma)^2, q = (2 pi / lambda)(wi + wo); f = D_K F(wi.h) / (4 cos_i cos_
 G = 1), F the unpolarised Fresnel reflectance of the complex index, linearly interpolated in the
 repository's optical-constant tables.
 """
-import csv
 import os
 import sys
 from pathlib import Path
@@ -15,46 +14,14 @@ import numpy as np
 
 out, data = Path(sys.argv[1]), Path(sys.argv[2])
 root = data.parents[1]
+sys.path.insert(0, str(root / "scripts"))
+from bs_series import compared_range, index, read_slice as read, series as bs_series  # noqa: E402
+
 LAM, SIGMA = 555e-9, 5e-9
-TABLES = {"Al": "Al_Rakic1995.csv", "Au": "Au_JohnsonChristy1972.csv"}
-
-
-def index(metal):
-    rows = [r for r in csv.DictReader(open(root / "data" / "optical" / TABLES[metal]))]
-    wl = np.array([float(r["wavelength_nm"]) for r in rows])
-    n = np.interp(LAM * 1e9, wl, [float(r["n"]) for r in rows])
-    k = np.interp(LAM * 1e9, wl, [float(r["k"]) for r in rows])
-    return complex(n, k)
-
-
-def fresnel(c, eta):
-    ct = np.sqrt(eta**2 - (1 - c * c) + 0j)
-    rs = (c - ct) / (c + ct)
-    rp = (eta**2 * c - ct) / (eta**2 * c + ct)
-    return 0.5 * (abs(rs) ** 2 + abs(rp) ** 2)
 
 
 def series(theta_i, theta_o, tau, eta):
-    ti, to = np.radians(theta_i), np.radians(theta_o)
-    wi = np.array([-np.sin(ti), 0, np.cos(ti)])  # light at azimuth 180 deg
-    wo = np.stack([np.sin(to), np.zeros_like(to), np.cos(to)], -1)
-    q = 2 * np.pi / LAM * (wi[None, :] + wo)
-    qxy2, qz = q[:, 0] ** 2 + q[:, 1] ** 2, q[:, 2]
-    g = (qz * SIGMA) ** 2
-    s, term = np.zeros_like(g), np.exp(-g)
-    for m in range(1, 40):
-        term = term * g / m
-        s += term * (np.pi * tau**2 / m) * np.exp(-qxy2 * tau**2 / (4 * m))
-    d = (qxy2 + qz**2) ** 2 / (4 * np.pi**2 * qz**2) * s
-    h = q / np.linalg.norm(q, axis=1)[:, None]
-    F = np.array([fresnel(float(wi @ x), eta) for x in h])
-    return d * F / (4 * np.cos(ti) * np.cos(to))
-
-
-def read(path):
-    rows = [r for r in csv.DictReader(l for l in open(path) if not l.startswith("#"))]
-    return (np.array([float(r["angle_deg"]) for r in rows]),
-            np.array([float(r["brdf_per_sr"]) for r in rows]))
+    return bs_series(theta_i, theta_o, SIGMA, tau, eta, LAM, terms=40)
 
 
 ok = True
@@ -63,9 +30,8 @@ for tau in (5, 1):
     for metal in ("Al", "Au"):
         for ti in (0, 20, 45, 70):
             a, b = read(out / f"s{tau}_{metal}_{ti}.csv")
-            ref = series(ti, a, tau * 1e-6, index(metal))
-            peak = ref[np.abs(a) < 88].max()
-            sel = (np.abs(a - ti) >= 2) & (ref > 1e-3 * peak) & (np.abs(a) < 89.5)
+            ref = series(ti, a, tau * 1e-6, index(root, metal, LAM))
+            sel = compared_range(a, ref, ti)
             r = b[sel] / ref[sel]
             p10, med, p90 = np.percentile(r, [10, 50, 90])
             print(f"{tau} um  {metal:5} {ti:5d}  {sel.sum():6d}  {med:.3f}  {p10:.3f}  {p90:.3f}  "
