@@ -20,6 +20,7 @@ struct FitArgs {
   std::string sampling = "auto";
   int subsamples = 0;
   std::string report;
+  std::string table;
   bool json = false;
 };
 
@@ -43,10 +44,14 @@ void run(const FitArgs& a) {
                                              : "cell-integrated estimates (a histogram)",
                  ndf.meta.method.c_str());
   if (!a.report.empty()) write_fit_report(ndf, r, a.report);
+  // The fitted model as a table (any model, two-lobe mixtures included): what `export bsdf
+  // --ndf` and the other exporters take.
+  if (!a.table.empty()) write_ndf(fit_table(r, ndf.resolution()), a.table);
   if (a.json) {
     nlohmann::json j = fit_result_json(r);
     j["input"] = a.input;
     if (!a.report.empty()) j["report"] = a.report;
+    if (!a.table.empty()) j["table"] = a.table;
     print_json(j);
     return;
   }
@@ -77,6 +82,7 @@ void run(const FitArgs& a) {
           : (r.at_bound.empty() ? "NOT converged" : "NOT converged: at " + r.at_bound).c_str(),
       r.termination.c_str(), r.seconds);
   if (!a.report.empty()) std::printf("  report in %s\n", a.report.c_str());
+  if (!a.table.empty()) std::printf("  fitted table in %s\n", a.table.c_str());
 }
 
 }  // namespace
@@ -114,7 +120,9 @@ void register_fit(CLI::App& app) {
       "Examples:\n"
       "  microbrdf fit ndf.npy --model ellipsoid\n"
       "  microbrdf fit ndf.npy --model beckmann --json\n"
-      "  microbrdf fit ndf.exr --model ggx --report fit-ggx/");
+      "  microbrdf fit ndf.exr --model ggx --report fit-ggx/\n"
+      "  microbrdf fit ndf.npy --model mixture:ggx+beckmann --table two_lobes.npy --json\n"
+      "  microbrdf export bsdf --ndf two_lobes.npy --metal Al -o two_lobes.bsdf");
   c->add_option("ndf", a->input, "Tabulated NDF (.npy with sidecar, or .exr)")->required();
   c->add_option("--model", a->model, ndf_model_names(" | ") + " | mixture:A+B")
       ->capture_default_str();
@@ -126,6 +134,9 @@ void register_fit(CLI::App& app) {
                 "Tent quadrature points per node spacing (0 = from the lobe width)")
       ->capture_default_str();
   c->add_option("--report", a->report, "Write images and fit.json into this directory");
+  c->add_option("--table", a->table,
+                "Write the fitted model as a table (.npy or .exr, the input's resolution and "
+                "sampling) for `export ... --ndf`");
   c->add_flag("--json", a->json, "Print a JSON summary on stdout");
   c->callback([a] { run_guarded("fit", [&] { run(*a); }); });
 }

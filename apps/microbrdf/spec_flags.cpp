@@ -71,7 +71,8 @@ void add_model_flags(CLI::App* c, SpecFlags& f) {
   // The other parameters of the registered models (e.g. --gamma), named by the registry.
   for (const auto& p : ndf_model_params()) {
     if (f.text.count(p.name)) continue;
-    std::string flag = "--" + p.name;
+    std::string flag = "--";
+    flag += p.name;
     std::replace(flag.begin(), flag.end(), '_', '-');
     std::string models;
     for (const NdfModel* m : ndf_models())

@@ -286,7 +286,8 @@ std::shared_ptr<MicrofacetDistribution> make_distribution(const NdfSpec& s) {
   }
   auto flag = [](std::string k) {
     std::replace(k.begin(), k.end(), '_', '-');
-    return "--" + k;
+    k.insert(0, "--");
+    return k;
   };
   for (const auto& [key, value] : s.extra)
     if (!has(key.c_str()))
