@@ -122,13 +122,13 @@ RoughConductor nearest_rough_conductor(const MicrofacetDistribution& d,
   RoughConductor m;
   m.constants = constants;
   double phi = 0;
-  // The model says whether GGX holds it exactly; otherwise the nearest GGX is fitted to its table.
-  if (d.model_name().empty())
-    throw InputError("a rough conductor needs an analytic NDF (" + ndf_model_names(", ") +
-                     "), not " + d.describe());
-  const NdfModel& model = ndf_model(d.model_name());
+  // The model says whether GGX holds it exactly; otherwise the nearest GGX is fitted to its table
+  // (also for distributions outside the registry, e.g. two-lobe mixtures).
+  const NdfModel* model = d.model_name().empty() ? nullptr : &ndf_model(d.model_name());
   const std::vector<double> values = d.model_values();
-  const NdfExportLobe lobe = model.export_lobe(values);
+  NdfExportLobe lobe;
+  lobe.exact = false;
+  if (model) lobe = model->export_lobe(values);
   if (lobe.exact) {
     m.alpha_u = lobe.alpha_x;
     m.alpha_v = lobe.alpha_y;
@@ -136,22 +136,22 @@ RoughConductor nearest_rough_conductor(const MicrofacetDistribution& d,
   } else {
     FitOptions fo;
     fo.model = "ggx";
-    const FitResult r = fit_ndf(tabulate(d, model.name(), 257), fo);
+    const FitResult r = fit_ndf(tabulate(d, model ? model->name() : "model", 257), fo);
     m.alpha_u = r.params.at("alpha_x");
     m.alpha_v = r.params.at("alpha_y");
     phi = r.phi;
     std::string params;
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      const NdfParam& p = model.params()[i];
+    for (std::size_t i = 0; model && i < values.size(); ++i) {
+      const NdfParam& p = model->params()[i];
       params += fmt::format("{}{} {:.4g}{}", i ? ", " : "", p.name,
                             p.unit == "rad" ? values[i] * 180 / M_PI : values[i],
                             p.unit == "rad" ? " deg" : "");
     }
     m.notes.push_back(fmt::format(
-        "nearest GGX of the {} NDF ({}): GGX fit alpha_u {:.4g}, alpha_v {:.4g} (Hellinger "
+        "nearest GGX of the {} ({}): GGX fit alpha_u {:.4g}, alpha_v {:.4g} (Hellinger "
         "distance {:.3g}){}",
-        model.label(), params, m.alpha_u, m.alpha_v, r.hellinger,
-        lobe.note.empty() ? "" : "; " + lobe.note));
+        model ? model->label() + " NDF" : std::string("NDF"), model ? params : d.describe(),
+        m.alpha_u, m.alpha_v, r.hellinger, lobe.note.empty() ? "" : "; " + lobe.note));
   }
   // Fold phi into (-pi/2, pi/2]; a quarter turn swaps the axes.
   phi = std::remainder(phi, M_PI);
