@@ -77,7 +77,10 @@ void add_model_flags(CLI::App* c, SpecFlags& f) {
     std::string models;
     for (const NdfModel* m : ndf_models())
       for (const auto& q : m->params())
-        if (q.name == p.name) models += (models.empty() ? "" : "/") + m->name();
+        if (q.name == p.name) {
+          if (!models.empty()) models += '/';
+          models += m->name();
+        }
     c->add_option(flag, f.text[p.name], models + ": " + p.help);
   }
 }

@@ -12,6 +12,7 @@ import json, sys, numpy as np
 n = 257
 m = -1 + 2 * np.arange(n) / (n - 1)
 x, y = np.meshgrid(m, m)
+np.seterr(all="ignore")  # (the formulas overflow outside the disk, where D is 0)
 r2 = x * x + y * y
 z2 = np.clip(1 - r2, 1e-300, None)
 ggx = 1 / (np.pi * 0.05 ** 2 * (r2 / 0.05 ** 2 + z2) ** 2)
@@ -23,9 +24,9 @@ json.dump({"format": "microbrdf-ndf", "version": 1, "resolution": n, "method": "
            "sampling": "point"}, open(sys.argv[1][:-4] + ".json", "w"))
 PY
 
-$BIN fit "$T/two.npy" --model mixture:ggx+beckmann --table "$T/fit.npy" --json >"$T/fit.json" \
+$BIN fit "$T/two.npy" --model mixture:ggx+beckmann --table "$T/fit.npy" --json >"$T/out.json" \
   2>"$T/err" || fail "fit: $(cat "$T/err")"
-/usr/bin/python3 - "$T/fit.json" "$T/fit.npy" "$T/two.npy" <<'PY' || fail "mixture fit: $(cat "$T/fit.json")"
+/usr/bin/python3 - "$T/out.json" "$T/fit.npy" "$T/two.npy" <<'PY' || fail "mixture fit: $(cat "$T/out.json")"
 import json, sys, numpy as np
 j = json.load(open(sys.argv[1]))
 p = j["params"]
