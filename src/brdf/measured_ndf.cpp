@@ -220,16 +220,50 @@ std::shared_ptr<MicrofacetDistribution> lobe_distribution(const Brdf& brdf, std:
   o.resolution = resolution;
   o.wavelength_m = wavelength_m;
   TabulatedNdf t = effective_ndf(brdf, PerfectMirrorFresnel(), o);
+  // One grid serves every incidence, but a wave-optics lobe changes width with it (D_K at
+  // lambda_q = lambda / cos(theta_d / 2) widens towards grazing): the envelope (node-wise
+  // maximum, each read normalised to its sum) of eq. 9 read at theta_d 14, 90 and 140 deg.
+  auto normalise = [](TabulatedNdf& x) {
+    double sum = 0;
+    for (double v : x.values())
+      if (std::isfinite(v) && v > 0) sum += v;
+    if (sum > 0)
+      for (double& v : x.values()) v = std::isfinite(v) ? v / sum : v;
+  };
+  normalise(t);
+  for (double theta_d_deg : {90.0, 140.0}) {
+    o.theta_d = theta_d_deg * M_PI / 180;
+    TabulatedNdf u = effective_ndf(brdf, PerfectMirrorFresnel(), o);
+    normalise(u);
+    for (std::size_t k = 0; k < t.values().size(); ++k)
+      if (std::isfinite(u.values()[k]) && !(t.values()[k] >= u.values()[k]))
+        t.values()[k] = u.values()[k];
+  }
   double vmax = 0;
   for (double v : t.values())
     if (v > vmax) vmax = v;
   if (!(vmax > 0) || !std::isfinite(vmax))
     throw InputError("the BRDF has no positive value at theta_d = 14.14 deg: no lobe to follow");
+  // A specular spike (a smooth surface's coherent reflection: one node holding most of the
+  // mass) would draw nearly every sample of a grid that follows this lobe, leaving its diffuse
+  // halo a node or two: the lobe is capped, halving the cap until the nodes at the cap hold at
+  // most 30 % of the capped mass. A lobe without a spike is left as it is.
+  double cap = vmax;
+  for (int halvings = 0; halvings < 60; ++halvings) {
+    double at_cap = 0, total = 0;
+    for (double v : t.values()) {
+      if (!std::isfinite(v) || v <= 0) continue;
+      total += std::min(v, cap);
+      if (v >= cap) at_cap += cap;
+    }
+    if (at_cap <= 0.3 * total) break;
+    cap *= 0.5;
+  }
   for (std::size_t iy = 0; iy < t.resolution(); ++iy)
     for (std::size_t ix = 0; ix < t.resolution(); ++ix) {
       const double x = t.node_x(ix), y = t.node_y(iy);
       double& v = t.at(ix, iy);
-      v = x * x + y * y >= 1 ? 0.0 : std::max(std::isfinite(v) ? v : 0.0, 1e-4 * vmax);
+      v = x * x + y * y >= 1 ? 0.0 : std::clamp(std::isfinite(v) ? v : 0.0, 1e-4 * cap, cap);
     }
   t.meta.method = "lobe";
   return std::make_shared<TabulatedDistribution>(std::move(t));
