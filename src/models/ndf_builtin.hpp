@@ -12,6 +12,7 @@ namespace microbrdf {
 std::unique_ptr<NdfModel> make_ellipsoid_model();
 std::unique_ptr<NdfModel> make_beckmann_model();
 std::unique_ptr<NdfModel> make_ggx_model();
+std::unique_ptr<NdfModel> make_student_t_model();
 
 }  // namespace microbrdf
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "microbrdf/error.hpp"
+#include "microbrdf/mixture_ndf.hpp"
 
 namespace microbrdf {
 namespace {
@@ -55,9 +56,9 @@ class MixtureModel final : public NdfModel {
     return "w D_" + a_.name() + " + (1 - w) D_" + b_.name() + " (two lobes fitted jointly)";
   }
   const std::vector<NdfParam>& params() const override { return params_; }
-  std::shared_ptr<MicrofacetDistribution> make(const std::vector<double>&) const override {
-    throw InputError("the two-lobe NDF " + name() +
-                     " has no distribution for rendering yet; export it as a table");
+  std::shared_ptr<MicrofacetDistribution> make(const std::vector<double>& v) const override {
+    const std::vector<double> va(v.begin(), v.begin() + ka()), vb(v.begin() + ka(), v.end() - 1);
+    return std::make_shared<MixtureDistribution>(a_.make(va), b_.make(vb), v.back());
   }
   std::vector<double> initial(const NdfMoments& m) const override {
     // A narrow core and a wide tail around the moments' width.

@@ -47,6 +47,7 @@ Registry& registry() {
     reg->add(make_ellipsoid_model());
     reg->add(make_beckmann_model());
     reg->add(make_ggx_model());
+    reg->add(make_student_t_model());
     return reg;
   }();
   return *r;
