@@ -239,11 +239,13 @@ TEST(NdfRegistry, StudentTRecoversHiddenParameters) {
   };
   for (const Case& c : {Case{0.01, 0.03, 0.4, 1.5}, Case{0.05, 0.12, 1.0, 4},
                         Case{0.3, 0.1, -0.3, 1.8}, Case{0.2, 0.5, -0.7, 20}}) {
-    const FitResult r = fit_student_t(point_table(Lobe::StudentT, c.ax, c.ay, c.phi, c.gamma, 1025));
-    std::printf("student-t (%g, %g, %g, gamma %g): alpha %.6g x %.6g, phi %.6g, gamma %.6g, H %.2g, "
-                "%d iterations, %.2f s\n",
-                c.ax, c.ay, c.phi, c.gamma, r.params.at("alpha_x"), r.params.at("alpha_y"),
-                r.params.at("phi"), r.params.at("gamma"), r.hellinger, r.iterations, r.seconds);
+    const FitResult r =
+        fit_student_t(point_table(Lobe::StudentT, c.ax, c.ay, c.phi, c.gamma, 1025));
+    std::printf(
+        "student-t (%g, %g, %g, gamma %g): alpha %.6g x %.6g, phi %.6g, gamma %.6g, H %.2g, "
+        "%d iterations, %.2f s\n",
+        c.ax, c.ay, c.phi, c.gamma, r.params.at("alpha_x"), r.params.at("alpha_y"),
+        r.params.at("phi"), r.params.at("gamma"), r.hellinger, r.iterations, r.seconds);
     // (alpha_x, alpha_y, phi) and (alpha_y, alpha_x, phi -+ pi/2) are the same lobe; the fit
     // reports the axis nearer +x as alpha_x (docs/fitting.md).
     double ax = c.ax, ay = c.ay, phi = c.phi;

@@ -91,6 +91,11 @@ class NdfModel {
   virtual std::shared_ptr<MicrofacetDistribution> make(const std::vector<double>& v) const = 0;
   /// The values from the starting moments (defaults for what the moments do not say).
   virtual std::vector<double> initial(const NdfMoments& m) const;
+  /// Starting points the fit compares (by cost, each with its alpha scalings) before it starts:
+  /// initial() by default; models with shape parameters or several lobes add more.
+  virtual std::vector<std::vector<double>> starts(const NdfMoments& m) const {
+    return {initial(m)};
+  }
   /// Brings fitted values to their canonical form (angles folded; equivalent parameter sets
   /// mapped to one), without changing D.
   virtual void canonicalise(std::vector<double>& v) const;

@@ -165,8 +165,8 @@ BrdfSpec parse_brdf(const json& keys, const std::optional<BrdfSpec>& fallback, K
     bool needs_alpha = true;
     try {
       const auto& ps = ndf_model(s.model.model).params();
-      needs_alpha = std::any_of(ps.begin(), ps.end(),
-                                [](const NdfParam& p) { return p.name == "alpha_x"; });
+      needs_alpha =
+          std::any_of(ps.begin(), ps.end(), [](const NdfParam& p) { return p.name == "alpha_x"; });
     } catch (const InputError&) {
     }
     if (needs_alpha && !(s.model.alpha_x > 0))

@@ -13,6 +13,7 @@
 #include "microbrdf/memory_budget.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_model.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/texture.hpp"
 
@@ -169,12 +170,16 @@ GltfMaterial gltf_material(const BrdfSpec& spec, const MaterialSpec& material) {
   auto& warn = m.warnings;
   if (spec.kind == Kind::Analytic) {
     const auto d = make_distribution(spec.model);
-    if (spec.model.model == "ggx") {
-      m.ggx = {spec.model.alpha_x, spec.model.alpha_y, spec.model.phi};
+    // What the model says GGX holds exactly as it is; the others (Beckmann, the ellipsoid and
+    // its skew, heavy tails): the GGX fit of the 257^2 table, as the Mitsuba and pbrt exports do.
+    NdfExportLobe lobe;
+    lobe.exact = false;
+    if (!d->model_name().empty()) lobe = ndf_model(d->model_name()).export_lobe(d->model_values());
+    if (lobe.exact) {
+      m.ggx = {lobe.alpha_x, lobe.alpha_y, lobe.phi};
     } else {
-      // Beckmann, the ellipsoid (and its skew, a tilted peak): the GGX fit of the 257^2 table,
-      // as the Mitsuba and pbrt exports do.
       m.ggx = ggx_fit(tabulate(*d, spec.model.model, 257), "the " + d->describe(), warn);
+      if (!lobe.note.empty()) warn.push_back(lobe.note);
     }
   } else if (spec.kind == Kind::Tabulated) {
     m.ggx = ggx_fit(read_ndf(spec.ndf), "the tabulated NDF " + spec.ndf, warn);

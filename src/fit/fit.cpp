@@ -199,22 +199,24 @@ FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
   const NdfModel& model = ndf_model(o.model);
   const int k = static_cast<int>(model.params().size());
   // Moments for the starting point come from the measured nodes only (NaN -> 0).
-  std::vector<double> start;
+  std::vector<std::vector<double>> starts;
   if (o.initial) {
-    start = model.values(*o.initial);
+    starts = {model.values(*o.initial)};
   } else if (measured_table(ndf)) {
     TabulatedNdf filled = ndf;
     for (double& v : filled.values())
       if (!(v > 0)) v = 0;
-    start = model.values(initial_guess(filled, model.name()));
+    starts = model.starts(moments(filled, model.has_kind(NdfParam::Kind::Tilt)));
   } else {
-    start = model.values(initial_guess(ndf, model.name()));
+    starts = model.starts(moments(ndf, model.has_kind(NdfParam::Kind::Tilt)));
   }
   const double alpha_min = std::max(1e-5, ndf.spacing() / 20);
-  for (int i = 0; i < k; ++i)
-    if (model.params()[static_cast<std::size_t>(i)].kind == NdfParam::Kind::Alpha)
-      start[static_cast<std::size_t>(i)] =
-          std::clamp(start[static_cast<std::size_t>(i)], alpha_min, kAlphaMax);
+  for (auto& s : starts)
+    for (int i = 0; i < k; ++i)
+      if (model.params()[static_cast<std::size_t>(i)].kind == NdfParam::Kind::Alpha)
+        s[static_cast<std::size_t>(i)] =
+            std::clamp(s[static_cast<std::size_t>(i)], alpha_min, kAlphaMax);
+  std::vector<double> start = starts.front();
 
   FitContext ctx = make_context(ndf, o, model, start);
   std::vector<double> shape = model.to_fit(start);
@@ -225,20 +227,22 @@ FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
         s[static_cast<std::size_t>(i)] =
             std::max(std::log(alpha_min), s[static_cast<std::size_t>(i)] + std::log(f));
   };
-  // Multi-start on the scale of the alphas (moments of heavy-tailed tables overestimate).
+  // Multi-start on the model's starting points and the scale of the alphas (moments of
+  // heavy-tailed tables overestimate).
   if (!o.initial) {
     double best = kInf;
     std::vector<double> best_shape = shape;
-    for (double f : {1.0, 0.7, 0.5, 0.35, 0.25, 0.18, 0.125}) {
-      std::vector<double> s = shape;
-      scale_alphas(s, f);
-      const double amp = ctx.tent ? 1.0 : ctx.node_amplitude(s.data());
-      const double cst = ctx.cost(s.data(), amp);
-      if (cst < best) {
-        best = cst;
-        best_shape = s;
+    for (const auto& st : starts)
+      for (double f : {1.0, 0.7, 0.5, 0.35, 0.25, 0.18, 0.125}) {
+        std::vector<double> s = model.to_fit(st);
+        scale_alphas(s, f);
+        const double amp = ctx.tent ? 1.0 : ctx.node_amplitude(s.data());
+        const double cst = ctx.cost(s.data(), amp);
+        if (cst < best) {
+          best = cst;
+          best_shape = s;
+        }
       }
-    }
     shape = best_shape;
     start = model.from_fit(shape.data());
     if (ctx.tent && o.tent_subsamples <= 0) ctx = make_context(ndf, o, model, start);  // subsamples

@@ -73,6 +73,25 @@ class MixtureModel final : public NdfModel {
     v.push_back(0.5);
     return v;
   }
+  std::vector<std::vector<double>> starts(const NdfMoments& m) const override {
+    // Cores and tails of several widths and weights: a two-lobe cost has local minima.
+    std::vector<std::vector<double>> out;
+    for (double core : {0.25, 0.5, 1.0})
+      for (double tail : {1.5, 3.0})
+        for (double w : {0.5, 0.8, 0.95}) {
+          NdfMoments a = m, b = m;
+          a.alpha_x *= core;
+          a.alpha_y *= core;
+          b.alpha_x *= tail;
+          b.alpha_y *= tail;
+          std::vector<double> v = a_.initial(a);
+          const std::vector<double> vb = b_.initial(b);
+          v.insert(v.end(), vb.begin(), vb.end());
+          v.push_back(w);
+          out.push_back(std::move(v));
+        }
+    return out;
+  }
   void canonicalise(std::vector<double>& v) const override {
     std::vector<double> va(v.begin(), v.begin() + ka()), vb(v.begin() + ka(), v.end() - 1);
     a_.canonicalise(va);

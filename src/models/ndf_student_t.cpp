@@ -47,6 +47,16 @@ class StudentTModel final : public TemplateNdfModel<StudentTUnit> {
     }();
     return p;
   }
+  std::vector<std::vector<double>> starts(const NdfMoments& m) const override {
+    // Tails from near-Cauchy to near-Gaussian.
+    std::vector<std::vector<double>> out;
+    for (double gamma : {1.6, 2.0, 4.0, 16.0}) {
+      std::vector<double> v = initial(m);
+      v[3] = gamma;
+      out.push_back(std::move(v));
+    }
+    return out;
+  }
   std::shared_ptr<MicrofacetDistribution> make(const std::vector<double>& v) const override {
     return std::make_shared<StudentTDistribution>(v[0], v[1], v[2], v[3]);
   }

@@ -379,8 +379,7 @@ void section_fits(Page& p, json& s) {
               ell ? deg(q["theta_x"]) : "— (none in this model)",
               ell ? deg(q["theta_y"]) : "— (none in this model)", deg(q["theta_z"]),
               other.empty() ? "— (none)" : other, n4(f["rms_error"]), n4(f["relative_l2_error"]),
-              n4(f["hellinger"]), std::to_string(f["iterations"].get<long>()),
-              converged_text(f)});
+              n4(f["hellinger"]), std::to_string(f["iterations"].get<long>()), converged_text(f)});
   }
   p << "</table>\n<p class=\"cap\">Every registered model, ranked by Hellinger distance to the "
        "table (rank 1 the closest). Provenance: <code>fit_ndf</code> (Levenberg-Marquardt with "
