@@ -6,6 +6,8 @@
 #include <memory>
 
 #include "microbrdf/ndf_model.hpp"
+#include "microbrdf/ndf_model_template.hpp"
+#include "models/ndf_builtin.hpp"
 
 namespace microbrdf {
 
@@ -56,6 +58,22 @@ class AnisotropicGradient final : public NdfEvaluator {
   }
   std::unique_ptr<NdfEvaluator> plain_;
   double c_ = 1, s_ = 0, iax2_ = 1, iay2_ = 1, norm_ = 1;
+};
+
+/// What Beckmann and GGX share as registry entries: parameters (alpha_x, alpha_y, phi), the
+/// hand-written gradient as the fits' fast path, the legacy JSON keys.
+template <class Unit, bool Ggx>
+class AnisotropicModel : public TemplateNdfModel<Unit> {
+ public:
+  const std::vector<NdfParam>& params() const override { return anisotropic_params(); }
+  std::unique_ptr<NdfEvaluator> evaluator(const double* fit, bool reference) const override {
+    auto plain = TemplateNdfModel<Unit>::evaluator(fit, true);
+    if (reference) return plain;
+    return std::make_unique<AnisotropicGradient<Ggx>>(fit, std::move(plain));
+  }
+  nlohmann::json params_json(const std::vector<double>& v) const override {
+    return legacy_anisotropic_json(v);
+  }
 };
 
 }  // namespace microbrdf

@@ -14,33 +14,17 @@ struct BeckmannUnit {
   using Lobe = lobes::Beckmann<T>;
 };
 
-class BeckmannModel final : public TemplateNdfModel<BeckmannUnit> {
+class BeckmannModel final : public AnisotropicModel<BeckmannUnit, false> {
  public:
   std::string name() const override { return "beckmann"; }
   std::string label() const override { return "Beckmann"; }
   std::string summary() const override {
     return "Beckmann (alpha_x, alpha_y, phi); Gaussian slopes, exact-erf Smith Lambda";
   }
-  const std::vector<NdfParam>& params() const override { return anisotropic_params(); }
   std::shared_ptr<MicrofacetDistribution> make(const std::vector<double>& v) const override {
     return std::make_shared<BeckmannDistribution>(v[0], v[1], v[2]);
   }
-  std::unique_ptr<NdfEvaluator> evaluator(const double* fit, bool reference) const override {
-    auto plain = TemplateNdfModel<BeckmannUnit>::evaluator(fit, true);
-    if (reference) return plain;
-    return std::make_unique<AnisotropicGradient<false>>(fit, std::move(plain));
-  }
-  NdfExportLobe export_lobe(const std::vector<double>& v) const override {
-    NdfExportLobe e;
-    e.exact = false;  // the exporters fit GGX to it
-    e.alpha_x = v[0];
-    e.alpha_y = v[1];
-    e.phi = v[2];
-    return e;
-  }
-  nlohmann::json params_json(const std::vector<double>& v) const override {
-    return legacy_anisotropic_json(v);
-  }
+  // (export_lobe: the default, the exporters fit GGX to it.)
 };
 
 }  // namespace

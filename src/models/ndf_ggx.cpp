@@ -14,7 +14,7 @@ struct GgxUnit {
   using Lobe = lobes::Ggx<T>;
 };
 
-class GgxModel final : public TemplateNdfModel<GgxUnit> {
+class GgxModel final : public AnisotropicModel<GgxUnit, true> {
  public:
   std::string name() const override { return "ggx"; }
   std::string label() const override { return "GGX"; }
@@ -22,14 +22,8 @@ class GgxModel final : public TemplateNdfModel<GgxUnit> {
   std::string summary() const override {
     return "GGX / Trowbridge-Reitz (alpha_x, alpha_y, phi); Heitz 2018 visible normals";
   }
-  const std::vector<NdfParam>& params() const override { return anisotropic_params(); }
   std::shared_ptr<MicrofacetDistribution> make(const std::vector<double>& v) const override {
     return std::make_shared<GgxDistribution>(v[0], v[1], v[2]);
-  }
-  std::unique_ptr<NdfEvaluator> evaluator(const double* fit, bool reference) const override {
-    auto plain = TemplateNdfModel<GgxUnit>::evaluator(fit, true);
-    if (reference) return plain;
-    return std::make_unique<AnisotropicGradient<true>>(fit, std::move(plain));
   }
   NdfExportLobe export_lobe(const std::vector<double>& v) const override {
     NdfExportLobe e;
@@ -37,9 +31,6 @@ class GgxModel final : public TemplateNdfModel<GgxUnit> {
     e.alpha_y = v[1];
     e.phi = v[2];
     return e;
-  }
-  nlohmann::json params_json(const std::vector<double>& v) const override {
-    return legacy_anisotropic_json(v);
   }
 };
 
