@@ -220,7 +220,6 @@ FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
 
   FitContext ctx = make_context(ndf, o, model, start);
   std::vector<double> shape = model.to_fit(start);
-  double log_amp = 0;
   auto scale_alphas = [&](std::vector<double>& s, double f) {
     for (int i = 0; i < k; ++i)
       if (model.params()[static_cast<std::size_t>(i)].kind == NdfParam::Kind::Alpha)
@@ -228,11 +227,12 @@ FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
             std::max(std::log(alpha_min), s[static_cast<std::size_t>(i)] + std::log(f));
   };
   // Multi-start on the model's starting points and the scale of the alphas (moments of
-  // heavy-tailed tables overestimate).
+  // heavy-tailed tables overestimate): each start's best scaling, the starts by cost.
+  std::vector<std::pair<double, std::vector<double>>> candidates;
   if (!o.initial) {
-    double best = kInf;
-    std::vector<double> best_shape = shape;
-    for (const auto& st : starts)
+    for (const auto& st : starts) {
+      double best = kInf;
+      std::vector<double> best_shape;
       for (double f : {1.0, 0.7, 0.5, 0.35, 0.25, 0.18, 0.125}) {
         std::vector<double> s = model.to_fit(st);
         scale_alphas(s, f);
@@ -243,103 +243,136 @@ FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
           best_shape = s;
         }
       }
-    shape = best_shape;
-    start = model.from_fit(shape.data());
-    if (ctx.tent && o.tent_subsamples <= 0) ctx = make_context(ndf, o, model, start);  // subsamples
-  }
-  if (!ctx.tent) log_amp = std::log(ctx.node_amplitude(shape.data()));
-
-  FitResult r;
-  r.model = model.name();
-  r.initial = model.named(start);
-  r.objective = o.objective;
-  r.sampling = ctx.tent ? FitSampling::Tent : FitSampling::Node;
-  r.window = ndf.window();
-  r.table_sampling = ndf_sampling(ndf.meta);
-  r.table_sampling_recorded = ndf_sampling_recorded(ndf.meta);
-  r.tent_subsamples = ctx.tent ? ctx.s : 1;
-  r.floor = ctx.eps;
-  r.residuals = ctx.rows() * ctx.cols();
-  r.roi[0] = ctx.ix0;
-  r.roi[1] = ctx.ix1;
-  r.roi[2] = ctx.iy0;
-  r.roi[3] = ctx.iy1;
-  // (The library's solver reports the cost of its first evaluation instead: the same number.)
-  if (o.solver != FitSolver::LevenbergMarquardt)
-    r.initial_cost = ctx.cost(shape.data(), std::exp(log_amp));
-
-  const double la_hi = std::log(kAlphaMax);
-  double la_final = std::log(alpha_min);  // the lower alpha bound of the last pass
-  std::vector<double> lo, hi;
-  // Tent mode resolves lobes down to ~2 quadrature steps: alpha >= 2 Delta / s. A fit that ends
-  // on that bound is repeated with twice the subsamples (up to 8).
-  for (int pass = 0;; ++pass) {
-    const double la_lo =
-        std::log(ctx.tent ? std::max(alpha_min, 2 * ctx.delta / ctx.s) : alpha_min);
-    la_final = la_lo;
-    fit_bounds(model, la_lo, la_hi, lo, hi);
-    for (int i = 0; i < k; ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      if (model.params()[u].kind == NdfParam::Kind::Alpha) shape[u] = std::max(shape[u], la_lo);
+      candidates.emplace_back(best, best_shape);
     }
-    if (o.solver == FitSolver::LevenbergMarquardt) {
-      std::vector<double> x = shape;
-      x.push_back(log_amp);
-      const fit_detail::LmResult lm = fit_detail::levenberg_marquardt(
-          ctx, x.data(), !ctx.tent, lo.data(), hi.data(), o.max_iterations);
-      if (pass == 0) r.initial_cost = lm.initial_cost;
-      std::copy(x.begin(), x.begin() + k, shape.begin());
-      log_amp = x[static_cast<std::size_t>(k)];
-      r.iterations = lm.iterations;
-      r.converged = lm.converged;
-      r.termination = lm.message;
-      r.final_cost = lm.cost;
-    } else if (o.solver == FitSolver::CeresAutodiff) {
-      const fit_detail::LmResult cr = fit_detail::ceres_solve(
-          ctx, shape.data(), &log_amp, lo.data(), hi.data(), o.max_iterations, o.threads);
-      r.iterations = cr.iterations;
-      r.converged = cr.converged;
-      r.termination = cr.message;
-      r.final_cost = cr.cost;
-    } else {
-      std::vector<double> x = shape;
-      if (!ctx.tent) x.push_back(log_amp);
-      std::vector<double> step(x.size(), 0.02);
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const auto& x, const auto& y) { return x.first < y.first; });
+  } else {
+    candidates.emplace_back(0.0, shape);
+  }
+  // Models with several starts (shape parameters, two lobes: local minima) are solved from the
+  // best three and keep the lowest final cost; the others from their one start.
+  candidates.resize(std::min<std::size_t>(candidates.size(), 3));
+  const FitContext ctx0 = ctx;
+  struct Attempt {
+    FitResult r;
+    std::vector<double> shape;
+    double log_amp = 0, la_final = 0;
+    FitContext ctx;
+  };
+  auto attempt = [&](std::vector<double> shape) -> Attempt {
+    FitContext ctx = ctx0;
+    double log_amp = 0;
+    std::vector<double> start = model.from_fit(shape.data());
+    if (!o.initial && ctx.tent && o.tent_subsamples <= 0)
+      ctx = make_context(ndf, o, model, start);  // subsamples
+    if (!ctx.tent) log_amp = std::log(ctx.node_amplitude(shape.data()));
+
+    FitResult r;
+    r.model = model.name();
+    r.initial = model.named(start);
+    r.objective = o.objective;
+    r.sampling = ctx.tent ? FitSampling::Tent : FitSampling::Node;
+    r.window = ndf.window();
+    r.table_sampling = ndf_sampling(ndf.meta);
+    r.table_sampling_recorded = ndf_sampling_recorded(ndf.meta);
+    r.tent_subsamples = ctx.tent ? ctx.s : 1;
+    r.floor = ctx.eps;
+    r.residuals = ctx.rows() * ctx.cols();
+    r.roi[0] = ctx.ix0;
+    r.roi[1] = ctx.ix1;
+    r.roi[2] = ctx.iy0;
+    r.roi[3] = ctx.iy1;
+    // (The library's solver reports the cost of its first evaluation instead: the same number.)
+    if (o.solver != FitSolver::LevenbergMarquardt)
+      r.initial_cost = ctx.cost(shape.data(), std::exp(log_amp));
+
+    const double la_hi = std::log(kAlphaMax);
+    double la_final = std::log(alpha_min);  // the lower alpha bound of the last pass
+    std::vector<double> lo, hi;
+    // Tent mode resolves lobes down to ~2 quadrature steps: alpha >= 2 Delta / s. A fit that ends
+    // on that bound is repeated with twice the subsamples (up to 8).
+    for (int pass = 0;; ++pass) {
+      const double la_lo =
+          std::log(ctx.tent ? std::max(alpha_min, 2 * ctx.delta / ctx.s) : alpha_min);
+      la_final = la_lo;
+      fit_bounds(model, la_lo, la_hi, lo, hi);
       for (int i = 0; i < k; ++i) {
-        const auto kind = model.params()[static_cast<std::size_t>(i)].kind;
-        if (kind == NdfParam::Kind::Alpha || kind == NdfParam::Kind::Exponent)
-          step[static_cast<std::size_t>(i)] = 0.1;
+        const auto u = static_cast<std::size_t>(i);
+        if (model.params()[u].kind == NdfParam::Kind::Alpha) shape[u] = std::max(shape[u], la_lo);
       }
-      auto clamped = [&](const std::vector<double>& v) {
-        std::vector<double> s(v.begin(), v.begin() + k);
-        for (std::size_t i = 0; i < s.size(); ++i) s[i] = std::clamp(s[i], lo[i], hi[i]);
-        return s;
-      };
-      auto f = [&](const std::vector<double>& v) {
-        const double amp = ctx.tent ? 1.0 : std::exp(std::clamp(v.back(), -kLogAmpMax, kLogAmpMax));
-        return ctx.cost(clamped(v).data(), amp);
-      };
-      double fb = 0;
-      bool conv = false;
-      r.iterations = fit_detail::nelder_mead(f, x, step, 200 * o.max_iterations, fb, conv);
-      shape = clamped(x);
-      if (!ctx.tent) log_amp = std::clamp(x.back(), -kLogAmpMax, kLogAmpMax);
-      r.final_cost = fb;
-      r.converged = conv;
-      r.termination = "Nelder-Mead";
+      if (o.solver == FitSolver::LevenbergMarquardt) {
+        std::vector<double> x = shape;
+        x.push_back(log_amp);
+        const fit_detail::LmResult lm = fit_detail::levenberg_marquardt(
+            ctx, x.data(), !ctx.tent, lo.data(), hi.data(), o.max_iterations);
+        if (pass == 0) r.initial_cost = lm.initial_cost;
+        std::copy(x.begin(), x.begin() + k, shape.begin());
+        log_amp = x[static_cast<std::size_t>(k)];
+        r.iterations = lm.iterations;
+        r.converged = lm.converged;
+        r.termination = lm.message;
+        r.final_cost = lm.cost;
+      } else if (o.solver == FitSolver::CeresAutodiff) {
+        const fit_detail::LmResult cr = fit_detail::ceres_solve(
+            ctx, shape.data(), &log_amp, lo.data(), hi.data(), o.max_iterations, o.threads);
+        r.iterations = cr.iterations;
+        r.converged = cr.converged;
+        r.termination = cr.message;
+        r.final_cost = cr.cost;
+      } else {
+        std::vector<double> x = shape;
+        if (!ctx.tent) x.push_back(log_amp);
+        std::vector<double> step(x.size(), 0.02);
+        for (int i = 0; i < k; ++i) {
+          const auto kind = model.params()[static_cast<std::size_t>(i)].kind;
+          if (kind == NdfParam::Kind::Alpha || kind == NdfParam::Kind::Exponent)
+            step[static_cast<std::size_t>(i)] = 0.1;
+        }
+        auto clamped = [&](const std::vector<double>& v) {
+          std::vector<double> s(v.begin(), v.begin() + k);
+          for (std::size_t i = 0; i < s.size(); ++i) s[i] = std::clamp(s[i], lo[i], hi[i]);
+          return s;
+        };
+        auto f = [&](const std::vector<double>& v) {
+          const double amp =
+              ctx.tent ? 1.0 : std::exp(std::clamp(v.back(), -kLogAmpMax, kLogAmpMax));
+          return ctx.cost(clamped(v).data(), amp);
+        };
+        double fb = 0;
+        bool conv = false;
+        r.iterations = fit_detail::nelder_mead(f, x, step, 200 * o.max_iterations, fb, conv);
+        shape = clamped(x);
+        if (!ctx.tent) log_amp = std::clamp(x.back(), -kLogAmpMax, kLogAmpMax);
+        r.final_cost = fb;
+        r.converged = conv;
+        r.termination = "Nelder-Mead";
+      }
+      const bool at_bound = min_log_alpha(model, shape) <= la_lo + 1e-6;
+      if (!(ctx.tent && at_bound && ctx.s < 8 && pass < 3)) break;
+      ctx.s = std::min(8, 2 * ctx.s);
+      r.tent_subsamples = ctx.s;
     }
-    const bool at_bound = min_log_alpha(model, shape) <= la_lo + 1e-6;
-    if (!(ctx.tent && at_bound && ctx.s < 8 && pass < 3)) break;
-    ctx.s = std::min(8, 2 * ctx.s);
-    r.tent_subsamples = ctx.s;
+    return Attempt{r, shape, log_amp, la_final, ctx};
+  };
+  Attempt best;
+  best.r.final_cost = kInf;
+  for (const auto& c : candidates) {
+    Attempt a = attempt(c.second);
+    if (!(a.r.final_cost >= best.r.final_cost)) best = std::move(a);
   }
+  FitResult r = best.r;
+  std::vector<double> shape_final = best.shape;
+  const double log_amp_final = best.log_amp, la_final = best.la_final;
+  const FitContext& ctx_final = best.ctx;
   r.solver_converged = r.converged;
-  r.at_bound = bound_note(model, shape, la_final, la_hi, !ctx.tent, log_amp);
+  r.at_bound =
+      bound_note(model, shape_final, la_final, std::log(kAlphaMax), !ctx_final.tent, log_amp_final);
   if (!r.at_bound.empty()) r.converged = false;
-  std::vector<double> values = model.from_fit(shape.data());
+  std::vector<double> values = model.from_fit(shape_final.data());
   model.canonicalise(values);
   r.params = model.named(values);
-  r.amplitude = std::exp(log_amp);
+  r.amplitude = std::exp(log_amp_final);
   r.phi = r.params.get("phi", 0.0);
 
   // Errors over the whole disk.

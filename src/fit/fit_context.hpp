@@ -83,13 +83,6 @@ FitContext make_context(const TabulatedNdf& t, const FitOptions& o, const NdfMod
 struct NormalEq {
   int n = 0;
   double jtj[kMaxParams + 1][kMaxParams + 1] = {}, jtr[kMaxParams + 1] = {}, cost = 0;
-  void add(const NormalEq& o) {
-    for (int i = 0; i < n; ++i) {
-      jtr[i] += o.jtr[i];
-      for (int j = 0; j < n; ++j) jtj[i][j] += o.jtj[i][j];
-    }
-    cost += o.cost;
-  }
 };
 NormalEq normal_equations(const FitContext& c, const double* shape, double log_amp);
 

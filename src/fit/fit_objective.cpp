@@ -192,7 +192,12 @@ NormalEq normal_equations_k(const FitContext& c, const double* shape, double log
   const double x0 = c.tent ? c.node_x(c.ix0) - c.delta + 0.5 * h : c.node_x(c.ix0);
   const double y0 = c.tent ? c.node_y(c.iy0) - c.delta + 0.5 * h : c.node_y(c.iy0);
   const std::vector<double> w = c.tent ? tent_weights(ss) : std::vector<double>(2, 1.0);
-  std::vector<NormalEq> rows(nr);
+  // Per row, sized for this model (a kMaxParams-sized NormalEq per row would be 2 KB to clear
+  // and fold per row and iteration).
+  struct RowEq {
+    double jtj[K + 1][K + 1] = {}, jtr[K + 1] = {}, cost = 0;
+  };
+  std::vector<RowEq> rows(nr);
   // Bands of contiguous rows (neighbouring rows share their sub-rows) on the helper pool.
   const std::size_t bands = std::max<std::size_t>(
       1, std::min<std::size_t>(nr, 4 * static_cast<std::size_t>(std::max(1, c.threads))));
@@ -237,8 +242,7 @@ NormalEq normal_equations_k(const FitContext& c, const double* shape, double log
           }
         }
       }
-      NormalEq e;
-      e.n = np;
+      RowEq e;
       const double* gt_row = &c.gt[ri * nc];
       for (std::size_t col = 0; col < nc; ++col) {
         if (std::isnan(gt_row[col])) continue;  // unmeasured node: no residual
@@ -275,7 +279,13 @@ NormalEq normal_equations_k(const FitContext& c, const double* shape, double log
   detail::HelperPool::instance().run(bands, c.threads, band);
   NormalEq total;
   total.n = np;
-  for (const auto& e : rows) total.add(e);
+  for (const auto& e : rows) {
+    for (int p = 0; p < np; ++p) {
+      total.jtr[p] += e.jtr[p];
+      for (int q = 0; q < np; ++q) total.jtj[p][q] += e.jtj[p][q];
+    }
+    total.cost += e.cost;
+  }
   for (int p = 0; p < np; ++p)
     for (int q = 0; q < p; ++q) total.jtj[q][p] = total.jtj[p][q];
   total.cost *= 0.5;
