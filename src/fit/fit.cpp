@@ -106,7 +106,9 @@ std::string bound_note(const NdfModel& m, const std::vector<double>& s, double l
     if (!other) continue;
     if (s[i] <= lo[i] + kTol)
       notes.push_back("the lower " + ps[i].name + " bound " + value(m.from_fit(lo.data())[i]));
-    if (s[i] >= hi[i] - kTol)
+    // (An exponent at its upper bound is the model's limit, e.g. Student-t's Beckmann limit: a
+    // result, not a failure.)
+    if (s[i] >= hi[i] - kTol && ps[i].kind != NdfParam::Kind::Exponent)
       notes.push_back("the upper " + ps[i].name + " bound " + value(m.from_fit(hi.data())[i]));
   }
   if (amplitude_free && std::abs(log_amp) >= kLogAmpMax - kTol)
