@@ -1,20 +1,11 @@
 #pragma once
-// The built-in NDF models, one file each (src/models/ndf_<name>.cpp), registered in
-// src/models/ndf_model.cpp.
+// What the built-in NDF models (one file each, src/models/ndf_<name>.cpp, registered in
+// src/models/ndf_model.cpp) share.
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <vector>
 
 #include "microbrdf/ndf_model.hpp"
-
-namespace microbrdf {
-
-std::unique_ptr<NdfModel> make_ellipsoid_model();
-std::unique_ptr<NdfModel> make_beckmann_model();
-std::unique_ptr<NdfModel> make_ggx_model();
-std::unique_ptr<NdfModel> make_student_t_model();
-
-}  // namespace microbrdf
 
 namespace microbrdf {
 

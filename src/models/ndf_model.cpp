@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 #include "microbrdf/error.hpp"
-#include "models/ndf_builtin.hpp"
 #include "models/ndf_mixture.hpp"
 
 namespace microbrdf {
@@ -40,8 +39,19 @@ struct Registry {
   }
 };
 
+}  // namespace
+
+// The built-in models' registry entries (src/models/ndf_<name>.cpp).
+std::unique_ptr<NdfModel> make_ellipsoid_model();
+std::unique_ptr<NdfModel> make_beckmann_model();
+std::unique_ptr<NdfModel> make_ggx_model();
+std::unique_ptr<NdfModel> make_student_t_model();
+
+namespace {
+
 Registry& registry() {
-  // The built-in models, one line each (a new model: its file and one line here).
+  // The built-in models, one line each (a new model: its file, its declaration above and one
+  // line here).
   static Registry* r = [] {
     auto* reg = new Registry;
     reg->add(make_ellipsoid_model());
