@@ -192,13 +192,13 @@ std::shared_ptr<MicrofacetDistribution> model(int which) {
     case 0:
       return std::make_shared<LegacyBeckmann>(0.08, 0.3, 0);
     case 1:
-      return make_distribution(NdfSpec{"beckmann", 0.08, 0.3, 0});
+      return make_distribution(NdfSpec{"beckmann", 0.08, 0.3, 0, 0, 0, 0, {}});
     case 2:
-      return make_distribution(NdfSpec{"ggx", 0.08, 0.3, 0});
+      return make_distribution(NdfSpec{"ggx", 0.08, 0.3, 0, 0, 0, 0, {}});
     case 3:
       return std::make_shared<LegacyEllipsoid>(EllipsoidParams{0.08, 0.3, 0.07, -0.05, 0.35});
     default:
-      return make_distribution(NdfSpec{"ellipsoid", 0.08, 0.3, 0, 0.07, -0.05, 0.35});
+      return make_distribution(NdfSpec{"ellipsoid", 0.08, 0.3, 0, 0.07, -0.05, 0.35, {}});
   }
 }
 const char* kModel[] = {"beckmann, previous (yardstick)", "beckmann", "ggx",

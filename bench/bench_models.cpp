@@ -34,14 +34,14 @@ std::vector<Vec3> directions(unsigned seed) {
 std::shared_ptr<MicrofacetDistribution> ndf(int which) {
   switch (which) {
     case 0:
-      return make_distribution(NdfSpec{"beckmann", 0.2, 0.4, 0.3});
+      return make_distribution(NdfSpec{"beckmann", 0.2, 0.4, 0.3, 0, 0, 0, {}});
     case 1:
-      return make_distribution(NdfSpec{"ggx", 0.2, 0.4, 0.3});
+      return make_distribution(NdfSpec{"ggx", 0.2, 0.4, 0.3, 0, 0, 0, {}});
     case 2:
-      return make_distribution(NdfSpec{"ellipsoid", 0.2, 0.4, 0, 0.1, -0.05, 0.3});
+      return make_distribution(NdfSpec{"ellipsoid", 0.2, 0.4, 0, 0.1, -0.05, 0.3, {}});
     default: {  // the Beckmann lobe above tabulated on 1025^2 (built once: ~1.5 s)
-      static const auto t = std::make_shared<TabulatedDistribution>(
-          tabulate(*make_distribution(NdfSpec{"beckmann", 0.2, 0.4, 0.3}), "beckmann", 1025));
+      static const auto t = std::make_shared<TabulatedDistribution>(tabulate(
+          *make_distribution(NdfSpec{"beckmann", 0.2, 0.4, 0.3, 0, 0, 0, {}}), "beckmann", 1025));
       return t;
     }
   }

@@ -34,14 +34,14 @@ std::vector<Vec3> directions(unsigned seed) {
 std::shared_ptr<const MicrofacetDistribution> ndf(int which) {
   switch (which) {
     case 0:
-      return make_distribution(NdfSpec{"beckmann", 0.3, 0.6, 0.3});
+      return make_distribution(NdfSpec{"beckmann", 0.3, 0.6, 0.3, 0, 0, 0, {}});
     case 1:
-      return make_distribution(NdfSpec{"ggx", 0.3, 0.6, 0.3});
+      return make_distribution(NdfSpec{"ggx", 0.3, 0.6, 0.3, 0, 0, 0, {}});
     case 2:
-      return make_distribution(NdfSpec{"ellipsoid", 0.3, 0.6, 0, 0, 0, 0.3});
+      return make_distribution(NdfSpec{"ellipsoid", 0.3, 0.6, 0, 0, 0, 0.3, {}});
     default: {
-      static const auto t = std::make_shared<TabulatedDistribution>(
-          tabulate(*make_distribution(NdfSpec{"beckmann", 0.3, 0.6, 0.3}), "beckmann", 513));
+      static const auto t = std::make_shared<TabulatedDistribution>(tabulate(
+          *make_distribution(NdfSpec{"beckmann", 0.3, 0.6, 0.3, 0, 0, 0, {}}), "beckmann", 513));
       return t;
     }
   }
@@ -144,8 +144,8 @@ void BM_Tabulate(benchmark::State& state) {
   const int which = static_cast<int>(state.range(0));
   const bool iso = state.range(1) == 1;
   std::shared_ptr<const MicrofacetDistribution> d =
-      iso ? (which == 0 ? make_distribution(NdfSpec{"beckmann", 0.45, 0.45})
-                        : make_distribution(NdfSpec{"ggx", 0.45, 0.45}))
+      iso ? (which == 0 ? make_distribution(NdfSpec{"beckmann", 0.45, 0.45, 0, 0, 0, 0, {}})
+                        : make_distribution(NdfSpec{"ggx", 0.45, 0.45, 0, 0, 0, 0, {}}))
           : ndf(which);
   const MicrofacetRandomWalk walk(d);
   MsTableOptions o;

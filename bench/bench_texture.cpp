@@ -42,7 +42,7 @@ void texel_fit(benchmark::State& state, FitSampling smp) {
   }
   state.counters["fits_per_s"] =
       benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-  const double ay = r.params.alpha_y, tx = r.params.theta_x;
+  const double ay = r.params.at("alpha_y"), tx = r.params.at("theta_x");
   state.counters["lm_iterations"] = static_cast<double>(r.iterations);
   state.counters["alpha_y"] = ay;
   state.counters["theta_x"] = tx;

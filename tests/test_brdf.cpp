@@ -13,12 +13,12 @@ using mtest::direction;
 namespace {
 
 std::vector<NdfSpec> specs() {
-  return {NdfSpec{"beckmann", 0.2, 0.2},
-          NdfSpec{"ggx", 0.3, 0.1, 0.4},
-          NdfSpec{"ellipsoid", 0.25, 0.4, 0, 0.2, -0.1, 0.5},
-          NdfSpec{"ggx", 0.05, 0.05},
-          NdfSpec{"beckmann", 1.0, 0.6, 1.0},
-          NdfSpec{"ellipsoid", 0.8, 0.5, 0, 0.4, 0.3, 1.0}};
+  return {NdfSpec{"beckmann", 0.2, 0.2, 0, 0, 0, 0, {}},
+          NdfSpec{"ggx", 0.3, 0.1, 0.4, 0, 0, 0, {}},
+          NdfSpec{"ellipsoid", 0.25, 0.4, 0, 0.2, -0.1, 0.5, {}},
+          NdfSpec{"ggx", 0.05, 0.05, 0, 0, 0, 0, {}},
+          NdfSpec{"beckmann", 1.0, 0.6, 1.0, 0, 0, 0, {}},
+          NdfSpec{"ellipsoid", 0.8, 0.5, 0, 0.4, 0.3, 1.0, {}}};
 }
 
 MicrofacetBrdf make(const NdfSpec& s, std::shared_ptr<const Fresnel> f, bool separable = false) {
@@ -71,7 +71,7 @@ TEST(brdf, AlbedoAtMostOne) {
     }
   std::printf("largest directional albedo (F = 1) over the theta_i grid: %.9f\n", worst);
   // Nearly smooth: almost all light is reflected at normal incidence.
-  auto smooth = make(NdfSpec{"ggx", 0.02, 0.02}, mirror);
+  auto smooth = make(NdfSpec{"ggx", 0.02, 0.02, 0, 0, 0, 0, {}}, mirror);
   EXPECT_GT(directional_albedo_sampled(smooth, Vec3(0, 0, 1), 550e-9), 0.999);
 }
 
@@ -124,7 +124,8 @@ TEST(brdf, SampledDirectionsFollowPdf) {
 }
 
 TEST(brdf, SpecularPeakInSlices) {
-  auto b = make(NdfSpec{"ggx", 0.1, 0.1}, std::make_shared<ConductorFresnel>(metal("Cu")));
+  auto b = make(NdfSpec{"ggx", 0.1, 0.1, 0, 0, 0, 0, {}},
+                std::make_shared<ConductorFresnel>(metal("Cu")));
   auto in = tabulate_slice(b, 30 * mtest::kPi / 180, 555e-9, SlicePlane::In, 721);
   auto it = std::max_element(in.value.begin(), in.value.end());
   EXPECT_NEAR(in.angle_deg[static_cast<std::size_t>(it - in.value.begin())], 30.0, 0.3);

@@ -17,7 +17,7 @@ struct Case {
 };
 
 std::shared_ptr<MicrofacetDistribution> make(const Case& c) {
-  return make_distribution(NdfSpec{c.model, c.ax, c.ay, c.phi});
+  return make_distribution(NdfSpec{c.model, c.ax, c.ay, c.phi, 0, 0, 0, {}});
 }
 
 std::vector<Case> normalisation_cases() {
@@ -195,10 +195,10 @@ TEST(microfacet, RotationTurnsTheLobe) {
 }
 
 TEST(microfacet, BadParameters) {
-  EXPECT_THROW(make_distribution(NdfSpec{"phong", 0.1, 0.1}), InputError);
-  EXPECT_THROW(make_distribution(NdfSpec{"ggx", 0.0, 0.1}), InputError);
-  EXPECT_THROW(make_distribution(NdfSpec{"ggx", 0.1, 0.1, 0, 0.1}), InputError);
-  EXPECT_THROW(make_distribution(NdfSpec{"ellipsoid", 0.1, 0.1, 0.3}), InputError);
+  EXPECT_THROW(make_distribution(NdfSpec{"phong", 0.1, 0.1, 0, 0, 0, 0, {}}), InputError);
+  EXPECT_THROW(make_distribution(NdfSpec{"ggx", 0.0, 0.1, 0, 0, 0, 0, {}}), InputError);
+  EXPECT_THROW(make_distribution(NdfSpec{"ggx", 0.1, 0.1, 0, 0.1, 0, 0, {}}), InputError);
+  EXPECT_THROW(make_distribution(NdfSpec{"ellipsoid", 0.1, 0.1, 0.3, 0, 0, 0, {}}), InputError);
 }
 
 TEST(microfacet, TabulateOnTheDisk) {

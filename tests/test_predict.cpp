@@ -144,14 +144,16 @@ TEST(Predict, SummaryHoldsWhatTheLibraryComputes) {
             zoom.values());
   EXPECT_GE(4 * std::min(zoom.rms_slope(0), zoom.rms_slope(M_PI / 2)) / zoom.spacing(), 10.0);
   FitOptions fo;
-  fo.model = FitModel::Ellipsoid;
+  fo.model = "ellipsoid";
   const FitResult fr = fit_ndf(zoom, fo);
   const auto& jfit = s["fits"][0];
   EXPECT_EQ(jfit["source"], "filtered_zoom");
   EXPECT_EQ(jfit["model"], "ellipsoid");
-  EXPECT_NEAR(jfit["params"]["alpha_x"].get<double>(), fr.params.alpha_x, 1e-9 * fr.params.alpha_x);
-  EXPECT_NEAR(jfit["params"]["alpha_y"].get<double>(), fr.params.alpha_y, 1e-9 * fr.params.alpha_y);
-  EXPECT_LT(fr.params.alpha_x, fr.params.alpha_y);
+  EXPECT_NEAR(jfit["params"]["alpha_x"].get<double>(), fr.params.at("alpha_x"),
+              1e-9 * fr.params.at("alpha_x"));
+  EXPECT_NEAR(jfit["params"]["alpha_y"].get<double>(), fr.params.at("alpha_y"),
+              1e-9 * fr.params.at("alpha_y"));
+  EXPECT_LT(fr.params.at("alpha_x"), fr.params.at("alpha_y"));
   EXPECT_FALSE(jfit.contains("seconds"));  // wall time only under "timing"
 
   // Directional albedo of the measured BRDF: the library's estimator on the same BRDF, and

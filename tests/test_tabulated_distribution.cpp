@@ -41,30 +41,31 @@ Pair make_pair(const NdfSpec& s, std::size_t n = 513, std::size_t bins = 128,
 }
 
 const Pair& beckmann03() {
-  static const Pair p = make_pair(NdfSpec{"beckmann", 0.3, 0.3});
+  static const Pair p = make_pair(NdfSpec{"beckmann", 0.3, 0.3, 0, 0, 0, 0, {}});
   return p;
 }
 const Pair& ggx03() {
-  static const Pair p = make_pair(NdfSpec{"ggx", 0.3, 0.3});
+  static const Pair p = make_pair(NdfSpec{"ggx", 0.3, 0.3, 0, 0, 0, 0, {}});
   return p;
 }
 const Pair& beckmann_aniso() {
-  static const Pair p = make_pair(NdfSpec{"beckmann", 0.4, 0.2, 0.5});
+  static const Pair p = make_pair(NdfSpec{"beckmann", 0.4, 0.2, 0.5, 0, 0, 0, {}});
   return p;
 }
 // The narrow brushed-like lobe of the sampling tests (alpha 0.02 x 0.3, axis at 0.5 rad), with
 // the visible-normal sampler and with the plain D(m)(m.n) sampler on the same table.
 const Pair& narrow() {
-  static const Pair p = make_pair(NdfSpec{"beckmann", 0.02, 0.3, 0.5});
+  static const Pair p = make_pair(NdfSpec{"beckmann", 0.02, 0.3, 0.5, 0, 0, 0, {}});
   return p;
 }
 const Pair& narrow_ndf() {
   static const Pair p =
-      make_pair(NdfSpec{"beckmann", 0.02, 0.3, 0.5}, 513, 128, TabulatedSampling::Ndf);
+      make_pair(NdfSpec{"beckmann", 0.02, 0.3, 0.5, 0, 0, 0, {}}, 513, 128, TabulatedSampling::Ndf);
   return p;
 }
 const Pair& beckmann03_ndf() {
-  static const Pair p = make_pair(NdfSpec{"beckmann", 0.3, 0.3}, 513, 128, TabulatedSampling::Ndf);
+  static const Pair p =
+      make_pair(NdfSpec{"beckmann", 0.3, 0.3, 0, 0, 0, 0, {}}, 513, 128, TabulatedSampling::Ndf);
   return p;
 }
 
@@ -114,7 +115,8 @@ TEST(tabulated_distribution, G1MatchesAnalyticSmith) {
   // rim are 0, bilinear cells cut by the circle) under-represents where the 1/m_z of sigma+
   // weights it most: up to 3.6e-3 at alpha 0.3 (2.6e-3 at 1025^2; it scales like sqrt(Delta)).
   double worst_direct = 0;
-  const Pair beckmann_default_bins = make_pair(NdfSpec{"beckmann", 0.3, 0.3}, 513, 256);
+  const Pair beckmann_default_bins =
+      make_pair(NdfSpec{"beckmann", 0.3, 0.3, 0, 0, 0, 0, {}}, 513, 256);
   for (const Pair* p : {&beckmann03(), &ggx03(), &beckmann_aniso(), &beckmann_default_bins}) {
     const bool ggx = p == &ggx03();
     const double tol = ggx ? 4e-3 : p == &beckmann_default_bins ? 5e-5 : 2e-4;
@@ -344,7 +346,7 @@ TEST(tabulated_distribution, VisibleSamplingFollowsPdfChiSquare) {
 // over the disk and a histogram of samples follows it (chi-square over 4 x 4 cell blocks),
 // at normal, oblique and grazing views, also between view nodes.
 TEST(tabulated_distribution, VisibleSamplingPartialSupportFollowsPdf) {
-  auto a = make_distribution(NdfSpec{"beckmann", 0.35, 0.25, 0.3});
+  auto a = make_distribution(NdfSpec{"beckmann", 0.35, 0.25, 0.3, 0, 0, 0, {}});
   TabulatedNdf tab = tabulate(*a, "beckmann", 129);
   for (std::size_t iy = 0; iy < tab.resolution(); ++iy)
     for (std::size_t ix = 0; ix < tab.resolution(); ++ix)
@@ -458,7 +460,7 @@ TEST(tabulated_distribution, SamplingOptionsParseAndValidate) {
   EXPECT_EQ(parse_tabulated_sampling("ndf"), TabulatedSampling::Ndf);
   EXPECT_EQ(to_string(TabulatedSampling::Ndf), "ndf");
   EXPECT_THROW(parse_tabulated_sampling("vndf"), InputError);
-  auto a = make_distribution(NdfSpec{"beckmann", 0.3, 0.3});
+  auto a = make_distribution(NdfSpec{"beckmann", 0.3, 0.3, 0, 0, 0, 0, {}});
   TabulatedDistributionOptions o;
   o.vn_defensive = 0;
   EXPECT_THROW(TabulatedDistribution(tabulate(*a, "beckmann", 65), o), InputError);
@@ -475,7 +477,7 @@ TEST(tabulated_distribution, SamplingOptionsParseAndValidate) {
 // table's own bilinear evaluation gives: on a whole-disk table with large regions of exact zeros
 // (a narrow lobe: the skipped cells), on a zoomed window, and with the plain sampler.
 TEST(tabulated_distribution, RendererLookupsEqualTheDefinitions) {
-  const auto narrow = make_distribution(NdfSpec{"beckmann", 0.06, 0.2, 0.4});
+  const auto narrow = make_distribution(NdfSpec{"beckmann", 0.06, 0.2, 0.4, 0, 0, 0, {}});
   TabulatedNdf zoomed(129, zoom_window(0.1, -0.05, 0.4));
   for (std::size_t iy = 0; iy < 129; ++iy)
     for (std::size_t ix = 0; ix < 129; ++ix) {
@@ -568,8 +570,8 @@ TEST(tabulated_distribution, CountedSearchEqualsTheBinarySearch) {
 // BRDF sample is exactly the distribution's sampling_pdf(wv, h) / (4 wv.h) (computed from the
 // look-up shared with D(h) and the view's mix), and the sample is sample_visible's.
 TEST(tabulated_distribution, RendererMaterialDensitiesEqualTheDistributions) {
-  auto d = std::make_shared<TabulatedDistribution>(
-      tabulate(*make_distribution(NdfSpec{"beckmann", 0.25, 0.1, 0.3}), "beckmann", 257));
+  auto d = std::make_shared<TabulatedDistribution>(tabulate(
+      *make_distribution(NdfSpec{"beckmann", 0.25, 0.1, 0.3, 0, 0, 0, {}}), "beckmann", 257));
   auto b = std::make_shared<MicrofacetBrdf>(d, std::make_shared<ConductorFresnel>(metal("Cu")));
   const pt::SpectralMaterial mat(std::make_shared<UniformSvbrdf>(b));
   ASSERT_TRUE(mat.fast());

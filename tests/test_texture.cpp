@@ -480,7 +480,7 @@ TEST(texture, BrushedTexelsAreSkewedLikeTheirMeanNormal) {
   std::printf(
       "texel theta_x rms %.4f rad (peak vs mean normal rms %.4f), whole-area theta_x %.4f, "
       "mean texel alpha_y %.3f\n",
-      tilt_rms, miss_rms, whole.params.theta_x, alpha_y);
+      tilt_rms, miss_rms, whole.params.at("theta_x"), alpha_y);
   // The peak leans the way the texel leans (correlation of peak and mean-normal tilts), by more
   // than the whole area's peak does.
   double sa = 0, sb = 0, sab = 0, saa = 0, sbb = 0;
@@ -491,7 +491,7 @@ TEST(texture, BrushedTexelsAreSkewedLikeTheirMeanNormal) {
   const double corr = (sab - sa * sb / nn) / std::sqrt((saa - sa * sa / nn) * (sbb - sb * sb / nn));
   std::printf("correlation of peak and mean-normal tilt across the brushing: %.3f\n", corr);
   EXPECT_GT(tilt_rms, 0.01);
-  EXPECT_GT(tilt_rms, 3 * std::fabs(whole.params.theta_x));
+  EXPECT_GT(tilt_rms, 3 * std::fabs(whole.params.at("theta_x")));
   EXPECT_GT(corr, 0.8);
 }
 

@@ -7,6 +7,8 @@
 namespace microbrdf::cli {
 
 void register_all(CLI::App& app);
+/// The whole command line (what main does): parses, runs the subcommand, returns the exit code.
+int run_main(int argc, char** argv);
 void register_info(CLI::App& app);
 void register_convert(CLI::App& app);
 void register_generate(CLI::App& app);

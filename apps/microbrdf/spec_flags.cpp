@@ -1,11 +1,13 @@
 #include "spec_flags.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
 #include "microbrdf/microfacet.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_model.hpp"
 
 namespace microbrdf::cli {
 
@@ -44,7 +46,8 @@ void add_material_flags(CLI::App* c, SpecFlags& f, const std::string& default_no
 }
 
 void add_model_flags(CLI::App* c, SpecFlags& f) {
-  c->add_option("--model", f.text["model"], "Analytic NDF: beckmann, ggx (default) or ellipsoid");
+  c->add_option("--model", f.text["model"],
+                "Analytic NDF: " + ndf_model_names(", ") + " (default: ggx)");
   // alpha 10 is a slope spread of 84 deg: rougher has no meaning for a microfacet model.
   c->add_option("--alpha", f.text["alpha"], "Roughness alpha (both axes)")
       ->check(positive_number(10));
@@ -65,6 +68,21 @@ void add_model_flags(CLI::App* c, SpecFlags& f) {
   c->add_option("--theta-z", f.text["theta_z"],
                 "ellipsoid: rotation Rz, turns the axes by -theta_z (angle; bare = deg)")
       ->check(direction());
+  // The other parameters of the registered models (e.g. --gamma), named by the registry.
+  for (const auto& p : ndf_model_params()) {
+    if (f.text.count(p.name)) continue;
+    std::string flag = "--";
+    flag += p.name;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    std::string models;
+    for (const NdfModel* m : ndf_models())
+      for (const auto& q : m->params())
+        if (q.name == p.name) {
+          if (!models.empty()) models += '/';
+          models += m->name();
+        }
+    c->add_option(flag, f.text[p.name], models + ": " + p.help);
+  }
 }
 
 void add_export_source_flags(CLI::App* c, SpecFlags& f) {

@@ -1,14 +1,14 @@
 #pragma once
-// Parametric fits of tabulated NDFs (Dong 2015 section 8, Fig. 12): the ellipsoid NDF
-// (alpha_x, alpha_y, theta_x, theta_y, theta_z), anisotropic Beckmann and anisotropic GGX
-// (alpha_x, alpha_y, theta_z), fitted to any TabulatedNdf by Levenberg-Marquardt (closed-form
-// Jacobians; Ceres with automatic derivatives and Nelder-Mead as references).
-// Conventions, objective and error measures are in docs/fitting.md.
+// Parametric fits of tabulated NDFs (Dong 2015 section 8, Fig. 12): any registered model
+// (ndf_model.hpp: the ellipsoid NDF (alpha_x, alpha_y, theta_x, theta_y, theta_z), anisotropic
+// Beckmann and GGX (alpha_x, alpha_y, phi), ..., and two-lobe mixtures "mixture:A+B"), fitted to
+// any TabulatedNdf by Levenberg-Marquardt (the models' Jacobians; Ceres and Nelder-Mead as
+// references). Conventions, objective and error measures are in docs/fitting.md.
 //
-//  - Parameters use the ellipsoid convention of microfacet.hpp for every model: theta_z turns the
-//    anisotropy axes about n by -theta_z, so Beckmann/GGX have phi = -theta_z and
-//    theta_x = theta_y = 0. Reported theta_z lies in (-pi/2, pi/2]; the ellipsoid's symmetry
-//    (theta_x, theta_y, theta_z) == (-theta_x, -theta_y, theta_z + pi) is used to get there.
+//  - Parameters are the model's own (NdfParams, by name). Beckmann/GGX report phi in
+//    [-pi/2, pi/2) and, in JSON, the ellipsoid convention's theta_z = -phi as well; the
+//    ellipsoid's theta_z lies in (-pi/2, pi/2] (its symmetry (theta_x, theta_y, theta_z) ==
+//    (-theta_x, -theta_y, theta_z + pi) is used to get there).
 //  - Forward operator: the model is compared with the table the way the table represents a
 //    function. Node: D at the nodes times a fitted amplitude (what `tabulate` writes: point
 //    samples renormalised to sum D Delta^2 = 1). Tent: D averaged over each node's bilinear
@@ -34,11 +34,11 @@
 #include <string>
 
 #include "microbrdf/microfacet.hpp"
+#include "microbrdf/ndf_model.hpp"
 #include "microbrdf/tabulated_ndf.hpp"
 
 namespace microbrdf {
 
-enum class FitModel { Ellipsoid, Beckmann, Ggx };
 enum class FitObjective { Sqrt, Linear, Log };
 enum class FitSampling { Auto, Node, Tent };
 /// LevenbergMarquardt: the library's solver (closed-form Jacobians, normal equations summed on the
@@ -46,9 +46,9 @@ enum class FitSampling { Auto, Node, Tent };
 /// objective and bounds (reference); NelderMead: derivative-free reference.
 enum class FitSolver { LevenbergMarquardt, NelderMead, CeresAutodiff };
 
-/// "ellipsoid" | "beckmann" | "ggx" (case-insensitive). Throws InputError otherwise.
-FitModel parse_fit_model(const std::string& name);
-std::string fit_model_name(FitModel m);
+/// The canonical name of a registered model or mixture ("GGX", "gtr2" -> "ggx";
+/// "mixture:ggx+beckmann"), case-insensitive. Throws InputError listing the models otherwise.
+std::string parse_fit_model(const std::string& name);
 /// "sqrt" | "linear" | "log".
 FitObjective parse_fit_objective(const std::string& name);
 std::string fit_objective_name(FitObjective o);
@@ -57,7 +57,7 @@ FitSampling parse_fit_sampling(const std::string& name);
 std::string fit_sampling_name(FitSampling s);
 
 struct FitOptions {
-  FitModel model = FitModel::Ellipsoid;
+  std::string model = "ellipsoid";  ///< a registered model, alias or "mixture:A+B"
   FitObjective objective = FitObjective::Sqrt;
   FitSampling sampling = FitSampling::Auto;
   FitSolver solver = FitSolver::LevenbergMarquardt;
@@ -73,17 +73,18 @@ struct FitOptions {
   double floor = 1e-9;
   int max_iterations = 200;
   int threads = 0;  ///< 0 = OpenMP's default
-  /// Starting point; default: from slope moments (see initial_guess()).
-  std::optional<EllipsoidParams> initial;
+  /// Starting point (names of the model; missing ones take their defaults); default: from
+  /// slope moments (see initial_guess()).
+  std::optional<NdfParams> initial;
 };
 
 struct FitResult {
-  FitModel model = FitModel::Ellipsoid;
-  /// Fitted parameters (ellipsoid convention; theta_x = theta_y = 0 for Beckmann/GGX).
-  EllipsoidParams params;
-  double phi = 0;           ///< Beckmann/GGX: azimuth of the alpha_x axis = -theta_z, rad
-  double amplitude = 1;     ///< Node sampling: fitted scale of the point samples (1/sum D Delta^2)
-  EllipsoidParams initial;  ///< where the solver started
+  std::string model = "ellipsoid";  ///< canonical name
+  /// Fitted parameters by name (the model's params(), in its units: alphas, angles in rad).
+  NdfParams params;
+  double phi = 0;        ///< the parameter "phi" when the model has one (azimuth, rad), else 0
+  double amplitude = 1;  ///< Node sampling: fitted scale of the point samples (1/sum D Delta^2)
+  NdfParams initial;     ///< where the solver started
   FitObjective objective = FitObjective::Sqrt;
   FitSampling sampling = FitSampling::Node;  ///< the one used (never Auto)
   /// How the table says it was sampled ("point" | "cell") and whether it said so (false: inferred
@@ -105,7 +106,8 @@ struct FitResult {
   bool solver_converged = false;  ///< the solver's own convergence test, bounds aside
   /// Where the fit ended on a bound, e.g. "the lower alpha bound 0.000488 (alpha_x, alpha_y)";
   /// "" when inside the box. The lower alpha bound is max(1e-5, Delta / 20) (Delta the node
-  /// spacing; in tent mode at least 2 Delta / subsamples), the upper 4; tilts +-1.2 rad.
+  /// spacing; in tent mode at least 2 Delta / subsamples), the upper 4; tilts +-1.2 rad;
+  /// exponents and weights: their model's range.
   std::string at_bound;
   std::string termination;            ///< solver's message
   std::size_t residuals = 0;          ///< nodes in the region of interest
@@ -116,9 +118,10 @@ struct FitResult {
 /// Starting point from the table's slope moments: alpha from the eigenvalues of the slope
 /// covariance (alpha = sqrt(2 lambda), the Beckmann relation), theta_z from its eigenvectors
 /// (the alpha_x axis is the eigenvector nearer the +x axis), theta_x/theta_y (ellipsoid) so that
-/// the peak R^T z lies along the mean normal. The solver then tries a few scalings of both alphas
-/// (heavy-tailed GGX tables have inflated second moments) and starts from the best.
-EllipsoidParams initial_guess(const TabulatedNdf& ndf, FitModel model);
+/// the peak R^T z lies along the mean normal; other parameters: the model's initial(). The solver
+/// then tries a few scalings of all alphas (heavy-tailed GGX tables have inflated second moments)
+/// and starts from the best.
+NdfParams initial_guess(const TabulatedNdf& ndf, const std::string& model);
 
 /// Fits `model` to the table. Throws InputError for an empty or unnormalisable table.
 FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& options);
@@ -137,7 +140,7 @@ TabulatedNdf tabulate_tent(const MicrofacetDistribution& d, const std::string& m
 
 /// Objective value (1/2 sum r^2) of `params` for the given options (sampling resolved as in
 /// fit_ndf; amplitude as given). For references and tests.
-double fit_objective(const TabulatedNdf& ndf, const FitOptions& options, const EllipsoidParams& p,
+double fit_objective(const TabulatedNdf& ndf, const FitOptions& options, const NdfParams& p,
                      double amplitude = 1);
 
 /// Writes DIR/fit.json, DIR/compare.png (measured | fit | residual, zoomed on the region of
@@ -146,8 +149,10 @@ double fit_objective(const TabulatedNdf& ndf, const FitOptions& options, const E
 /// DIR/measured.png, DIR/fit.png (write_ndf_preview with zoom). Throws FileError.
 void write_fit_report(const TabulatedNdf& ndf, const FitResult& r, const std::string& dir);
 
-/// The fit as JSON (ARCHITECTURE keys "model", "params" {alpha_x, alpha_y, theta_x, theta_y,
-/// theta_z}, "rms_error", "relative_l2_error", plus the rest of FitResult).
+/// The fit as JSON: "model", "params" (the model's params_json: its named values; Beckmann/GGX
+/// also theta_x, theta_y, theta_z in the ellipsoid convention; mixtures {weight, lobe1, lobe2}),
+/// "params_deg" (the angles in degrees), "rms_error", "relative_l2_error", plus the rest of
+/// FitResult.
 nlohmann::json fit_result_json(const FitResult& r);
 
 }  // namespace microbrdf

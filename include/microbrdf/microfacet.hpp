@@ -17,8 +17,10 @@
 // docs/models.md and docs/theory.md §1 for its conventions.
 
 #include <Eigen/Core>
+#include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "microbrdf/tabulated_ndf.hpp"
 #include "microbrdf/vec3.hpp"
@@ -38,6 +40,13 @@ class MicrofacetDistribution {
   virtual Vec3 sample_visible(const Vec3& v, double u1, double u2) const = 0;
   /// Density per steradian of sample_visible(v, ...): pdf_visible(v, m) unless overridden.
   virtual double sampling_pdf(const Vec3& v, const Vec3& m) const { return pdf_visible(v, m); }
+  /// True when sample_visible draws the visible normals D_v exactly (sampling_pdf = pdf_visible,
+  /// which renderers then evaluate in closed form); false for samplers of another density.
+  virtual bool samples_visible_exactly() const { return true; }
+  /// The registered model (ndf_model.hpp) and the values that make this distribution, so that
+  /// exporters and reports can ask the model; "" and {} for distributions outside the registry.
+  virtual std::string model_name() const { return ""; }
+  virtual std::vector<double> model_values() const { return {}; }
   /// Short description for reports ("ggx alpha=(0.1, 0.2) phi=0").
   virtual std::string describe() const = 0;
 
@@ -79,6 +88,8 @@ class BeckmannDistribution final : public MicrofacetDistribution {
   double lambda(const Vec3& v) const override;
   Vec3 sample_visible(const Vec3& v, double u1, double u2) const override;
   std::string describe() const override;
+  std::string model_name() const override { return "beckmann"; }
+  std::vector<double> model_values() const override { return {p_.alpha_x, p_.alpha_y, p_.phi}; }
   const AnisotropicAlpha& params() const { return p_; }
 
  private:
@@ -98,6 +109,8 @@ class GgxDistribution final : public MicrofacetDistribution {
   double lambda(const Vec3& v) const override;
   Vec3 sample_visible(const Vec3& v, double u1, double u2) const override;
   std::string describe() const override;
+  std::string model_name() const override { return "ggx"; }
+  std::vector<double> model_values() const override { return {p_.alpha_x, p_.alpha_y, p_.phi}; }
   const AnisotropicAlpha& params() const { return p_; }
 
  private:
@@ -124,6 +137,10 @@ class EllipsoidDistribution final : public MicrofacetDistribution {
   double lambda(const Vec3& v) const override;
   Vec3 sample_visible(const Vec3& v, double u1, double u2) const override;
   std::string describe() const override;
+  std::string model_name() const override { return "ellipsoid"; }
+  std::vector<double> model_values() const override {
+    return {p_.alpha_x, p_.alpha_y, p_.theta_x, p_.theta_y, p_.theta_z};
+  }
   const EllipsoidParams& params() const { return p_; }
   const Eigen::Matrix3d& A() const { return a_; }
   const Eigen::Matrix3d& R() const { return r_; }
@@ -143,13 +160,17 @@ class EllipsoidDistribution final : public MicrofacetDistribution {
 
 /// What the CLI and file formats use to name a distribution.
 struct NdfSpec {
-  std::string model = "ggx";  ///< "beckmann", "ggx" or "ellipsoid"
+  std::string model = "ggx";  ///< a registered model (ndf_model.hpp): "beckmann", "ggx", ...
   double alpha_x = 0.1, alpha_y = 0.1;
   double phi = 0;                                ///< beckmann/ggx: azimuth of the alpha_x axis, rad
   double theta_x = 0, theta_y = 0, theta_z = 0;  ///< ellipsoid rotation angles, rad
+  /// The other parameters of the model that were given (e.g. "gamma"), by name; the rest take
+  /// the model's defaults.
+  std::map<std::string, double> extra;
 };
-/// Builds the distribution; throws InputError for an unknown model, alphas outside (0, 10],
-/// rotation angles given to a model that has none, or phi given to the ellipsoid (use theta_z).
+/// Builds the distribution through the model registry (ndf_model.hpp); throws InputError for an
+/// unknown model, values outside the model's range, rotation angles given to a model that has
+/// none, phi given to the ellipsoid (use theta_z), or a parameter of another model.
 std::shared_ptr<MicrofacetDistribution> make_distribution(const NdfSpec& spec);
 
 /// D(m) at every node of an N x N TabulatedNdf (orthographic disk, node-centred; 0 on and outside

@@ -29,6 +29,9 @@ class MixtureDistribution final : public MicrofacetDistribution {
   double lambda(const Vec3& v) const override;
   Vec3 sample_visible(const Vec3& v, double u1, double u2) const override;
   double sampling_pdf(const Vec3& v, const Vec3& m) const override;
+  bool samples_visible_exactly() const override {
+    return first_->samples_visible_exactly() && second_->samples_visible_exactly();
+  }
   /// "mixture w=0.3 of [ggx alpha=...] + [beckmann alpha=...]".
   std::string describe() const override;
   const MicrofacetDistribution& first() const { return *first_; }

@@ -26,12 +26,13 @@ struct RoughConductor {
   std::vector<std::string> notes;  ///< approximations made, one sentence each
 };
 
-/// The GGX rough conductor nearest an analytic distribution, with the material's optical
-/// constants: GGX as it is; Beckmann and the ellipsoid (whose skew, the tilted peak, neither
-/// renderer has) through a GGX fit (fit.hpp, sqrt objective) of the distribution tabulated on
-/// 257^2 nodes. Every approximation is a note: "nearest GGX of ...", and for anisotropy axes
-/// turned by phi from the surface's u axis, that the renderers align alpha_u with u. Throws
-/// InputError for a distribution that is not analytic.
+/// The GGX rough conductor nearest a distribution, with the material's optical constants: what
+/// its registered model (ndf_model.hpp, export_lobe) says GGX holds exactly as it is; any other
+/// (Beckmann, the ellipsoid, whose skew neither renderer has, heavy-tailed models, two-lobe
+/// mixtures) through a GGX fit (fit.hpp, sqrt objective) of the distribution tabulated on 257^2
+/// nodes. Every approximation is a note: "nearest GGX of ..." with what the model says has no
+/// equivalent, and for anisotropy axes turned by phi from the surface's u axis, that the
+/// renderers align alpha_u with u.
 RoughConductor nearest_rough_conductor(const MicrofacetDistribution& d,
                                        const OpticalConstants& constants);
 

@@ -91,6 +91,12 @@ class StudentTDistribution final : public MicrofacetDistribution {
   double sampling_pdf(const Vec3& v, const Vec3& m) const override;
   /// "student-t alpha=(ax, ay) phi=.. deg gamma=..".
   std::string describe() const override;
+  /// Visible normals are drawn exactly where they exist (gamma > 1.5).
+  bool samples_visible_exactly() const override { return p_.gamma > 1.5; }
+  std::string model_name() const override { return "student-t"; }
+  std::vector<double> model_values() const override {
+    return {p_.alpha_x, p_.alpha_y, p_.phi, p_.gamma};
+  }
   const StudentTParams& params() const { return p_; }
 
  private:

@@ -112,6 +112,7 @@ class TabulatedDistribution final : public MicrofacetDistribution {
   Vec3 sample_visible(const Vec3& v, double u1, double u2) const override;
   /// Exactly the density per steradian of sample_visible(v, ...).
   double sampling_pdf(const Vec3& v, const Vec3& m) const override;
+  bool samples_visible_exactly() const override { return false; }
   std::string describe() const override;
 
   /// The hot paths of a renderer, split so that one viewer direction and one table look-up

@@ -51,6 +51,7 @@ from ._microbrdf import (  # noqa: F401
     render,
     simulate,
     statistics,
+    ndf_models,
     tabulate,
     tis,
 )
@@ -84,6 +85,7 @@ __all__ = [
     "render",
     "simulate",
     "statistics",
+    "ndf_models",
     "tabulate",
     "tis",
 ]

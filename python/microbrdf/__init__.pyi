@@ -137,7 +137,9 @@ def tabulate(
     theta_z: float = 0.0,
     resolution: int = 1025,
     window: Optional[tuple[float, float, float]] = None,
+    **params: float,
 ) -> TabulatedNdf: ...
+def ndf_models() -> list[dict[str, Any]]: ...
 def fit(
     ndf: Union[TabulatedNdf, PathLike],
     model: str = "ellipsoid",

@@ -38,10 +38,11 @@ void bind_fit(py::module_& m) {
       R"(Fits a parametric NDF to a table, as `microbrdf fit --json`.
 
 ndf: a TabulatedNdf or the path of a table (.npy/.exr).
-model: 'ellipsoid' (alpha_x, alpha_y, theta_x, theta_y, theta_z; Dong 2015 eqs. 10-12),
-    'beckmann' or 'ggx' (alpha_x, alpha_y, theta_z; phi = -theta_z).
+model: any registered model (ndf_models()): 'ellipsoid' (alpha_x, alpha_y, theta_x, theta_y,
+    theta_z; Dong 2015 eqs. 10-12), 'beckmann' or 'ggx' (alpha_x, alpha_y, phi; also reported as
+    theta_z = -phi), ...; or 'mixture:A+B' (two lobes, params {weight, lobe1, lobe2}).
 objective: 'sqrt' (Hellinger; default) | 'linear' | 'log'. sampling: 'auto' | 'node' | 'tent'.
-Returns a dict: model, params {alpha_x, alpha_y, theta_x, theta_y, theta_z (radians)},
+Returns a dict: model, params (the model's, angles in radians),
 rms_error (1/sr), relative_l2_error, hellinger, iterations, converged (False when a parameter
 ended on a bound), at_bound (which bound, or None), ... Runs without the GIL.)");
 }

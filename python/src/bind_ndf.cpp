@@ -14,6 +14,7 @@
 #include "microbrdf/ndf_convolve.hpp"
 #include "microbrdf/ndf_estimate.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_model.hpp"
 #include "microbrdf/ndf_preview.hpp"
 
 namespace microbrdf::python {
@@ -437,9 +438,30 @@ kirchhoff_raw_integral, kirchhoff_aliased_fraction, at_lower_end, at_upper_end),
 chosen sigma) and kirchhoff at the sweep's resolution.)");
 
   m.def(
+      "ndf_models",
+      [] {
+        nlohmann::json out = nlohmann::json::array();
+        for (const NdfModel* mo : ndf_models()) {
+          nlohmann::json ps = nlohmann::json::array();
+          for (const auto& p : mo->params())
+            ps.push_back(
+                {{"name", p.name}, {"unit", p.unit}, {"help", p.help}, {"default", p.def}});
+          out.push_back({{"name", mo->name()},
+                         {"aliases", mo->aliases()},
+                         {"summary", mo->summary()},
+                         {"params", ps}});
+        }
+        return json_to_py(out);
+      },
+      "The registered NDF models: a list of dicts {name, aliases, summary, params: [{name, unit, "
+      "help, default}]}; tabulate, brdf and fit take these names and parameters ('mixture:A+B' "
+      "in fit).");
+
+  m.def(
       "tabulate",
       [](const std::string& model, double alpha_x, double alpha_y, double phi, double theta_x,
-         double theta_y, double theta_z, std::size_t resolution, const py::object& window) {
+         double theta_y, double theta_z, std::size_t resolution, const py::object& window,
+         const py::kwargs& extra) {
         check_resolution(resolution, 1);
         NdfWindow w;
         if (!window.is_none()) {
@@ -458,14 +480,17 @@ chosen sigma) and kirchhoff at the sweep's resolution.)");
         s.theta_x = theta_x;
         s.theta_y = theta_y;
         s.theta_z = theta_z;
+        // The other parameters of the registered models (e.g. gamma=), by name.
+        for (const auto& [k, v] : extra) s.extra[k.cast<std::string>()] = v.cast<double>();
         auto d = make_distribution(s);
         return std::make_shared<TabulatedNdf>(tabulate(*d, model, resolution, w));
       },
       py::arg("model") = "ggx", py::arg("alpha_x") = 0.1, py::arg("alpha_y") = 0.0,
       py::arg("phi") = 0.0, py::arg("theta_x") = 0.0, py::arg("theta_y") = 0.0,
       py::arg("theta_z") = 0.0, py::arg("resolution") = 1025, py::arg("window") = py::none(),
-      "A parametric NDF ('beckmann' | 'ggx' | 'ellipsoid') written into a table, as "
-      "`microbrdf tabulate`. alpha_y = 0 means alpha_y = alpha_x; angles in radians. "
+      "A parametric NDF (any registered model: ndf_models(); 'beckmann' | 'ggx' | 'ellipsoid' | "
+      "...) written into a table, as `microbrdf tabulate`. alpha_y = 0 means alpha_y = alpha_x; "
+      "angles in radians; the models' other parameters as keywords (e.g. gamma=). "
       "window=(cx, cy, half): a zoomed table of that square of the disk plane (`tabulate "
       "--window`). The table records sampling 'point'.");
 }

@@ -1,6 +1,7 @@
 // The one BRDF vocabulary and its factory (include/microbrdf/brdf_spec.hpp).
 #include "microbrdf/brdf_spec.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -12,6 +13,7 @@
 #include "microbrdf/mirror_brdf.hpp"
 #include "microbrdf/multiple_scattering.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_model.hpp"
 #include "microbrdf/sh_brdf.hpp"
 #include "microbrdf/sun2002.hpp"
 #include "microbrdf/sun_brdf.hpp"
@@ -56,13 +58,27 @@ struct Reader {
 
 }  // namespace
 
+// The registered models' parameters beyond the vocabulary's own (e.g. "gamma"): numbers.
+std::vector<std::string> model_extra_keys() {
+  std::vector<std::string> out;
+  for (const auto& p : ndf_model_params())
+    if (p.name != "alpha_x" && p.name != "alpha_y" && p.name != "phi" && p.name != "theta_x" &&
+        p.name != "theta_y" && p.name != "theta_z")
+      out.push_back(p.name);
+  return out;
+}
+
 const std::vector<std::string>& brdf_keys() {
-  static const std::vector<std::string> keys = {
-      "model",   "alpha",      "alpha_x",  "alpha_y",      "phi",
-      "theta_x", "theta_y",    "theta_z",  "ndf",          "kirchhoff",
-      "sun",     "sh",         "l_filter", "filter_width", "isotropic_average",
-      "texture", "lambertian", "mirror",   "separable_g",  "multiple_scattering",
-      "ms_walks"};
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> k = {
+        "model",   "alpha",      "alpha_x",  "alpha_y",      "phi",
+        "theta_x", "theta_y",    "theta_z",  "ndf",          "kirchhoff",
+        "sun",     "sh",         "l_filter", "filter_width", "isotropic_average",
+        "texture", "lambertian", "mirror",   "separable_g",  "multiple_scattering",
+        "ms_walks"};
+    for (const auto& e : model_extra_keys()) k.push_back(e);
+    return k;
+  }();
   return keys;
 }
 
@@ -70,9 +86,10 @@ bool BrdfSpec::uses_material() const { return kind != Kind::Sh && kind != Kind::
 
 BrdfSpec parse_brdf(const json& keys, const std::optional<BrdfSpec>& fallback, KeyStyle style) {
   const Reader r{keys, style};
-  const bool model_keys = r.given("model") || r.given("alpha") || r.given("alpha_x") ||
-                          r.given("alpha_y") || r.given("phi") || r.given("theta_x") ||
-                          r.given("theta_y") || r.given("theta_z");
+  bool model_keys = r.given("model") || r.given("alpha") || r.given("alpha_x") ||
+                    r.given("alpha_y") || r.given("phi") || r.given("theta_x") ||
+                    r.given("theta_y") || r.given("theta_z");
+  for (const auto& e : model_extra_keys()) model_keys = model_keys || r.given(e.c_str());
   const bool kirchhoff = r.given("kirchhoff");
   std::vector<std::string> kinds;
   if (model_keys && !kirchhoff) kinds.push_back(r.name("model") + "/" + r.name("alpha"));
@@ -143,13 +160,24 @@ BrdfSpec parse_brdf(const json& keys, const std::optional<BrdfSpec>& fallback, K
     const double ay = r.given("alpha_y") ? r.number("alpha_y") : 0;
     s.model.alpha_x = ax > 0 ? ax : alpha;
     s.model.alpha_y = ay > 0 ? ay : (alpha > 0 ? alpha : s.model.alpha_x);
-    if (!(s.model.alpha_x > 0))
+    // (Models without alpha_x, e.g. one with a single roughness parameter of its own, do not
+    // need it; an unknown model is reported when the distribution is made.)
+    bool needs_alpha = true;
+    try {
+      const auto& ps = ndf_model(s.model.model).params();
+      needs_alpha =
+          std::any_of(ps.begin(), ps.end(), [](const NdfParam& p) { return p.name == "alpha_x"; });
+    } catch (const InputError&) {
+    }
+    if (needs_alpha && !(s.model.alpha_x > 0))
       throw InputError("give the roughness: " + r.name("alpha") + ", or " + r.name("alpha_x") +
                        " (and " + r.name("alpha_y") + ")");
     if (r.given("phi")) s.model.phi = r.angle("phi");
     if (r.given("theta_x")) s.model.theta_x = r.angle("theta_x");
     if (r.given("theta_y")) s.model.theta_y = r.angle("theta_y");
     if (r.given("theta_z")) s.model.theta_z = r.angle("theta_z");
+    for (const auto& e : model_extra_keys())
+      if (r.given(e.c_str())) s.model.extra[e] = r.number(e.c_str());
   } else if (s.kind == BrdfSpec::Kind::Analytic && !s.model_given) {
     throw InputError("give the roughness: " + r.name("alpha") + ", or " + r.name("alpha_x") +
                      " (and " + r.name("alpha_y") + ")");

@@ -13,6 +13,7 @@
 #include "microbrdf/memory_budget.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/ndf_io.hpp"
+#include "microbrdf/ndf_model.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/texture.hpp"
 
@@ -100,17 +101,17 @@ std::array<double, 3> base_colour(const MaterialSpec& material, std::vector<std:
 AnisotropicAlpha ggx_fit(const TabulatedNdf& table, const std::string& what,
                          std::vector<std::string>& warn) {
   FitOptions fo;
-  fo.model = FitModel::Ggx;
+  fo.model = "ggx";
   const FitResult r = fit_ndf(table, fo);
   warn.push_back(fmt::format(
       "shape: glTF's microfacet distribution is GGX; {} becomes the GGX fit alpha_x {:.4g}, "
       "alpha_y {:.4g}, phi {:.4g} deg (Hellinger distance {:.3g}, relative L2 error {:.3g}), "
       "with GGX's Smith shadowing",
-      what, r.params.alpha_x, r.params.alpha_y, r.phi * 180 / M_PI + 0.0, r.hellinger,
+      what, r.params.at("alpha_x"), r.params.at("alpha_y"), r.phi * 180 / M_PI + 0.0, r.hellinger,
       r.relative_l2_error));
   if (!r.at_bound.empty())
     warn.back() += "; the fit ended on " + r.at_bound + " (its optimum may lie beyond that bound)";
-  return {r.params.alpha_x, r.params.alpha_y, r.phi};
+  return {r.params.at("alpha_x"), r.params.at("alpha_y"), r.phi};
 }
 
 /// The texture's per-texel GGX (each ellipsoid without its tilts), invalid texels the mean.
@@ -169,12 +170,16 @@ GltfMaterial gltf_material(const BrdfSpec& spec, const MaterialSpec& material) {
   auto& warn = m.warnings;
   if (spec.kind == Kind::Analytic) {
     const auto d = make_distribution(spec.model);
-    if (spec.model.model == "ggx") {
-      m.ggx = {spec.model.alpha_x, spec.model.alpha_y, spec.model.phi};
+    // What the model says GGX holds exactly as it is; the others (Beckmann, the ellipsoid and
+    // its skew, heavy tails): the GGX fit of the 257^2 table, as the Mitsuba and pbrt exports do.
+    NdfExportLobe lobe;
+    lobe.exact = false;
+    if (!d->model_name().empty()) lobe = ndf_model(d->model_name()).export_lobe(d->model_values());
+    if (lobe.exact) {
+      m.ggx = {lobe.alpha_x, lobe.alpha_y, lobe.phi};
     } else {
-      // Beckmann, the ellipsoid (and its skew, a tilted peak): the GGX fit of the 257^2 table,
-      // as the Mitsuba and pbrt exports do.
       m.ggx = ggx_fit(tabulate(*d, spec.model.model, 257), "the " + d->describe(), warn);
+      if (!lobe.note.empty()) warn.push_back(lobe.note);
     }
   } else if (spec.kind == Kind::Tabulated) {
     m.ggx = ggx_fit(read_ndf(spec.ndf), "the tabulated NDF " + spec.ndf, warn);

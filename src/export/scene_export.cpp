@@ -122,39 +122,36 @@ RoughConductor nearest_rough_conductor(const MicrofacetDistribution& d,
   RoughConductor m;
   m.constants = constants;
   double phi = 0;
-  if (const auto* g = dynamic_cast<const GgxDistribution*>(&d)) {
-    m.alpha_u = g->params().alpha_x;
-    m.alpha_v = g->params().alpha_y;
-    phi = g->params().phi;
+  // The model says whether GGX holds it exactly; otherwise the nearest GGX is fitted to its table
+  // (also for distributions outside the registry, e.g. two-lobe mixtures).
+  const NdfModel* model = d.model_name().empty() ? nullptr : &ndf_model(d.model_name());
+  const std::vector<double> values = d.model_values();
+  NdfExportLobe lobe;
+  lobe.exact = false;
+  if (model) lobe = model->export_lobe(values);
+  if (lobe.exact) {
+    m.alpha_u = lobe.alpha_x;
+    m.alpha_v = lobe.alpha_y;
+    phi = lobe.phi;
   } else {
-    const auto* b = dynamic_cast<const BeckmannDistribution*>(&d);
-    const auto* e = dynamic_cast<const EllipsoidDistribution*>(&d);
-    if (!b && !e)
-      throw InputError(
-          "a rough conductor needs an analytic NDF (ggx, beckmann or ellipsoid), not " +
-          d.describe());
-    const std::string model = b ? "beckmann" : "ellipsoid";
     FitOptions fo;
-    fo.model = FitModel::Ggx;
-    const FitResult r = fit_ndf(tabulate(d, model, 257), fo);
-    m.alpha_u = r.params.alpha_x;
-    m.alpha_v = r.params.alpha_y;
+    fo.model = "ggx";
+    const FitResult r = fit_ndf(tabulate(d, model ? model->name() : "model", 257), fo);
+    m.alpha_u = r.params.at("alpha_x");
+    m.alpha_v = r.params.at("alpha_y");
     phi = r.phi;
-    if (e) {
-      const auto& p = e->params();
-      m.notes.push_back(fmt::format(
-          "nearest GGX of the ellipsoid NDF (alpha {:.4g} x {:.4g}, theta_x {:.4g} deg, theta_y "
-          "{:.4g} deg, theta_z {:.4g} deg): GGX fit alpha_u {:.4g}, alpha_v {:.4g} (Hellinger "
-          "distance {:.3g}); the ellipsoid's skew (its tilted peak) has no equivalent in "
-          "Mitsuba 3 or pbrt-v4",
-          p.alpha_x, p.alpha_y, p.theta_x * 180 / M_PI, p.theta_y * 180 / M_PI,
-          p.theta_z * 180 / M_PI, m.alpha_u, m.alpha_v, r.hellinger));
-    } else {
-      m.notes.push_back(fmt::format(
-          "nearest GGX of the Beckmann NDF ({}): GGX fit alpha_u {:.4g}, alpha_v {:.4g} "
-          "(Hellinger distance {:.3g})",
-          d.describe(), m.alpha_u, m.alpha_v, r.hellinger));
+    std::string params;
+    for (std::size_t i = 0; model && i < values.size(); ++i) {
+      const NdfParam& p = model->params()[i];
+      params += fmt::format("{}{} {:.4g}{}", i ? ", " : "", p.name,
+                            p.unit == "rad" ? values[i] * 180 / M_PI : values[i],
+                            p.unit == "rad" ? " deg" : "");
     }
+    m.notes.push_back(fmt::format(
+        "nearest GGX of the {} ({}): GGX fit alpha_u {:.4g}, alpha_v {:.4g} (Hellinger "
+        "distance {:.3g}){}",
+        model ? model->label() + " NDF" : std::string("NDF"), model ? params : d.describe(),
+        m.alpha_u, m.alpha_v, r.hellinger, lobe.note.empty() ? "" : "; " + lobe.note));
   }
   // Fold phi into (-pi/2, pi/2]; a quarter turn swaps the axes.
   phi = std::remainder(phi, M_PI);

@@ -93,13 +93,23 @@ void write_fit_report(const TabulatedNdf& ndf, const FitResult& r, const std::st
   write_png(dir + "/compare.png", img);
 
   // slices.png: cuts along the fitted axes.
-  const double phi0 = -r.params.theta_z;
+  // (The ellipsoid turns its axes by -theta_z; Beckmann/GGX by phi; a mixture by its first lobe's.)
+  const NdfModel& model = ndf_model(r.model);
+  double phi0 = 0, amax = 0;
+  for (std::size_t i = 0; i < r.params.size(); ++i) {
+    const NdfParam& q = model.params()[i];
+    if (q.kind == NdfParam::Kind::Alpha) amax = std::max(amax, r.params.values[i]);
+  }
+  for (std::size_t i = r.params.size(); i-- > 0;) {
+    const std::string& n = r.params.names[i];
+    if (n.size() >= 7 && n.compare(n.size() - 7, 7, "theta_z") == 0) phi0 = -r.params.values[i];
+    if (n.size() >= 3 && n.compare(n.size() - 3, 3, "phi") == 0) phi0 = r.params.values[i];
+  }
   Plot p;
-  p.title = fit_model_name(r.model) + " fit: cuts along the fitted axes";
+  p.title = r.model + " fit: cuts along the fitted axes";
   p.x.label = "signed polar angle of m (deg)";
   p.y.label = "D (1/sr)";
   p.y.scale = AxisScale::Log;
-  const double amax = std::max(r.params.alpha_x, r.params.alpha_y);
   const double lim = std::min(90.0, std::atan(6 * amax + 0.1) * 180 / kPi);
   p.x.min = -lim;
   p.x.max = lim;

@@ -67,11 +67,11 @@ NdfComparison compare_ndfs(const TabulatedNdf& measured, const TabulatedNdf& pre
   r.relative_l2 = std::sqrt(e2 / mm);
   r.hellinger = std::sqrt(0.5 * h2);
   FitOptions fo;
-  fo.model = FitModel::Ggx;
+  fo.model = "ggx";
   r.measured_fit = fit_ndf(measured, fo);
   r.predicted_fit = fit_ndf(p, fo);
-  r.alpha_x_ratio = r.predicted_fit.params.alpha_x / r.measured_fit.params.alpha_x;
-  r.alpha_y_ratio = r.predicted_fit.params.alpha_y / r.measured_fit.params.alpha_y;
+  r.alpha_x_ratio = r.predicted_fit.params.at("alpha_x") / r.measured_fit.params.at("alpha_x");
+  r.alpha_y_ratio = r.predicted_fit.params.at("alpha_y") / r.measured_fit.params.at("alpha_y");
   return r;
 }
 

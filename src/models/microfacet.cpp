@@ -260,24 +260,4 @@ TabulatedNdf tabulate(const MicrofacetDistribution& d, const std::string& model,
   return t;
 }
 
-std::shared_ptr<MicrofacetDistribution> make_distribution(const NdfSpec& s) {
-  std::string m = s.model;
-  std::transform(m.begin(), m.end(), m.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (m == "beckmann" || m == "ggx" || m == "trowbridge-reitz" || m == "gtr2") {
-    if (s.theta_x != 0 || s.theta_y != 0 || s.theta_z != 0)
-      throw InputError("--theta-x/--theta-y/--theta-z belong to the ellipsoid model; " + m +
-                       " takes an in-plane rotation --phi");
-    if (m == "beckmann") return std::make_shared<BeckmannDistribution>(s.alpha_x, s.alpha_y, s.phi);
-    return std::make_shared<GgxDistribution>(s.alpha_x, s.alpha_y, s.phi);
-  }
-  if (m == "ellipsoid") {
-    if (s.phi != 0)
-      throw InputError("the ellipsoid model turns its axes with --theta-z, not --phi");
-    return std::make_shared<EllipsoidDistribution>(
-        EllipsoidParams{s.alpha_x, s.alpha_y, s.theta_x, s.theta_y, s.theta_z});
-  }
-  throw InputError("unknown NDF model '" + s.model + "' (known: beckmann, ggx, ellipsoid)");
-}
-
 }  // namespace microbrdf

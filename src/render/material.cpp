@@ -38,9 +38,7 @@ SpectralMaterial::SpectralMaterial(std::shared_ptr<const Svbrdf> m) : m_(std::mo
     k_ = FastSpectrum(c->constants().k);
   }
   // The analytic models sample their visible normals exactly: sampling_pdf = pdf_visible.
-  visible_exact_ = dynamic_cast<const BeckmannDistribution*>(d_) ||
-                   dynamic_cast<const GgxDistribution*>(d_) ||
-                   dynamic_cast<const EllipsoidDistribution*>(d_);
+  visible_exact_ = d_->samples_visible_exactly();
   tab_ = dynamic_cast<const TabulatedDistribution*>(d_);
   if ((ggx_ = dynamic_cast<const GgxDistribution*>(d_))) {
     ggx_c_ = std::cos(ggx_->params().phi);

@@ -39,16 +39,7 @@ BrdfSpec fit_spec(const FitResult& r) {
   BrdfSpec spec;
   spec.kind = BrdfSpec::Kind::Analytic;
   spec.model_given = true;
-  spec.model.model = fit_model_name(r.model);
-  spec.model.alpha_x = r.params.alpha_x;
-  spec.model.alpha_y = r.params.alpha_y;
-  if (r.model == FitModel::Ellipsoid) {
-    spec.model.theta_x = r.params.theta_x;
-    spec.model.theta_y = r.params.theta_y;
-    spec.model.theta_z = r.params.theta_z;
-  } else {
-    spec.model.phi = r.phi;
-  }
+  spec.model = ndf_spec(r.model, r.params);
   return spec;
 }
 
@@ -70,7 +61,7 @@ nlohmann::json stage_exports(const Context& c, const std::vector<FitResult>& fit
   nlohmann::json list = nlohmann::json::array();
   SceneExportOptions so;  // a constant white emitter: no copy of the environment map
   for (const auto& r : fits) {
-    const std::string model = fit_model_name(r.model);
+    const std::string& model = r.model;
     c.log("exports: " + model + " fit as Mitsuba 3 and pbrt-v4 materials");
     const RoughConductor m = nearest_rough_conductor(*fitted_distribution(r), constants);
     nlohmann::json e = {

@@ -11,6 +11,7 @@
 #include "microbrdf/kirchhoff_brdf.hpp"
 #include "microbrdf/microfacet_brdf.hpp"
 #include "microbrdf/multiple_scattering.hpp"
+#include "microbrdf/ndf_model.hpp"
 #include "microbrdf/plot.hpp"
 #include "microbrdf/rayleigh_rice.hpp"
 #include "microbrdf/tabulated_distribution.hpp"
@@ -85,7 +86,7 @@ std::string fit_verdict(const FitResult& r) {
 }
 
 void warn_fit(const Context& c, const FitResult& r, bool zoomed) {
-  const std::string m = fit_model_name(r.model);
+  const std::string& m = r.model;
   if (!r.at_bound.empty()) {
     const bool floor = r.at_bound.find("lower alpha") != std::string::npos;
     c.warn("fit_at_bound",
@@ -145,13 +146,51 @@ double slope_kurtosis(const TabulatedNdf& t, double phi) {
   return m2 > 0 ? (m4 / w) / ((m2 / w) * (m2 / w)) : 3;
 }
 
+// A heavy-tailed model (one with a tail exponent, e.g. Student-t) "fixes" the Beckmann fit's
+// width problem when its own fit converged and lowers the Hellinger distance by at least 30 %.
+constexpr double kHeavyTailGain = 0.3;
+
+const FitResult* heavy_tail_fit(const FitResult& beckmann, const std::vector<FitResult>& fits) {
+  const FitResult* best = nullptr;
+  for (const auto& f : fits) {
+    const NdfModel& m = ndf_model(f.model);
+    if (!m.has_kind(NdfParam::Kind::Exponent) || !f.converged) continue;
+    if (!(f.hellinger <= (1 - kHeavyTailGain) * beckmann.hellinger)) continue;
+    if (!best || f.hellinger < best->hellinger) best = &f;
+  }
+  return best;
+}
+
+// The sentence the width warning ends with when a heavy-tailed fit fixes it.
+std::string heavy_tail_sentence(const FitResult& beckmann, const FitResult* best) {
+  if (!best) return "";
+  const NdfModel& m = ndf_model(best->model);
+  std::string tail;
+  for (std::size_t i = 0; i < best->params.size(); ++i)
+    if (m.params()[i].kind == NdfParam::Kind::Exponent) {
+      char b[64];
+      std::snprintf(b, sizeof b, "%s%s %.3g", tail.empty() ? "" : ", ",
+                    best->params.names[i].c_str(), best->params.values[i]);
+      tail += b;
+    }
+  char b[320];
+  std::snprintf(b, sizeof b,
+                "; the heavy-tailed %s fit (%s) holds the core and the tails at once: Hellinger "
+                "distance %.3g against the Beckmann fit's %.3g",
+                best->model.c_str(), tail.c_str(), best->hellinger, beckmann.hellinger);
+  return b;
+}
+
 // The Beckmann fit's widths against the table's own rms slopes along the fitted axes (alpha =
 // sqrt 2 x rms slope for Beckmann): a departure above kWidthVsRms warns and says why (the slopes
 // are not Gaussian: a narrow core with heavy tails, or the reverse).
+// The warning names the heavy-tailed fit that fixes it, if one does.
 void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf& t,
-                       const std::string& where, nlohmann::json& j) {
-  if (r.model != FitModel::Beckmann || !r.at_bound.empty()) return;  // (a bound fit warns)
-  const double ax = r.params.alpha_x / std::sqrt(2.0), ay = r.params.alpha_y / std::sqrt(2.0);
+                       const std::string& where, nlohmann::json& j,
+                       const std::vector<FitResult>& fits) {
+  if (r.model != "beckmann" || !r.at_bound.empty()) return;  // (a bound fit warns)
+  const double ax = r.params.at("alpha_x") / std::sqrt(2.0),
+               ay = r.params.at("alpha_y") / std::sqrt(2.0);
   const double sx = t.rms_slope(r.phi), sy = t.rms_slope(r.phi + M_PI / 2);
   const double dx = sx > 0 ? ax / sx - 1 : 0, dy = sy > 0 ? ay / sy - 1 : 0;
   const double kx = slope_kurtosis(t, r.phi), ky = slope_kurtosis(t, r.phi + M_PI / 2);
@@ -160,6 +199,9 @@ void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf&
                        {"relative_difference", {dx, dy}},
                        {"slope_kurtosis", {kx, ky}}};
   if (!(std::max(std::abs(dx), std::abs(dy)) > kWidthVsRms)) return;
+  const FitResult* fixer = heavy_tail_fit(r, fits);
+  const std::string fix = heavy_tail_sentence(r, fixer);
+  j["width_vs_rms"]["fixed_by"] = fixer ? nlohmann::json(fixer->model) : nlohmann::json(nullptr);
   char b[420];
   std::snprintf(b, sizeof b,
                 "the Beckmann fit's widths correspond to rms slopes %.3g x %.3g (alpha / sqrt 2), "
@@ -171,7 +213,7 @@ void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf&
                                        "the rms slopes weigh the tails"
                                      : "a flat-topped lobe with light tails: the fit widens to "
                                        "the shoulders, the rms slopes stay narrower");
-  c.warn("fit_width_vs_rms", b,
+  c.warn("fit_width_vs_rms", std::string(b) + fix,
          "use the fitted widths for the highlight's shape and the rms slopes (summary.json " +
              where +
              ") for the overall spread; GGX and ellipsoid have no finite rms slope, compare "
@@ -183,29 +225,41 @@ void warn_width_vs_rms(const Context& c, const FitResult& r, const TabulatedNdf&
 nlohmann::json stage_fits(const Context& c, const NdfSet& ndfs, std::vector<FitResult>& fits,
                           nlohmann::json& timing) {
   nlohmann::json out = nlohmann::json::array();
-  for (FitModel m : {FitModel::Ellipsoid, FitModel::Beckmann, FitModel::Ggx}) {
+  // Every registered model, in registration order; ranked by Hellinger distance below.
+  for (const NdfModel* model : ndf_models()) {
+    const std::string m = model->name();
     // A zoomed table when the whole-disk one does not resolve the lobe (stage_zoom).
     const TabulatedNdf& table = ndfs.filtered_zoom ? *ndfs.filtered_zoom : *ndfs.filtered;
-    c.log("fits: " + fit_model_name(m) + " to the filtered NDF" +
-          (ndfs.filtered_zoom ? " (zoomed table)" : ""));
+    c.log("fits: " + m + " to the filtered NDF" + (ndfs.filtered_zoom ? " (zoomed table)" : ""));
     FitOptions fo;
     fo.model = m;
     fo.threads = c.opt.threads;
     FitResult r = fit_ndf(table, fo);
     nlohmann::json j = fit_result_json(r);
     j.erase("seconds");  // wall time lives under "timing" only (determinism)
-    timing["fit_" + fit_model_name(m) + "_s"] = r.seconds;
+    timing["fit_" + m + "_s"] = r.seconds;
     j["source"] = ndfs.filtered_zoom ? "filtered_zoom" : "filtered";
     j["verdict"] = fit_verdict(r);
-    if (m == FitModel::Ellipsoid) {
+    if (m == "ellipsoid") {
       write_fit_report(table, r, c.path("fit_ellipsoid"));
       j["compare_image"] = "fit_ellipsoid/compare.png";
     }
     warn_fit(c, r, ndfs.filtered_zoom != nullptr);
-    warn_width_vs_rms(c, r, table, ndfs.filtered_zoom ? "ndf.filtered.zoom" : "ndf.filtered", j);
     out.push_back(std::move(j));
     fits.push_back(r);
   }
+  // (After all fits: the width warning names a heavy-tailed model that fixes it.)
+  const TabulatedNdf& table = ndfs.filtered_zoom ? *ndfs.filtered_zoom : *ndfs.filtered;
+  for (std::size_t i = 0; i < fits.size(); ++i)
+    warn_width_vs_rms(c, fits[i], table, ndfs.filtered_zoom ? "ndf.filtered.zoom" : "ndf.filtered",
+                      out[i], fits);
+  // Rank 1 = the smallest Hellinger distance to the table.
+  std::vector<std::size_t> order(fits.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return fits[a].hellinger < fits[b].hellinger;
+  });
+  for (std::size_t k = 0; k < order.size(); ++k) out[order[k]]["rank"] = k + 1;
   return out;
 }
 
@@ -253,9 +307,9 @@ nlohmann::json stage_ndf_slices(const Context& c, const NdfSet& ndfs,
         const Vec3 m(t * std::cos(phi), t * std::sin(phi), std::sqrt(std::max(0.0, 1 - t * t)));
         v.push_back(models[k]->D(m));
       }
-      const std::string key = fit_model_name(fits[k].model) + "_fit";
+      const std::string key = fits[k].model + "_fit";
       series[key] = finite_array(v);
-      p.add(PlotSeries(theta_deg, v, fit_model_name(fits[k].model) + " fit", PlotStyle::Dashed));
+      p.add(PlotSeries(theta_deg, v, fits[k].model + " fit", PlotStyle::Dashed));
     }
     p.x.min = -theta_max;
     p.x.max = theta_max;
@@ -282,7 +336,7 @@ std::vector<TabulatedNdf> dk_tables(const NdfSet& ndfs) {
 }
 std::shared_ptr<MicrofacetDistribution> ellipsoid_of(const std::vector<FitResult>& fits) {
   for (const auto& r : fits)
-    if (r.model == FitModel::Ellipsoid) return fitted_distribution(r);
+    if (r.model == "ellipsoid") return fitted_distribution(r);
   return nullptr;
 }
 }  // namespace
@@ -306,20 +360,32 @@ std::string measured_label(const NdfSet& ndfs) {
   return "measured (" + ndfs.render + " NDF)";
 }
 
+// How many fitted models the BRDF slices and the render comparison show (the best ranked).
+constexpr std::size_t kStripModels = 3;
+
 std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResult>& fits,
                                    const std::shared_ptr<const Fresnel>& fresnel) {
   std::vector<NamedBrdf> models;
-  for (const auto& r : fits)
-    models.push_back({fit_model_name(r.model), fit_model_name(r.model) + " fit",
+  // The kStripModels fits closest to the table (Hellinger distance), in the fits' order.
+  std::vector<double> h;
+  for (const auto& r : fits) h.push_back(r.hellinger);
+  std::sort(h.begin(), h.end());
+  const double cut = h.empty() ? 0 : h[std::min(h.size(), kStripModels) - 1];
+  std::size_t taken = 0;
+  for (const auto& r : fits) {
+    if (r.hellinger > cut || taken == kStripModels) continue;
+    ++taken;
+    models.push_back({r.model, r.model + " fit",
                       std::make_shared<MicrofacetBrdf>(fitted_distribution(r), fresnel)});
+  }
   // Beside the run's theory, the others it computed: D_K (unless it is the measured BRDF) and,
   // for a Rayleigh-Rice run, the geometric BRDF of the filtered NDF.
   if (ndfs.kirchhoff && !(ndfs.theory == "kirchhoff"))
     models.push_back(
         {"kirchhoff", "Kirchhoff D_K (Dong eq. 8)",
          std::make_shared<KirchhoffBrdf>(dk_tables(ndfs), fresnel, ellipsoid_of(fits))});
-  // The geometric BRDF of the NDF beside a wave-optics run, and with multiple scattering (4
-  // walks per eval: the renders' noise, not the estimate's, dominates) beside its single form.
+  // The geometric BRDF of the NDF beside a wave-optics run, and with multiple scattering (one
+  // walk per eval, unbiased: the renders' noise dominates) beside its single form.
   const bool geometric_run = ndfs.theory == "geometric";
   if (ndfs.filtered && !geometric_run &&
       (ndfs.theory == "rayleigh-rice" || ndfs.multiple_scattering))

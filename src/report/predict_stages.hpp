@@ -124,7 +124,8 @@ std::shared_ptr<const Brdf> measured_brdf(const NdfSet& ndfs,
                                           const std::vector<FitResult>& fits);
 /// Its label in the report ("measured (filtered NDF)", "measured (D_K over lambda_q)", ...).
 std::string measured_label(const NdfSet& ndfs);
-/// The BRDFs of the fitted NDFs (in the order of `fits`) and of D_K when it was computed (whose
+/// The BRDFs of the three fitted NDFs closest to the table (Hellinger distance; in the order of
+/// `fits`) and of D_K when it was computed (whose
 /// sampling proposal is the ellipsoid fit), with `fresnel`: what the slices, albedos and the
 /// comparison strip compare with the measured NDF.
 std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResult>& fits,

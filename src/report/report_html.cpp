@@ -362,21 +362,29 @@ void exports_block(Page& p, json& s);
 
 void section_fits(Page& p, json& s) {
   p << "<h2 id=\"s4\">4. Parametric fits of the filtered NDF</h2>\n<table>\n"
-    << row({"model", "verdict", "alpha_x", "alpha_y", "theta_x", "theta_y", "theta_z",
-            "rms error (1/sr)", "relative L2 error", "Hellinger distance", "iterations",
-            "converged"},
+    << row({"rank", "model", "verdict", "alpha_x", "alpha_y", "theta_x", "theta_y", "theta_z",
+            "other parameters", "rms error (1/sr)", "relative L2 error", "Hellinger distance",
+            "iterations", "converged"},
            true);
   for (auto& f : s["fits"]) {
     auto& q = f["params"];
     const bool ell = str(f["model"]) == "ellipsoid";
-    p << row({escape(str(f["model"])), "<b>" + escape(str(f["verdict"])) + "</b>", n4(q["alpha_x"]),
-              n4(q["alpha_y"]), ell ? deg(q["theta_x"]) : "— (none in this model)",
+    // The model's parameters beyond the common ones (e.g. a tail exponent).
+    std::string other;
+    for (auto& [k, v] : q.items())
+      if (k != "alpha_x" && k != "alpha_y" && k != "theta_x" && k != "theta_y" && k != "theta_z" &&
+          k != "phi" && v.is_number())
+        other += (other.empty() ? "" : ", ") + escape(k) + " " + n4(v);
+    p << row({f.contains("rank") ? str(f["rank"]) : "—", escape(str(f["model"])),
+              "<b>" + escape(str(f["verdict"])) + "</b>", n4(q["alpha_x"]), n4(q["alpha_y"]),
+              ell ? deg(q["theta_x"]) : "— (none in this model)",
               ell ? deg(q["theta_y"]) : "— (none in this model)", deg(q["theta_z"]),
-              n4(f["rms_error"]), n4(f["relative_l2_error"]), n4(f["hellinger"]),
-              std::to_string(f["iterations"].get<long>()), converged_text(f)});
+              other.empty() ? "— (none)" : other, n4(f["rms_error"]), n4(f["relative_l2_error"]),
+              n4(f["hellinger"]), std::to_string(f["iterations"].get<long>()), converged_text(f)});
   }
-  p << "</table>\n<p class=\"cap\">Provenance: <code>fit_ndf</code> (Levenberg-Marquardt with "
-       "closed-form derivatives, coarse-to-fine; least squares on sqrt(D), a Hellinger distance; "
+  p << "</table>\n<p class=\"cap\">Every registered model, ranked by Hellinger distance to the "
+       "table (rank 1 the closest). Provenance: <code>fit_ndf</code> (Levenberg-Marquardt with "
+       "the models' derivatives, coarse-to-fine; least squares on sqrt(D), a Hellinger distance; "
        "model averaged over each node's tent "
        "cell) of the filtered NDF. alpha dimensionless; angles in the ellipsoid convention "
        "(Dong 2015 eqs. 10-12): theta_x, theta_y tilt the peak, the anisotropy axes are turned "

@@ -101,7 +101,7 @@ FitResult fit_texel_table(TabulatedNdf& t, std::size_t used, const TexelFitOptio
   t.meta.filter_sigma_m = o.filter_sigma_m;
   t.meta.samples_used = used;
   FitOptions fo;
-  fo.model = FitModel::Ellipsoid;
+  fo.model = "ellipsoid";
   fo.threads = 1;
   fo.sampling = o.sampling;
   fo.max_iterations = o.max_iterations;
@@ -160,7 +160,7 @@ ScanResult fit_scan(const Surface& s, const TexelFitOptions& o) {
         continue;
       }
       const FitResult fr = fit_texel_table(t, used, o);
-      r.p[i] = fr.params;
+      r.p[i] = ellipsoid_params(fr.params);
       // A width below the table's resolution: refitted on a table zoomed along that axis.
       const double below = o.zoom_below_nodes * t.spacing();
       bool zoomed = false;
@@ -384,12 +384,12 @@ EllipsoidParams refit_narrow_lobe(const std::vector<Vec3>& normals, const Ellips
   // along x, theta_x > 0 at +tan theta_x along y); small-slope forms.
   EllipsoidParams p = first;
   if (zx) {
-    p.alpha_x = fr.params.alpha_x / kx;
-    p.theta_y = std::atan(std::tan(fr.params.theta_y) / kx - cx);
+    p.alpha_x = fr.params.at("alpha_x") / kx;
+    p.theta_y = std::atan(std::tan(fr.params.at("theta_y")) / kx - cx);
   }
   if (zy) {
-    p.alpha_y = fr.params.alpha_y / ky;
-    p.theta_x = std::atan(std::tan(fr.params.theta_x) / ky + cy);
+    p.alpha_y = fr.params.at("alpha_y") / ky;
+    p.theta_x = std::atan(std::tan(fr.params.at("theta_x")) / ky + cy);
   }
   return p;
 }
