@@ -45,7 +45,8 @@ PUBLIC_HEADERS = {
     "tabulated_ndf": "ndf", "ndf_estimate": "ndf", "ndf_io": "ndf", "ndf_preview": "ndf",
     "ndf_sampler": "ndf", "ndf_convolve": "ndf", "kirchhoff": "ndf", "filter_sigma_auto": "ndf",
     # models: distributions, Fresnel, spectra, Sun's and Westin's mathematics
-    "microfacet": "models", "student_t": "models", "mixture_ndf": "models", "fresnel": "models", "spectrum": "models", "sun2002": "models",
+    "microfacet": "models", "student_t": "models", "mixture_ndf": "models",
+    "ndf_model": "models", "ndf_model_template": "models", "fresnel": "models", "spectrum": "models", "sun2002": "models",
     "sh_basis": "models", "tabulated_distribution": "models", "material_spec": "models",
     # brdf: the Brdf interface and every BRDF, the material and BRDF vocabulary
     "brdf": "brdf", "microfacet_brdf": "brdf", "brdf_albedo": "brdf", "brdf_slice": "brdf",
