@@ -40,7 +40,10 @@ set_target_properties(microbrdf_shared PROPERTIES OUTPUT_NAME microbrdf EXPORT_N
                                                   VERSION ${PROJECT_VERSION} SOVERSION ${MICROBRDF_SOVERSION})
 
 install(TARGETS microbrdf_shared EXPORT microbrdfTargets LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-install(DIRECTORY ${CMAKE_SOURCE_DIR}/include/microbrdf DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# ndf_model_template.hpp is for models built into microbrdf itself: it differentiates with
+# ceres::Jet, a dependency the package does not hand on (docs/architecture.md, adding a model).
+install(DIRECTORY ${CMAKE_SOURCE_DIR}/include/microbrdf DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+        PATTERN "ndf_model_template.hpp" EXCLUDE)
 
 # CMake package: microbrdfConfig.cmake (finds Eigen3 and nlohmann_json, then the target),
 # microbrdfTargets*.cmake and a version file (same major.minor while 0.x, same major after).

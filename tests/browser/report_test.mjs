@@ -175,6 +175,13 @@ try {
     let worst = 0, compared = 0;
     for (const fit of summary.fits) {
       const q = fit.params, key = fit.model;
+      // The view's shader draws the ellipsoid, Beckmann and GGX; other registered models (Student-t,
+      // mixtures) are left out of it (docs/report.md), every one of those three must be there.
+      if (!["ellipsoid", "beckmann", "ggx"].includes(key)) {
+        if (models.includes(key)) fail(`model ${key} is in the view, whose shader cannot draw it`);
+        console.log(`model ${key}: not drawn by the WebGL view (its shader has ellipsoid, Beckmann, GGX)`);
+        continue;
+      }
       if (!models.includes(key)) { fail(`model ${key} is not in the view`); continue; }
       const args = ["brdf", "slice", "--model", key, "--alpha-x", String(q.alpha_x),
                     "--alpha-y", String(q.alpha_y), "--n", String(n555), "--k", String(k555),
@@ -504,6 +511,7 @@ async function checkViewAgainstPathTracer(page) {
   }, pt.stops, pt.size);
   for (const fit of summary.fits) {
     const q = fit.params, key = fit.model;
+    if (!["ellipsoid", "beckmann", "ggx"].includes(key)) continue;  // not drawn by the view
     const material = ["--model", key, "--alpha-x", String(q.alpha_x), "--alpha-y", String(q.alpha_y),
                       ...pt.metalFlags];
     if (key === "ellipsoid")
