@@ -389,13 +389,9 @@ std::vector<NamedBrdf> model_brdfs(const NdfSet& ndfs, const std::vector<FitResu
   const bool geometric_run = ndfs.theory == "geometric";
   if (ndfs.filtered && !geometric_run &&
       (ndfs.theory == "rayleigh-rice" || ndfs.multiple_scattering))
-    models.push_back(
-        {"geometric",
-         "geometric (" +
-             std::string(&ms_table_of(ndfs) == ndfs.naive.get() ? "naive" : "filtered") +
-             " NDF), single scattering",
-         std::make_shared<MicrofacetBrdf>(
-             std::make_shared<TabulatedDistribution>(ms_table_of(ndfs)), fresnel)});
+    models.push_back({"geometric", "geometric (" + ms_table_name(ndfs) + " NDF), single scattering",
+                      std::make_shared<MicrofacetBrdf>(
+                          std::make_shared<TabulatedDistribution>(ms_table_of(ndfs)), fresnel)});
   if (ndfs.filtered && ndfs.multiple_scattering) {
     MultipleScatteringOptions mo;
     mo.eval_walks = kReportMsWalks;

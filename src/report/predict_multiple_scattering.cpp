@@ -21,14 +21,17 @@ constexpr double kShownAbove = 0.02;  // auto: the strip gains the MS render abo
 constexpr double kUpToDeg = 70;       // ... at an incidence up to this
 }  // namespace
 
+std::string ms_table_name(const NdfSet& ndfs) {
+  return ndfs.render == "naive" && ndfs.naive ? "naive" : "filtered";
+}
+
 const TabulatedNdf& ms_table_of(const NdfSet& ndfs) {
-  if (ndfs.render == "naive" && ndfs.naive) return *ndfs.naive;
-  return *ndfs.filtered;
+  return ms_table_name(ndfs) == "naive" ? *ndfs.naive : *ndfs.filtered;
 }
 
 nlohmann::json stage_energy_loss(const Context& c, const NdfSet& ndfs) {
   const TabulatedNdf& table = ms_table_of(ndfs);
-  const std::string name = &table == ndfs.naive.get() ? "naive" : "filtered";
+  const std::string name = ms_table_name(ndfs);
   const MicrofacetRandomWalk walk(std::make_shared<TabulatedDistribution>(table));
   nlohmann::json per = nlohmann::json::array();
   double worst = 0, worst_theta = 0, worst_phi = 0;
