@@ -163,6 +163,13 @@ const std::vector<Case> kFurnaceCases = {
 
 TEST(MultipleScattering, WhiteFurnaceEveryNdf) { furnace(kFurnaceCases, {0.0, 60.0, 80.0}); }
 
+// The roughest cases alone (alpha = 1: the largest multiple part and the largest spread between
+// walks), for a run with many walks (MS_WALKS=65536 gives a standard error near 0.0025).
+TEST(MultipleScattering, SlowWhiteFurnaceRoughest) {
+  furnace({{"beckmann", 1.0, 1.0}, {"ggx", 1.0, 1.0}, {"tabulated", 1.0, 1.0}},
+          {0.0, 30.0, 45.0, 60.0, 70.0, 75.0, 80.0});
+}
+
 TEST(MultipleScattering, SlowWhiteFurnaceEveryAngle) {
   furnace(kFurnaceCases, {0.0, 30.0, 45.0, 60.0, 70.0, 75.0, 80.0});
 }

@@ -154,11 +154,12 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
                              {"unit", "measured render's 99th-percentile luminance"},
                              {"reference_luminance", bright}};
 
-  auto write_difference = [&](const std::vector<double>& dlt, const std::string& file) {
+  auto write_difference = [&](const std::vector<double>& dlt, const std::string& file,
+                              double full_scale) {
     RgbImage di(wz, hz);
     for (std::size_t i = 0; i < dlt.size(); ++i) {
       std::uint8_t rgb[3];
-      false_colour(std::clamp(dlt[i] / bright / top, 0.0, 1.0), rgb);
+      false_colour(std::clamp(dlt[i] / bright / full_scale, 0.0, 1.0), rgb);
       di.set(i % wz, i / wz, rgb[0], rgb[1], rgb[2]);
     }
     write_png(c.path(file), di);
@@ -168,7 +169,7 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
   std::vector<double> noise_diff(ref_y.size());
   for (std::size_t i = 0; i < ref_y.size(); ++i) noise_diff[i] = std::fabs(again_s[i] - ref_s[i]);
   const std::string noise_file = "img/compare_" + prefix + "measured_noise_difference.png";
-  write_difference(noise_diff, noise_file);
+  write_difference(noise_diff, noise_file, top);
   out["noise"]["difference_image"] = noise_file;
   // Renders of 384 px and more: the strip shows half-size copies (same exposure).
   const bool thumbs = w >= 384 && h >= 384;
@@ -186,7 +187,7 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
     const std::string image = "img/compare_" + prefix + m.key + ".png";
     const std::string diff = "img/compare_" + prefix + m.key + "_difference.png";
     write_render_png(imgs[k], c.path(image), ev);
-    write_difference(diffs[k], diff);
+    write_difference(diffs[k], diff, top);
     const auto& y = ys[k];
     nlohmann::json entry = {{"model", m.key},
                             {"label", m.label},
@@ -202,8 +203,9 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
   }
   out["models"] = std::move(list);
   // Multiple against single scattering on the same NDF: the light the single-scattering BRDF
-  // drops, on the strip's difference scale. The single form is the "geometric" model, or the
-  // reference itself when the run's theory is geometric.
+  // drops. The single form is the "geometric" model, or the reference itself when the run's
+  // theory is geometric. Its own scale (same rule, this image alone): on the strip's scale, which
+  // the largest model-vs-reference difference sets, a few per cent of added light is invisible.
   std::size_t ms = models.size(), single = models.size();
   for (std::size_t k = 0; k < models.size(); ++k) {
     if (models[k].key == "multiple_scattering") ms = k;
@@ -220,10 +222,16 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
       sum_single += s_y[i];
     }
     const std::string file = "img/compare_" + prefix + "ms_vs_single_difference.png";
-    write_difference(dlt, file);
+    double ms_top = quantile(dlt, 0.995) / bright;
+    if (!(ms_top > 0)) ms_top = top;
+    write_difference(dlt, file, ms_top);
     out["multiple_scattering"] = {
         {"single", single < models.size() ? "geometric" : "measured"},
         {"difference_image", file},
+        {"difference_scale",
+         {{"max", ms_top},
+          {"unit", "measured render's 99th-percentile luminance"},
+          {"reference_luminance", bright}}},
         {"mean_luminance_ratio", sum_single > 0 ? sum_ms / sum_single : 1.0},
         {"rms_relative_smoothed", detail::rms_relative(yss[ms], s_s)}};
   }

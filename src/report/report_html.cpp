@@ -687,11 +687,15 @@ void comparison_scene(Page& p, json& rc, bool first, const std::string& ndf_labe
   if (rc.contains("multiple_scattering") && rc["multiple_scattering"].is_object()) {
     json& ms = rc["multiple_scattering"];
     p << fig << p.image(str(ms["difference_image"]), "multiple against single scattering", w)
-      << difference_bar(sc)
+      << difference_bar(ms.contains("difference_scale") ? ms["difference_scale"] : sc)
       << "<figcaption>Multiple against single scattering on the same NDF: |&Delta;Y| between "
-         "the two renders, the light the single-scattering BRDF drops (same scale). Mean "
-         "luminance, multiple / single: "
-      << report::num(d(ms["mean_luminance_ratio"]), 4) << ".</figcaption></figure>";
+         "the two renders, the light the single-scattering BRDF drops, on its own scale (full "
+         "colour "
+      << report::num(d(ms.contains("difference_scale") ? ms["difference_scale"]["max"] : sc["max"]),
+                     3)
+      << " Y<sub>99%</sub>; the models' scale: " << report::num(d(sc["max"]), 3)
+      << "). Mean luminance, multiple / single: " << report::num(d(ms["mean_luminance_ratio"]), 4)
+      << ".</figcaption></figure>";
   }
   p << "</div>\n";
 }

@@ -65,10 +65,14 @@ assert "multiple_scattering" in keys, keys
 for sc in s["render_comparison"]["scenes"]:
     ms = sc["multiple_scattering"]
     assert os.path.exists(f"{t}/on/{ms['difference_image']}"), ms
+    # Its own scale (the strip's is set by the largest model difference and hides a few per cent).
+    assert 0 < ms["difference_scale"]["max"] < 1e3, ms
+    assert ms["difference_scale"]["reference_luminance"] == sc["difference_scale"]["reference_luminance"]
 cyl = s["render_comparison"]["scenes"][0]["multiple_scattering"]
 assert cyl["single"] == "measured" and cyl["mean_luminance_ratio"] > 1, cyl  # MS adds light
 html = open(f"{t}/on/report.html").read()
 assert "Energy single scattering loses" in html and "Multiple against single scattering" in html
+assert "on its own scale" in html
 off = json.load(open(f"{t}/off/summary.json"))
 assert not off["multiple_scattering"]["in_comparison_strip"]
 assert "multiple_scattering" not in [x["model"] for x in off["render_comparison"]["scenes"][0]["models"]]
