@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/memory_budget.hpp"
@@ -214,4 +216,70 @@ TEST(psd, JsonRecordsUnitsAndNormalisation) {
   EXPECT_NEAR(j["integral_m2"].get<double>() / std::pow(j["sq_m"].get<double>(), 2),
               j["integral_over_sq2"].get<double>(), 1e-12);
   EXPECT_DOUBLE_EQ(j["fx_max_per_m"].get<double>(), 256 / (512 * kDx));
+}
+
+// The default tile: 32 correlation lengths per axis when the scan holds two of them per axis,
+// else the whole scan (include/microbrdf/psd.hpp).
+TEST(psd, DefaultTileFollowsTheCorrelationLength) {
+  const PsdOptions a = default_psd_options(2240, 2240, 250e-9, 250e-9, 1e-6, 1e-6);
+  EXPECT_EQ(a.tile, 128u);  // 32 um / 250 nm
+  const PsdOptions b = default_psd_options(2240, 2240, 250e-9, 250e-9, 5e-6, 2e-6);
+  EXPECT_EQ(b.tile, 640u);  // the longer-correlated axis decides
+  const PsdOptions c = default_psd_options(2240, 2240, 250e-9, 250e-9, 20e-6, 20e-6);
+  EXPECT_EQ(c.tile, 0u);  // 2560 samples: more than the scan
+  const PsdOptions d = default_psd_options(1000, 1000, 1e-6, 1e-6, NAN, 3e-6);
+  EXPECT_EQ(d.tile, 0u);
+  EXPECT_NE(d.tile_why.find("longer than the scan"), std::string::npos) << d.tile_why;
+  EXPECT_NE(a.tile_why.find("Welch"), std::string::npos) << a.tile_why;
+  // The user's words.
+  const Surface& s = gaussian_512();
+  EXPECT_EQ(psd_options(s, PsdWindow::Hann, "whole").tile, 0u);
+  EXPECT_EQ(psd_options(s, PsdWindow::None, "100").tile, 100u);
+  EXPECT_EQ(psd_options(s, PsdWindow::None, "100").window, PsdWindow::None);
+  EXPECT_THROW(psd_options(s, PsdWindow::Hann, "1"), InputError);
+  EXPECT_THROW(psd_options(s, PsdWindow::Hann, "12x"), InputError);
+  EXPECT_THROW(psd_options(s, PsdWindow::Hann, "often"), InputError);
+}
+
+// What the default tile is for: the whole-scan Hann periodogram of a Gaussian surface is
+// exponential speckle about the analytic PSD pi tau^2 sigma^2 exp(-pi^2 tau^2 f^2) (median ln 2,
+// spread of the ratio about 1); the Welch average over the default tiles brings the median to 1
+// and the spread down by about the square root of the tile count.
+TEST(psd, DefaultTilesAverageTheSpeckleOut) {
+  const double tau = 1e-6, sigma = 2e-9;
+  const Surface s = test_util::isotropic_gaussian(512, kDx, sigma, tau, 11);
+  auto ratios = [&](const AreaPsd& p) {
+    std::vector<double> r;
+    for (std::size_t iy = 0; iy < p.nfy; ++iy)
+      for (std::size_t ix = 0; ix < p.nfx; ++ix) {
+        const double f = std::hypot(p.fx(ix), p.fy(iy));
+        if (f == 0 || f * tau > 0.6) continue;  // the halo down to exp(-3.6) of its peak
+        const double theory =
+            M_PI * tau * tau * sigma * sigma * std::exp(-M_PI * M_PI * tau * tau * f * f);
+        r.push_back(p.at_node(ix, iy) / theory);
+      }
+    std::sort(r.begin(), r.end());
+    double m = 0, m2 = 0;
+    for (double x : r) m += x;
+    m /= static_cast<double>(r.size());
+    for (double x : r) m2 += (x - m) * (x - m);
+    return std::array<double, 3>{r[r.size() / 2], std::sqrt(m2 / static_cast<double>(r.size())) / m,
+                                 static_cast<double>(r.size())};
+  };
+  const AreaPsd whole = areal_psd(s, psd_options(s, PsdWindow::Hann, "whole"));
+  const AreaPsd tiled = areal_psd(s, default_psd_options(s));
+  // tau as the scan's ACF reads it (1.00-1.03 um): tiles of 128-132 samples, 7 x 7 of them.
+  EXPECT_GE(tiled.tile_nx, 128u);
+  EXPECT_LE(tiled.tile_nx, 132u);
+  EXPECT_EQ(tiled.tiles, 49u);
+  const auto w = ratios(whole), t = ratios(tiled);
+  std::printf(
+      "whole scan: median %.3f, spread %.3f (%g nodes); tiled (%zu): median %.3f, spread "
+      "%.3f (%g nodes)\n",
+      w[0], w[1], w[2], tiled.tiles, t[0], t[1], t[2]);
+  EXPECT_NEAR(w[0], std::log(2.0), 0.12);  // exponential: median ln 2 of the mean
+  EXPECT_GT(w[1], 0.7);
+  EXPECT_NEAR(t[0], 1.0, 0.1);
+  EXPECT_LT(t[1], 0.3);
+  EXPECT_GT(t[2], 30);
 }

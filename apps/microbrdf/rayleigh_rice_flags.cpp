@@ -29,10 +29,21 @@ void add_rayleigh_rice_flags(CLI::App* c, RayleighRiceFlags& f) {
                 "leakage along the axes) or none (exact for periodic, generated surfaces)")
       ->check(CLI::IsMember({"hann", "none"}));
   c->add_option("--psd-tile", f.psd_tile,
-                "With --rayleigh-rice: average the PSD over tiles of this many samples (50 % "
-                "overlap; less noise, coarser frequency step 1/(tile dx)); default: the whole "
-                "scan")
-      ->check(count_in(2, 1 << 20, "tiles larger than a million samples across hold no scan"));
+                "With --rayleigh-rice: the Welch tile the PSD is averaged over (50 % overlap): "
+                "auto (default: tiles of 32 correlation lengths when the scan holds 3 per axis, "
+                "else the whole scan; one periodogram is speckle, each node's spread equal to "
+                "its mean), whole, or a side in samples (less noise, coarser frequency step "
+                "1/(tile dx)). The JSON's psd.tile_choice says what was used and why")
+      ->check([](const std::string& v) -> std::string {
+        if (v == "auto" || v == "whole") return {};
+        std::size_t used = 0;
+        try {
+          const long long n = std::stoll(v, &used);
+          if (used == v.size() && n >= 2 && n <= (1LL << 20)) return {};
+        } catch (const std::exception&) {
+        }
+        return "give auto, whole or a side in samples from 2 to 1048576";
+      });
   add_read_flags(c, f.read, "plane");
 }
 
@@ -41,7 +52,7 @@ void check_rayleigh_rice_flags(const RayleighRiceFlags& f, const SpecFlags& spec
     if (!f.polarisation.empty())
       throw InputError(
           "--polarisation: only the Rayleigh-Rice BRDF has one (--rayleigh-rice SCAN)");
-    if (f.psd_tile != 0 || f.psd_window != "hann")
+    if (f.psd_tile != "auto" || f.psd_window != "hann")
       throw InputError("--psd-window/--psd-tile: only with --rayleigh-rice SCAN");
     return;
   }
@@ -66,11 +77,11 @@ RayleighRiceSource rayleigh_rice_from_flags(const RayleighRiceFlags& f, const Sp
   const OpticalConstants material = optical_constants(material_spec(spec, std::nullopt));
   RayleighRiceSource out;
   const Surface s = load_surface(f.scan, f.read, &out.leveling);
-  PsdOptions o;
-  o.window = parse_psd_window(f.psd_window);
-  o.tile = f.psd_tile;
+  const PsdOptions po = psd_options(s, parse_psd_window(f.psd_window), f.psd_tile);
   auto psd =
-      std::make_shared<const AreaPsd>(about_file(f.scan, [&] { return areal_psd(s, o, f.scan); }));
+      std::make_shared<const AreaPsd>(about_file(f.scan, [&] { return areal_psd(s, po, f.scan); }));
+  std::fprintf(stderr, "microbrdf brdf slice: %s: PSD: %s\n", f.scan.c_str(),
+               psd->tile_why.c_str());
   // The window-weighted mean square far from Sq^2: the scan's edges hold power (form, a defect)
   // the window plays down, or the scan holds too few correlation areas to estimate the PSD.
   const double ratio = psd->sq > 0 ? psd->integral() / (psd->sq * psd->sq) : 1.0;

@@ -16,7 +16,7 @@ struct RayleighRiceFlags {
   std::string scan;                 ///< --rayleigh-rice (empty: not asked for)
   std::string polarisation;         ///< --polarisation (empty: unpolarised)
   std::string psd_window = "hann";  ///< --psd-window
-  std::size_t psd_tile = 0;         ///< --psd-tile (0: the whole scan)
+  std::string psd_tile = "auto";    ///< --psd-tile: auto, whole or a side in samples
   ReadFlags read;                   ///< --spacing, --z-scale, --level for the scan
   bool given() const { return !scan.empty(); }
   bool mueller() const { return polarisation == "mueller"; }

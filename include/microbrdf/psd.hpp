@@ -47,9 +47,30 @@ std::string to_string(PsdWindow w);
 struct PsdOptions {
   PsdWindow window = PsdWindow::Hann;
   /// Tile side in samples (tiles of min(tile, nx) x min(tile, ny), 50 % overlap); 0 = the whole
-  /// scan as one tile (the finest frequency resolution, 1 / (n dx)).
+  /// scan as one tile (the finest frequency resolution, 1 / (n dx)). default_psd_options picks
+  /// it from the scan.
   std::size_t tile = 0;
+  /// Why this tile: one sentence with the numbers (copied into AreaPsd and psd_json).
+  std::string tile_why;
 };
+
+/// The tile a scan's PSD is averaged over when the user names none (docs/rayleigh_rice.md,
+/// "Tiles"). One periodogram is an exponentially distributed estimate at every node (its
+/// standard deviation equals its mean; its median is ln 2 of it), so a Rayleigh-Rice BRDF from it
+/// is speckle. Welch averaging over tiles removes that, at the price of a coarser frequency step
+/// 1/L and the window's blur of the halo. Tiles of L = 32 correlation lengths per axis keep that
+/// blur below 5 % at the Gaussian halo's 1e-3 level (Hann: exp(45.4 (tau/L)^2) - 1 = 4.5 %) and
+/// the step at 1/32 of 1/tau; they are used when the scan holds at least 3 per axis (side
+/// >= 2 L with 50 % overlap). Otherwise, or when the correlation length exceeds what the scan
+/// shows (NaN), the whole scan is one tile and `why` says that speckle remains.
+/// tau_x, tau_y: the 1/e lags of the height ACF along x and y (SurfaceStats), m.
+PsdOptions default_psd_options(std::size_t nx, std::size_t ny, double dx, double dy, double tau_x,
+                               double tau_y);
+/// The same from the surface's own statistics (compute_stats: one FFT of the ACF).
+PsdOptions default_psd_options(const Surface& s);
+/// The options a user's words ask for: tile "auto" (default_psd_options), "whole" (one tile) or
+/// a side in samples (>= 2); InputError otherwise.
+PsdOptions psd_options(const Surface& s, PsdWindow window, const std::string& tile);
 
 /// The 2-D PSD on a centred frequency grid: node (ix, iy) is
 ///   fx = (ix - nfx/2) dfx,  fy = (iy - nfy/2) dfy   (integer division; cycles/m),
@@ -63,6 +84,7 @@ struct AreaPsd {
   PsdWindow window = PsdWindow::Hann;
   std::size_t tile_nx = 0, tile_ny = 0;  ///< tile size in samples
   std::size_t tiles = 0;                 ///< tiles averaged
+  std::string tile_why;                  ///< PsdOptions::tile_why (empty: not recorded)
   double sq = 0;                         ///< rms height of the scan's valid samples, m
   double dx = 0, dy = 0;                 ///< the scan's spacing, m
 
@@ -107,8 +129,8 @@ RadialPsd radial_psd(const AreaPsd& psd);
 
 /// The PSD's record in JSON: conventions and units (frequency_unit "cycles/m", psd_unit "m^4",
 /// normalisation text), grid (nfx, nfy, dfx_per_m, dfy_per_m, fx_max_per_m, fy_max_per_m),
-/// estimator (window, tile_nx, tile_ny, tiles), sq_m, integral_m2, integral_over_sq2 and
-/// rms_slope.
+/// estimator (window, tile_nx, tile_ny, tiles, tile_choice when recorded), sq_m, integral_m2,
+/// integral_over_sq2 and rms_slope.
 nlohmann::json psd_json(const AreaPsd& psd);
 
 }  // namespace microbrdf

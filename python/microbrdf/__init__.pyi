@@ -209,6 +209,8 @@ class Psd:
     @property
     def tiles(self) -> int: ...
     @property
+    def tile_choice(self) -> str: ...
+    @property
     def window(self) -> str: ...
     def integral(self) -> float: ...
     def rms_slope(self) -> float: ...
@@ -228,7 +230,7 @@ class RayleighRiceBrdf(Brdf):
 def psd(
     surface: ScanLike,
     window: str = "hann",
-    tile: Optional[int] = None,
+    tile: Union[int, str, None] = "auto",
     level: str = "plane",
     spacing: Optional[Length2] = None,
 ) -> Psd: ...
@@ -236,7 +238,7 @@ def rayleigh_rice(
     surface: Union[ScanLike, Psd],
     polarisation: str = "unpolarised",
     window: str = "hann",
-    tile: Optional[int] = None,
+    tile: Union[int, str, None] = "auto",
     level: str = "plane",
     spacing: Optional[Length2] = None,
     **material: Any,
@@ -247,7 +249,7 @@ def tis(
     theta_i: Union[float, Sequence[float], None] = None,
     polarisation: str = "unpolarised",
     window: str = "hann",
-    tile: Optional[int] = None,
+    tile: Union[int, str, None] = "auto",
     level: str = "plane",
     spacing: Optional[Length2] = None,
     **material: Any,

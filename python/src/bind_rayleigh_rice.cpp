@@ -19,13 +19,16 @@ using PsdPtr = std::shared_ptr<const AreaPsd>;
 PsdPtr psd_of(const py::object& surface, const std::string& window, const py::object& tile,
               const std::string& level, const py::object& spacing) {
   if (py::isinstance<AreaPsd>(surface)) return surface.cast<std::shared_ptr<AreaPsd>>();
-  PsdOptions o;
-  o.window = parse_psd_window(window);
-  if (!tile.is_none()) {
+  // tile: "auto" (default), "whole" or None (one periodogram), or a side in samples.
+  std::string tile_text = "whole";
+  if (py::isinstance<py::str>(tile))
+    tile_text = tile.cast<std::string>();
+  else if (!tile.is_none()) {
     const long t = tile.cast<long>();
-    if (t < 2) throw InputError("tile must be at least 2 samples (or None: the whole scan)");
-    o.tile = static_cast<std::size_t>(t);
+    if (t < 2) throw InputError("tile must be at least 2 samples, 'auto' or 'whole'");
+    tile_text = std::to_string(t);
   }
+  const PsdWindow win = parse_psd_window(window);
   const auto lev = LevelingSpec::parse(level);
   const ReadOptions read = read_options(spacing);
   const ScanInputs in = scan_inputs(surface);
@@ -35,6 +38,7 @@ PsdPtr psd_of(const py::object& surface, const std::string& window, const py::ob
     Surface keep;
     const Surface& s = load_scan(in, 0, read, lev, keep);
     const std::string name = in.paths[0].empty() ? "surface" : in.paths[0];
+    const PsdOptions o = psd_options(s, win, tile_text);  // a bad tile is the caller's error
     return std::make_shared<const AreaPsd>(about_file(name, [&] { return areal_psd(s, o, name); }));
   });
 }
@@ -114,6 +118,8 @@ value[iy, ix] is at fx[ix], fy[iy] (zero frequency in the middle; read-only view
       .def_readonly("dfy", &AreaPsd::dfy, "Grid step along fy, cycles/m")
       .def_readonly("sq", &AreaPsd::sq, "rms height of the scan's valid samples, m")
       .def_readonly("tiles", &AreaPsd::tiles, "Tiles averaged")
+      .def_readonly("tile_choice", &AreaPsd::tile_why,
+                    "Which tile was used and why (one sentence with the numbers)")
       .def_property_readonly("window", [](const AreaPsd& p) { return to_string(p.window); })
       .def("integral", &AreaPsd::integral, "sum PSD dfx dfy, m^2")
       .def("rms_slope", &AreaPsd::rms_slope, "sqrt(sum (2 pi |f|)^2 PSD dfx dfy)")
@@ -164,14 +170,16 @@ value[iy, ix] is at fx[ix], fy[iy] (zero frequency in the middle; read-only view
       .def_property_readonly("polarisation",
                              [](const RayleighRiceBrdf& b) { return to_string(b.polarisation()); });
 
-  m.def("psd", &psd_of, py::arg("surface"), py::arg("window") = "hann",
-        py::arg("tile") = py::none(), py::arg("level") = "plane", py::arg("spacing") = py::none(),
+  m.def("psd", &psd_of, py::arg("surface"), py::arg("window") = "hann", py::arg("tile") = "auto",
+        py::arg("level") = "plane", py::arg("spacing") = py::none(),
         R"(The areal PSD of one scan (ISO 25178 conventions: cycles/m, m^4), as a Psd.
 
 surface: a Surface or a path; level: 'none' | 'plane' | 'polyN' (a Surface is levelled on a copy);
 window: 'hann' (default; no edge leakage along the axes) or 'none' (exact Parseval: the integral
-is Sq^2 to rounding); tile: average over tiles of this many samples (50 % overlap) instead of
-one periodogram of the whole scan. See docs/rayleigh_rice.md.)");
+is Sq^2 to rounding); tile: 'auto' (default: Welch tiles of 32 correlation lengths when the scan
+holds 3 per axis, else the whole scan; one periodogram is speckle), 'whole' or None (one
+periodogram of the whole scan), or a side in samples (50 % overlap). Psd.tile_choice says which
+and why. See docs/rayleigh_rice.md.)");
 
   m.def(
       "rayleigh_rice",
@@ -184,11 +192,12 @@ one periodogram of the whole scan. See docs/rayleigh_rice.md.)");
         return std::make_shared<RayleighRiceBrdf>(p, *material, pol);
       },
       py::arg("surface"), py::arg("polarisation") = "unpolarised", py::arg("window") = "hann",
-      py::arg("tile") = py::none(), py::arg("level") = "plane", py::arg("spacing") = py::none(),
+      py::arg("tile") = "auto", py::arg("level") = "plane", py::arg("spacing") = py::none(),
       R"(The first-order Rayleigh-Rice BRDF of a smooth metal from the scan's own PSD.
 
 surface: a Surface, a path or a Psd (mb.psd); material keywords as mb.brdf: metal='Al', or n=, k=,
-nk_csv=, r0=, color= (the complex index enters Q; no fresnel=). polarisation: 'unpolarised'
+nk_csv=, r0=, color= (the complex index enters Q; no fresnel=). window, tile: as mb.psd (tile
+'auto' by default: the PSD averaged over tiles where the scan allows). polarisation: 'unpolarised'
 (default), 's' or 'p' (incident; scattered light summed), 'ss', 'sp', 'ps', 'pp'.
 The wavelength is given per call, as for every BRDF: b.eval(wi, wo, wavelength=633e-9),
 b.mueller(wi, wo, wavelength) (N, 4, 4), mb.tis(b.psd, ...).
@@ -216,8 +225,8 @@ Example: b = mb.rayleigh_rice(s, metal='Al', polarisation='s'))");
         return json_to_py(j);
       },
       py::arg("surface"), py::arg("wavelength") = py::none(), py::arg("theta_i") = py::none(),
-      py::arg("polarisation") = "unpolarised", py::arg("window") = "hann",
-      py::arg("tile") = py::none(), py::arg("level") = "plane", py::arg("spacing") = py::none(),
+      py::arg("polarisation") = "unpolarised", py::arg("window") = "hann", py::arg("tile") = "auto",
+      py::arg("level") = "plane", py::arg("spacing") = py::none(),
       R"(Total integrated scatter per wavelength and angle of incidence, as `info --json`.
 
 surface: a Surface, a path or a Psd; wavelength (m) and theta_i (rad): numbers or sequences

@@ -118,3 +118,51 @@ def test_bad_arguments_are_input_errors():
         mb.psd(s, tile=1)
     with pytest.raises(mb.InputError, match="wavelength"):
         mb.tis(s, wavelength=5.0)
+
+
+def welch_psd(z, t):
+    """Welch's PSD written here: Hann tiles of t samples, 50 % overlap (the last tile ends at the
+    edge), each tile's window-weighted mean removed, dx dy |FFT|^2 / sum w^2, averaged."""
+    n = z.shape[0]
+    starts = list(range(0, n - t + 1, t // 2))
+    if starts[-1] + t < n:
+        starts.append(n - t)
+    w1 = np.sin(np.pi * (np.arange(t) + 0.5) / t) ** 2
+    w = w1[None, :] * w1[:, None]
+    acc = np.zeros((t, t))
+    for y0 in starts:
+        for x0 in starts:
+            h = z[y0:y0 + t, x0:x0 + t]
+            h = (h - (w * h).sum() / w.sum()) * w
+            acc += np.abs(np.fft.fft2(h)) ** 2 * DX * DX / (w * w).sum()
+    acc = np.fft.fftshift(acc / len(starts) ** 2)
+    acc[t // 2, t // 2] = 0
+    return acc, len(starts) ** 2
+
+
+def test_default_tile_is_welch_and_averages_the_speckle_out():
+    z = exact_gaussian(600)
+    s = mb.Surface(z, spacing=DX)
+    auto = mb.psd(s, level="none")            # default tile="auto"
+    whole = mb.psd(s, level="none", tile="whole")
+    assert whole.tiles == 1 and "whole scan" in whole.tile_choice
+    t = auto.to_json()["tile_nx"]
+    # 32 correlation lengths (tau 2 um = 8 samples, as the scan's ACF reads it): about 256.
+    assert 240 <= t <= 272 and "Welch" in auto.tile_choice, auto.tile_choice
+    ref, tiles = welch_psd(z, t)
+    assert auto.tiles == tiles
+    assert np.allclose(auto.value, ref, rtol=1e-9, atol=1e-12 * ref.max())
+    # Against the analytic PSD over the halo: the median of one Hann periodogram is about ln 2 of
+    # it (exponential speckle), the Welch average's near 1 with a spread three times smaller.
+    def ratios(p):
+        fx, fy = np.meshgrid(p.fx, p.fy)
+        f2 = fx**2 + fy**2
+        sel = (f2 > 0) & (f2 * TAU**2 < 0.36)
+        theory = np.pi * TAU**2 * SIGMA**2 * np.exp(-np.pi**2 * TAU**2 * f2[sel])
+        return p.value[sel] / theory
+    rw, ra = ratios(whole), ratios(auto)
+    assert abs(np.median(rw) - np.log(2)) < 0.15, np.median(rw)
+    assert abs(np.median(ra) - 1) < 0.15, np.median(ra)
+    assert np.std(ra) / np.mean(ra) < np.std(rw) / np.mean(rw) / 2.5
+    with pytest.raises(mb.InputError, match="tile"):
+        mb.psd(s, tile="often")

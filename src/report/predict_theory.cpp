@@ -2,6 +2,7 @@
 // reference), picked from the scans' regime (docs/regime.md) unless the user names one, and what
 // that theory needs beyond the input stage: D_K over lambda_q or the scans' mean PSD.
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "microbrdf/error.hpp"
@@ -44,9 +45,16 @@ std::shared_ptr<const AreaPsd> mean_psd(const Context& c, const std::vector<std:
   std::shared_ptr<AreaPsd> sum;
   double sq2 = 0;
   used = 0;
+  // The tile is chosen on the first scan (its correlation lengths) and kept for the others, so
+  // that their grids match.
+  std::optional<PsdOptions> po;
   for_each_scan(paths, c.opt.read, [&](std::size_t, const std::string& path, Surface& s) {
     about_file(path, [&] { level_surface(s, c.opt.leveling); });
-    AreaPsd p = areal_psd(s, {}, path);
+    if (!po) {
+      po = default_psd_options(s);
+      c.log("theory: PSD: " + po->tile_why);
+    }
+    AreaPsd p = about_file(path, [&] { return areal_psd(s, *po, path); });
     if (!sum) {
       sum = std::make_shared<AreaPsd>(std::move(p));
       sq2 = sum->sq * sum->sq;
@@ -132,6 +140,9 @@ void stage_theory(const Context& c, const std::vector<std::string>& paths, NdfSe
     rec["psd_scans"] = used;
     rec["psd_sq_m"] = ndfs.psd->sq;
     rec["psd_rms_slope"] = ndfs.psd->rms_slope();
+    rec["psd_tiles"] = ndfs.psd->tiles;
+    rec["psd_tile_samples"] = ndfs.psd->tile_nx;
+    rec["psd_tile_choice"] = ndfs.psd->tile_why;
   }
   if (!regime.is_object()) return;
   regime["theory"] = rec;

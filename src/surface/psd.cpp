@@ -117,6 +117,7 @@ AreaPsd areal_psd(const Surface& s, const PsdOptions& o, const std::string& what
   p.window = o.window;
   p.tile_nx = tnx;
   p.tile_ny = tny;
+  p.tile_why = o.tile_why;
   p.value.assign(tnx * tny, 0.0);
 
   const double mean = s.valid_mean();
@@ -195,30 +196,32 @@ RadialPsd radial_psd(const AreaPsd& p) {
 }
 
 nlohmann::json psd_json(const AreaPsd& p) {
-  return {{"convention", "ISO 25178-2 / ISO 10110-8 areal PSD, two-sided"},
-          {"frequency_unit", "cycles/m"},
-          {"psd_unit", "m^4"},
-          {"normalisation",
-           "PSD = dx dy |FFT(w h)|^2 / sum_valid w^2: sum(PSD) dfx dfy = the window-weighted mean "
-           "square height (= Sq^2 exactly without a window on one tile; for a stationary "
-           "surface Sq^2 in expectation with any window)"},
-          {"zero_frequency", "0 (the window-weighted mean of each tile is removed)"},
-          {"invalid_samples", "set to 0 after the mean is removed; normalised by sum_valid w^2"},
-          {"nfx", p.nfx},
-          {"nfy", p.nfy},
-          {"dfx_per_m", p.dfx},
-          {"dfy_per_m", p.dfy},
-          {"fx_max_per_m", static_cast<double>(p.nfx / 2) * p.dfx},
-          {"fy_max_per_m", static_cast<double>(p.nfy / 2) * p.dfy},
-          {"window", to_string(p.window)},
-          {"tile_nx", p.tile_nx},
-          {"tile_ny", p.tile_ny},
-          {"tiles", p.tiles},
-          {"sq_m", p.sq},
-          {"integral_m2", p.integral()},
-          {"integral_over_sq2",
-           p.sq > 0 ? nlohmann::json(p.integral() / (p.sq * p.sq)) : nlohmann::json(nullptr)},
-          {"rms_slope", p.rms_slope()}};
+  return {
+      {"convention", "ISO 25178-2 / ISO 10110-8 areal PSD, two-sided"},
+      {"frequency_unit", "cycles/m"},
+      {"psd_unit", "m^4"},
+      {"normalisation",
+       "PSD = dx dy |FFT(w h)|^2 / sum_valid w^2: sum(PSD) dfx dfy = the window-weighted mean "
+       "square height (= Sq^2 exactly without a window on one tile; for a stationary "
+       "surface Sq^2 in expectation with any window)"},
+      {"zero_frequency", "0 (the window-weighted mean of each tile is removed)"},
+      {"invalid_samples", "set to 0 after the mean is removed; normalised by sum_valid w^2"},
+      {"nfx", p.nfx},
+      {"nfy", p.nfy},
+      {"dfx_per_m", p.dfx},
+      {"dfy_per_m", p.dfy},
+      {"fx_max_per_m", static_cast<double>(p.nfx / 2) * p.dfx},
+      {"fy_max_per_m", static_cast<double>(p.nfy / 2) * p.dfy},
+      {"window", to_string(p.window)},
+      {"tile_nx", p.tile_nx},
+      {"tile_ny", p.tile_ny},
+      {"tiles", p.tiles},
+      {"sq_m", p.sq},
+      {"integral_m2", p.integral()},
+      {"integral_over_sq2",
+       p.sq > 0 ? nlohmann::json(p.integral() / (p.sq * p.sq)) : nlohmann::json(nullptr)},
+      {"rms_slope", p.rms_slope()},
+      {"tile_choice", p.tile_why.empty() ? nlohmann::json(nullptr) : nlohmann::json(p.tile_why)}};
 }
 
 }  // namespace microbrdf
