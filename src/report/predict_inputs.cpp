@@ -162,12 +162,7 @@ nlohmann::json stage_inputs(const Context& c, const std::vector<std::string>& pa
   // D_K is the slowest step (tens of seconds on a 2048 x 1024 scan): report it in 10 % steps,
   // when one rank does every scan in order.
   const bool local = mpi_size() == 1 || mpi_solo();
-  auto dk_progress = [&c, last = -1](double f) mutable {
-    const int step = static_cast<int>(f * 10);
-    if (step == last) return;
-    last = step;
-    c.log("inputs: kirchhoff D_K " + std::to_string(step * 10) + "%");
-  };
+  auto dk_progress = c.decile_log("inputs: kirchhoff D_K");
   // Per scan, on whichever rank takes it: read, level, statistics, height preview and the
   // scan's share of every NDF; rank 0 folds the shares in scan order (docs/scale.md).
   auto compute = [&](std::size_t i, const std::string& path, Surface& s) {

@@ -2,6 +2,7 @@
 // The stages of `predict` (predict.hpp). Each writes its files into the staging folder and
 // returns its part of summary.json; paths in the JSON are relative to the output folder.
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -38,6 +39,16 @@ struct Context {
             const std::string& what_to_do) const {
     log("warning: " + message + " -- " + what_to_do);
     warnings->push_back({{"code", code}, {"message", message}, {"what_to_do", what_to_do}});
+  }
+  /// A progress callback for a fraction 0..1 of long work: logs "<what> N%" in 10 % steps, once
+  /// per step.
+  std::function<void(double)> decile_log(const std::string& what) const {
+    return [this, what, last = -1](double f) mutable {
+      const int step = static_cast<int>(f * 10);
+      if (step == last) return;
+      last = step;
+      log(what + " " + std::to_string(step * 10) + "%");
+    };
   }
 };
 

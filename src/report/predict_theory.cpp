@@ -23,15 +23,12 @@ void compute_kirchhoff(const Context& c, const std::vector<std::string>& paths, 
   const KirchhoffOptions ko = dk_options(c.opt);
   KirchhoffAccumulator acc(ko);
   c.log("theory: kirchhoff D_K of " + std::to_string(paths.size()) + " scan(s)");
+  auto progress = c.decile_log("theory: kirchhoff D_K");
   for_each_scan(paths, c.opt.read, [&](std::size_t i, const std::string& path, Surface& s) {
     about_file(path, [&] { level_surface(s, c.opt.leveling); });
     KirchhoffOptions k = ko;
-    k.progress = [&, i, last = -1](double f) mutable {
-      const int step =
-          static_cast<int>((static_cast<double>(i) + f) / static_cast<double>(paths.size()) * 10);
-      if (step == last) return;
-      last = step;
-      c.log("theory: kirchhoff D_K " + std::to_string(step * 10) + "%");
+    k.progress = [&, i](double f) {
+      progress((static_cast<double>(i) + f) / static_cast<double>(paths.size()));
     };
     about_file(path, [&] { acc.merge(KirchhoffAccumulator(k).estimate(s)); });
   });
