@@ -58,6 +58,9 @@ assert th["requested"] == "auto" and th["chosen"] == "rayleigh-rice", th
 assert "0.0912" in th["why"] and th["psd_scans"] == 1, th
 # The PSD's Sq is the scan's (levelled) Sq.
 assert abs(th["psd_sq_m"] / smooth["sigma_m"] - 1) < 1e-6, (th, smooth["sigma_m"])
+# metropro-1: tau about 140 um on a 700 um field, so no room for tiles of 32 tau: one periodogram,
+# and the summary says why.
+assert th["psd_tiles"] == 1 and "whole scan" in th["psd_tile_choice"], th
 assert smooth["used"] == "rayleigh-rice" and "method_outside_validity" not in w1, w1
 labels = {m["key"]: m["label"] for m in s1["brdf"]["models"]}
 assert "Rayleigh-Rice" in labels["measured"] and "geometric" in labels, labels
