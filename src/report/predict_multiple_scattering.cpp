@@ -45,7 +45,8 @@ nlohmann::json stage_energy_loss(const Context& c, const NdfSet& ndfs) {
       double single = 0, multiple = 0, dropped = 0, m2 = 0;
       for (std::size_t k = 0; k < kWalks; ++k) {
         const double u1 = rng.next(), u2 = rng.next();
-        const auto e = walk.sample(wi, u1, u2, rng, nullptr, 555e-9);
+        // No Fresnel (nullptr: F = 1), so the wavelength is not used: the run's own is passed.
+        const auto e = walk.sample(wi, u1, u2, rng, nullptr, c.opt.wavelength_m);
         if (!e) {
           dropped += 1;
           continue;
