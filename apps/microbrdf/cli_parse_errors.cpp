@@ -51,6 +51,57 @@ std::vector<std::string> flags_of(const CLI::App* app) {
   return out;
 }
 
+// The option of `app` or of a parent that "--name" names, or nullptr.
+CLI::Option* option_named(CLI::App* app, const std::string& flag) {
+  for (; app; app = app->get_parent())
+    for (CLI::Option* o : app->get_options())
+      for (const auto& l : o->get_lnames())
+        if ("--" + l == flag) return o;
+  return nullptr;
+}
+
+// CLI11 stops at the first value a validator refuses. Every other "--flag value" on the line is
+// put through its option's validators here too (in CLI11's order, each seeing what the one
+// before left), so that all bad values are said at once: "--flag: problem" per refusal.
+std::vector<std::string> refused_values(CLI::App* app, int argc, char** argv) {
+  std::vector<std::string> out;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "--") break;
+    if (a.rfind("--", 0) != 0) continue;
+    const std::size_t eq = a.find('=');
+    const std::string flag = a.substr(0, eq);
+    CLI::Option* o = option_named(app, flag);
+    if (!o || o->get_type_size_max() == 0) continue;  // unknown, or a flag without a value
+    std::string value;
+    if (eq != std::string::npos)
+      value = a.substr(eq + 1);
+    else if (i + 1 < argc)
+      value = argv[++i];
+    else
+      continue;
+    for (int k = 0;; ++k) {
+      CLI::Validator* v = nullptr;
+      try {
+        v = o->get_validator(k);
+      } catch (const CLI::OptionNotFound&) {
+        break;
+      }
+      std::string problem;
+      try {
+        problem = (*v)(value);
+      } catch (const std::exception& e) {
+        problem = e.what();
+      }
+      if (!problem.empty()) {
+        out.push_back(flag + ": " + problem);
+        break;
+      }
+    }
+  }
+  return out;
+}
+
 std::vector<std::string> subcommands_of(CLI::App* app) {
   std::vector<std::string> out;
   for (const CLI::App* s : app->get_subcommands([](CLI::App*) { return true; }))
@@ -100,6 +151,14 @@ int report_parse_error(CLI::App& app, const CLI::ParseError& e, int argc, char**
     for (std::size_t i = 0; i < unknown.size(); ++i) said += (i ? ", " : "") + unknown[i];
     // CLI11 stops at the first problem; the unknown flags come first, then what it found.
     message = dynamic_cast<const CLI::ExtrasError*>(&e) ? said : said + "; " + message;
+  }
+  // A refused value: every refused value of the line, not only the first CLI11 met.
+  if (dynamic_cast<const CLI::ValidationError*>(&e) != nullptr) {
+    const auto refused = refused_values(cur, argc, argv);
+    if (refused.size() > 1) {
+      message = std::to_string(refused.size()) + " values refused: ";
+      for (std::size_t i = 0; i < refused.size(); ++i) message += (i ? "; " : "") + refused[i];
+    }
   }
   // A missing or misspelt subcommand: the word after the last command given.
   const auto subs = subcommands_of(cur);

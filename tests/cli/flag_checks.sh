@@ -78,6 +78,11 @@ grep -q "^Run 'microbrdf ndf --help' for the options and examples.$" err.txt || 
 refused "^microbrdf render: error: --tau-x|^microbrdf render: error: unknown flag --alpha-z \(did you mean --alpha-x\?\)" -- $BIN render --alpha-z 0.2 -o r.png
 refused "^microbrdf tabulate: error: --alpha: must be in" -- $BIN tabulate --alpha -1 -o t.npy
 refused "Start here: .make demo." -- $BIN
+# Several bad values: all of them, each with its flag and range (CLI11 alone stops at the first).
+refused "^microbrdf ndf: error: 3 values refused: --resolution: must be a whole number in \[17, 8193\] \(got 4\); --filter-sigma: must lie in 1 pm \.\. 1 m \(got -1um\); --window: " -- \
+  $BIN ndf x.npy --resolution 4 --filter-sigma=-1um --window hamming -o n.npy
+refused "^microbrdf predict: error: 2 values refused: --spp: .*\(got abc\); --render-width: .*\(got 0\)$" -- \
+  $BIN predict x.npy --spp abc --render-width 0 -o r
 # Outputs are checked before the work: a D_K that takes minutes refuses a .png table at once.
 mkdir in && $BIN generate gaussian --nx 128 --ny 128 --spacing 0.25um -o in/g.x3p >/dev/null 2>&1 || fail "generate"
 refused "error: -o: ndf.png: unknown extension '.png' \(expected .npy, .exr\)" -- \
