@@ -62,7 +62,7 @@ def test_predict_filter_sigma_auto_and_render_ndf(tmp_path):
     # sigma 20 nm: Kirchhoff by the regime, so forcing geometric optics warns.
     assert s["regime"]["per_incidence"][0]["method"] == "kirchhoff"
     assert s["regime"]["theory"] == {"requested": "geometric", "chosen": "geometric",
-                                     "why": "asked for (--theory geometric)"}
+                                     "why": "asked for (theory geometric)"}
     assert "method_outside_validity" in [w["code"] for w in s["warnings"]]
     assert s["settings"]["filter_sigma_m"] == c["filter_sigma_auto"]["sigma_m"]
     h = [p["hellinger"] for p in c["filter_sigma_auto"]["curve"]]

@@ -119,9 +119,10 @@ void stage_theory(const Context& c, const std::vector<std::string>& paths, NdfSe
       why = "auto: no scan statistics to decide from; geometric optics";
     }
   } else {
+    // In words that read the same from the CLI (--theory) and Python (theory=).
     why = "asked for (" +
-          std::string(o.render_ndf == "kirchhoff" && o.theory == "auto" ? "--render-ndf kirchhoff"
-                                                                        : "--theory " + o.theory) +
+          std::string(o.render_ndf == "kirchhoff" && o.theory == "auto" ? "render NDF kirchhoff"
+                                                                        : "theory " + o.theory) +
           ")";
   }
   ndfs.theory = chosen;
