@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "cli_checks.hpp"
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "microbrdf/height_preview.hpp"
@@ -18,6 +19,11 @@ struct ConvertArgs {
 };
 
 void run(const ConvertArgs& a) {
+  // The outputs before the input is read (a large scan takes seconds).
+  Preflight pre;
+  pre.output("output", a.out, {".x3p", ".gwy", ".npy", ".xyz", ".txt"});
+  if (!a.preview.empty()) pre.output("--preview", a.preview, {".png"});
+  pre.done();
   std::string lev;
   Surface s = load_surface(a.in, a.read, &lev);
   write_surface(s, a.out);

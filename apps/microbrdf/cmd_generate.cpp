@@ -5,6 +5,7 @@
 #include <memory>
 #include <utility>
 
+#include "cli_checks.hpp"
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
@@ -41,8 +42,16 @@ std::pair<double, double> spacing_of(const GenArgs& a) {
   return {p.x, p.y};
 }
 
+// The outputs before the heights are made (a large grid takes seconds).
+void check_outputs(const GenArgs& a) {
+  Preflight pre;
+  if (!a.preview.empty()) pre.output("--preview", a.preview, {".png"});
+  pre.output("-o", a.output, {".x3p", ".gwy", ".npy", ".xyz", ".txt"}).done();
+}
+
 template <class P>
 void set_grid(P& p, const GenArgs& a) {
+  check_outputs(a);
   if (a.nx) p.nx = a.nx;
   if (a.ny) p.ny = a.ny;
   // The generators' own limit (2^28 samples, 2 GiB of heights), said with the flags and the
@@ -150,6 +159,7 @@ void register_generate(CLI::App& app) {
   pr->add_option("--rows", a->rows, "Number of independent profiles (rows)")->capture_default_str();
   pr->callback([a] {
     run_guarded("generate", [&] {
+      check_outputs(*a);
       ProfileParams p;
       if (a->nx) p.n = a->nx;
       p.rows = a->rows;
