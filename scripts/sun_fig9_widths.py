@@ -143,8 +143,9 @@ def main() -> int:
     best = min(range(size), key=centre_theta)
     out = {"row": best, "size": size, "vases": []}
     print(f"row {best} of {size}")
-    print("| s | lobe theta_half | predicted width, px (of the vase) | " +
+    print("| smoothness | lobe theta_half | predicted width, px (of the vase) | " +
           " | ".join(f"{m} measured, px (ratio)" for m in a.metals) + " |")
+    print("|" + " --- |" * (3 + len(a.metals)))
     geometry = row_geometry(best, size)
     vase_px = geometry[2]
     for s_text in a.s.split(","):
@@ -161,7 +162,7 @@ def main() -> int:
             entry["measured"][m] = {"fwhm_px": m_w, "ratio": m_w / p_w}
             cells.append(f"{m_w:.1f} ({m_w / p_w:.3f})")
         out["vases"].append(entry)
-        print(f"| {s:g} | {entry['theta_half_deg']:.1f} deg | {p_w:.1f} ({p_w / vase_px:.3f}) | " +
+        print(f"| s = {s:g} | {entry['theta_half_deg']:.1f} deg | {p_w:.1f} ({p_w / vase_px:.3f}) | " +
               " | ".join(cells) + " |")
     (w / "widths.json").write_text(json.dumps(out, indent=1) + "\n")
     return 0
