@@ -8,6 +8,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/microscene.hpp"
 #include "microbrdf/render.hpp"
+#include "microscene_test_util.hpp"
 #include "render/micro_patch.hpp"
 #include "render_test_util.hpp"
 
@@ -32,12 +33,7 @@ MicroSceneDesc cylinders(MicroMaterial cyl, MicroMaterial base) {
   return d;
 }
 
-MicroMaterial lambert(double albedo) {
-  MicroMaterial m;
-  m.kind = MicroMaterial::Kind::Lambert;
-  m.albedo = albedo;
-  return m;
-}
+MicroMaterial lambert(double albedo) { return test_util::lambert_material(albedo); }
 
 // Height (m) of the cylinder array above scene coordinate y: written from the geometry (centres
 // at (k + 1/2) pitch), not from the tracer.
