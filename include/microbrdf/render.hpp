@@ -49,7 +49,7 @@ struct RenderScene {
   /// normal, its BRDF-frame x axis the plate's brushing direction (the camera's right turned by
   /// brush_angle_rad, so the same flags orient a simulated BRDF and the geometry it came from),
   /// and z = 0 lies in the plate's plane. Each of its materials is one object (material slot):
-  /// pass micro_scene_materials() as the materials. Null = the flat plate.
+  /// pass micro_scene_materials() as the materials. Linear brushing only. Null = the flat plate.
   std::shared_ptr<const MicroSceneDesc> micro_scene;
   /// How many tiles of the micro-scene span the plate's side (2 scene units): the scale at which
   /// the micro-geometry is seen (a tile is 2 / micro_tiles units wide). > 0.

@@ -211,6 +211,10 @@ void PreviewGeometry::build_vase() {
 }
 
 void PreviewGeometry::build_micro_plate(double half) {
+  if (scene_.brushing != Brushing::Linear)
+    throw InputError(
+        "render: a micro-scene is laid out along one direction (--brush-angle); rotational "
+        "brushing is not drawn");
   micro_ = std::make_unique<MicroPatch>(*scene_.micro_scene, scene_.micro_tiles, half,
                                         scene_.brush_angle_rad);
   micro_first_ = static_cast<int>(objects_.size());
