@@ -9,7 +9,7 @@
 # with the simulated SH BRDF. Writes docs/img/westin_fig7.png and, in WORK_DIR, the renders'
 # summaries and far_field.json (mean luminance of rows 2 and 3 and their ratio, per
 # orientation; docs/westin.md, "W92 Fig. 7").
-# Usage: scripts/make-westin-fig7.sh [BIN] [WORK_DIR]   (about 3 minutes on 2 busy cores)
+# Usage: scripts/make-westin-fig7.sh [BIN] [WORK_DIR]   (about 5 minutes on 2 busy cores)
 set -euo pipefail
 BIN=${1:-build/bin/microbrdf}
 W=${2:-$(mktemp -d)}
