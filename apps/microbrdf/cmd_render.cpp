@@ -47,7 +47,8 @@ struct RenderArgs {
 /// Everything cheap, before any file is parsed or a ray is traced: outputs, input files, the
 /// environment map's signature, the metal, image settings.
 void preflight(const RenderArgs& a) {
-  if (a.outputs.empty()) throw InputError("give an output: -o image.png and/or -o image.exr");
+  if (a.outputs.empty())
+    throw InputError("give an output: -o image.png, -o image.exr and/or -o image.npy");
   Preflight pre;
   for (const auto& o : a.outputs) pre.output("-o", o, {".png", ".exr", ".npy"});
   if (!a.lights.envmap.empty()) pre.envmap("--envmap", a.lights.envmap);
