@@ -11,6 +11,14 @@
 
 namespace microbrdf::test_util {
 
+/// An ideal diffuse material of the given albedo.
+inline MicroMaterial lambert_material(double albedo) {
+  MicroMaterial m;
+  m.kind = MicroMaterial::Kind::Lambert;
+  m.albedo = albedo;
+  return m;
+}
+
 inline MicroMaterial mirror_material() {
   MicroMaterial m;
   m.kind = MicroMaterial::Kind::Mirror;

@@ -29,12 +29,7 @@ MicroSceneDesc flat(MicroMaterial m) {
   return d;
 }
 
-MicroMaterial lambert(double a) {
-  MicroMaterial m;
-  m.kind = MicroMaterial::Kind::Lambert;
-  m.albedo = a;
-  return m;
-}
+MicroMaterial lambert(double a) { return test_util::lambert_material(a); }
 
 MicroMaterial microfacet(double alpha) {
   MicroMaterial m;

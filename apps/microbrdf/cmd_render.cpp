@@ -1,6 +1,7 @@
 // `microbrdf render`: preview images of a BRDF on objects under environment maps and lights
 // (the spectral path tracer of include/microbrdf/render.hpp).
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -11,6 +12,7 @@
 #include "cli_threads.hpp"
 #include "commands.hpp"
 #include "microbrdf/error.hpp"
+#include "microbrdf/microscene.hpp"
 #include "microbrdf/render.hpp"
 #include "microbrdf/texture.hpp"
 #include "microbrdf/units.hpp"
@@ -23,7 +25,8 @@ namespace {
 
 struct RenderArgs {
   SpecFlags spec;  // BRDF and material
-  std::string scene = "cylinders", obj, brushing = "linear", brush_angle = "0";
+  std::string scene = "cylinders", obj, brushing = "linear", brush_angle = "0", micro_scene;
+  double micro_tiles = RenderScene{}.micro_tiles;
   sun2002::SunRenderOptions sun;  // Sun 2002 options (Figs. 8 and 11)
   double uv_scale = 1;
   RenderLightFlags lights;
@@ -44,16 +47,26 @@ struct RenderArgs {
 /// Everything cheap, before any file is parsed or a ray is traced: outputs, input files, the
 /// environment map's signature, the metal, image settings.
 void preflight(const RenderArgs& a) {
-  if (a.outputs.empty()) throw InputError("give an output: -o image.png and/or -o image.exr");
+  if (a.outputs.empty())
+    throw InputError("give an output: -o image.png, -o image.exr and/or -o image.npy");
   Preflight pre;
-  for (const auto& o : a.outputs) pre.output("-o", o, {".png", ".exr"});
+  for (const auto& o : a.outputs) pre.output("-o", o, {".png", ".exr", ".npy"});
   if (!a.lights.envmap.empty()) pre.envmap("--envmap", a.lights.envmap);
   check_spec_files(pre, a.spec);
   if (!a.obj.empty()) pre.input("--obj", a.obj);
+  if (!a.micro_scene.empty()) pre.input("--micro-scene", a.micro_scene);
   if (!a.sun.s_texture.empty()) pre.input("--s-texture", a.sun.s_texture);
   if (!a.sun.color_texture.empty()) pre.input("--color-texture", a.sun.color_texture);
   pre.done();
   (void)parse_render_sampler(a.sampler, "--sampler");
+  if (!a.micro_scene.empty()) {
+    if (a.scene != "plate") throw InputError("--micro-scene goes with --scene plate");
+    if (!a.spec.keys().empty() || a.sun.given() || !a.sun.s_texture.empty())
+      throw InputError(
+          "--micro-scene draws the micro-scene's own materials: leave out the BRDF and "
+          "material flags");
+    return;
+  }
   (void)render_brdf_spec(a.spec, a.sun);  // the BRDF and material flags, before any file
   (void)material_spec(a.spec, MaterialSpec::named_metal("Al"));
   warn_single_dk_table(a.spec, "render");
@@ -74,6 +87,14 @@ void run(RenderArgs& a) {
     throw InputError("--brushing must be linear or rotational");
   sc.brush_angle_rad = parse_angle(a.brush_angle);
   sc.uv_scale = a.uv_scale;
+  sc.micro_tiles = a.micro_tiles;
+  std::vector<std::shared_ptr<const Svbrdf>> mats;
+  if (!a.micro_scene.empty()) {
+    sc.micro_scene = std::make_shared<MicroSceneDesc>(load_micro_scene(a.micro_scene));
+    mats = micro_scene_materials(*sc.micro_scene);
+  } else {
+    mats = render_materials(a.spec, a.sun);
+  }
   RenderOptions opt;
   opt.width = a.width > 0 ? a.width : a.size;
   opt.height = a.height > 0 ? a.height : a.size;
@@ -87,15 +108,19 @@ void run(RenderArgs& a) {
   opt.sampler = parse_render_sampler(a.sampler, "--sampler");
   opt.direct = parse_direct_light(a.direct, "--direct");
   parse_ris_candidates(a.ris_candidates, "--ris-candidates", opt);
-  const auto mats = render_materials(a.spec, a.sun);
   const auto lights = make_lights(a.lights, sc.kind);
   Progress progress("render", a.quiet);
   if (!a.quiet) opt.progress = progress.fraction_callback();
   const RenderImage img = render(sc, mats, lights, opt);
   const double png_exposure = a.exposure + (a.normalize ? normalizing_exposure(img) : 0.0);
   for (const auto& o : a.outputs) {
-    if (o.size() >= 4 && (o.substr(o.size() - 4) == ".exr" || o.substr(o.size() - 4) == ".EXR"))
+    std::string ext = o.size() >= 4 ? o.substr(o.size() - 4) : "";
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char ch) { return std::tolower(ch); });
+    if (ext == ".exr")
       write_render_exr(img, o);
+    else if (ext == ".npy")
+      write_render_npy(img, o);
     else
       write_render_png(img, o, png_exposure);
   }
@@ -168,7 +193,11 @@ void register_render(CLI::App& app) {
           "FILE.shbrdf,\n"
           "grey, its own reflectance); an ellipsoid parameter texture (--texture TEX.exr from\n"
           "`microbrdf texture`, each texel's fit with the material's Fresnel term; --uv-scale =\n"
-          "texture repeats per scene unit).\n") +
+          "texture repeats per scene unit).\n"
+          "--micro-scene SCENE.json (with --scene plate) draws the micro-scene that `microbrdf\n"
+          "simulate` traces as geometry, with its own materials, repeated over the plate\n"
+          "(--micro-tiles tiles across it; its x axis follows --brush-angle as a BRDF's "
+          "would).\n") +
       kRenderSunHelp +
       "The BRDF's x axis follows --brushing linear (the image's horizontal turned by\n"
       "--brush-angle about the normal) or rotational (circles about the object's axis).\n\n"
@@ -180,12 +209,20 @@ void register_render(CLI::App& app) {
       "  microbrdf render --scene cylinders --texture ss4_tex.exr --uv-scale 2 --metal Fe -o "
       "t.png\n"
       "  microbrdf render --scene sphere --sh ggx.shbrdf --spp 64 -o sh.png\n"
+      "  microbrdf render --scene plate --micro-scene cylinders.json --micro-tiles 4 -o cyl.png\n"
       "  microbrdf render --scene vase --model ggx --alpha 0.2 --metal Au --brushing rotational "
       "\\\n"
       "      --envmap studio.hdr --spp 256 --threads 2 -o vase.exr -o vase.png");
   c->add_option("--scene", a->scene, "cylinders, plate, sphere, vase, obj or furnace_sphere")
       ->capture_default_str();
   c->add_option("--obj", a->obj, "OBJ mesh for --scene obj (centred, scaled to 2 units)");
+  c->add_option("--micro-scene", a->micro_scene,
+                "Micro-scene JSON (as for simulate) drawn as geometry on the plate, with its "
+                "own materials, instead of a BRDF");
+  c->add_option("--micro-tiles", a->micro_tiles,
+                "Tiles of the --micro-scene across the plate (2 scene units)")
+      ->capture_default_str()
+      ->check(positive_number(1e9));
   c->add_option("--brushing", a->brushing, "Tangent field: linear or rotational")
       ->capture_default_str();
   c->add_option("--brush-angle", a->brush_angle, "Turn of the brushing direction about n (deg)")
@@ -234,7 +271,9 @@ void register_render(CLI::App& app) {
   c->add_flag("--normalize", a->normalize,
               "Scale the PNG so that its brightest pixels (99.9th percentile of the largest "
               "channel) are white, as Sun 2002 scales each image; --exposure adds to it");
-  c->add_option("-o,--output", a->outputs, "Output .png and/or .exr (repeatable)");
+  c->add_option(
+      "-o,--output", a->outputs,
+      "Output .png, .exr and/or .npy (linear sRGB, float64 (height, width, 3)); repeatable");
   c->add_flag("--json", a->json, "Print a JSON summary (timing, rays) on stdout");
   c->add_flag("--quiet", a->quiet, "No progress on stderr");
   c->callback([a] { run_guarded("render", [&] { run(*a); }); });

@@ -19,6 +19,8 @@
 
 namespace microbrdf {
 
+struct MicroSceneDesc;  // microscene.hpp
+
 enum class PreviewScene {
   Cylinders,  ///< two cylinder sections, the BRDF rotated 90 degrees between them (Dong Fig. 10)
   Plate,      ///< a flat plate seen from above under a small area light (Dong Fig. 13)
@@ -41,7 +43,25 @@ struct RenderScene {
   Brushing brushing = Brushing::Linear;
   double brush_angle_rad = 0;
   double uv_scale = 1;  ///< texture repeats per unit length (SVBRDF textures)
+  /// The plate only: its surface is this micro-scene's geometry itself (the scene JSON that
+  /// `microbrdf simulate` traces, include/microbrdf/microscene.hpp), repeated periodically over
+  /// the plate, instead of a flat plate with a BRDF. The micro-scene's z axis is the plate's
+  /// normal, its BRDF-frame x axis the plate's brushing direction (the camera's right turned by
+  /// brush_angle_rad, so the same flags orient a simulated BRDF and the geometry it came from),
+  /// and z = 0 lies in the plate's plane. Each of its materials is one object (material slot):
+  /// pass micro_scene_materials() as the materials. Linear brushing only. Null = the flat plate.
+  std::shared_ptr<const MicroSceneDesc> micro_scene;
+  /// How many tiles of the micro-scene span the plate's side (2 scene units): the scale at which
+  /// the micro-geometry is seen (a tile is 2 / micro_tiles units wide). > 0.
+  double micro_tiles = 8;
 };
+
+/// The materials of a micro-scene as the renderer draws them, one per material of the scene in
+/// its order (the material slots of RenderScene::micro_scene): mirror -> an ideal mirror with
+/// the material's Fresnel term, lambert -> Lambertian of its albedo, microfacet and shbrdf ->
+/// that BRDF, absorber -> black. Dielectrics (transmission) are not drawn: InputError naming the
+/// material.
+std::vector<std::shared_ptr<const Svbrdf>> micro_scene_materials(const MicroSceneDesc& scene);
 
 struct RenderLights {
   std::string envmap_path;         ///< EXR or Radiance HDR, equirectangular; empty = none
@@ -200,6 +220,9 @@ std::vector<RenderImage> render_light_sets(
 
 /// Linear EXR (half floats, RGB) with the render settings in the header; atomic.
 void write_render_exr(const RenderImage& img, const std::string& path);
+/// Linear sRGB radiance (as the EXR, in full precision) as a NumPy float64 array of shape
+/// (height, width, 3), row 0 at the top: for measurements on a render; atomic.
+void write_render_npy(const RenderImage& img, const std::string& path);
 /// The exposure (stops) that takes the `percentile` of the pixels' largest channel to 1 (Sun
 /// 2002 scales each image to its maximum; 0.999 ignores a few fireflies); 0 for a black image.
 double normalizing_exposure(const RenderImage& img, double percentile = 0.999);

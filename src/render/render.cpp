@@ -32,6 +32,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/memory_budget.hpp"
+#include "microbrdf/microscene.hpp"
 #include "microbrdf/spectrum.hpp"
 #include "microbrdf/threads.hpp"
 #include "render/direct_ris.hpp"
@@ -126,7 +127,6 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
   const bool use_ris = c.ris;
   bool after_ris = false;
   pt::RisPending pending;  // direct light whose visibility is the continuation ray's
-  const double eps = c.geo.epsilon();
   auto add_emission = [&](int l, const V3& rgb, double light_pdf) {
     double w = 1;
     if (!specular) {
@@ -215,7 +215,7 @@ std::uint64_t trace_path(const PathContext& c, V3 o, V3 d, PathSpectrum& ps, pt:
       }
       view[v] = mat[v]->view(wv);
     }
-    const V3 origin = sp.p + eps * sp.ng;
+    const V3 origin = sp.p + sp.eps * sp.ng;  // (a micro-scene's hits: its own offset)
 
     // Next-event estimation, per light set: the first set for every variant, the others for
     // the first variant only.
@@ -398,7 +398,11 @@ std::string settings_line(const RenderScene& scene,
                           const RenderLights& lights, const RenderOptions& opt, int variants,
                           int light_sets, DirectLight direct) {
   std::ostringstream os;
-  os << "scene " << preview_scene_name(scene.kind) << "; materials:";
+  os << "scene " << preview_scene_name(scene.kind);
+  if (scene.micro_scene)
+    os << " (micro-scene " << scene.micro_scene->name << ", " << scene.micro_tiles
+       << " tiles across)";
+  os << "; materials:";
   for (const auto& m : materials) os << " [" << m->describe() << "]";
   os << "; lights:";
   if (lights.uniform_white_env) os << " uniform white environment";

@@ -9,6 +9,7 @@
 
 #include <cmath>
 
+#include "core/npy.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
 #include "microbrdf/image.hpp"
@@ -78,6 +79,21 @@ void write_render_exr(const RenderImage& img, const std::string& path) {
     throw FileError(path, std::string("exr write failed: ") + e.what());
   }
   out.commit();
+}
+
+void write_render_npy(const RenderImage& img, const std::string& path) {
+  if (img.width <= 0 || img.height <= 0 ||
+      img.rgb.size() != std::size_t(img.width) * img.height * 3)
+    throw FileError(path, "cannot write an empty or inconsistent image");
+  const std::vector<double> values(img.rgb.begin(), img.rgb.end());
+  std::vector<std::uint8_t> bytes;
+  try {
+    // (layers, rows, cols) = (height, width, channel): the layout of img.rgb.
+    bytes = detail::encode_npy_f64(values, std::size_t(img.width), 3, std::size_t(img.height));
+  } catch (const std::exception& e) {
+    throw FileError(path, e.what());
+  }
+  write_file_atomic(path, bytes);
 }
 
 void write_render_png(const RenderImage& img, const std::string& path, double exposure_stops) {

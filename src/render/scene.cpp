@@ -11,6 +11,7 @@
 #include "core/embree_device.hpp"
 #include "core/embree_ray.hpp"
 #include "microbrdf/error.hpp"
+#include "render/micro_patch.hpp"
 
 namespace microbrdf::pt {
 namespace {
@@ -75,7 +76,10 @@ PreviewGeometry::PreviewGeometry(const RenderScene& scene) : scene_(scene) {
         build_cylinder(V3(kCylX, 0, 0), kCylR, kCylHalf, M_PI / 2);
         break;
       case PreviewScene::Plate:
-        build_plate(kPlateHalf);
+        if (scene.micro_scene)
+          build_micro_plate(kPlateHalf);
+        else
+          build_plate(kPlateHalf);
         break;
       case PreviewScene::Sphere:
       case PreviewScene::FurnaceSphere:
@@ -88,6 +92,8 @@ PreviewGeometry::PreviewGeometry(const RenderScene& scene) : scene_(scene) {
         build_obj(scene.obj_path);
         break;
     }
+    if (scene.micro_scene && !micro_)
+      throw InputError("render: a micro-scene is drawn on the plate only (--scene plate)");
     rtcCommitScene(rtc_);
     for (Object& o : objects_) {  // the turn of the brushing direction, per object
       const double turn = scene_.brush_angle_rad + o.tangent_turn;
@@ -204,6 +210,21 @@ void PreviewGeometry::build_vase() {
   add_mesh(Shape::Mesh, pos, idx, nrm, uv, V3::Zero(), 1, 0);
 }
 
+void PreviewGeometry::build_micro_plate(double half) {
+  if (scene_.brushing != Brushing::Linear)
+    throw InputError(
+        "render: a micro-scene is laid out along one direction (--brush-angle); rotational "
+        "brushing is not drawn");
+  micro_ = std::make_unique<MicroPatch>(*scene_.micro_scene, scene_.micro_tiles, half,
+                                        scene_.brush_angle_rad);
+  micro_first_ = static_cast<int>(objects_.size());
+  for (int m = 0; m < micro_->material_count(); ++m) {
+    Object o;
+    o.shape = Shape::Micro;
+    objects_.push_back(o);
+  }
+}
+
 void PreviewGeometry::build_obj(const std::string& path) {
   if (path.empty()) throw InputError("the obj scene needs a mesh file (--obj FILE.obj)");
   if (!std::filesystem::exists(path)) throw FileError::missing(path);
@@ -279,11 +300,29 @@ double PreviewGeometry::intersect(const V3& o, const V3& d, double tfar, Shading
   RTCRayHit rh;
   detail::fill_rayhit(rh, o, d, 0, float(std::min(tfar, 1e30)));
   rtcIntersect1(rtc_, &ctx, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return -1;
+  MicroPatchHit mh;
+  const bool embree = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  if (micro_ && micro_->intersect(o, d, embree ? double(rh.ray.tfar) : tfar, mh)) {
+    shade_micro(mh, d, sp);
+    return mh.t;
+  }
+  if (!embree) return -1;
   const double t = rh.ray.tfar;
   shade(rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, o + t * d,
         V3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), d, sp);
   return t;
+}
+
+void PreviewGeometry::shade_micro(const MicroPatchHit& h, const V3& d, ShadingPoint& sp) const {
+  sp.object = micro_first_ + h.material;
+  sp.p = h.p;
+  sp.eps = micro_->epsilon();
+  // Two-sided, as every object: the normal faces the incoming ray.
+  sp.ng = h.n.dot(d) > 0 ? V3(-h.n) : h.n;
+  sp.n = sp.ng;
+  sp.t = h.t_dir;
+  sp.b = sp.n.cross(sp.t);
+  sp.u = sp.v = 0;
 }
 
 double PreviewGeometry::intersect_bare(const V3& o, const V3& d) const {
@@ -292,7 +331,10 @@ double PreviewGeometry::intersect_bare(const V3& o, const V3& d) const {
   RTCRayHit rh;
   detail::fill_rayhit(rh, o, d, 0, std::numeric_limits<float>::infinity());
   rtcIntersect1(rtc_, &ctx, &rh);
-  return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : rh.ray.tfar;
+  MicroPatchHit mh;
+  const bool embree = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  if (micro_ && micro_->intersect(o, d, embree ? double(rh.ray.tfar) : 1e30, mh)) return mh.t;
+  return embree ? rh.ray.tfar : -1;
 }
 
 bool PreviewGeometry::occluded(const V3& o, const V3& d, double tfar) const {
@@ -301,7 +343,9 @@ bool PreviewGeometry::occluded(const V3& o, const V3& d, double tfar) const {
   RTCRay r;
   detail::fill_ray(r, o, d, 0, float(std::min(tfar, 1e30)));
   rtcOccluded1(rtc_, &ctx, &r);
-  return r.tfar < 0;
+  if (r.tfar < 0) return true;
+  MicroPatchHit mh;
+  return micro_ && micro_->intersect(o, d, tfar, mh);
 }
 
 void PreviewGeometry::shade(unsigned geom, unsigned prim, float bu, float bv, const V3& p, V3 ng,
@@ -309,6 +353,7 @@ void PreviewGeometry::shade(unsigned geom, unsigned prim, float bu, float bv, co
   const Object& o = objects_[geom];
   sp.object = int(geom);
   sp.p = p;
+  sp.eps = epsilon();
   double u0 = 0, v0 = 0;
   V3 n = V3(0, 0, 1);
   switch (o.shape) {
@@ -331,6 +376,8 @@ void PreviewGeometry::shade(unsigned geom, unsigned prim, float bu, float bv, co
       n = V3(0, 1, 0);
       u0 = p.x();
       v0 = -p.z();
+      break;
+    case Shape::Micro:  // (shade_micro)
       break;
     case Shape::Mesh: {
       const unsigned* ix = &o.indices[3 * prim];

@@ -10,12 +10,16 @@
 #include <embree3/rtcore.h>
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "microbrdf/render.hpp"
 
 namespace microbrdf::pt {
+
+class MicroPatch;  // micro_patch.hpp
+struct MicroPatchHit;
 
 using V3 = Eigen::Vector3d;
 
@@ -39,6 +43,7 @@ struct ShadingPoint {
   V3 t, b;              ///< tangent (the BRDF's x axis) and bitangent n x t
   double u = 0, v = 0;  ///< texture coordinates (repeats)
   int object = 0;       ///< index into the scene's objects (material slot)
+  double eps = 0;       ///< offset that takes a ray's origin off this surface (along ng)
   V3 to_local(const V3& w) const { return {w.dot(t), w.dot(b), w.dot(n)}; }
   V3 to_world(const V3& w) const { return w.x() * t + w.y() * b + w.z() * n; }
 };
@@ -63,11 +68,12 @@ class PreviewGeometry {
   /// saves an atan2 per hit on spheres and cylinders).
   void set_texture_coordinates(bool on) { uv_ = on; }
   const Camera& camera() const { return camera_; }
-  /// A length for ray offsets (1e-4 of the scene size).
+  /// A length for ray offsets (1e-4 of the scene size); a micro-scene's hits carry their own
+  /// (ShadingPoint::eps).
   double epsilon() const { return 1e-4 * extent_; }
 
  private:
-  enum class Shape { Sphere, Cylinder, Plate, Mesh };
+  enum class Shape { Sphere, Cylinder, Plate, Mesh, Micro };
   struct Object {
     Shape shape;
     V3 centre = V3::Zero(), axis = V3(0, 1, 0);
@@ -86,13 +92,18 @@ class PreviewGeometry {
   void build_vase();
   void build_plate(double half);
   void build_obj(const std::string& path);
+  void build_micro_plate(double half);
   void shade(unsigned geom, unsigned prim, float bu, float bv, const V3& p, V3 ng, const V3& d,
              ShadingPoint& sp) const;
+  void shade_micro(const MicroPatchHit& h, const V3& d, ShadingPoint& sp) const;
 
   RenderScene scene_;
   RTCDevice device_ = nullptr;
   RTCScene rtc_ = nullptr;
-  std::vector<Object> objects_;  // index = Embree geometry id
+  // index = Embree geometry id; a micro-scene's materials (no Embree geometry here) come after
+  std::vector<Object> objects_;
+  std::unique_ptr<MicroPatch> micro_;  // RenderScene::micro_scene
+  int micro_first_ = 0;                // objects_ index of its first material
   Camera camera_;
   double extent_ = 2;
   bool uv_ = true;
