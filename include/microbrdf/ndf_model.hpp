@@ -96,6 +96,16 @@ class NdfModel {
   virtual std::vector<std::vector<double>> starts(const NdfMoments& m) const {
     return {initial(m)};
   }
+  /// Models whose own fits start this one's (a mixture: its two lobes; none by default). The fit
+  /// fits them first, to the same table, and also solves from seeded_starts() of their results.
+  virtual std::vector<const NdfModel*> seeds() const { return {}; }
+  /// Starting points from the fitted values of seeds() (in that order). A mixture's include each
+  /// lobe's fit alone (weight 1 or 0), so that its fit never ends above its better lobe's.
+  virtual std::vector<std::vector<double>> seeded_starts(
+      const std::vector<std::vector<double>>& fitted) const {
+    (void)fitted;
+    return {};
+  }
   /// Brings fitted values to their canonical form (angles folded; equivalent parameter sets
   /// mapped to one), without changing D.
   virtual void canonicalise(std::vector<double>& v) const;

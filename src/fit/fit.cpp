@@ -195,7 +195,10 @@ TabulatedNdf tent_table(std::size_t resolution, int subsamples, const NdfWindow&
   return t;
 }
 
-FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
+// `seeded`: starting points (values) from other models' fits (NdfModel::seeded_starts); the one
+// of lowest cost is always solved from, besides the model's own starts.
+FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o,
+                         const std::vector<std::vector<double>>& seeded = {}) {
   const auto t0 = std::chrono::steady_clock::now();
   if (ndf.resolution() < 5) throw InputError("NDF table too small to fit");
   const NdfModel& model = ndf_model(o.model);
@@ -255,6 +258,23 @@ FitResult fit_ndf_single(const TabulatedNdf& ndf, const FitOptions& o) {
   // Models with several starts (shape parameters, two lobes: local minima) are solved from the
   // best three and keep the lowest final cost; the others from their one start.
   candidates.resize(std::min<std::size_t>(candidates.size(), 3));
+  // The best seeded start (a mixture: typically its better lobe's own fit) is solved from too,
+  // so that the result is never above it.
+  double best_seeded = kInf;
+  std::vector<double> seeded_shape;
+  for (auto v : seeded) {
+    for (int i = 0; i < k; ++i)
+      if (model.params()[static_cast<std::size_t>(i)].kind == NdfParam::Kind::Alpha)
+        v[static_cast<std::size_t>(i)] =
+            std::clamp(v[static_cast<std::size_t>(i)], alpha_min, kAlphaMax);
+    const std::vector<double> s = model.to_fit(v);
+    const double cst = ctx.cost(s.data(), ctx.tent ? 1.0 : ctx.node_amplitude(s.data()));
+    if (cst < best_seeded) {
+      best_seeded = cst;
+      seeded_shape = s;
+    }
+  }
+  if (!seeded_shape.empty()) candidates.emplace_back(best_seeded, seeded_shape);
   const FitContext ctx0 = ctx;
   struct Attempt {
     FitResult r;
@@ -469,7 +489,10 @@ double fit_objective(const TabulatedNdf& ndf, const FitOptions& o, const NdfPara
   return c.cost(model.to_fit(v).data(), c.tent ? 1.0 : amplitude);
 }
 
-FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
+namespace {
+
+FitResult fit_ndf_unseeded(const TabulatedNdf& ndf, const FitOptions& o,
+                           const std::vector<std::vector<double>>& seeded) {
   // Coarse to fine: on large tables whose lobe the quarter-resolution table still resolves (the
   // moment guess at least three coarse spacings wide), the multi-start and the first iterations
   // run on the coarse table; its optimum starts the fit on the full table, which converges to
@@ -491,14 +514,48 @@ FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
       const FitResult c = fit_ndf_single(coarse, co);
       FitOptions fo = o;
       fo.initial = c.params;
-      FitResult r = fit_ndf_single(ndf, fo);
-      r.initial = c.initial;
+      FitResult r = fit_ndf_single(ndf, fo, seeded);
+      // (Started from the coarse optimum rather than a seeded start: the coarse fit's start.)
+      const auto& a = r.initial.values;
+      const auto& b = c.params.values;
+      if (a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](double x, double y) {
+            return std::abs(x - y) <= 1e-9 * (1 + std::abs(y));
+          }))
+        r.initial = c.initial;
       r.iterations += c.iterations;
       r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       return r;
     }
   }
-  return fit_ndf_single(ndf, o);
+  return fit_ndf_single(ndf, o, seeded);
+}
+
+}  // namespace
+
+FitResult fit_ndf(const TabulatedNdf& ndf, const FitOptions& o) {
+  const auto t_start = std::chrono::steady_clock::now();
+  // Models seeded by other models' fits (mixtures by their lobes'): those fits first.
+  const NdfModel& fitted_model = ndf_model(o.model);
+  std::vector<std::vector<double>> seeded;
+  if (!o.initial && !fitted_model.seeds().empty()) {
+    std::vector<std::vector<double>> fitted;
+    std::vector<std::pair<std::string, std::vector<double>>> done;  // a model seeding twice
+    for (const NdfModel* s : fitted_model.seeds()) {
+      auto it = std::find_if(done.begin(), done.end(),
+                             [&](const auto& d) { return d.first == s->name(); });
+      if (it == done.end()) {
+        FitOptions so = o;
+        so.model = s->name();
+        done.emplace_back(s->name(), s->values(fit_ndf(ndf, so).params));
+        it = done.end() - 1;
+      }
+      fitted.push_back(it->second);
+    }
+    seeded = fitted_model.seeded_starts(fitted);
+  }
+  FitResult r = fit_ndf_unseeded(ndf, o, seeded);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return r;
 }
 
 std::shared_ptr<MicrofacetDistribution> fitted_distribution(const FitResult& r) {

@@ -92,6 +92,27 @@ class MixtureModel final : public NdfModel {
         }
     return out;
   }
+  std::vector<const NdfModel*> seeds() const override { return {&a_, &b_}; }
+  std::vector<std::vector<double>> seeded_starts(
+      const std::vector<std::vector<double>>& fitted) const override {
+    // Each lobe's own fit alone (w = 1, w = 0: the mixture then is that fit, so the solver can
+    // only end lower), and a core of each with a wider tail of the other (a local minimum of the
+    // moment starts need not be near either).
+    const std::vector<double>&va = fitted.at(0), &vb = fitted.at(1);
+    auto widened = [](const NdfModel& m, std::vector<double> v, double f) {
+      for (std::size_t i = 0; i < v.size(); ++i)
+        if (m.params()[i].kind == NdfParam::Kind::Alpha) v[i] *= f;
+      return v;
+    };
+    auto join = [](const std::vector<double>& x, const std::vector<double>& y, double w) {
+      std::vector<double> v = x;
+      v.insert(v.end(), y.begin(), y.end());
+      v.push_back(w);
+      return v;
+    };
+    return {join(va, vb, 1.0), join(va, vb, 0.0), join(va, widened(b_, vb, 2.5), 0.8),
+            join(widened(a_, va, 2.5), vb, 0.2)};
+  }
   void canonicalise(std::vector<double>& v) const override {
     std::vector<double> va(v.begin(), v.begin() + ka()), vb(v.begin() + ka(), v.end() - 1);
     a_.canonicalise(va);

@@ -44,11 +44,33 @@ done
 cmp -s <(tail -n +2 "$T/toy.csv") <(tail -n +2 "$T/ggx.csv") \
   || fail "brdf slice: the toy lobe differs from GGX of the same roughness"
 
-# export bsdf: a tabulated .bsdf of the toy lobe, the same bytes as GGX's but for the
-# description.
+# export bsdf: a tabulated .bsdf of the toy lobe, every field the same bytes as GGX's of the same
+# roughness but the description (which names the model).
 $BIN export bsdf --model toy --roughness 0.2 --metal Al -o "$T/toy.bsdf" >/dev/null 2>"$T/err" \
   || fail "export bsdf: $(cat "$T/err")"
 test -s "$T/toy.bsdf" || fail "export bsdf wrote nothing"
+$BIN export bsdf --model ggx --alpha 0.2 --metal Al -o "$T/ggx.bsdf" >/dev/null 2>"$T/err" \
+  || fail "export bsdf --model ggx: $(cat "$T/err")"
+/usr/bin/python3 - "$T/toy.bsdf" "$T/ggx.bsdf" <<'PY' || fail "export bsdf: the toy's tables differ from GGX's"
+import struct, sys
+def fields(path):  # Mitsuba's tensor_file: header, then per field name, shape, dtype, offset
+    b = open(path, "rb").read()
+    assert b[:12] == b"tensor_file\0"
+    (count,) = struct.unpack_from("<I", b, 14)
+    pos, out, sizes = 18, {}, {1: 1, 2: 1, 3: 2, 4: 2, 5: 4, 6: 4, 7: 8, 8: 8, 9: 2, 10: 4, 11: 8}
+    for _ in range(count):
+        (n,) = struct.unpack_from("<H", b, pos); name = b[pos + 2:pos + 2 + n].decode(); pos += 2 + n
+        ndim, dtype, offset = struct.unpack_from("<HBQ", b, pos); pos += 11
+        shape = struct.unpack_from("<%dQ" % ndim, b, pos); pos += 8 * ndim
+        size = sizes[dtype]
+        for s in shape: size *= s
+        out[name] = b[offset:offset + size]
+    return out
+a, g = fields(sys.argv[1]), fields(sys.argv[2])
+diff = [k for k in a if k != "description" and a[k] != g.get(k)]
+print("fields", sorted(a), "differing:", diff)
+sys.exit(0 if sorted(a) == sorted(g) and len(a) > 3 and not diff else 1)
+PY
 
 # A parameter of another model is refused, naming the flag.
 $BIN tabulate --model ggx --alpha 0.2 --roughness 0.2 -o "$T/x.npy" >/dev/null 2>"$T/err"
