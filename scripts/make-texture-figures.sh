@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Figures for docs/texture.md, docs/fitting.md and docs/validation.md (issue 7), made by the tool
+# Figures for docs/texture.md, docs/fitting.md and docs/validation.md, made by the tool
 # itself: Dong Fig. 12 fits of the brushed presets (ellipsoid vs Beckmann), Fig. 11-style texel
 # NDFs, the texel parameter image of a strip and a synthesised texture.
 # Usage: scripts/make-texture-figures.sh [BIN] [OUTDIR]   (defaults: build/bin/microbrdf, docs/img)

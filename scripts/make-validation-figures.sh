@@ -13,7 +13,7 @@ W=$(mktemp -d); trap 'rm -rf "$W"' EXIT
 mkdir -p "$IMG"
 want() { [[ " ${SECTIONS:-1 2 3 4} " == *" $1 "* ]]; }
 
-# 1. Filtered rms slope vs filter sigma on a Gaussian surface (issue 3 acceptance 2):
+# 1. Filtered rms slope vs filter sigma on a Gaussian surface:
 #    alpha_f = alpha tau^2 / (tau^2 + 4 s^2), alpha = 2 sigma / tau; rms slope = alpha_f / sqrt 2.
 if want 1; then
 "$BIN" generate gaussian --nx 1024 --ny 1024 --spacing 0.25um --sigma 0.1um --tau 2um --seed 7 -o "$W/g.x3p" 2>/dev/null
