@@ -218,8 +218,9 @@ TEST(psd, JsonRecordsUnitsAndNormalisation) {
   EXPECT_DOUBLE_EQ(j["fx_max_per_m"].get<double>(), 256 / (512 * kDx));
 }
 
-// The default tile: 32 correlation lengths per axis when the scan holds two of them per axis,
-// else the whole scan (include/microbrdf/psd.hpp).
+// The default tile: 32 correlation lengths per axis when the scan is at least two of them long
+// on each axis (three tiles with the 50 % overlap), else the whole scan
+// (include/microbrdf/psd.hpp).
 TEST(psd, DefaultTileFollowsTheCorrelationLength) {
   const PsdOptions a = default_psd_options(2240, 2240, 250e-9, 250e-9, 1e-6, 1e-6);
   EXPECT_EQ(a.tile, 128u);  // 32 um / 250 nm

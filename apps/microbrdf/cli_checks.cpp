@@ -13,6 +13,7 @@
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/fresnel.hpp"
+#include "microbrdf/io.hpp"
 #include "microbrdf/units.hpp"
 
 namespace microbrdf::cli {
@@ -101,6 +102,24 @@ Preflight& Preflight::output(std::string_view flag, const std::string& path,
   } else {
     writable_parent(flag, path);
   }
+  return *this;
+}
+
+Preflight& Preflight::height_map_output(std::string_view flag, const std::string& path) {
+  const SurfaceFormat f = format_from_extension(path);
+  std::error_code ec;
+  if (path.empty())
+    add(flag, "empty file name");
+  else if (f == SurfaceFormat::Auto)
+    add(flag, path + ": cannot write a height map as '" + fs::path(path).extension().string() +
+                  "' (writable: .x3p .gwy .npy .xyz .txt .asc .csv)");
+  else if (!format_can_write(f))
+    add(flag, path + ": writing " + format_name(f) +
+                  " is not supported (writable: .x3p .gwy .npy .xyz .txt .asc .csv)");
+  else if (fs::is_directory(path, ec))
+    add(flag, path + ": is a folder, not a file");
+  else
+    writable_parent(flag, path);
   return *this;
 }
 

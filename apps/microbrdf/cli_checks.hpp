@@ -22,6 +22,9 @@ class Preflight {
   /// is ignored), it must not be a folder, and its folder must exist and be writable.
   Preflight& output(std::string_view flag, const std::string& path,
                     std::initializer_list<std::string_view> extensions);
+  /// A height-map output: an extension the surface writer writes (io.hpp: format_can_write),
+  /// not a folder, in an existing writable folder.
+  Preflight& height_map_output(std::string_view flag, const std::string& path);
   /// An output folder: it is created later, so its parent must exist and be writable (or the
   /// folder itself must exist and be writable).
   Preflight& output_dir(std::string_view flag, const std::string& path);

@@ -72,7 +72,8 @@ std::vector<std::string> refused_values(CLI::App* app, int argc, char** argv) {
     const std::size_t eq = a.find('=');
     const std::string flag = a.substr(0, eq);
     CLI::Option* o = option_named(app, flag);
-    if (!o || o->get_type_size_max() == 0) continue;  // unknown, or a flag without a value
+    // Unknown, or a flag (it takes no value: expected 0).
+    if (!o || o->get_expected_max() == 0) continue;
     std::string value;
     if (eq != std::string::npos)
       value = a.substr(eq + 1);
@@ -80,24 +81,31 @@ std::vector<std::string> refused_values(CLI::App* app, int argc, char** argv) {
       value = argv[++i];
     else
       continue;
-    for (int k = 0;; ++k) {
-      CLI::Validator* v = nullptr;
-      try {
-        v = o->get_validator(k);
-      } catch (const CLI::OptionNotFound&) {
-        break;
-      }
-      std::string problem;
-      try {
-        problem = (*v)(value);
-      } catch (const std::exception& e) {
-        problem = e.what();
-      }
-      if (!problem.empty()) {
-        out.push_back(flag + ": " + problem);
-        break;
-      }
+    // A delimited option (--wavelength 405nm,633nm) is validated item by item, as CLI11 does.
+    std::vector<std::string> items;
+    const char delim = o->get_delimiter();
+    for (std::size_t at = 0;;) {
+      const std::size_t end = delim ? value.find(delim, at) : std::string::npos;
+      items.push_back(value.substr(at, end == std::string::npos ? end : end - at));
+      if (end == std::string::npos) break;
+      at = end + 1;
     }
+    std::string problem;
+    for (std::string item : items)
+      for (int k = 0; problem.empty(); ++k) {
+        CLI::Validator* v = nullptr;
+        try {
+          v = o->get_validator(k);
+        } catch (const CLI::OptionNotFound&) {
+          break;
+        }
+        try {
+          problem = (*v)(item);
+        } catch (const std::exception& e) {
+          problem = e.what();
+        }
+      }
+    if (!problem.empty()) out.push_back(flag + ": " + problem);
   }
   return out;
 }
@@ -156,8 +164,11 @@ int report_parse_error(CLI::App& app, const CLI::ParseError& e, int argc, char**
   if (dynamic_cast<const CLI::ValidationError*>(&e) != nullptr) {
     const auto refused = refused_values(cur, argc, argv);
     if (refused.size() > 1) {
-      message = std::to_string(refused.size()) + " values refused: ";
-      for (std::size_t i = 0; i < refused.size(); ++i) message += (i ? "; " : "") + refused[i];
+      std::string list;
+      for (std::size_t i = 0; i < refused.size(); ++i) list += (i ? "; " : "") + refused[i];
+      // (after the unknown flags, when there are any)
+      const std::string before = unknown.empty() ? "" : message.substr(0, message.find("; ") + 2);
+      message = before + std::to_string(refused.size()) + " values refused: " + list;
     }
   }
   // A missing or misspelt subcommand: the word after the last command given.

@@ -21,7 +21,7 @@ struct ConvertArgs {
 void run(const ConvertArgs& a) {
   // The outputs before the input is read (a large scan takes seconds).
   Preflight pre;
-  pre.output("output", a.out, {".x3p", ".gwy", ".npy", ".xyz", ".txt"});
+  pre.height_map_output("output", a.out);
   if (!a.preview.empty()) pre.output("--preview", a.preview, {".png"});
   pre.done();
   std::string lev;

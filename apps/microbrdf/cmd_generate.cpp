@@ -46,7 +46,7 @@ std::pair<double, double> spacing_of(const GenArgs& a) {
 void check_outputs(const GenArgs& a) {
   Preflight pre;
   if (!a.preview.empty()) pre.output("--preview", a.preview, {".png"});
-  pre.output("-o", a.output, {".x3p", ".gwy", ".npy", ".xyz", ".txt"}).done();
+  pre.height_map_output("-o", a.output).done();
 }
 
 template <class P>

@@ -59,6 +59,8 @@ void preflight(const RenderArgs& a) {
   if (!a.sun.color_texture.empty()) pre.input("--color-texture", a.sun.color_texture);
   pre.done();
   (void)parse_render_sampler(a.sampler, "--sampler");
+  if (a.micro_scene.empty() && a.micro_tiles != RenderScene{}.micro_tiles)
+    throw InputError("--micro-tiles: only with --micro-scene");
   if (!a.micro_scene.empty()) {
     if (a.scene != "plate") throw InputError("--micro-scene goes with --scene plate");
     if (!a.spec.keys().empty() || a.sun.given() || !a.sun.s_texture.empty())

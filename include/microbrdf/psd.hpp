@@ -63,13 +63,15 @@ struct PsdOptions {
 /// the step at 1/32 of 1/tau; they are used when the scan holds at least 3 per axis (side
 /// >= 2 L with 50 % overlap). Otherwise, or when the correlation length exceeds what the scan
 /// shows (NaN), the whole scan is one tile and `why` says that speckle remains.
-/// tau_x, tau_y: the 1/e lags of the height ACF along x and y (SurfaceStats), m.
+/// dx, dy: the sample spacing, m; tau_x, tau_y: the 1/e lags of the height ACF along x and y
+/// (SurfaceStats), m.
 PsdOptions default_psd_options(std::size_t nx, std::size_t ny, double dx, double dy, double tau_x,
                                double tau_y);
 /// The same from the surface's own statistics (compute_stats: one FFT of the ACF).
 PsdOptions default_psd_options(const Surface& s);
-/// The options a user's words ask for: tile "auto" (default_psd_options), "whole" (one tile) or
-/// a side in samples (>= 2); InputError otherwise.
+/// The options a user's words ask for: tile "auto" (default_psd_options; with no window the
+/// whole scan, whose periodogram is exact for periodic surfaces), "whole" (one tile) or a side in
+/// samples (>= 2); InputError otherwise.
 PsdOptions psd_options(const Surface& s, PsdWindow window, const std::string& tile);
 
 /// The 2-D PSD on a centred frequency grid: node (ix, iy) is

@@ -225,11 +225,13 @@ Example: b = mb.rayleigh_rice(s, metal='Al', polarisation='s'))");
         return json_to_py(j);
       },
       py::arg("surface"), py::arg("wavelength") = py::none(), py::arg("theta_i") = py::none(),
-      py::arg("polarisation") = "unpolarised", py::arg("window") = "hann", py::arg("tile") = "auto",
-      py::arg("level") = "plane", py::arg("spacing") = py::none(),
+      py::arg("polarisation") = "unpolarised", py::arg("window") = "hann",
+      py::arg("tile") = "whole", py::arg("level") = "plane", py::arg("spacing") = py::none(),
       R"(Total integrated scatter per wavelength and angle of incidence, as `info --json`.
 
-surface: a Surface, a path or a Psd; wavelength (m) and theta_i (rad): numbers or sequences
+surface: a Surface, a path or a Psd (tile: 'whole' by default, one periodogram as `info --json`
+takes: a tile's mean removes the power below its frequency step, which the TIS counts);
+wavelength (m) and theta_i (rad): numbers or sequences
 (default 405, 555, 633, 1064 nm x 0, 20, 45, 70 deg); material keywords as mb.rayleigh_rice.
 Returns a list of dicts: rayleigh_factor (4 pi Sq cos theta / lambda)^2 and, with a material,
 reflectance, tis_closed_form (= factor x R), tis_integral (the Rayleigh-Rice BRDF over the

@@ -222,7 +222,9 @@ nlohmann::json compare_scene(const Context& c, const std::vector<NamedBrdf>& mod
       sum_single += s_y[i];
     }
     const std::string file = "img/compare_" + prefix + "ms_vs_single_difference.png";
-    double ms_top = quantile(dlt, 0.995) / bright;
+    // Not below the noise of two renders (noise_diff): where multiple scattering adds next to
+    // nothing, its image must not show render noise at full colour.
+    double ms_top = std::max(quantile(dlt, 0.995), quantile(noise_diff, 0.995)) / bright;
     if (!(ms_top > 0)) ms_top = top;
     write_difference(dlt, file, ms_top);
     out["multiple_scattering"] = {

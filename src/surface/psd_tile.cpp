@@ -64,7 +64,13 @@ PsdOptions default_psd_options(const Surface& s) {
 
 PsdOptions psd_options(const Surface& s, PsdWindow window, const std::string& tile) {
   PsdOptions o;
-  if (tile == "auto") {
+  if (tile == "auto" && window == PsdWindow::None) {
+    // No window is asked for periodic (generated) surfaces, whose whole-scan periodogram is
+    // exact; a tile cut from them is not periodic and would leak along the axes.
+    o.tile_why =
+        "one periodogram of the whole scan (no window: exact for a periodic surface; a "
+        "tile of it would leak along the axes)";
+  } else if (tile == "auto") {
     o = default_psd_options(s);
   } else if (tile == "whole") {
     o.tile_why = "one periodogram of the whole scan (asked for)";

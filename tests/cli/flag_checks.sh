@@ -87,10 +87,16 @@ refused "^microbrdf predict: error: 2 values refused: --spp: .*\(got abc\); --re
 mkdir in && $BIN generate gaussian --nx 128 --ny 128 --spacing 0.25um -o in/g.x3p >/dev/null 2>&1 || fail "generate"
 refused "error: -o: ndf.png: unknown extension '.png' \(expected .npy, .exr\)" -- \
   $BIN ndf in/g.x3p --method kirchhoff --resolution 1025 -o ndf.png
+# ... a valid comma list is not among them (each item is checked), a flag takes no value, and
+# unknown flags come first.
+refused "^microbrdf info: error: unknown flag --bogus; 2 values refused: --wavelength: .*\(got 5m\); --theta-i: .*\(got 95\)$" -- \
+  $BIN info x.npy --json --wavelength 405nm,633nm,5m --theta-i 95 --bogus
+refused "^microbrdf info: error: 2 values refused: --theta-i: .*\(got 95\); --spacing: " -- \
+  $BIN info x.npy --json --wavelength 405nm,633nm --theta-i 0,95 --spacing 5
 # generate and convert check their outputs before making or reading heights.
 refused "error: -o: nodir/g.npy: .*(folder|directory)" -- $BIN generate gaussian --nx 4096 --ny 4096 -o nodir/g.npy
 refused "error: --preview: g.jpg: unknown extension" -- $BIN generate gaussian -o g.npy --preview g.jpg
-refused "error: output: c.png: unknown extension" -- $BIN convert in/g.x3p c.png
+refused "error: output: c.png: cannot write a height map as '.png'" -- $BIN convert in/g.x3p c.png
 # predict without a material says which it assumes (every number depends on it).
 $BIN predict in/g.x3p --no-render --resolution 65 --quiet -o rep >/dev/null 2>err.txt || fail "predict: $(cat err.txt)"
 grep -q "note: no material given: iron (Fe) assumed .* give --metal" err.txt || fail "no note on the assumed metal: $(cat err.txt)"

@@ -38,6 +38,7 @@ expect 2 "leave out the BRDF" -- --scene plate --micro-scene "$SCENES/cylinders.
 expect 2 "leave out the BRDF" -- --scene plate --micro-scene "$SCENES/cylinders.json" --lambertian 1
 expect 2 "nothing.json" -- --scene plate --micro-scene "$T/nothing.json"
 expect 2 "--micro-tiles" -- --scene plate --micro-scene "$SCENES/cylinders.json" --micro-tiles 0
+expect 2 "only with --micro-scene" -- --scene plate --model ggx --alpha 0.2 --metal Al --micro-tiles 4
 expect 2 "rotational" -- --scene plate --micro-scene "$SCENES/cylinders.json" --brushing rotational
 expect 2 "fibre" -- --scene plate --micro-scene "$SCENES/velvet.json"
 echo '{"materials": {"a": {"type": "lambert"}}, "objects": []}' >"$T/bad.json"
