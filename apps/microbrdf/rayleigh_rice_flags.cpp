@@ -89,9 +89,12 @@ RayleighRiceSource rayleigh_rice_from_flags(const RayleighRiceFlags& f, const Sp
     std::fprintf(stderr,
                  "microbrdf brdf slice: warning: %s: the PSD holds %.3g x Sq^2 (Sq %.4g nm, "
                  "levelling %s): the scan's edges hold power the window plays down (form the "
-                 "levelling left, defects), or the scan spans too few correlation lengths; the "
+                 "levelling left, defects), the scan spans too few correlation lengths%s; the "
                  "TIS closed form uses Sq\n",
-                 f.scan.c_str(), ratio, psd->sq * 1e9, f.read.level.c_str());
+                 f.scan.c_str(), ratio, psd->sq * 1e9, f.read.level.c_str(),
+                 psd->tiles > 1 ? ", or power below the tiles' frequency step (each tile's mean "
+                                  "removes it; --psd-tile whole keeps it)"
+                                : "");
   const Polarisation pol = f.polarisation.empty() || f.mueller()
                                ? Polarisation::Unpolarised
                                : parse_polarisation(f.polarisation);

@@ -242,17 +242,18 @@ NpyArray parse_npy(std::span<const std::uint8_t> data, const std::string& name) 
   return a;
 }
 
-std::string npy_header_dict_f64(std::size_t rows, std::size_t cols, std::size_t layers) {
-  const std::string lead = layers > 1 ? std::to_string(layers) + ", " : std::string();
+std::string npy_header_dict_f64(std::size_t rows, std::size_t cols, std::size_t layers,
+                                bool layer_axis) {
+  const std::string lead = layers > 1 || layer_axis ? std::to_string(layers) + ", " : std::string();
   return "{'descr': '<f8', 'fortran_order': False, 'shape': (" + lead + std::to_string(rows) +
          ", " + std::to_string(cols) + "), }";
 }
 
 std::vector<std::uint8_t> encode_npy_f64(std::span<const double> values, std::size_t rows,
-                                         std::size_t cols, std::size_t layers) {
+                                         std::size_t cols, std::size_t layers, bool layer_axis) {
   if (values.size() != layers * rows * cols)
     throw std::invalid_argument("encode_npy_f64: size mismatch");
-  std::string header = npy_header_dict_f64(rows, cols, layers);
+  std::string header = npy_header_dict_f64(rows, cols, layers, layer_axis);
   // magic(6) + version(2) + length(2) + header + padding + '\n' = multiple of 64
   std::size_t total = 10 + header.size() + 1;
   header.append((64 - total % 64) % 64, ' ');

@@ -31,13 +31,15 @@ struct NpyArray {
 NpyArray parse_npy(std::span<const std::uint8_t> data, const std::string& name);
 
 /// The header dict NumPy would write for a C-order float64 array of shape (rows, cols), or
-/// (layers, rows, cols) when layers > 1.
-std::string npy_header_dict_f64(std::size_t rows, std::size_t cols, std::size_t layers = 1);
+/// (layers, rows, cols) when layers > 1 or `layer_axis` (an image of one row stays 3-D).
+std::string npy_header_dict_f64(std::size_t rows, std::size_t cols, std::size_t layers = 1,
+                                bool layer_axis = false);
 
 /// Serialises `values` (row-major, layers * rows * cols) as a float64 C-order .npy file of shape
-/// (rows, cols), or (layers, rows, cols) when layers > 1.
+/// (rows, cols), or (layers, rows, cols) when layers > 1 or `layer_axis`.
 /// Throws std::length_error if the header would not fit a version 1.0 file.
 std::vector<std::uint8_t> encode_npy_f64(std::span<const double> values, std::size_t rows,
-                                         std::size_t cols, std::size_t layers = 1);
+                                         std::size_t cols, std::size_t layers = 1,
+                                         bool layer_axis = false);
 
 }  // namespace microbrdf::detail

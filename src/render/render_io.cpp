@@ -89,7 +89,9 @@ void write_render_npy(const RenderImage& img, const std::string& path) {
   std::vector<std::uint8_t> bytes;
   try {
     // (layers, rows, cols) = (height, width, channel): the layout of img.rgb.
-    bytes = detail::encode_npy_f64(values, std::size_t(img.width), 3, std::size_t(img.height));
+    // (always 3-D: an image one pixel high is (1, width, 3), as documented)
+    bytes =
+        detail::encode_npy_f64(values, std::size_t(img.width), 3, std::size_t(img.height), true);
   } catch (const std::exception& e) {
     throw FileError(path, e.what());
   }

@@ -48,7 +48,7 @@ std::shared_ptr<const AreaPsd> mean_psd(const Context& c, const std::vector<std:
   for_each_scan(paths, c.opt.read, [&](std::size_t, const std::string& path, Surface& s) {
     about_file(path, [&] { level_surface(s, c.opt.leveling); });
     if (!po) {
-      po = default_psd_options(s);
+      po = about_file(path, [&] { return default_psd_options(s); });
       c.log("theory: PSD: " + po->tile_why);
     }
     AreaPsd p = about_file(path, [&] { return areal_psd(s, *po, path); });

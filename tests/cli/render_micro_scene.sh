@@ -22,6 +22,11 @@ got = img.reshape(-1, 3).mean(axis=0)
 assert np.allclose(got, want, rtol=1e-9, atol=0), (got, want)
 assert img.max() > 0
 PY
+# An image one pixel high stays 3-D: (1, width, 3).
+$BIN render --scene plate --model ggx --alpha 0.3 --metal Al --width 8 --height 1 --spp 1 --quiet \
+  -o "$T/row.npy" 2>"$T/err" || fail "render one row: $(cat "$T/err")"
+/usr/bin/python3 -c "import numpy as np, sys; a = np.load(sys.argv[1]); assert a.shape == (1, 8, 3), a.shape" \
+  "$T/row.npy" || fail "one-row .npy is not (1, 8, 3)"
 
 expect() {  # expect CODE TEXT -- ARGS...: exit code CODE, stderr mentions TEXT, no output file
   local code=$1 text=$2; shift 3
