@@ -1,6 +1,7 @@
 // `microbrdf ndf FILE... --method naive|filtered|kirchhoff -o OUT`: the geometric NDF of one scan
 // or of a scan set (each scan estimated on its own, averaged by projected area; Dong 2015 section
 // 5.1), or the Kirchhoff distribution D_K (Dong section 6 and App. A; docs/kirchhoff.md).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -24,7 +25,8 @@ nlohmann::json ndf_json(const TabulatedNdf& ndf, const NdfArgs& a) {
   auto mn = ndf.mean_normal();
   auto pk = ndf.peak();
   const auto& m = ndf.meta;
-  double sx = ndf.rms_slope(0), sy = ndf.rms_slope(M_PI / 2);
+  const Eigen::Matrix2d cov = ndf.slope_covariance();  // one pass over the table
+  const double sx = std::sqrt(std::max(0.0, cov(0, 0))), sy = std::sqrt(std::max(0.0, cov(1, 1)));
   return {{"method", m.method},
           {"resolution", ndf.resolution()},
           {"integral", ndf.integral()},
@@ -57,7 +59,9 @@ void write_outputs(TabulatedNdf& ndf, const NdfArgs& a) {
 void write_outputs(std::vector<TabulatedNdf>& layers, std::size_t primary, const NdfArgs& a) {
   std::unique_ptr<TabulatedNdf> sig;
   if (!a.instrument.empty()) sig = std::make_unique<TabulatedNdf>(read_ndf(a.instrument));
-  for (auto& t : layers) t = apply_instrument(t, parse_angle(a.instrument_fwhm), sig.get());
+  const double fwhm = parse_angle(a.instrument_fwhm);
+  if (sig || fwhm != 0)  // without an instrument the tables are written as they are (no copy)
+    for (auto& t : layers) t = apply_instrument(t, fwhm, sig.get());
   if (!write_ndf_stack(layers, primary, a.output))
     std::fprintf(stderr,
                  "microbrdf ndf: warning: %s: an .exr holds one table, so only D_K at lambda_q "

@@ -1,6 +1,7 @@
 // `microbrdf ndf --method naive|filtered`: the geometric NDF of one scan or of a scan set (each
 // scan estimated on its own, averaged by projected area; Dong 2015 section 5.1), with the filter
 // sigma given or chosen against D_K (--filter-sigma auto, filter_sigma_auto.hpp).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -89,7 +90,7 @@ void run_geometric(const NdfArgs& a) {
   WorkStats stats;
   auto acc = accumulate_ndf_scans(paths, o, set, &stats);
   if (!acc) return;  // rank 0 writes the outputs
-  TabulatedNdf ndf = acc->result();
+  TabulatedNdf ndf = std::move(*acc).result();
   if (sweep) {
     char b[160];
     std::snprintf(b, sizeof b,
@@ -123,14 +124,15 @@ void run_geometric(const NdfArgs& a) {
                                          : "",
                    sweep->curve.size(), format_length(sweep->sigma_min_m).c_str(),
                    format_length(sweep->sigma_max_m).c_str(), curve_path(a.output).c_str());
+    const Eigen::Matrix2d cov = ndf.slope_covariance();  // one pass over the table
+    const double sx = std::sqrt(std::max(0.0, cov(0, 0))), sy = std::sqrt(std::max(0.0, cov(1, 1)));
     std::fprintf(stderr,
                  "microbrdf ndf: %s NDF of %zu scan(s) -> %s (%zu x %zu); %zu elements used, %zu "
                  "skipped; rms slope x "
                  "%.4g, y %.4g (Beckmann alpha %.4g, %.4g)\n",
                  ndf.meta.method.c_str(), paths.size(), a.output.c_str(), ndf.resolution(),
-                 ndf.resolution(), ndf.meta.samples_used, ndf.meta.samples_skipped,
-                 ndf.rms_slope(0), ndf.rms_slope(M_PI / 2), std::sqrt(2.0) * ndf.rms_slope(0),
-                 std::sqrt(2.0) * ndf.rms_slope(M_PI / 2));
+                 ndf.resolution(), ndf.meta.samples_used, ndf.meta.samples_skipped, sx, sy,
+                 std::sqrt(2.0) * sx, std::sqrt(2.0) * sy);
   }
 }
 

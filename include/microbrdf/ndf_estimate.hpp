@@ -48,13 +48,19 @@ class NdfAccumulator {
   NdfScanPartial estimate(const Surface& s) const;
   /// Folds one scan's share in (table sum node by node, counters, sources).
   void merge(const NdfScanPartial& p);
+  /// The same, taking the share's table over when it is the first (no copy, no sum).
+  void merge(NdfScanPartial&& p);
   /// The normalised NDF of everything added. Throws InputError if nothing was accumulated.
-  TabulatedNdf result() const;
+  TabulatedNdf result() const&;
+  /// The same, normalising the accumulator's own table in place (the accumulator is spent).
+  TabulatedNdf result() &&;
   const NdfEstimateOptions& options() const { return opt_; }
 
  private:
   NdfEstimateOptions opt_;
   TabulatedNdf acc_;
+  void merge_meta(const NdfScanPartial& p);
+  bool merged_ = false;  ///< a share was folded in (acc_ is no longer all zeros)
 };
 
 /// One scan's NDF (NdfAccumulator with a single add).

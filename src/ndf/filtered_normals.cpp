@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <new>
@@ -296,8 +297,8 @@ void check_pass_memory(const Surface& s, std::size_t hx, std::size_t hy, std::si
 namespace detail {
 
 double* thread_scratch(std::size_t n, int slot) {
-  static thread_local AlignedBuffer buf[2];
-  return buf[slot != 0].get(n);
+  static thread_local AlignedBuffer buf[3];
+  return buf[std::clamp(slot, 0, 2)].get(n);
 }
 
 void filtered_normals_into(const Surface& s, double sigma, double truncate, double min_support,
@@ -406,30 +407,86 @@ void filtered_normals_into(const Surface& s, double sigma, double truncate, doub
   skipped = n_skipped;
 }
 
-void splat_normals(const double* mx, const double* my, std::size_t n, double weight,
-                   TabulatedNdf& t) {
-  // Sequential on the calling thread: a few ns per point, and no second fork and join for the
-  // threads (which, on a loaded machine, waits for the slowest of them to be scheduled).
+namespace {
+
+// Below this many points one thread splats (a fork and join costs more than it saves).
+constexpr std::size_t kParallelSplatPoints = std::size_t{1} << 16;
+constexpr std::size_t kSplatBlock = std::size_t{1} << 14;  // points per helper-pool item
+constexpr std::uint32_t kNoCell = 0xFFFFFFFFu;
+
+}  // namespace
+
+void splat_normals(double* mx, double* my, std::size_t n, double weight, TabulatedNdf& t,
+                   int threads) {
   const std::size_t res = t.resolution();
   double* d = t.values().data();
   const double inv = 1.0 / t.spacing();
   const double last = static_cast<double>(res - 1);
   const double ox = t.window().x0(), oy = t.window().y0();  // the first node (-1 unless zoomed)
-  for (std::size_t i = 0; i < n; ++i) {
-    const double x = mx[i];
-    if (std::isnan(x)) continue;
-    const double fx = (x - ox) * inv, fy = (my[i] - oy) * inv;
-    if (!(fx >= 0 && fx <= last && fy >= 0 && fy <= last)) continue;
-    const auto ix = static_cast<std::size_t>(std::min(std::floor(fx), last - 1));
-    const auto iy = static_cast<std::size_t>(std::min(std::floor(fy), last - 1));
-    const double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
-    double* r0 = d + iy * res + ix;
-    double* r1 = r0 + res;
-    r0[0] += weight * (1 - tx) * (1 - ty);
-    r0[1] += weight * tx * (1 - ty);
-    r1[0] += weight * (1 - tx) * ty;
-    r1[1] += weight * tx * ty;
+  // Pass 1, blocks of points on the helper threads: each point's table cell (row-major index,
+  // kNoCell outside the table's square or for NaN) and its bilinear weights, the weights written
+  // over mx and my.
+  std::uint32_t* cell = reinterpret_cast<std::uint32_t*>(thread_scratch((n + 1) / 2, 2));
+  const std::function<void(std::size_t)> locate = [&](std::size_t b) {
+    const std::size_t end = std::min(n, (b + 1) * kSplatBlock);
+    for (std::size_t i = b * kSplatBlock; i < end; ++i) {
+      const double fx = (mx[i] - ox) * inv, fy = (my[i] - oy) * inv;  // NaN fails the test
+      if (!(fx >= 0 && fx <= last && fy >= 0 && fy <= last)) {
+        cell[i] = kNoCell;
+        continue;
+      }
+      const auto ix = static_cast<std::size_t>(std::min(std::floor(fx), last - 1));
+      const auto iy = static_cast<std::size_t>(std::min(std::floor(fy), last - 1));
+      cell[i] = static_cast<std::uint32_t>(iy * res + ix);
+      mx[i] = fx - static_cast<double>(ix);
+      my[i] = fy - static_cast<double>(iy);
+    }
+  };
+  const int used_threads = n < kParallelSplatPoints ? 1 : threads;
+  HelperPool::instance().run((n + kSplatBlock - 1) / kSplatBlock, used_threads, locate);
+  // Pass 2: table rows [lo, hi) owned by one thread. Every node still receives its splats in
+  // point order from exactly one thread, so the table is the same bit for bit as one splat per
+  // point in a plain loop, whatever the thread count.
+  auto splat_rows = [&](std::size_t lo, std::size_t hi) {
+    const std::size_t first = lo * res, end = hi * res;  // cells whose rows touch [lo, hi)
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t c = cell[i];
+      if (c == kNoCell || c + res < first || c >= end) continue;
+      const double tx = mx[i], ty = my[i];
+      double* r0 = d + c;
+      if (c >= first) {
+        r0[0] += weight * (1 - tx) * (1 - ty);
+        r0[1] += weight * tx * (1 - ty);
+      }
+      if (c + res < end) {
+        double* r1 = r0 + res;
+        r1[0] += weight * (1 - tx) * ty;
+        r1[1] += weight * tx * ty;
+      }
+    }
+  };
+  if (used_threads <= 1) {
+    splat_rows(0, res);
+    return;
   }
+  // Bands of table rows holding equal numbers of splats (the lobe is narrow: equal row counts
+  // would leave most threads idle).
+  std::vector<std::size_t> per_row(res, 0);
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (cell[i] != kNoCell) ++per_row[cell[i] / res], ++total;
+  const auto bands = static_cast<std::size_t>(threads);
+  std::vector<std::size_t> edge{0};
+  std::size_t seen = 0;
+  for (std::size_t r = 0; r < res && edge.size() < bands; ++r) {
+    seen += per_row[r];
+    if (seen * bands >= total * edge.size()) edge.push_back(r + 1);
+  }
+  edge.push_back(res);
+  const std::function<void(std::size_t)> band = [&](std::size_t k) {
+    splat_rows(edge[k], edge[k + 1]);
+  };
+  HelperPool::instance().run(edge.size() - 1, threads, band);
 }
 
 }  // namespace detail

@@ -17,12 +17,13 @@ void filtered_normals_into(const Surface& s, double sigma, double truncate, doub
                            std::size_t& skipped);
 
 /// t.splat(mx[i], my[i], weight) for every i in 0..n-1 with mx[i] not NaN, in that order (the
-/// same table bit for bit as that loop).
-void splat_normals(const double* mx, const double* my, std::size_t n, double weight,
-                   TabulatedNdf& t);
+/// same table bit for bit as that loop, whatever `threads`: each thread owns a band of table
+/// rows). mx and my are overwritten (with the splats' bilinear weights).
+void splat_normals(double* mx, double* my, std::size_t n, double weight, TabulatedNdf& t,
+                   int threads);
 
 /// A buffer of at least `n` doubles owned by the calling thread and reused by later calls with
-/// the same `slot` (0 or 1): no fresh allocation (and no page faults) per scan.
+/// the same `slot` (0, 1 or 2): no fresh allocation (and no page faults) per scan.
 double* thread_scratch(std::size_t n, int slot);
 
 }  // namespace microbrdf::detail

@@ -3,11 +3,17 @@
 // at any resolution and scans of different spacings combine by projected area.
 #include "microbrdf/ndf_estimate.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <string>
 #include <utility>
+#include <vector>
 
+#include "core/helper_pool.hpp"
 #include "microbrdf/error.hpp"
 #include "ndf/filtered_normals_core.hpp"
 
@@ -25,27 +31,54 @@ namespace {
 // Naive: two triangles per grid cell, split along the diagonal (ix, iy)-(ix+1, iy+1).
 // Lower triangle (00, 10, 11): dz/dx = (z10 - z00)/dx, dz/dy = (z11 - z10)/dy.
 // Upper triangle (00, 11, 01): dz/dx = (z11 - z01)/dx, dz/dy = (z01 - z00)/dy.
+// Facet normals of the cells' two triangles, a band of scan rows at a time into two reused
+// per-thread buffers (NaN = a triangle touching an invalid sample), rows on the helper threads,
+// then splatted in cell order: the same table, bit for bit, as one splat per triangle in a plain
+// loop, whatever the thread count.
 void add_naive(const Surface& s, TabulatedNdf& acc, NdfMetadata& meta) {
+  if (s.nx < 2 || s.ny < 2) return;
   const double area = 0.5 * s.dx * s.dy;
-  for (std::size_t iy = 0; iy + 1 < s.ny; ++iy)
-    for (std::size_t ix = 0; ix + 1 < s.nx; ++ix) {
-      const std::size_t i00 = iy * s.nx + ix, i10 = i00 + 1, i01 = i00 + s.nx, i11 = i01 + 1;
-      const bool v00 = s.valid[i00], v10 = s.valid[i10], v01 = s.valid[i01], v11 = s.valid[i11];
-      auto splat = [&](double gx, double gy) {
-        double inv = 1.0 / std::sqrt(1.0 + gx * gx + gy * gy);
-        acc.splat(-gx * inv, -gy * inv, area);
-        ++meta.samples_used;
-        meta.projected_area_m2 += area;
+  const int threads = omp_get_max_threads();
+  const std::size_t per_row = 2 * (s.nx - 1);
+  const std::size_t band = std::max<std::size_t>(1, (std::size_t{1} << 18) / per_row);
+  double* mx = detail::thread_scratch(band * per_row, 0);
+  double* my = detail::thread_scratch(band * per_row, 1);
+  std::vector<std::size_t> used_in_row(s.ny, 0);
+  for (std::size_t y0 = 0; y0 + 1 < s.ny; y0 += band) {
+    const std::size_t rows = std::min(band, s.ny - 1 - y0);
+    const std::function<void(std::size_t)> row = [&](std::size_t r) {
+      const std::size_t iy = y0 + r;
+      double* ox = mx + r * per_row;
+      double* oy = my + r * per_row;
+      std::size_t used = 0;
+      auto normal = [&](std::size_t k, bool ok, double gx, double gy) {
+        if (!ok) {
+          ox[k] = std::numeric_limits<double>::quiet_NaN();
+          return;
+        }
+        const double inv = 1.0 / std::sqrt(1.0 + gx * gx + gy * gy);
+        ox[k] = -gx * inv;
+        oy[k] = -gy * inv;
+        ++used;
       };
-      if (v00 && v10 && v11)
-        splat((s.z[i10] - s.z[i00]) / s.dx, (s.z[i11] - s.z[i10]) / s.dy);
-      else
-        ++meta.samples_skipped;
-      if (v00 && v11 && v01)
-        splat((s.z[i11] - s.z[i01]) / s.dx, (s.z[i01] - s.z[i00]) / s.dy);
-      else
-        ++meta.samples_skipped;
-    }
+      for (std::size_t ix = 0; ix + 1 < s.nx; ++ix) {
+        const std::size_t i00 = iy * s.nx + ix, i10 = i00 + 1, i01 = i00 + s.nx, i11 = i01 + 1;
+        const bool v00 = s.valid[i00], v10 = s.valid[i10], v01 = s.valid[i01], v11 = s.valid[i11];
+        normal(2 * ix, v00 && v10 && v11, (s.z[i10] - s.z[i00]) / s.dx,
+               (s.z[i11] - s.z[i10]) / s.dy);
+        normal(2 * ix + 1, v00 && v11 && v01, (s.z[i11] - s.z[i01]) / s.dx,
+               (s.z[i01] - s.z[i00]) / s.dy);
+      }
+      used_in_row[iy] = used;
+    };
+    detail::HelperPool::instance().run(rows, threads, row);
+    detail::splat_normals(mx, my, rows * per_row, area, acc, threads);
+  }
+  std::size_t used = 0;
+  for (std::size_t u : used_in_row) used += u;
+  meta.samples_used += used;
+  meta.samples_skipped += per_row * (s.ny - 1) - used;
+  meta.projected_area_m2 += area * static_cast<double>(used);
 }
 
 // Normals into two reused per-thread buffers (16 bytes per point, NaN = no normal), then splatted
@@ -58,7 +91,7 @@ void add_filtered(const Surface& s, const NdfEstimateOptions& o, TabulatedNdf& a
   detail::filtered_normals_into(s, o.filter_sigma_m, o.truncate_sigmas, o.min_support, mx, my,
                                 nullptr, used, skipped);
   const double area = s.dx * s.dy;
-  detail::splat_normals(mx, my, s.size(), area, acc);
+  detail::splat_normals(mx, my, s.size(), area, acc, omp_get_max_threads());
   meta.samples_used += used;
   meta.samples_skipped += skipped;
   meta.projected_area_m2 += area * static_cast<double>(used);
@@ -121,6 +154,18 @@ void NdfAccumulator::merge(const NdfScanPartial& p) {
   auto& v = acc_.values();
   const auto& w = p.table.values();
   for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
+  merge_meta(p);
+}
+
+void NdfAccumulator::merge(NdfScanPartial&& p) {
+  if (merged_ || p.table.resolution() != acc_.resolution()) return merge(std::as_const(p));
+  // 0 + x == x node by node: the first share's table becomes the sum.
+  acc_.values().swap(p.table.values());
+  merge_meta(p);
+}
+
+void NdfAccumulator::merge_meta(const NdfScanPartial& p) {
+  merged_ = true;
   acc_.meta.samples_used += p.meta.samples_used;
   acc_.meta.samples_skipped += p.meta.samples_skipped;
   acc_.meta.projected_area_m2 += p.meta.projected_area_m2;
@@ -133,7 +178,9 @@ void NdfAccumulator::merge(const NdfScanPartial& p) {
 
 void NdfAccumulator::add(const Surface& s) { merge(estimate(s)); }
 
-TabulatedNdf NdfAccumulator::result() const { return finalise(acc_); }
+TabulatedNdf NdfAccumulator::result() const& { return finalise(acc_); }
+
+TabulatedNdf NdfAccumulator::result() && { return finalise(std::move(acc_)); }
 
 TabulatedNdf estimate_ndf(const Surface& s, const NdfEstimateOptions& options) {
   // One scan: its share is the sum (0 + x == x), so it is finalised in place, without the
