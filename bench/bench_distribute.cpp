@@ -57,7 +57,9 @@ void BM_DistributeEmptyItems(benchmark::State& state) {
     distribute(
         n,
         [](std::size_t i) {
-          return WorkResult{{static_cast<double>(i)}, {}};
+          WorkResult r;
+          r.values = {static_cast<double>(i)};
+          return r;
         },
         [&](std::size_t, WorkResult&& r) { sum += static_cast<std::size_t>(r.values[0]); });
     benchmark::DoNotOptimize(sum);

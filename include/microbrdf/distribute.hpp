@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -57,6 +58,9 @@ void mpi_note_failure(const std::string& message, int code);
 struct WorkResult {
   std::vector<double> values;
   std::string text;
+  /// A result computed on rank 0 is consumed there and never sent: a producer may hand the
+  /// object itself over here instead of packing it into `values` (no copy of large tables).
+  std::shared_ptr<void> local;
 };
 
 /// Who did what: items and busy seconds per rank (rank 0 first).

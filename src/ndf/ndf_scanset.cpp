@@ -2,7 +2,12 @@
 // to rank 0 and folded there in scan order (docs/scale.md, "Determinism").
 #include "microbrdf/ndf_scanset.hpp"
 
+#include <memory>
+#include <type_traits>
+#include <utility>
+
 #include "microbrdf/error.hpp"
+#include "microbrdf/kirchhoff.hpp"
 #include "microbrdf/scanset.hpp"
 
 namespace microbrdf {
@@ -66,6 +71,17 @@ TabulatedNdf unpack_rows(const std::vector<double>& in, std::size_t at, std::siz
 void report(const ScanSetOptions& set, std::size_t i, const std::vector<std::string>& paths,
             const WorkResult& r) {
   if (set.on_scan) set.on_scan(i, paths[i], nlohmann::json::parse(r.text).at("scan"));
+}
+
+// A share computed on rank 0 stays there: the object itself, with only the scan's record as
+// text; on other ranks it is packed for the trip.
+template <class Partial>
+WorkResult pack_or_keep(Partial&& p, const nlohmann::json& info) {
+  if (!mpi_is_root()) return pack_partial(p, info);
+  WorkResult r;
+  r.text = nlohmann::json{{"scan", info}}.dump();
+  r.local = std::make_shared<std::decay_t<Partial>>(std::move(p));
+  return r;
 }
 
 }  // namespace
@@ -182,12 +198,15 @@ std::optional<NdfAccumulator> accumulate_ndf_scans(const std::vector<std::string
         // Errors about the data (too few valid samples, no normal) name the scan.
         return about_file(path, [&] {
           level_surface(s, set.leveling);
-          return pack_partial(acc.estimate(s), scan_info(s));
+          return pack_or_keep(acc.estimate(s), scan_info(s));
         });
       },
       [&](std::size_t i, WorkResult&& r) {
         report(set, i, paths, r);
-        acc.merge(unpack_ndf_partial(r, options.resolution));
+        if (r.local)
+          acc.merge(std::move(*std::static_pointer_cast<NdfScanPartial>(r.local)));
+        else
+          acc.merge(unpack_ndf_partial(r, options.resolution));
       },
       set.distribute);
   if (!mpi_is_root()) return std::nullopt;
@@ -213,13 +232,18 @@ std::optional<KirchhoffAccumulator> accumulate_kirchhoff_scans(
           };
         // Errors about the data (a height range the series cannot hold) name the scan.
         return about_file(
-            path, [&] { return pack_partial(KirchhoffAccumulator(o).estimate(s), scan_info(s)); });
+            path, [&] { return pack_or_keep(KirchhoffAccumulator(o).estimate(s), scan_info(s)); });
       },
       [&](std::size_t i, WorkResult&& r) {
         report(set, i, paths, r);
-        acc.merge(unpack_kirchhoff_partial(r, options.resolution));
+        if (r.local)
+          acc.merge(*std::static_pointer_cast<KirchhoffScanPartial>(r.local));
+        else
+          acc.merge(unpack_kirchhoff_partial(r, options.resolution));
+        r.local.reset();  // the share's tables go before the next scan's
       },
       set.distribute);
+  kirchhoff_release_buffers();  // the transforms' large buffers, kept between tables and scans
   if (!mpi_is_root()) return std::nullopt;
   if (stats) *stats = st;
   return acc;
