@@ -24,13 +24,12 @@ between the two tables). Only the specular split of scans with 8 tiles or more (
 
 usage: dk.py SCAN.npy OUT.npy [--wavelength M] [--resolution N] [--slices K] [--check]
 """
-import argparse
 import sys
 
 import numpy as np
 from scipy.signal import ZoomFFT
 
-from scan import level_plane, normalise_disk, read_scan, save_table
+from scan import level_plane, normalise_disk, read_scan, save_table, table_parser
 
 
 def tiles(n, d, patch):
@@ -133,11 +132,8 @@ def dk_table(z, valid, dx, dy, wavelength, resolution, slices_extra, slices=None
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("scan")
-    ap.add_argument("out")
+    ap = table_parser(__doc__)
     ap.add_argument("--wavelength", type=float, default=555e-9, help="lambda_q, m")
-    ap.add_argument("--resolution", type=int, default=1025)
     ap.add_argument("--slices", type=int, default=None, help="q_z slices (default: auto)")
     ap.add_argument("--check", action="store_true", help="also run 8 more slices, print the L1")
     a = ap.parse_args()

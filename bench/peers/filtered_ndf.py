@@ -12,12 +12,10 @@ chose (its JSON's filter_sigma_m).
 
 usage: filtered_ndf.py SCAN.npy OUT.npy [--sigma METRES] [--min-support F] [--resolution N]
 """
-import argparse
-
 import numpy as np
 from scipy.ndimage import correlate1d
 
-from scan import level_plane, read_scan, save_table, splat_table
+from scan import level_plane, read_scan, save_table, splat_table, table_parser
 
 
 def taps(spacing, sigma, truncate=4.0):
@@ -29,12 +27,9 @@ def taps(spacing, sigma, truncate=4.0):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("scan")
-    ap.add_argument("out")
+    ap = table_parser(__doc__)
     ap.add_argument("--sigma", type=float, default=1e-6, help="filter sigma, m (default 1 um)")
     ap.add_argument("--min-support", type=float, default=0.5)
-    ap.add_argument("--resolution", type=int, default=1025)
     a = ap.parse_args()
     z, valid, dx, dy = read_scan(a.scan)
     z = level_plane(z, valid)

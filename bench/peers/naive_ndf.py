@@ -5,18 +5,13 @@ shared bilinearly by the four nearest table nodes. Plane-levelled first, as the 
 
 usage: naive_ndf.py SCAN.npy OUT.npy [--resolution N]
 """
-import argparse
-
 import numpy as np
 
-from scan import level_plane, read_scan, save_table, splat_table
+from scan import level_plane, read_scan, save_table, splat_table, table_parser
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("scan")
-    ap.add_argument("out")
-    ap.add_argument("--resolution", type=int, default=1025)
+    ap = table_parser(__doc__)
     a = ap.parse_args()
     z, valid, dx, dy = read_scan(a.scan)
     z = level_plane(z, valid)

@@ -8,10 +8,20 @@ library's code paths, and never call the library: they are the independent refer
 harness bench/whole_process.py checks the CLI against, and the script a researcher would time
 the CLI against.
 """
+import argparse
 import json
 import os
 
 import numpy as np
+
+
+def table_parser(doc):
+    """The command line every table peer shares: SCAN.npy OUT.npy [--resolution N]."""
+    ap = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    ap.add_argument("scan")
+    ap.add_argument("out")
+    ap.add_argument("--resolution", type=int, default=1025, help="table size N (default 1025)")
+    return ap
 
 
 def read_scan(path):
