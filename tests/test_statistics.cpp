@@ -2,6 +2,7 @@
 // random surfaces (acceptance: sigma 1%, tau 5%, slope 5% of sqrt(2) sigma / tau).
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <random>
 
@@ -64,6 +65,54 @@ TEST(Statistics, FftAutocorrelationMatchesBruteForceWithHoles) {
        {std::pair{0L, 0L}, {1L, 0L}, {0L, 1L}, {5L, -3L}, {-7L, 4L}, {40L, 30L}, {-90L, 2L}}) {
     EXPECT_NEAR(acf.at(lx, ly), autocorrelation_direct(s, lx, ly), 1e-10) << lx << "," << ly;
   }
+}
+
+// compute_stats finds the radial 1/e crossing over a growing box of lags; the reference averages
+// the whole lag grid of autocorrelation() in annuli, then finds the crossing. Short and long
+// correlation lengths (the box must grow past 64 spacings for the second), with and without holes.
+TEST(Statistics, RadialCorrelationLengthMatchesWholeGridAverage) {
+  for (double tau_samples : {6.0, 90.0})
+    for (bool holes : {false, true}) {
+      GaussianSurfaceParams p;
+      p.nx = 300;
+      p.ny = 260;
+      p.tau_x = tau_samples * p.dx;
+      p.tau_y = 0.7 * tau_samples * p.dy;
+      Surface s = generate_gaussian(p);
+      if (holes)
+        for (std::size_t i = 0; i < s.size(); i += 13) s.invalidate(i);
+      const Autocorrelation acf = autocorrelation(s);
+      RadialProfile whole;
+      const double dr = std::min(s.dx, s.dy);
+      std::vector<double> sum, cnt;
+      for (long ly = 1 - static_cast<long>(s.ny); ly < static_cast<long>(s.ny); ++ly)
+        for (long lx = 1 - static_cast<long>(s.nx); lx < static_cast<long>(s.nx); ++lx) {
+          const double v = acf.at(lx, ly);
+          if (!std::isfinite(v)) continue;
+          const double r = std::sqrt(std::pow(static_cast<double>(lx) * s.dx, 2) +
+                                     std::pow(static_cast<double>(ly) * s.dy, 2));
+          const auto b = static_cast<std::size_t>(std::floor(r / dr + 0.5));
+          if (b >= sum.size()) sum.resize(b + 1, 0.0), cnt.resize(b + 1, 0.0);
+          sum[b] += v;
+          cnt[b] += 1;
+        }
+      // First annulus whose mean falls to 1/e, interpolated linearly from the one before.
+      double ref = std::nan("");
+      double prev_r = 0, prev_v = 1;
+      for (std::size_t b = 1; b < sum.size(); ++b) {
+        if (cnt[b] == 0) continue;
+        const double v = sum[b] / cnt[b], r = static_cast<double>(b) * dr;
+        if (v <= std::exp(-1.0)) {
+          ref = prev_r + (prev_v - std::exp(-1.0)) / (prev_v - v) * (r - prev_r);
+          break;
+        }
+        prev_r = r;
+        prev_v = v;
+      }
+      ASSERT_TRUE(std::isfinite(ref));
+      EXPECT_NEAR(compute_stats(s).corr_length / ref, 1.0, 1e-9)
+          << "tau " << tau_samples << " samples, holes " << holes;
+    }
 }
 
 TEST(Statistics, SinusoidHasCosineAutocorrelation) {
@@ -211,4 +260,48 @@ TEST(Leveling, PlaneRemovalRecoversRoughness) {
   EXPECT_GT(level_surface(q, LevelingSpec::parse("plane")).rms_after, 1e-8);
   EXPECT_LT(level_surface(q2, LevelingSpec::parse("poly2")).rms_after, 1e-15);
   EXPECT_THROW(LevelingSpec::parse("poly9"), std::exception);
+}
+
+// Reference: the least-squares polynomial from the full design matrix (one row per valid sample,
+// monomials evaluated with std::pow), solved by a QR decomposition of that matrix, against the
+// library's separable normal equations. Holes, odd sizes, degrees 1 to 6.
+TEST(Leveling, CoefficientsMatchDesignMatrixLeastSquares) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 1e-8);
+  for (int degree = 1; degree <= 6; ++degree) {
+    Surface s(53, 37, 1e-6, 1e-6);
+    for (std::size_t iy = 0; iy < s.ny; ++iy)
+      for (std::size_t ix = 0; ix < s.nx; ++ix)
+        s.at(ix, iy) = 2e-6 +
+                       3e-8 * std::sin(0.3 * static_cast<double>(ix)) *
+                           std::cos(0.2 * static_cast<double>(iy * ix) / 40.0) +
+                       noise(rng);
+    for (std::size_t i = 0; i < s.size(); i += 7) s.invalidate(i);
+    const Surface before = s;
+    const int nt = (degree + 1) * (degree + 2) / 2;
+    std::vector<std::size_t> rows;
+    for (std::size_t i = 0; i < s.size(); ++i)
+      if (s.valid[i]) rows.push_back(i);
+    Eigen::MatrixXd a(static_cast<Eigen::Index>(rows.size()), nt);
+    Eigen::VectorXd z(static_cast<Eigen::Index>(rows.size()));
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      const double u = (static_cast<double>(rows[r] % s.nx) - 26.0) / 26.0;
+      const double v = (static_cast<double>(rows[r] / s.nx) - 18.0) / 18.0;
+      int k = 0;
+      for (int d = 0; d <= degree; ++d)
+        for (int j = 0; j <= d; ++j)
+          a(static_cast<Eigen::Index>(r), k++) = std::pow(u, d - j) * std::pow(v, j);
+      z[static_cast<Eigen::Index>(r)] = before.z[rows[r]];
+    }
+    const Eigen::VectorXd ref = a.householderQr().solve(z);
+    const LevelingResult lr = level_surface(
+        s, LevelingSpec{degree == 1 ? Leveling::Plane : Leveling::Polynomial, degree});
+    ASSERT_EQ(lr.coefficients.size(), static_cast<std::size_t>(nt));
+    for (int k = 0; k < nt; ++k)
+      EXPECT_NEAR(lr.coefficients[static_cast<std::size_t>(k)], ref[k], 1e-12)
+          << "degree " << degree << " term " << k;
+    const Eigen::VectorXd resid = z - a * ref;
+    for (std::size_t r = 0; r < rows.size(); r += 97)
+      EXPECT_NEAR(s.z[rows[r]], resid[static_cast<Eigen::Index>(r)], 1e-13) << degree;
+  }
 }

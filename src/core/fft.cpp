@@ -58,6 +58,31 @@ std::vector<std::complex<double>> fft2_r2c(std::size_t nx, std::size_t ny,
   return out;
 }
 
+void autocorrelation_sums_inplace(std::size_t nx, std::size_t ny, std::vector<double>& buf) {
+  const std::size_t hx = nx / 2 + 1;
+  if (buf.size() != ny * 2 * hx) throw std::invalid_argument("autocorrelation_sums: size mismatch");
+  auto* spec = reinterpret_cast<fftw_complex*>(buf.data());
+  Plan fwd, inv;
+  {
+    std::lock_guard<std::mutex> lock(g_plan_mutex);
+    init_threads_once();
+    fftw_plan_with_nthreads(omp_get_max_threads());
+    fwd.p = fftw_plan_dft_r2c_2d(static_cast<int>(ny), static_cast<int>(nx), buf.data(), spec,
+                                 FFTW_ESTIMATE);
+    inv.p = fftw_plan_dft_c2r_2d(static_cast<int>(ny), static_cast<int>(nx), spec, buf.data(),
+                                 FFTW_ESTIMATE);
+  }
+  if (!fwd.p || !inv.p) throw std::runtime_error("FFTW could not plan a transform");
+  fftw_execute(fwd.p);
+  // |A|^2 / (nx ny): the unnormalised inverse then gives the sums themselves.
+  const double scale = 1.0 / static_cast<double>(nx * ny);
+  for (std::size_t i = 0; i < ny * hx; ++i) {
+    spec[i][0] = (spec[i][0] * spec[i][0] + spec[i][1] * spec[i][1]) * scale;
+    spec[i][1] = 0;
+  }
+  fftw_execute(inv.p);
+}
+
 std::vector<double> fft2_c2r(std::size_t nx, std::size_t ny, std::vector<std::complex<double>> in) {
   if (in.size() != ny * (nx / 2 + 1)) throw std::invalid_argument("fft2_c2r: size mismatch");
   std::vector<double> out(nx * ny);

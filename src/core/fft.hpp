@@ -19,6 +19,11 @@ std::unique_lock<std::mutex> fftw_planner_lock();
 std::vector<std::complex<double>> fft2_r2c(std::size_t nx, std::size_t ny,
                                            const std::vector<double>& in);
 
+/// Circular autocorrelation sums in place (Wiener-Khinchin): `buf` holds a real ny x nx array
+/// in rows of stride 2 (nx/2 + 1) (FFTW's in-place padding); on return it holds
+/// sum_p a(p) a(p + l) at lag l (indices modulo nx, ny), same layout. One buffer, two transforms.
+void autocorrelation_sums_inplace(std::size_t nx, std::size_t ny, std::vector<double>& buf);
+
 /// Inverse of fft2_r2c: ny x (nx/2+1) half spectrum -> ny x nx real. Unnormalised (the result is
 /// nx*ny times the input of the forward transform).
 std::vector<double> fft2_c2r(std::size_t nx, std::size_t ny, std::vector<std::complex<double>> in);

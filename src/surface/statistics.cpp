@@ -11,15 +11,93 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// |FFT(a)|^2 -> inverse: the (linear, via zero padding) autocorrelation sums of `a`.
-std::vector<double> correlation_sums(const std::vector<double>& a, std::size_t px, std::size_t py) {
-  auto spec = detail::fft2_r2c(px, py, a);
-  for (auto& c : spec) c = std::norm(c);
-  auto out = detail::fft2_c2r(px, py, std::move(spec));
-  const double scale = 1.0 / static_cast<double>(px * py);
-  for (auto& v : out) v *= scale;
-  return out;
+// The linear autocorrelation sums of a scan's valid, mean-removed heights, sum_p h(p) h(p+l), and
+// the number of valid pairs per lag, by zero-padded in-place FFTs (one buffer per quantity, no
+// copies). When every sample is valid the pair count is (nx - |lx|)(ny - |ly|) in closed form and
+// the mask is not transformed.
+class LagSums {
+ public:
+  explicit LagSums(const Surface& s)
+      : nx_(s.nx),
+        ny_(s.ny),
+        // Pad to >= 2n-1 so circular correlation equals linear correlation.
+        px_(detail::fft_good_size(2 * s.nx - 1)),
+        py_(detail::fft_good_size(2 * s.ny - 1)),
+        stride_(2 * (px_ / 2 + 1)) {
+    const double mean = s.valid_mean();
+    const bool all_valid = s.valid_count() == s.size();
+    hh_.assign(py_ * stride_, 0.0);
+    if (!all_valid) vv_.assign(py_ * stride_, 0.0);
+    for (std::size_t iy = 0; iy < s.ny; ++iy)
+      for (std::size_t ix = 0; ix < s.nx; ++ix) {
+        const std::size_t i = iy * s.nx + ix;
+        if (!s.valid[i]) continue;
+        hh_[iy * stride_ + ix] = s.z[i] - mean;
+        if (!all_valid) vv_[iy * stride_ + ix] = 1.0;
+      }
+    detail::autocorrelation_sums_inplace(px_, py_, hh_);
+    if (!all_valid) detail::autocorrelation_sums_inplace(px_, py_, vv_);
+  }
+
+  // sum h h / pairs at lag (lx, ly), NaN where fewer than min_overlap pairs; |l| < n.
+  double mean_product(long lx, long ly, std::size_t min_overlap) const {
+    const std::size_t row =
+        static_cast<std::size_t>((ly + static_cast<long>(py_)) % static_cast<long>(py_));
+    const std::size_t col =
+        static_cast<std::size_t>((lx + static_cast<long>(px_)) % static_cast<long>(px_));
+    const double pairs = vv_.empty()
+                             ? static_cast<double>((nx_ - static_cast<std::size_t>(std::labs(lx))) *
+                                                   (ny_ - static_cast<std::size_t>(std::labs(ly))))
+                             : vv_[row * stride_ + col];
+    return pairs >= static_cast<double>(min_overlap) - 0.5 ? hh_[row * stride_ + col] / pairs
+                                                           : kNaN;
+  }
+
+ private:
+  std::size_t nx_, ny_, px_, py_, stride_;
+  std::vector<double> hh_, vv_;
+};
+
+// Radial average of the normalised ACF (as radial_average) and its 1/e crossing, over a box of
+// lags that doubles until the crossing lies in annuli the box holds whole: correlation lengths
+// are usually far shorter than the scan, and the annuli's sums are the same, term for term and
+// in the same order, as over the whole lag grid.
+double radial_correlation_length(const LagSums& sums, double c0, const Surface& s,
+                                 std::size_t min_overlap) {
+  const double dr = std::min(s.dx, s.dy);
+  const double rmax =
+      std::min(static_cast<double>(s.nx - 1) * s.dx, static_cast<double>(s.ny - 1) * s.dy);
+  const std::size_t nbins = static_cast<std::size_t>(rmax / dr) + 1;
+  const long last_x = static_cast<long>(s.nx) - 1, last_y = static_cast<long>(s.ny) - 1;
+  for (double reach = 64 * dr;; reach *= 2) {
+    const long bx = std::min(last_x, static_cast<long>(std::ceil(reach / s.dx)));
+    const long by = std::min(last_y, static_cast<long>(std::ceil(reach / s.dy)));
+    // Lags outside the box lie farther than `whole`: annuli below it are complete.
+    const double whole = std::min(bx == last_x ? HUGE_VAL : static_cast<double>(bx) * s.dx,
+                                  by == last_y ? HUGE_VAL : static_cast<double>(by) * s.dy);
+    std::vector<double> sum(nbins, 0.0), cnt(nbins, 0.0);
+    for (long ly = -by; ly <= by; ++ly)
+      for (long lx = -bx; lx <= bx; ++lx) {
+        const double v = sums.mean_product(lx, ly, min_overlap) / c0;
+        if (!std::isfinite(v)) continue;
+        const double r = std::hypot(static_cast<double>(lx) * s.dx, static_cast<double>(ly) * s.dy);
+        const auto b = static_cast<std::size_t>(std::lround(r / dr));
+        if (b >= nbins) continue;
+        sum[b] += v;
+        cnt[b] += 1;
+      }
+    std::vector<double> r, value;
+    for (std::size_t b = 0; b < nbins && (static_cast<double>(b) + 0.5) * dr <= whole; ++b) {
+      if (cnt[b] == 0) continue;
+      r.push_back(static_cast<double>(b) * dr);
+      value.push_back(sum[b] / cnt[b]);
+    }
+    const double tau = correlation_length(r, value);
+    if (std::isfinite(tau) || (bx == last_x && by == last_y)) return tau;
+  }
 }
+
+constexpr std::size_t kMinOverlap = 64;  // as autocorrelation()'s default
 
 }  // namespace
 
@@ -29,37 +107,15 @@ Autocorrelation autocorrelation(const Surface& s, std::size_t min_overlap) {
   acf.ny = s.ny;
   acf.dx = s.dx;
   acf.dy = s.dy;
-  const double mean = s.valid_mean();
-  // Pad to >= 2n-1 so circular correlation equals linear correlation.
-  const std::size_t px = detail::fft_good_size(2 * s.nx - 1);
-  const std::size_t py = detail::fft_good_size(2 * s.ny - 1);
-  std::vector<double> h(px * py, 0.0), v(px * py, 0.0);
-  for (std::size_t iy = 0; iy < s.ny; ++iy)
-    for (std::size_t ix = 0; ix < s.nx; ++ix) {
-      std::size_t i = iy * s.nx + ix;
-      if (!s.valid[i]) continue;
-      h[iy * px + ix] = s.z[i] - mean;
-      v[iy * px + ix] = 1.0;
-    }
-  auto chh = correlation_sums(h, px, py);
-  auto cvv = correlation_sums(v, px, py);
+  const LagSums sums(s);
   const std::size_t lx_n = 2 * s.nx - 1, ly_n = 2 * s.ny - 1;
   acf.value.assign(lx_n * ly_n, kNaN);
-  for (long ly = -static_cast<long>(s.ny) + 1; ly < static_cast<long>(s.ny); ++ly) {
-    std::size_t row =
-        static_cast<std::size_t>((ly + static_cast<long>(py)) % static_cast<long>(py));
-    for (long lx = -static_cast<long>(s.nx) + 1; lx < static_cast<long>(s.nx); ++lx) {
-      std::size_t col =
-          static_cast<std::size_t>((lx + static_cast<long>(px)) % static_cast<long>(px));
-      double pairs = cvv[row * px + col];
-      double val =
-          pairs >= static_cast<double>(min_overlap) - 0.5 ? chh[row * px + col] / pairs : kNaN;
+  const double c0 = sums.mean_product(0, 0, min_overlap);
+  for (long ly = -static_cast<long>(s.ny) + 1; ly < static_cast<long>(s.ny); ++ly)
+    for (long lx = -static_cast<long>(s.nx) + 1; lx < static_cast<long>(s.nx); ++lx)
       acf.value[static_cast<std::size_t>(ly + static_cast<long>(s.ny) - 1) * lx_n +
-                static_cast<std::size_t>(lx + static_cast<long>(s.nx) - 1)] = val;
-    }
-  }
-  const double c0 = acf.at(0, 0);
-  for (auto& x : acf.value) x = c0 > 0 ? x / c0 : kNaN;
+                static_cast<std::size_t>(lx + static_cast<long>(s.nx) - 1)] =
+          c0 > 0 ? sums.mean_product(lx, ly, min_overlap) / c0 : kNaN;
   return acf;
 }
 
@@ -210,32 +266,28 @@ SurfaceStats compute_stats(const Surface& s) {
   st.slope_samples_x = nxs;
   st.slope_samples_y = nys;
 
-  // Correlation lengths from one ACF.
-  if (st.sq > 0 && s.nx > 1 && s.ny > 1) {
-    auto acf = autocorrelation(s);
-    std::vector<double> rx, ax, ry, ay;
-    for (long l = 0; l < static_cast<long>(s.nx); ++l) {
-      rx.push_back(static_cast<double>(l) * s.dx);
-      ax.push_back(acf.at(l, 0));
+  // Correlation lengths from one set of lag sums: the axis cuts and the radial average, without
+  // forming the whole normalised lag grid.
+  if (st.sq > 0 && s.nx > 1) {
+    const LagSums sums(s);
+    const double c0 = sums.mean_product(0, 0, kMinOverlap);
+    auto cut = [&](std::size_t n, double d, bool along_x) {
+      std::vector<double> r, a;
+      for (long l = 0; l < static_cast<long>(n); ++l) {
+        r.push_back(static_cast<double>(l) * d);
+        a.push_back(c0 > 0 ? sums.mean_product(along_x ? l : 0, along_x ? 0 : l, kMinOverlap) / c0
+                           : kNaN);
+      }
+      return correlation_length(r, a);
+    };
+    st.corr_length_x = cut(s.nx, s.dx, true);
+    if (s.ny > 1) {
+      st.corr_length_y = cut(s.ny, s.dy, false);
+      st.corr_length = c0 > 0 ? radial_correlation_length(sums, c0, s, kMinOverlap) : kNaN;
+    } else {  // a single profile: only the x lag exists
+      st.corr_length_y = kNaN;
+      st.corr_length = st.corr_length_x;
     }
-    for (long l = 0; l < static_cast<long>(s.ny); ++l) {
-      ry.push_back(static_cast<double>(l) * s.dy);
-      ay.push_back(acf.at(0, l));
-    }
-    st.corr_length_x = correlation_length(rx, ax);
-    st.corr_length_y = correlation_length(ry, ay);
-    auto rad = radial_average(acf);
-    st.corr_length = correlation_length(rad.r, rad.value);
-  } else if (st.sq > 0 && s.ny == 1 && s.nx > 1) {
-    // A single profile: only the x lag exists.
-    auto acf = autocorrelation(s);
-    std::vector<double> rx, ax;
-    for (long l = 0; l < static_cast<long>(s.nx); ++l) {
-      rx.push_back(static_cast<double>(l) * s.dx);
-      ax.push_back(acf.at(l, 0));
-    }
-    st.corr_length_x = st.corr_length = correlation_length(rx, ax);
-    st.corr_length_y = kNaN;
   } else {
     st.corr_length_x = st.corr_length_y = st.corr_length = kNaN;
   }
