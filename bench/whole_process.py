@@ -280,7 +280,8 @@ def main():
                                        if c == "kirchhoff" else "c2c %s, copy fill" % tag)
                     row["fft_units_min"] = row["cli"]["wall_min_s"] * 1e3 / unit
                     row["fft_units_median"] = row["cli"]["wall_median_s"] * 1e3 / unit
-                    row["r2c_units_min"] = row["cli"]["wall_min_s"] * 1e3 / units["r2c"]
+                    if c != "kirchhoff":  # the same scan in the r2c unit (about half the c2c)
+                        row["r2c_units_min"] = row["cli"]["wall_min_s"] * 1e3 / units["r2c"]
                 row["peer_over_cli"] = row["peer"]["wall_median_s"] / row["cli"]["wall_median_s"]
                 row["peer_over_cli_min"] = row["peer"]["wall_min_s"] / row["cli"]["wall_min_s"]
                 if out:
