@@ -55,6 +55,7 @@ PACKAGES=(
   time                 # /usr/bin/time: max RSS of each hostile-input case in the CLI tests
   libopenmpi-dev openmpi-bin # scale-out: the same binary alone or under mpirun
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib python3-pil # Python module + tests
+  python3-scipy        # the numpy/scipy peers of bench/peers/ (bench/whole_process.py, their test)
 )
 # Only for `make demo`: the report screenshot (kept out of the CI set, it is large).
 REPORT_PACKAGES=(
