@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
@@ -49,6 +50,8 @@ constexpr double kFailedBarrierSeconds = 30;
 
 std::atomic<double> g_timeout_s{kDefaultMpiTimeoutSeconds};
 std::atomic<bool> g_watch_stop{false};
+std::mutex g_watch_mutex;
+std::condition_variable g_watch_wake;
 std::thread* g_watch = nullptr;  // never destroyed unless joined (exits skip its destructor)
 MPI_Comm g_watch_comm = MPI_COMM_NULL;
 std::mutex g_command_mutex;
@@ -128,7 +131,10 @@ void watch() {
         }
       }
     }
-    std::this_thread::sleep_for(std::chrono::duration<double>(std::min(beat / 2, 0.2)));
+    // Woken at once by stop_watchdog: a run's end does not wait out the pause.
+    std::unique_lock<std::mutex> lock(g_watch_mutex);
+    g_watch_wake.wait_for(lock, std::chrono::duration<double>(std::min(beat / 2, 0.2)),
+                          [] { return g_watch_stop.load(); });
   }
 }
 
@@ -147,7 +153,11 @@ void start_watchdog() {
 
 void stop_watchdog() {
   if (!g_watch) return;
-  g_watch_stop.store(true);
+  {
+    std::lock_guard<std::mutex> lock(g_watch_mutex);
+    g_watch_stop.store(true);
+  }
+  g_watch_wake.notify_all();
   g_watch->join();
   delete g_watch;
   g_watch = nullptr;
@@ -173,7 +183,7 @@ bool sleeping_barrier(double timeout_s = 0) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > timeout_s)
       return false;
     std::this_thread::sleep_for(pause);
-    if (pause < std::chrono::milliseconds(20)) pause *= 2;
+    if (pause < std::chrono::milliseconds(4)) pause *= 2;
   }
 }
 
@@ -181,6 +191,12 @@ bool sleeping_barrier(double timeout_s = 0) {
 
 MpiSession::MpiSession(int& argc, char**& argv) {
   if (!launched_by_mpi()) return;
+  // Open MPI probes its high-speed point-to-point layers (UCX, PSM, OFI) when a rank starts,
+  // about 0.2 s per rank on a machine without such hardware. microbrdf sends a few large
+  // messages per scan, for which the ob1 layer (shared memory, TCP and the fabrics its transport
+  // modules reach) is as good: it is asked for unless the user chose a layer (OMPI_MCA_pml, or
+  // mpirun --mca pml, which sets it).
+  ::setenv("OMPI_MCA_pml", "ob1", 0);
   int provided = 0;
   // Only the calling thread exchanges work (worker threads hand results to it); the watchdog's
   // thread sends its signs of life on a communicator of its own, hence MPI_THREAD_MULTIPLE.
