@@ -266,9 +266,14 @@ std::vector<std::uint8_t> encode_npy_f64(std::span<const double> values, std::si
   out[9] = static_cast<std::uint8_t>(header.size() >> 8);
   std::memcpy(out.data() + 10, header.data(), header.size());
   std::uint8_t* p = out.data() + 10 + header.size();
-  for (double v : values) {
-    const auto u = std::bit_cast<std::uint64_t>(v);
-    for (int b = 0; b < 8; ++b) *p++ = static_cast<std::uint8_t>(u >> (8 * b));
+  if constexpr (std::endian::native == std::endian::little) {
+    // '<f8' is the host's own layout: one copy.
+    if (!values.empty()) std::memcpy(p, values.data(), 8 * values.size());
+  } else {
+    for (double v : values) {
+      const auto u = std::bit_cast<std::uint64_t>(v);
+      for (int b = 0; b < 8; ++b) *p++ = static_cast<std::uint8_t>(u >> (8 * b));
+    }
   }
   return out;
 }
