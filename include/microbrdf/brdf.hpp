@@ -34,6 +34,13 @@ class Brdf {
   virtual ~Brdf() = default;
   /// f(wi, wo) in 1/sr (0 when either direction is below the horizon).
   virtual double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const = 0;
+  /// f(wi, wo) at n wavelengths (m) into f[0..n-1], each equal to eval() at that wavelength.
+  /// BRDFs whose cost does not depend on the wavelength (a random walk that only its Fresnel
+  /// factors see) override it to do that work once.
+  virtual void eval_spectral(const Vec3& wi, const Vec3& wo, const double* wavelengths_m, int n,
+                             double* f) const {
+    for (int k = 0; k < n; ++k) f[k] = eval(wi, wo, wavelengths_m[k]);
+  }
   /// Draws wo for the light direction wi; nothing when the sample is absorbed/invalid.
   virtual std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
                                            double wavelength_m) const = 0;

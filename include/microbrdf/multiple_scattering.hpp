@@ -74,6 +74,13 @@ class MicrofacetRandomWalk {
   double eval_cos(const Vec3& wi, const Vec3& wo, WalkRng& rng, const Fresnel* fresnel,
                   double wavelength_m, int min_order = 2) const;
 
+  /// eval_cos_many for one wo (walk Lambda lambda_o) at n wavelengths at once: the walk (heights,
+  /// normals) does not depend on the wavelength, only its Fresnel factors do. Adds to out[k]
+  /// exactly what eval_cos_many would at wavelengths_m[k] from the same stream.
+  void eval_cos_spectral(const Vec3& wi, const Vec3& wo, double lambda_o, WalkRng& rng,
+                         const Fresnel* fresnel, const double* wavelengths_m, int n, double* out,
+                         int min_order = 2) const;
+
   /// Next-event estimation of one walk towards n directions at once (the table builder): adds
   /// each estimate of f cos(theta_o) of orders >= min_order to out[j] for wos[j], whose walk
   /// Lambda is lambda_o[j] (= lambda(wos[j])). `energy`, when given, gets the estimate of the
@@ -181,6 +188,10 @@ class MultipleScatteringBrdf final : public Brdf {
                          std::shared_ptr<const Fresnel> f,
                          const MultipleScatteringOptions& opt = {});
   double eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const override;
+  /// The same walks as eval() at every wavelength (they do not depend on it), taken once with
+  /// each wavelength's Fresnel factors: f[k] == eval(wi, wo, wavelengths_m[k]) bit for bit.
+  void eval_spectral(const Vec3& wi, const Vec3& wo, const double* wavelengths_m, int n,
+                     double* f) const override;
   std::optional<BrdfSample> sample(const Vec3& wi, double u1, double u2,
                                    double wavelength_m) const override;
   double pdf(const Vec3& wi, const Vec3& wo) const override;

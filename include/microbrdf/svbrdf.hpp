@@ -20,6 +20,11 @@ class Svbrdf {
   /// f(wi, wo) at texture coordinate (u, v), in 1/sr.
   virtual double eval(double u, double v, const Vec3& wi, const Vec3& wo,
                       double wavelength_m) const = 0;
+  /// f at n wavelengths (m) into f[0..n-1], each equal to eval() there (Brdf::eval_spectral).
+  virtual void eval_spectral(double u, double v, const Vec3& wi, const Vec3& wo,
+                             const double* wavelengths_m, int n, double* f) const {
+    for (int k = 0; k < n; ++k) f[k] = eval(u, v, wi, wo, wavelengths_m[k]);
+  }
   /// Draws wo for the light direction wi at (u, v) (see Brdf::sample).
   virtual std::optional<BrdfSample> sample(double u, double v, const Vec3& wi, double u1, double u2,
                                            double wavelength_m) const = 0;
@@ -34,6 +39,10 @@ class UniformSvbrdf final : public Svbrdf {
   explicit UniformSvbrdf(std::shared_ptr<const Brdf> brdf) : brdf_(std::move(brdf)) {}
   double eval(double, double, const Vec3& wi, const Vec3& wo, double wavelength_m) const override {
     return brdf_->eval(wi, wo, wavelength_m);
+  }
+  void eval_spectral(double, double, const Vec3& wi, const Vec3& wo, const double* wavelengths_m,
+                     int n, double* f) const override {
+    brdf_->eval_spectral(wi, wo, wavelengths_m, n, f);
   }
   std::optional<BrdfSample> sample(double, double, const Vec3& wi, double u1, double u2,
                                    double wavelength_m) const override {

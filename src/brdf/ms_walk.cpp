@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "core/splitmix64.hpp"
 #include "microbrdf/multiple_scattering.hpp"
@@ -187,6 +188,52 @@ void MicrofacetRandomWalk::eval_cos_many(const Vec3& wi, const Vec3* wos, const 
     // The energy leaving after this hit: thr times the escape probability G1(wr, h)
     // (a conditional expectation of the exit event, with less variance than counting exits).
     if (energy && k >= min_order && wr.z() > kHorizon) *energy += thr * std::pow(c1, lambda(wr));
+  }
+}
+
+void MicrofacetRandomWalk::eval_cos_spectral(const Vec3& wi, const Vec3& wo, double lambda_o,
+                                             WalkRng& rng, const Fresnel* fresnel,
+                                             const double* wavelengths_m, int n, double* out,
+                                             int min_order) const {
+  if (!(wi.z() > 0) || !(wo.z() > 0) || n < 1) return;
+  std::vector<double> thr(static_cast<std::size_t>(n), 1.0);
+  Vec3 wr = -wi;
+  double c1 = 1;
+  for (int k = 1; k <= max_order_; ++k) {
+    if (!next_height(wr, c1, rng)) return;
+    if (k >= min_order) {
+      // phase() with each wavelength's F, the same products in the same order.
+      const Vec3 v = -wr;
+      const double s = sigma(v);
+      const Vec3 hs = v + wo;
+      const double len = hs.norm();
+      if (len > 0) {
+        const Vec3 h = hs / len;
+        const double vh = v.dot(h);
+        if (h.z() > 0 && vh > 0) {
+          const double d = d_->D(h), att = std::pow(c1, lambda_o);
+          for (int j = 0; j < n; ++j) {
+            const auto u = static_cast<std::size_t>(j);
+            const double p = fresnel_of(fresnel, vh, wavelengths_m[j]) * d / (4 * s);
+            if (p > 0) out[j] += thr[u] * p * att;
+          }
+        }
+      }
+    }
+    if (k == max_order_) return;
+    Vec3 m;
+    double w = 1;
+    if (!sample_normal(wr, rng.next(), rng.next(), rng, m, w)) return;
+    bool any = false;
+    for (int j = 0; j < n; ++j) {
+      const auto u = static_cast<std::size_t>(j);
+      // A wavelength whose throughput reached 0 adds nothing more (eval_cos_many stops there).
+      if (thr[u] > 0) thr[u] *= fresnel_of(fresnel, -wr.dot(m), wavelengths_m[j]) * w;
+      if (!(thr[u] > 0)) thr[u] = 0;
+      any |= thr[u] > 0;
+    }
+    wr = reflect(wr, m);
+    if (!any) return;
   }
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 #include "core/splitmix64.hpp"
 #include "microbrdf/multiple_scattering.hpp"
@@ -59,6 +60,21 @@ double MultipleScatteringBrdf::eval_multiple(const Vec3& wi, const Vec3& wo, dou
 double MultipleScatteringBrdf::eval(const Vec3& wi, const Vec3& wo, double wavelength_m) const {
   if (!(wi.z() > 0) || !(wo.z() > 0)) return 0;
   return single_.eval(wi, wo, wavelength_m) + eval_multiple(wi, wo, wavelength_m, opt_.eval_walks);
+}
+
+void MultipleScatteringBrdf::eval_spectral(const Vec3& wi, const Vec3& wo,
+                                           const double* wavelengths_m, int n, double* f) const {
+  for (int k = 0; k < n; ++k) f[k] = 0;
+  if (!(wi.z() > 0) || !(wo.z() > 0) || n < 1) return;
+  // eval_multiple's walks (the seed does not see the wavelength), once for all wavelengths.
+  std::vector<double> sum(static_cast<std::size_t>(n), 0.0);
+  WalkRng rng(hash_seed(opt_.seed, {wi.x(), wi.y(), wi.z(), wo.x(), wo.y(), wo.z()}));
+  const double lo = walk_.lambda(wo);
+  for (int w = 0; w < opt_.eval_walks; ++w)
+    walk_.eval_cos_spectral(wi, wo, lo, rng, f_.get(), wavelengths_m, n, sum.data(), 2);
+  for (int k = 0; k < n; ++k)
+    f[k] = single_.eval(wi, wo, wavelengths_m[k]) +
+           sum[static_cast<std::size_t>(k)] / (opt_.eval_walks * wo.z());
 }
 
 double MultipleScatteringBrdf::cosine_share(const Vec3& wi) const {

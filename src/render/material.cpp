@@ -172,7 +172,8 @@ bool SpectralMaterial::eval(double u, double v, const View& vw, const Vec3& wl,
   const int n = w.n;
   if (!mf_) {
     bool any = false;
-    for (int k = 0; k < n; ++k) any |= (f[k] = m_->eval(u, v, wl, vw.wv, w.lambda_m[k])) != 0;
+    m_->eval_spectral(u, v, wl, vw.wv, w.lambda_m, n, f);
+    for (int k = 0; k < n; ++k) any |= f[k] != 0;
     if (pdf) *pdf = m_->pdf(u, v, vw.wv, wl);
     return any;
   }
@@ -235,7 +236,7 @@ bool SpectralMaterial::sample(double u, double v, const View& vw, double u1, dou
       if (!(b->pdf > 0 && std::isfinite(b->pdf))) return false;
       s.pdf = b->pdf;
       double f[kMaxWavelengths];
-      for (int k = 0; k < n; ++k) f[k] = m_->eval(u, v, s.wo, wv, w.lambda_m[k]);
+      m_->eval_spectral(u, v, s.wo, wv, w.lambda_m, n, f);
       s.target = 0;
       for (int k = 0; k < n; ++k) {
         s.weight[k] = f[k] * s.wo.z() / s.pdf;
