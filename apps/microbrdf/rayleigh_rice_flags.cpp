@@ -35,14 +35,12 @@ void add_rayleigh_rice_flags(CLI::App* c, RayleighRiceFlags& f) {
                 "its mean), whole, or a side in samples (less noise, coarser frequency step "
                 "1/(tile dx)). The JSON's psd.tile_choice says what was used and why")
       ->check([](const std::string& v) -> std::string {
-        if (v == "auto" || v == "whole") return {};
-        std::size_t used = 0;
         try {
-          const long long n = std::stoll(v, &used);
-          if (used == v.size() && n >= 2 && n <= (1LL << 20)) return {};
-        } catch (const std::exception&) {
+          check_psd_tile(v);  // the library's own rule, before any scan is read
+          return {};
+        } catch (const InputError& e) {
+          return e.what();
         }
-        return "give auto, whole or a side in samples from 2 to 1048576";
       });
   add_read_flags(c, f.read, "plane");
 }

@@ -73,6 +73,9 @@ PsdOptions default_psd_options(const Surface& s);
 /// whole scan, whose periodogram is exact for periodic surfaces), "whole" (one tile) or a side in
 /// samples (>= 2); InputError otherwise.
 PsdOptions psd_options(const Surface& s, PsdWindow window, const std::string& tile);
+/// The checks psd_options makes of `tile` alone (before any scan is read): InputError naming
+/// what is accepted unless it is "auto", "whole" or an integer side from 2 to 2^20 samples.
+void check_psd_tile(const std::string& tile);
 
 /// The 2-D PSD on a centred frequency grid: node (ix, iy) is
 ///   fx = (ix - nfx/2) dfx,  fy = (iy - nfy/2) dfy   (integer division; cycles/m),

@@ -75,21 +75,26 @@ PsdOptions psd_options(const Surface& s, PsdWindow window, const std::string& ti
   } else if (tile == "whole") {
     o.tile_why = "one periodogram of the whole scan (asked for)";
   } else {
-    std::size_t used = 0;
-    long long n = -1;
-    try {
-      n = std::stoll(tile, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != tile.size() || n < 2 || n > (1LL << 20))
-      throw InputError("PSD tile '" + tile +
-                       "': give auto, whole or a side in samples from 2 to 1048576");
-    o.tile = static_cast<std::size_t>(n);
+    check_psd_tile(tile);
+    o.tile = static_cast<std::size_t>(std::stoll(tile));
     o.tile_why = "Welch average over tiles of " + tile + " samples (asked for)";
   }
   o.window = window;
   return o;
+}
+
+void check_psd_tile(const std::string& tile) {
+  if (tile == "auto" || tile == "whole") return;
+  std::size_t used = 0;
+  long long n = -1;
+  try {
+    n = std::stoll(tile, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != tile.size() || n < 2 || n > (1LL << 20))
+    throw InputError("PSD tile '" + tile +
+                     "': give auto, whole or a side in samples from 2 to 1048576");
 }
 
 }  // namespace microbrdf
