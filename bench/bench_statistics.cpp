@@ -4,6 +4,7 @@
 // directly on a small patch.
 #include <benchmark/benchmark.h>
 
+#include "bench_load.hpp"
 #include "microbrdf/generate.hpp"
 #include "microbrdf/io.hpp"
 #include "microbrdf/level.hpp"
@@ -80,8 +81,59 @@ void BM_FullAcfDirect(benchmark::State& state) {
                          benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// Levelling a 1280 x 960 scan with holes (every 37th sample): the normal equations from row
+// sums and the subtraction, on the helper threads (state.range(0) = polynomial degree).
+Surface holed_scan() {
+  Surface s = scan(1280, 960);
+  for (std::size_t i = 0; i < s.size(); i += 37) s.invalidate(i);
+  return s;
+}
+
+void BM_Level1280x960(benchmark::State& state) {
+  const Surface s = holed_scan();
+  Surface t = s;
+  const int degree = static_cast<int>(state.range(0));
+  const LevelingSpec spec{degree == 1 ? Leveling::Plane : Leveling::Polynomial, degree};
+  for (auto _ : state) {
+    state.PauseTiming();
+    t.z = s.z;  // the same heights each time (levelling works in place)
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(level_surface(t, spec));
+  }
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(s.size()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["load"] = bench::load_average();
+}
+
+// Yardstick: what levelling must at least do, read every height and its mask flag twice (the
+// sums, then the subtraction) and write the heights once, as plain loops on the same threads.
+void BM_LevelStreamingPass1280x960(benchmark::State& state) {
+  const Surface s = holed_scan();
+  Surface t = s;
+  for (auto _ : state) {
+    state.PauseTiming();
+    t.z = s.z;
+    state.ResumeTiming();
+    const long n = static_cast<long>(t.size());
+    double sum = 0;
+#pragma omp parallel for reduction(+ : sum)
+    for (long i = 0; i < n; ++i)
+      if (t.valid[static_cast<std::size_t>(i)]) sum += t.z[static_cast<std::size_t>(i)];
+    const double mean = sum / static_cast<double>(n);
+#pragma omp parallel for
+    for (long i = 0; i < n; ++i)
+      if (t.valid[static_cast<std::size_t>(i)]) t.z[static_cast<std::size_t>(i)] -= mean;
+    benchmark::DoNotOptimize(t.z.data());
+  }
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(s.size()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["load"] = bench::load_average();
+}
+
 }  // namespace
 
+BENCHMARK(BM_Level1280x960)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LevelStreamingPass1280x960)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_InfoStats640x480)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_InfoRealMetropro)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AxisAcfDirect640x480)->Unit(benchmark::kMillisecond);
