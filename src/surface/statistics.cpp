@@ -58,6 +58,39 @@ class LagSums {
   std::vector<double> hh_, vv_;
 };
 
+// Mean of value(lx, ly) (NaN skipped) in annuli of width dr = min(dx, dy) about the origin, over
+// the lags |lx| <= bx, |ly| <= by in row order; only annuli b with (b + 1/2) dr <= whole are
+// kept (every lag they hold lies in the box).
+template <class Value>
+RadialProfile annulus_means(long bx, long by, double dx, double dy, std::size_t nbins, double whole,
+                            Value&& value) {
+  const double dr = std::min(dx, dy);
+  std::vector<double> sum(nbins, 0.0), cnt(nbins, 0.0);
+  for (long ly = -by; ly <= by; ++ly)
+    for (long lx = -bx; lx <= bx; ++lx) {
+      const double v = value(lx, ly);
+      if (!std::isfinite(v)) continue;
+      const double r = std::hypot(static_cast<double>(lx) * dx, static_cast<double>(ly) * dy);
+      const auto b = static_cast<std::size_t>(std::lround(r / dr));
+      if (b >= nbins) continue;
+      sum[b] += v;
+      cnt[b] += 1;
+    }
+  RadialProfile p;
+  for (std::size_t b = 0; b < nbins && (static_cast<double>(b) + 0.5) * dr <= whole; ++b) {
+    if (cnt[b] == 0) continue;
+    p.r.push_back(static_cast<double>(b) * dr);
+    p.value.push_back(sum[b] / cnt[b]);
+  }
+  return p;
+}
+
+// Annuli of a lag grid: width min(dx, dy), out to the shorter side of the scan.
+std::size_t annulus_count(std::size_t nx, std::size_t ny, double dx, double dy) {
+  const double rmax = std::min(static_cast<double>(nx - 1) * dx, static_cast<double>(ny - 1) * dy);
+  return static_cast<std::size_t>(rmax / std::min(dx, dy)) + 1;
+}
+
 // Radial average of the normalised ACF (as radial_average) and its 1/e crossing, over a box of
 // lags that doubles until the crossing lies in annuli the box holds whole: correlation lengths
 // are usually far shorter than the scan, and the annuli's sums are the same, term for term and
@@ -65,9 +98,7 @@ class LagSums {
 double radial_correlation_length(const LagSums& sums, double c0, const Surface& s,
                                  std::size_t min_overlap) {
   const double dr = std::min(s.dx, s.dy);
-  const double rmax =
-      std::min(static_cast<double>(s.nx - 1) * s.dx, static_cast<double>(s.ny - 1) * s.dy);
-  const std::size_t nbins = static_cast<std::size_t>(rmax / dr) + 1;
+  const std::size_t nbins = annulus_count(s.nx, s.ny, s.dx, s.dy);
   const long last_x = static_cast<long>(s.nx) - 1, last_y = static_cast<long>(s.ny) - 1;
   for (double reach = 64 * dr;; reach *= 2) {
     const long bx = std::min(last_x, static_cast<long>(std::ceil(reach / s.dx)));
@@ -75,24 +106,10 @@ double radial_correlation_length(const LagSums& sums, double c0, const Surface& 
     // Lags outside the box lie farther than `whole`: annuli below it are complete.
     const double whole = std::min(bx == last_x ? HUGE_VAL : static_cast<double>(bx) * s.dx,
                                   by == last_y ? HUGE_VAL : static_cast<double>(by) * s.dy);
-    std::vector<double> sum(nbins, 0.0), cnt(nbins, 0.0);
-    for (long ly = -by; ly <= by; ++ly)
-      for (long lx = -bx; lx <= bx; ++lx) {
-        const double v = sums.mean_product(lx, ly, min_overlap) / c0;
-        if (!std::isfinite(v)) continue;
-        const double r = std::hypot(static_cast<double>(lx) * s.dx, static_cast<double>(ly) * s.dy);
-        const auto b = static_cast<std::size_t>(std::lround(r / dr));
-        if (b >= nbins) continue;
-        sum[b] += v;
-        cnt[b] += 1;
-      }
-    std::vector<double> r, value;
-    for (std::size_t b = 0; b < nbins && (static_cast<double>(b) + 0.5) * dr <= whole; ++b) {
-      if (cnt[b] == 0) continue;
-      r.push_back(static_cast<double>(b) * dr);
-      value.push_back(sum[b] / cnt[b]);
-    }
-    const double tau = correlation_length(r, value);
+    const RadialProfile p = annulus_means(bx, by, s.dx, s.dy, nbins, whole, [&](long lx, long ly) {
+      return sums.mean_product(lx, ly, min_overlap) / c0;
+    });
+    const double tau = correlation_length(p.r, p.value);
     if (std::isfinite(tau) || (bx == last_x && by == last_y)) return tau;
   }
 }
@@ -143,28 +160,9 @@ double autocorrelation_direct(const Surface& s, long lx, long ly) {
 }
 
 RadialProfile radial_average(const Autocorrelation& acf) {
-  const double dr = std::min(acf.dx, acf.dy);
-  const double rmax =
-      std::min(static_cast<double>(acf.nx - 1) * acf.dx, static_cast<double>(acf.ny - 1) * acf.dy);
-  const std::size_t nbins = static_cast<std::size_t>(rmax / dr) + 1;
-  std::vector<double> sum(nbins, 0.0), cnt(nbins, 0.0);
-  for (long ly = -static_cast<long>(acf.ny) + 1; ly < static_cast<long>(acf.ny); ++ly)
-    for (long lx = -static_cast<long>(acf.nx) + 1; lx < static_cast<long>(acf.nx); ++lx) {
-      double v = acf.at(lx, ly);
-      if (!std::isfinite(v)) continue;
-      double r = std::hypot(static_cast<double>(lx) * acf.dx, static_cast<double>(ly) * acf.dy);
-      auto b = static_cast<std::size_t>(std::lround(r / dr));
-      if (b >= nbins) continue;
-      sum[b] += v;
-      cnt[b] += 1;
-    }
-  RadialProfile p;
-  for (std::size_t b = 0; b < nbins; ++b) {
-    if (cnt[b] == 0) continue;
-    p.r.push_back(static_cast<double>(b) * dr);
-    p.value.push_back(sum[b] / cnt[b]);
-  }
-  return p;
+  return annulus_means(static_cast<long>(acf.nx) - 1, static_cast<long>(acf.ny) - 1, acf.dx, acf.dy,
+                       annulus_count(acf.nx, acf.ny, acf.dx, acf.dy), HUGE_VAL,
+                       [&](long lx, long ly) { return acf.at(lx, ly); });
 }
 
 double correlation_length(const std::vector<double>& r, const std::vector<double>& acf) {
