@@ -45,5 +45,14 @@ if(MICROBRDF_PYTHON_VERSION)  # set by python/CMakeLists.txt
                  FILE_PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE GROUP_READ GROUP_EXECUTE WORLD_READ WORLD_EXECUTE)
   set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${CMAKE_BINARY_DIR}/cmake/deb/prerm)
 endif()
+# The libraries loaded with dlopen when first used (cmake/runtime_libraries.cmake): dpkg-shlibdeps
+# cannot see them, so their packages are named here.
+foreach(p IN LISTS MICROBRDF_RUNTIME_PACKAGES)
+  if(CPACK_DEBIAN_PACKAGE_DEPENDS)
+    string(APPEND CPACK_DEBIAN_PACKAGE_DEPENDS ", ${p}")
+  else()
+    set(CPACK_DEBIAN_PACKAGE_DEPENDS "${p}")
+  endif()
+endforeach()
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 include(CPack)

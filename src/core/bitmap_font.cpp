@@ -1,11 +1,11 @@
 // Labels on raster previews drawn with Cairo (see bitmap_font.hpp).
 #include "core/bitmap_font.hpp"
 
-#include <cairo.h>
-
 #include <algorithm>
 #include <cmath>
 #include <memory>
+
+#include "core/cairo_runtime.hpp"
 
 namespace microbrdf::detail {
 namespace {
@@ -40,6 +40,7 @@ struct Surface {
 };
 
 double advance(const std::string& text, int scale) {
+  load_cairo();
   Surface m(1, 1);
   set_font(m.cr, scale);
   cairo_text_extents_t e;
@@ -58,6 +59,7 @@ std::size_t text_width(const std::string& text, int scale) {
 
 void draw_text(RgbImage& img, std::size_t x0, std::size_t y0, const std::string& text, int scale,
                std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+  load_cairo();
   if (text.empty() || x0 >= img.width || y0 >= img.height) return;
   const double px = font_px(scale);
   // The glyphs' box: from an ascent above the caps (accents) to the descenders.

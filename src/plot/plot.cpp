@@ -1,9 +1,6 @@
 // Plots with Cairo: one drawing routine, rendered to an image surface (PNG) or an SVG surface.
 #include "microbrdf/plot.hpp"
 
-#include <cairo-svg.h>
-#include <cairo.h>
-
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -14,6 +11,7 @@
 #include <memory>
 #include <sstream>
 
+#include "core/cairo_runtime.hpp"
 #include "core/markup_escape.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/error.hpp"
@@ -563,6 +561,7 @@ void render(const std::vector<const Plot*>& plots, const std::vector<Prepared>& 
             std::size_t columns, const std::string& path, const std::string& ext, int cw, int ch) {
   if (cw < 1 || ch < 1 || cw > 20000 || ch > 20000)
     throw InputError("plot size must be 1..20000 pixels");
+  detail::load_cairo();
   const std::size_t rows = (plots.size() + columns - 1) / columns;
   const int W = cw * static_cast<int>(std::min(columns, plots.size()));
   const int H = ch * static_cast<int>(rows);

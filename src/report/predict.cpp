@@ -2,7 +2,6 @@
 // the stages, summary.json and report.html.
 #include "microbrdf/predict.hpp"
 
-#include <cairo.h>
 #include <ceres/version.h>
 #include <embree3/rtcore_config.h>
 #include <fftw3.h>
@@ -15,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/cairo_runtime.hpp"
 #include "microbrdf/atomic_file.hpp"
 #include "microbrdf/distribute.hpp"
 #include "microbrdf/error.hpp"
@@ -197,6 +197,7 @@ void nulls_for_nonfinite(nlohmann::json& j) {
 
 namespace report {
 nlohmann::json versions() {
+  detail::load_cairo();  // (its version string; the report's plots load it anyway)
   char eigen[32];
   std::snprintf(eigen, sizeof eigen, "%d.%d.%d", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION,
                 EIGEN_MINOR_VERSION);

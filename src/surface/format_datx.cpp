@@ -10,9 +10,8 @@
 // The file is opened from memory (core driver + file image). Every dimension is checked
 // against the file size before anything is read, only the Surface dataset is touched (other
 // datasets may use Zygo's proprietary filter 44440), and every HDF5 handle is closed on every
-// path. libhdf5 (serial) is not thread-safe, so reads are serialised by a mutex.
-#include <hdf5.h>
-
+// path. libhdf5 (serial) is not thread-safe, so reads are serialised by a mutex. libhdf5 is
+// loaded at the first read (surface/hdf5_runtime.hpp), not at process start.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -28,6 +27,7 @@
 #include "core/byte_reader.hpp"
 #include "microbrdf/error.hpp"
 #include "surface/formats.hpp"
+#include "surface/hdf5_runtime.hpp"
 #include "surface/isolated_reader.hpp"
 
 namespace microbrdf::detail {
@@ -568,6 +568,7 @@ Surface read_datx(Bytes data, const std::string& name) {
   // libhdf5 1.10 can leak, crash or ask for absurd allocations on corrupt files even after the
   // checks above (fuzz/repro/), so it decodes in a child process (surface/isolated_reader.hpp).
   return read_isolated(name, "libhdf5", [&] {
+    load_hdf5(name);  // here, in the child: the calling process never maps libhdf5
     std::lock_guard<std::mutex> lock(g_hdf5_mutex);
     return read_datx_locked(r);
   });

@@ -9,8 +9,6 @@
 // Hostile files: libtiff messages go to a per-file handler and end up in the FileError (nothing
 // is printed); a single libtiff allocation is capped at 256 MiB; an uncompressed image must fit
 // in the file and a compressed one may claim at most 256 samples per file byte (+ 2^16).
-#include <tiffio.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -25,6 +23,7 @@
 #include "microbrdf/error.hpp"
 #include "microbrdf/units.hpp"
 #include "surface/formats.hpp"
+#include "surface/tiff_runtime.hpp"
 
 namespace microbrdf::detail {
 namespace {
@@ -134,6 +133,7 @@ double sample(const std::uint8_t* p, std::uint16_t fmt, std::uint16_t bits) {
 Surface read_tiff(Bytes data, const std::string& name, const ReadOptions& options) {
   ByteReader r(data, name);
   if (!options.dx) r.fail("the tiff format stores no sample spacing: pass --spacing (e.g. 110nm)");
+  load_tiff(name);
   MemFile mf{data, 0, {}};
   auto fail = [&](const std::string& what) {
     r.fail("tiff: " + what + (mf.errors.empty() ? "" : " (libtiff: " + mf.errors + ")"));
