@@ -38,18 +38,54 @@ LevelingSpec LevelingSpec::parse(const std::string& text) {
 
 namespace {
 
+// Rows of the scan handed to one helper-pool item; each row's sums land in its own slot, so the
+// reduction below runs in row order whatever the thread count (results do not depend on it).
+constexpr std::size_t kRowsPerItem = 16;
+
+// Sums over the valid samples of each row, on the helper threads: f(z) per sample, one slot per
+// row (reduced in row order by the caller).
+template <class F>
+std::vector<double> row_sums(const Surface& s, std::vector<std::size_t>* counts, F f) {
+  std::vector<double> sums(s.ny, 0.0);
+  if (counts) counts->assign(s.ny, 0);
+  const std::size_t items = (s.ny + kRowsPerItem - 1) / kRowsPerItem;
+  const std::function<void(std::size_t)> item = [&](std::size_t it) {
+    const std::size_t y1 = std::min(s.ny, (it + 1) * kRowsPerItem);
+    for (std::size_t iy = it * kRowsPerItem; iy < y1; ++iy) {
+      const double* z = s.z.data() + iy * s.nx;
+      const std::uint8_t* ok = s.valid.data() + iy * s.nx;
+      double sum = 0;
+      std::size_t n = 0;
+      for (std::size_t ix = 0; ix < s.nx; ++ix)
+        if (ok[ix]) {
+          sum += f(z[ix]);
+          ++n;
+        }
+      sums[iy] = sum;
+      if (counts) (*counts)[iy] = n;
+    }
+  };
+  detail::HelperPool::instance().run(items, resolve_thread_count(0), item);
+  return sums;
+}
+
+// RMS about the mean of the valid heights: two passes (mean, then squares about it), each over
+// rows on the helper threads (the rms is reported before and after levelling).
 double rms_about_mean(const Surface& s) {
-  double sum = 0, sum2 = 0;
+  std::vector<std::size_t> counts;
+  const std::vector<double> sums = row_sums(s, &counts, [](double z) { return z; });
+  double sum = 0;
   std::size_t n = 0;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (!s.valid[i]) continue;
-    sum += s.z[i];
-    ++n;
+  for (std::size_t iy = 0; iy < s.ny; ++iy) {
+    sum += sums[iy];
+    n += counts[iy];
   }
   if (n == 0) return 0;
-  double mean = sum / static_cast<double>(n);
-  for (std::size_t i = 0; i < s.size(); ++i)
-    if (s.valid[i]) sum2 += (s.z[i] - mean) * (s.z[i] - mean);
+  const double mean = sum / static_cast<double>(n);
+  const std::vector<double> sq =
+      row_sums(s, nullptr, [mean](double z) { return (z - mean) * (z - mean); });
+  double sum2 = 0;
+  for (double v : sq) sum2 += v;
   return std::sqrt(sum2 / static_cast<double>(n));
 }
 
@@ -58,10 +94,6 @@ int monomial_index(int a, int b) {
   const int d = a + b;
   return d * (d + 1) / 2 + b;
 }
-
-// Rows of the scan handed to one helper-pool item; each row's sums land in its own slot, so the
-// reduction below runs in row order whatever the thread count (results do not depend on it).
-constexpr std::size_t kRowsPerItem = 16;
 
 // The normal equations of the least-squares polynomial, built separably: for monomials
 // u^a v^b, (A^T A)_{(a,b),(c,d)} = sum over rows of v^(b+d) * sum over the row of u^(a+c), and
