@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <type_traits>
 
 #include "microbrdf/error.hpp"
 #include "microbrdf/kirchhoff.hpp"
@@ -85,8 +86,7 @@ std::size_t kirchhoff_auto_supersample(std::size_t resolution, double lambda_q, 
   return s;
 }
 
-KirchhoffAccumulator::KirchhoffAccumulator(const KirchhoffOptions& options)
-    : opt_(options), acc_(options.resolution) {
+KirchhoffAccumulator::KirchhoffAccumulator(const KirchhoffOptions& options) : opt_(options) {
   if (!(opt_.wavelength_q > 0)) throw InputError("Kirchhoff: the wavelength must be > 0");
   if (opt_.resolution < 17) throw InputError("Kirchhoff: resolution must be >= 17");
   if (opt_.supersample != 0 && (opt_.supersample % 2 == 0 || opt_.supersample > 15))
@@ -236,9 +236,25 @@ KirchhoffScanPartial KirchhoffAccumulator::estimate(const Surface& s) const {
   return r;
 }
 
-void KirchhoffAccumulator::merge(const KirchhoffScanPartial& p) {
-  if (p.table.resolution() != acc_.resolution())
+void KirchhoffAccumulator::merge(const KirchhoffScanPartial& p) { merge_impl(p); }
+
+void KirchhoffAccumulator::merge(KirchhoffScanPartial&& p) { merge_impl(std::move(p)); }
+
+// Tables are allocated by the first share, not by the constructor: a share passed as an rvalue
+// gives its tables (0 + x = x: the sums are the same bits either way; D_K >= 0, so no -0.0).
+template <class Partial>
+void KirchhoffAccumulator::merge_impl(Partial&& p) {
+  constexpr bool movable = !std::is_lvalue_reference_v<Partial>;
+  if (p.table.resolution() != opt_.resolution)
     throw InputError("Kirchhoff accumulator: a scan's table has the wrong resolution");
+  if (p.stack.size() != opt_.stack_wavelengths_q.size() || p.stack_aliased.size() != p.stack.size())
+    throw InputError("Kirchhoff accumulator: a scan's share has the wrong number of lambda_q");
+  for (const auto& t : p.stack)
+    if (t.resolution() != opt_.resolution)
+      throw InputError("Kirchhoff accumulator: a scan's table has the wrong resolution");
+  if (p.coherent.size() != p.stack.size() + 1)
+    throw InputError("Kirchhoff accumulator: a scan's share has the wrong number of mean fields");
+  // (Everything is checked before anything is taken or added.)
   if (!p.source.empty()) sources_.push_back(p.source);
   leveling_ = p.leveling;
   tiles_ = p.tiles;
@@ -247,17 +263,29 @@ void KirchhoffAccumulator::merge(const KirchhoffScanPartial& p) {
     const auto& w = from.values();
     for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
   };
-  add(acc_, p.table);
-  if (p.stack.size() != opt_.stack_wavelengths_q.size() || p.stack_aliased.size() != p.stack.size())
-    throw InputError("Kirchhoff accumulator: a scan's share has the wrong number of lambda_q");
-  if (stack_.empty()) {
-    stack_.assign(p.stack.size(), TabulatedNdf(acc_.resolution()));
-    stack_aliased_.assign(p.stack.size(), 0.0);
+  if (!acc_) {
+    if constexpr (movable) {
+      acc_.emplace(std::move(p.table));
+      // A supersampled share's table keeps the capacity of its sub-node grid: not kept here.
+      acc_->values().shrink_to_fit();
+    } else {
+      acc_.emplace(p.table);
+    }
+  } else {
+    add(*acc_, p.table);
+  }
+  const bool first_stack = stack_.empty();
+  if (first_stack) {
+    if constexpr (movable) {
+      stack_ = std::move(p.stack);
+      for (auto& t : stack_) t.values().shrink_to_fit();
+    } else {
+      stack_ = p.stack;
+    }
+    stack_aliased_.assign(stack_.size(), 0.0);
   }
   // Coherent sums add like the tables; a scan without them (too few tiles) leaves the layer
   // without a mean field (its tiles' amplitudes are not known).
-  if (p.coherent.size() != p.stack.size() + 1)
-    throw InputError("Kirchhoff accumulator: a scan's share has the wrong number of mean fields");
   if (coherent_.empty()) coherent_.assign(p.coherent.size(), {});
   for (std::size_t l = 0; l < p.coherent.size(); ++l) {
     if (p.coherent[l].empty()) {
@@ -266,15 +294,22 @@ void KirchhoffAccumulator::merge(const KirchhoffScanPartial& p) {
       continue;
     }
     if (coherent_missing_) continue;
-    if (coherent_[l].empty()) coherent_[l].assign(p.coherent[l].size(), {0.0, 0.0});
+    if (coherent_[l].empty()) {
+      // The first share's mean field becomes the sum (only |sum|^2 and its peak are used, so a
+      // -0.0 kept instead of 0 + -0.0 changes nothing).
+      if constexpr (movable) {
+        coherent_[l] = std::move(p.coherent[l]);
+        coherent_[l].shrink_to_fit();
+      } else
+        coherent_[l] = p.coherent[l];
+      continue;
+    }
     if (coherent_[l].size() != p.coherent[l].size())
       throw InputError("Kirchhoff accumulator: a scan's mean field has the wrong size");
     for (std::size_t i = 0; i < p.coherent[l].size(); ++i) coherent_[l][i] += p.coherent[l][i];
   }
-  for (std::size_t l = 0; l < p.stack.size(); ++l) {
-    if (p.stack[l].resolution() != acc_.resolution())
-      throw InputError("Kirchhoff accumulator: a scan's table has the wrong resolution");
-    add(stack_[l], p.stack[l]);
+  for (std::size_t l = 0; l < stack_aliased_.size(); ++l) {
+    if (!first_stack) add(stack_[l], p.stack[l]);
     stack_aliased_[l] += p.stack_aliased[l];
   }
   area_w2_ += p.area_w2;
@@ -290,17 +325,18 @@ void KirchhoffAccumulator::merge(const KirchhoffScanPartial& p) {
 void KirchhoffAccumulator::add(const Surface& s) { merge(estimate(s)); }
 
 double KirchhoffAccumulator::aliased_fraction() const {
-  double kept = acc_.integral();
+  const double kept = acc_ ? acc_->integral() : 0.0;
   return kept + aliased_ > 0 ? aliased_ / (kept + aliased_) : 0.0;
 }
 
 double KirchhoffAccumulator::raw_integral() const {
-  if (!(area_w2_ > 0)) return 0.0;
-  return acc_.integral() / area_w2_;
+  if (!(area_w2_ > 0) || !acc_) return 0.0;
+  return acc_->integral() / area_w2_;
 }
 
 TabulatedNdf KirchhoffAccumulator::result() const {
-  return labelled(acc_, opt_.wavelength_q, aliased_, coherent_of(0));
+  if (!acc_) throw InputError("Kirchhoff: no valid samples were accumulated");
+  return labelled(*acc_, opt_.wavelength_q, aliased_, coherent_of(0));
 }
 
 std::vector<TabulatedNdf> KirchhoffAccumulator::stack_result() const {

@@ -237,7 +237,7 @@ std::optional<KirchhoffAccumulator> accumulate_kirchhoff_scans(
       [&](std::size_t i, WorkResult&& r) {
         report(set, i, paths, r);
         if (r.local)
-          acc.merge(*std::static_pointer_cast<KirchhoffScanPartial>(r.local));
+          acc.merge(std::move(*std::static_pointer_cast<KirchhoffScanPartial>(r.local)));
         else
           acc.merge(unpack_kirchhoff_partial(r, options.resolution));
         r.local.reset();  // the share's tables go before the next scan's
