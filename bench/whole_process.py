@@ -6,7 +6,7 @@ Every figure is a whole process, from its start to its files on disk, as a user 
 `--method kirchhoff --dk-stack single` on generated Gaussian scans (sigma 0.1 um, tau 1 um,
 110 nm spacing, seed 1), and beside each its numpy peer (a Python process, `import numpy`
 included). Runs alternate between the command and its peer so that both see the same load.
-Per command and size: min and median wall time, median user+sys CPU, peak RSS (os.wait4), the
+Per command and size: min and median wall time, median user+sys CPU, peak RSS (GNU time, one extra run; see peak_rss), the
 time in honest FFT units (bench/fft_unit.cpp, measured in the same session: for info, naive and
 filtered the NX x NY complex FFT of the scan's size, for D_K the zero-padded c2c FFT of the tile
 as in bench/bench_kirchhoff.cpp; both c2c and r2c figures are in the JSON), the peer's wall time
@@ -76,6 +76,23 @@ def run(argv, stdout=None):
         raise SystemExit("whole_process.py: error: %s exited with %d"
                          % (" ".join(argv), p.returncode))
     return wall, ru.ru_utime + ru.ru_stime, ru.ru_maxrss * 1024
+
+
+GNU_TIME = "/usr/bin/time"
+
+
+def peak_rss(argv, stdout=None):
+    """Peak RSS in bytes of one more run of argv, measured by GNU time (None without it).
+
+    os.wait4 cannot give it for small processes: a child forked from this Python process starts
+    with the parent's resident pages (about 33 MB), and Linux keeps that high-water mark across
+    exec, so every command would seem to need at least that much. GNU time's own child is forked
+    from a process of about 2 MB. A separate run, so that the timed runs carry no wrapper."""
+    if not os.path.exists(GNU_TIME):
+        return None
+    with tempfile.NamedTemporaryFile("r", suffix=".rss") as f:
+        run([GNU_TIME, "-f", "%M", "-o", f.name] + argv, stdout)
+        return int(f.read().split()[-1]) * 1024
 
 
 def fft_unit(binary, args, rounds=1):
@@ -272,6 +289,10 @@ def main():
                     argv, stdout, _, pargv, _ = invocations(c, cli, a.python, scan, work, tag)
                     samples[c][0].append(run(argv, stdout))
                     samples[c][1].append(run(pargv))
+            rss = {}
+            for c in todo:
+                argv, stdout, _, pargv, _ = invocations(c, cli, a.python, scan, work, tag)
+                rss[c] = (peak_rss(argv, stdout), peak_rss(pargv))
             after = units_for(unit_bin, nx, ny, a.quick, "kirchhoff" in todo)
             for k in ("c2c", "r2c", "dk_c2c"):
                 if units[k] is not None:
@@ -282,6 +303,10 @@ def main():
                 row = {"size": tag, "points": nx * ny, "command": c,
                        "load_before": load0, "load_after": os.getloadavg()[0],
                        "cli": summary(samples[c][0]), "peer": summary(samples[c][1])}
+                for who, probe in zip(("cli", "peer"), rss[c]):
+                    if probe is not None:  # (else the wait4 figure, an upper bound)
+                        row[who]["rss_peak_mb"] = probe / 2**20
+                        row[who]["rss_by"] = "GNU time, one more run"
                 unit = units["dk_c2c"] if c == "kirchhoff" else units["c2c"]
                 if unit and c != "help":
                     row["fft_unit"] = ("c2c %s, phasor fill" % units["dk_shape"]
