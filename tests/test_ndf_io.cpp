@@ -569,3 +569,18 @@ TEST(ndf_io, StackOverLambdaQRoundTripsAndReadsItsPrimaryTable) {
   fs::remove(temp_dir() / "stack.json");
   EXPECT_THROW(read_ndf_stack(path), FileError);
 }
+
+// A table built from node values takes them without a copy and checks their count.
+TEST(ndf_io, TableFromValuesAdoptsThemAndChecksTheCount) {
+  std::vector<double> v(17 * 17);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<double>(i % 7);
+  const double* storage = v.data();
+  TabulatedNdf t(17, std::move(v));
+  EXPECT_EQ(t.resolution(), 17u);
+  EXPECT_EQ(t.values().data(), storage);  // adopted, not copied
+  EXPECT_EQ(t.at(3, 2), static_cast<double>((2 * 17 + 3) % 7));
+  std::vector<double> short_values(17 * 17 - 1);
+  EXPECT_THROW(TabulatedNdf(17, std::move(short_values)), std::invalid_argument);
+  std::vector<double> two(4);
+  EXPECT_THROW(TabulatedNdf(2, std::move(two)), std::invalid_argument);
+}

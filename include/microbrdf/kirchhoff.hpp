@@ -230,7 +230,9 @@ inline constexpr double kKirchhoffVisibleLo = 360e-9, kKirchhoffVisibleHi = 830e
 /// One scan's share of a KirchhoffAccumulator: the sum over its patches of A_w,p D_K,p and the
 /// counters, so that scans can be computed anywhere and folded in scan order (distribute.hpp).
 struct KirchhoffScanPartial {
-  TabulatedNdf table;  ///< sum over the scan's patches of A_w,p D_K,p (physical)
+  /// Sum over the scan's patches of A_w,p D_K,p (physical). A 3 x 3 placeholder until a share
+  /// is filled (a default 1025^2 table would be 8.4 MB of zeros made for nothing).
+  TabulatedNdf table{3};
   /// The same sums at KirchhoffOptions::stack_wavelengths_q (in that order) and their aliased
   /// masses.
   std::vector<TabulatedNdf> stack;

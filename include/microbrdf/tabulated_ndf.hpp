@@ -81,6 +81,9 @@ class TabulatedNdf {
  public:
   /// Throws std::invalid_argument for resolution < 3 or a window outside [-1, 1]^2.
   explicit TabulatedNdf(std::size_t resolution = 1025, const NdfWindow& window = {});
+  /// A table holding `values` (D per steradian at the nodes, row iy = m_y, N x N row-major),
+  /// taken without a copy. Also throws std::invalid_argument when values.size() != N^2.
+  TabulatedNdf(std::size_t resolution, std::vector<double>&& values, const NdfWindow& window = {});
 
   std::size_t resolution() const { return n_; }
   /// The part of the disk plane the nodes cover (the whole [-1, 1]^2 unless zoomed).

@@ -208,12 +208,24 @@ inline cd rotate(cd z, std::size_t n) {
 }
 
 // The nodes of an N x N table inside the unit disk, packed column by column: column k holds the
-// rows [lo, hi), from offset off; t = 2 m_z - 1 per packed node (q_z = q_c + r t).
+// rows [lo, hi), from offset off. Their t = 2 m_z - 1 (q_z = q_c + r t) is node_t(), computed
+// where it is used rather than stored (6.6 MB for N = 1025, against one square root per node
+// and pass).
 struct NodeLayout {
   std::size_t n = 0, count = 0;
+  double d = 0;  // node spacing 2 / (N - 1)
   std::vector<std::size_t> lo, hi, off;
-  std::vector<double> t;
 };
+
+// m_x, m_y of node (k, l) and whether it lies inside the disk; the same arithmetic everywhere.
+inline double node_rr(const NodeLayout& lay, std::size_t k, std::size_t l) {
+  const double mx = -1.0 + lay.d * static_cast<double>(k),
+               my = -1.0 + lay.d * static_cast<double>(l);
+  return mx * mx + my * my;
+}
+inline double node_t(const NodeLayout& lay, std::size_t k, std::size_t l) {
+  return 2 * std::sqrt(1 - node_rr(lay, k, l)) - 1;
+}
 
 std::shared_ptr<const NodeLayout> node_layout(std::size_t n) {
   static std::mutex m;
@@ -222,26 +234,27 @@ std::shared_ptr<const NodeLayout> node_layout(std::size_t n) {
   if (last && last->n == n) return last;
   auto l = std::make_shared<NodeLayout>();
   l->n = n;
+  l->d = 2.0 / static_cast<double>(n - 1);
   l->lo.assign(n, 0);
   l->hi.assign(n, 0);
   l->off.assign(n, 0);
-  const double d = 2.0 / static_cast<double>(n - 1);
+  std::size_t count = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    const double mx = -1.0 + d * static_cast<double>(k);
-    l->off[k] = l->t.size();
+    l->off[k] = count;
     bool in = false;
+    std::size_t inside = 0;
     for (std::size_t r = 0; r < n; ++r) {
-      const double my = -1.0 + d * static_cast<double>(r), rr = mx * mx + my * my;
-      if (!(rr < 1)) continue;  // the same test as kirchhoff_node_q
+      if (!(node_rr(*l, k, r) < 1)) continue;  // the same test as kirchhoff_node_q
       if (!in) l->lo[k] = r;
       in = true;
       l->hi[k] = r + 1;
-      l->t.push_back(2 * std::sqrt(1 - rr) - 1);
+      ++inside;
     }
-    if (in && l->t.size() - l->off[k] != l->hi[k] - l->lo[k])
+    count += inside;
+    if (in && inside != l->hi[k] - l->lo[k])
       throw std::logic_error("Kirchhoff: the disk is not convex along a column");
   }
-  l->count = l->t.size();
+  l->count = count;
   last = l;
   return last;
 }
@@ -252,8 +265,6 @@ struct Workspace {
   AlignedArray<cd> state;  // Clenshaw b_{n+1}, b_{n+2} per packed node
   AlignedArray<cd> it;     // exact: sums over the rule groups of the batch's terms, per packed node
   AlignedArray<cd> pre;    // midpoint: w dA (axis factors) exp(-i q_c h') per sample
-  AlignedArray<double> g;  // midpoint: g_x, g_y per sample (0 where invalid)
-  AlignedArray<double> z;  // midpoint: r h' per sample (0 where invalid)
   AlignedArray<double> ring;  // midpoint: J_k(r h') of the last three orders, slot k mod 3
 };
 
@@ -307,15 +318,18 @@ ThreadScratch& thread_scratch() {
 // vectors at oa, ob, oc [pos[x]]): A = pre (q_c c + i r (J_{n-1} - J_{n+1})), B = pre g_x c,
 // C = pre g_y c with c = (n ? 2 : 1) J_n, the factor (-i)^n left out. Stores J_{n-1} in jm
 // (n >= 1).
+// The row's heights, slopes and window weights are the patch's own (h, gx, gy, w): z = r (h - h_c)
+// and the slopes are taken where w != 0 and 0 elsewhere (no per-sample copies of them).
 void fill_row_midpoint(std::size_t nx, std::size_t n, const BesselTable& bt, const cd* pre,
-                       const double* g, const double* z, const double* jp, const double* jn,
-                       double* jm, double qc, double r, const std::size_t* pos, cd* oa, cd* ob,
-                       cd* oc) {
+                       const double* h, const double* gx, const double* gy, const double* w,
+                       double hc, const double* jp, const double* jn, double* jm, double qc,
+                       double r, const std::size_t* pos, cd* oa, cd* ob, cd* oc) {
   const double alpha = n ? 2.0 : 1.0;
   for (std::size_t x = 0; x < nx; ++x) {
+    const bool live = w[x] != 0;
     double m = 0;
     if (n >= 1) {
-      const double zz = z[x], j = bt(n - 1, std::fabs(zz));
+      const double zz = live ? r * (h[x] - hc) : 0.0, j = bt(n - 1, std::fabs(zz));
       m = zz < 0 && ((n - 1) & 1) ? -j : j;
       jm[x] = m;
     }
@@ -323,8 +337,8 @@ void fill_row_midpoint(std::size_t nx, std::size_t n, const BesselTable& bt, con
     const cd P = pre[x];
     const std::size_t q = pos[x];
     oa[q] = cd(P.real() * qc * u - P.imag() * d, P.imag() * qc * u + P.real() * d);
-    ob[q] = P * (g[2 * x] * u);
-    oc[q] = P * (g[2 * x + 1] * u);
+    ob[q] = P * ((live ? gx[x] : 0.0) * u);
+    oc[q] = P * ((live ? gy[x] : 0.0) * u);
   }
 }
 
@@ -513,8 +527,6 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   if (exact) ws.it.resize(batch * lay.count);
   if (!exact) {
     ws.pre.resize(ns);
-    ws.g.resize(2 * ns);
-    ws.z.resize(ns);
     ws.ring.resize(3 * ns);
   }
   const bool big = ns + N * N > (1u << 17);  // threads only pay off on large problems
@@ -525,8 +537,9 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
   for (const auto& rl : rules) groups += rl.size();
   auto& pool = detail::HelperPool::instance();
 
-  // Midpoint: per sample the factor pre = w dA (axis factors) exp(-i q_c h'), z = r h', the
-  // slopes, and J of the two highest orders (the others follow one order per term).
+  // Midpoint: per sample the factor pre = w dA (axis factors) exp(-i q_c h') and J of the two
+  // highest orders (the others follow one order per term; z and the slopes are read from the
+  // patch as each term fills its rows).
   if (!exact) {
     const std::function<void(std::size_t)> prepare_rows = [&](std::size_t y) {
       const cd fy = ay.factor(y);
@@ -535,15 +548,11 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
         double* ring = ws.ring.data();
         if (p.w[i] == 0) {
           ws.pre[i] = 0.0;
-          ws.z[i] = ws.g[2 * i] = ws.g[2 * i + 1] = 0;
           ring[(terms % 3) * ns + i] = ring[((terms - 1) % 3) * ns + i] = 0;
           continue;
         }
         const double hp = p.h[i] - hc, z = r * hp;
         ws.pre[i] = mul(p.w[i] * dA * ax.factor(x), fy) * std::polar(1.0, -qc * hp);
-        ws.z[i] = z;
-        ws.g[2 * i] = p.gx[i];
-        ws.g[2 * i + 1] = p.gy[i];
         ring[(terms % 3) * ns + i] = bessel(terms, z);
         ring[((terms - 1) % 3) * ns + i] = bessel(terms - 1, z);
       }
@@ -583,10 +592,10 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
         }
         const std::size_t i = y * nx;
         double* ring = ws.ring.data();
-        fill_row_midpoint(nx, n, bt, ws.pre.data() + i, ws.g.data() + 2 * i, ws.z.data() + i,
-                          ring + ((n + 1) % 3) * ns + i, ring + (n % 3) * ns + i,
-                          n >= 1 ? ring + ((n - 1) % 3) * ns + i : nullptr, qc, r, ax.positions(),
-                          oa, ob, oc);
+        fill_row_midpoint(nx, n, bt, ws.pre.data() + i, p.h.data() + i, p.gx.data() + i,
+                          p.gy.data() + i, p.w.data() + i, hc, ring + ((n + 1) % 3) * ns + i,
+                          ring + (n % 3) * ns + i, n >= 1 ? ring + ((n - 1) % 3) * ns + i : nullptr,
+                          qc, r, ax.positions(), oa, ob, oc);
       }
       ax.run(sc.x);
       cd* sums = sc.sums.data();
@@ -741,7 +750,7 @@ std::vector<double> table_fast(const KirchhoffPatch& p, double lambda_q, std::si
       if (k >= N || lay.hi[k] <= lay.lo[k]) continue;
       for (std::size_t l = lay.lo[k]; l < lay.hi[k]; ++l) {
         const std::size_t j = lay.off[k] + (l - lay.lo[k]);
-        const double t = lay.t[j];
+        const double t = node_t(lay, k, l);
         cd b1 = first ? cd(0) : ws.state[2 * j], b2 = first ? cd(0) : ws.state[2 * j + 1];
         for (std::size_t s = 0; s < nb; ++s) {
           const std::size_t nn = n_hi - s;

@@ -43,6 +43,18 @@ TabulatedNdf::TabulatedNdf(std::size_t resolution, const NdfWindow& window)
   d_.assign(resolution * resolution, 0.0);
 }
 
+TabulatedNdf::TabulatedNdf(std::size_t resolution, std::vector<double>&& values,
+                           const NdfWindow& window)
+    : TabulatedNdf(3, window) {
+  if (resolution < 3) throw std::invalid_argument("TabulatedNdf: resolution must be >= 3");
+  if (values.size() != mul_sat(resolution, resolution))
+    throw std::invalid_argument("TabulatedNdf: " + std::to_string(values.size()) + " values for " +
+                                std::to_string(resolution) + " x " + std::to_string(resolution) +
+                                " nodes");
+  n_ = resolution;
+  d_ = std::move(values);
+}
+
 double TabulatedNdf::eval_disk(double mx, double my) const {
   if (!(mx * mx + my * my <= 1.0)) return 0.0;  // also rejects NaN
   const double inv = 1.0 / spacing();
