@@ -17,24 +17,23 @@
 #else
 #define MICROBRDF_HDF5_RECLAIM(X) X(H5Dvlen_reclaim)
 #endif
-#define MICROBRDF_HDF5_FUNCTIONS(X)                                                                \
-  X(H5open)                                                                                        \
-  X(H5check_version) X(H5Aclose) X(H5Aexists) X(H5Aget_space) X(H5Aget_type) X(H5Aopen) X(H5Aread) \
-      X(H5Dclose) X(H5Dget_create_plist) X(H5Dget_offset) X(H5Dget_space) X(H5Dget_type)           \
-          X(H5Dopen2) X(H5Dread) X(H5Eset_auto2) X(H5Fclose) X(H5Fopen) X(H5Gclose) X(H5Gget_info) \
-              X(H5Gopen2) X(H5Iget_type) X(H5Lexists) X(H5Lget_info) X(H5Lget_name_by_idx)         \
-                  X(H5Oclose) X(H5Oopen) X(H5Pclose) X(H5Pcreate) X(H5Pget_filter2)                \
-                      X(H5Pget_layout) X(H5Pget_nfilters) X(H5Pset_fapl_core) X(H5Pset_file_image) \
-                          X(H5Sclose) X(H5Sget_simple_extent_dims) X(H5Sget_simple_extent_ndims)   \
-                              X(H5Sget_simple_extent_npoints) X(H5Sget_simple_extent_type)         \
-                                  X(H5Tclose) X(H5Tcopy) X(H5Tcreate) X(H5Tget_class)              \
-                                      X(H5Tget_member_class) X(H5Tget_member_index)                \
-                                          X(H5Tget_member_offset) X(H5Tget_member_type)            \
-                                              X(H5Tget_nmembers) X(H5Tget_size) X(H5Tget_super)    \
-                                                  X(H5Tinsert) X(H5Tis_variable_str)               \
-                                                      X(H5Tset_size) X(H5Tvlen_create)             \
-                                                          X(H5Zfilter_avail) X(H5free_memory)      \
-                                                              MICROBRDF_HDF5_RECLAIM(X)
+// clang-format off
+#define MICROBRDF_HDF5_FUNCTIONS(X) \
+  X(H5open) X(H5check_version) X(H5Aclose) X(H5Aexists) X(H5Aget_space) \
+  X(H5Aget_type) X(H5Aopen) X(H5Aread) X(H5Dclose) X(H5Dget_create_plist) \
+  X(H5Dget_offset) X(H5Dget_space) X(H5Dget_type) X(H5Dopen2) X(H5Dread) \
+  X(H5Eset_auto2) X(H5Fclose) X(H5Fopen) X(H5Gclose) X(H5Gget_info) X(H5Gopen2) \
+  X(H5Iget_type) X(H5Lexists) X(H5Lget_info) X(H5Lget_name_by_idx) X(H5Oclose) \
+  X(H5Oopen) X(H5Pclose) X(H5Pcreate) X(H5Pget_filter2) X(H5Pget_layout) \
+  X(H5Pget_nfilters) X(H5Pset_fapl_core) X(H5Pset_file_image) X(H5Sclose) \
+  X(H5Sget_simple_extent_dims) X(H5Sget_simple_extent_ndims) \
+  X(H5Sget_simple_extent_npoints) X(H5Sget_simple_extent_type) X(H5Tclose) \
+  X(H5Tcopy) X(H5Tcreate) X(H5Tget_class) X(H5Tget_member_class) \
+  X(H5Tget_member_index) X(H5Tget_member_offset) X(H5Tget_member_type) \
+  X(H5Tget_nmembers) X(H5Tget_size) X(H5Tget_super) X(H5Tinsert) \
+  X(H5Tis_variable_str) X(H5Tset_size) X(H5Tvlen_create) X(H5Zfilter_avail) \
+  X(H5free_memory) MICROBRDF_HDF5_RECLAIM(X)
+// clang-format on
 
 namespace microbrdf {
 MICROBRDF_HDF5_FUNCTIONS(MICROBRDF_RUNTIME_DECLARE)

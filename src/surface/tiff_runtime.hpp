@@ -9,12 +9,14 @@
 #include "core/runtime_library.hpp"
 
 /// Every libtiff function the TIFF reader calls.
-#define MICROBRDF_TIFF_FUNCTIONS(X)                                                             \
-  X(TIFFClientOpenExt)                                                                          \
-  X(TIFFClose) X(TIFFGetField) X(TIFFGetFieldDefaulted) X(TIFFIsCODECConfigured) X(TIFFIsTiled) \
-      X(TIFFOpenOptionsAlloc) X(TIFFOpenOptionsFree) X(TIFFOpenOptionsSetErrorHandlerExtR)      \
-          X(TIFFOpenOptionsSetMaxSingleMemAlloc) X(TIFFOpenOptionsSetWarningHandlerExtR)        \
-              X(TIFFReadScanline) X(TIFFReadTile) X(TIFFScanlineSize) X(TIFFTileSize)
+// clang-format off
+#define MICROBRDF_TIFF_FUNCTIONS(X) \
+  X(TIFFClientOpenExt) X(TIFFClose) X(TIFFGetField) X(TIFFGetFieldDefaulted) \
+  X(TIFFIsCODECConfigured) X(TIFFIsTiled) X(TIFFOpenOptionsAlloc) \
+  X(TIFFOpenOptionsFree) X(TIFFOpenOptionsSetErrorHandlerExtR) \
+  X(TIFFOpenOptionsSetMaxSingleMemAlloc) X(TIFFOpenOptionsSetWarningHandlerExtR) \
+  X(TIFFReadScanline) X(TIFFReadTile) X(TIFFScanlineSize) X(TIFFTileSize)
+// clang-format on
 
 namespace microbrdf {
 MICROBRDF_TIFF_FUNCTIONS(MICROBRDF_RUNTIME_DECLARE)
