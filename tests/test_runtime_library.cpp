@@ -73,10 +73,23 @@ TEST(RuntimeLibrary, CairoIsMappedOnlyWhenTextIsDrawn) {
   EXPECT_TRUE(mapped("libcairo.so"));
 }
 
-TEST(RuntimeLibrary, Libhdf5StaysOutOfTheCallingProcess) {
-  // The .datx reader loads libhdf5 in its forked child (surface/isolated_reader.hpp).
+TEST(RuntimeLibrary, Libhdf5IsMappedOnlyWhenADatxIsRead) {
+  // Loaded before the reader forks its decoding child (surface/isolated_reader.hpp).
   ASSERT_FALSE(mapped("libhdf5")) << "libhdf5 is mapped at process start";
+  const Surface dat = read_surface(std::string(MICROBRDF_TEST_DATA) + "/metropro-1.dat");
+  EXPECT_GT(dat.nx, 0u);
+  EXPECT_FALSE(mapped("libhdf5")) << "reading a MetroPro .dat loaded libhdf5";
   const Surface s = read_surface(std::string(MICROBRDF_TEST_DATA) + "/zygo_test.datx");
   EXPECT_EQ(s.nx, 33u);
-  EXPECT_FALSE(mapped("libhdf5")) << "libhdf5 was loaded into the calling process";
+  EXPECT_TRUE(mapped("libhdf5"));
+}
+
+TEST(RuntimeLibrary, FailedLoadLeavesNoSlotFilled) {
+  void* sin_slot = reinterpret_cast<void*>(0x1);
+  void* bogus_slot = nullptr;
+  const std::string e = detail::load_runtime_library(
+      "libm.so.6", "libc6", {{"sin", &sin_slot}, {"microbrdf_no_such_symbol", &bogus_slot}});
+  EXPECT_FALSE(e.empty());
+  EXPECT_EQ(sin_slot, nullptr);  // not left pointing into a library that was closed again
+  EXPECT_EQ(bogus_slot, nullptr);
 }

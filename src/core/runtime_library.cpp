@@ -23,6 +23,7 @@ std::string load_runtime_library(const char* soname, const char* package,
     std::memcpy(s.slot, &p, sizeof p);
   }
   if (!missing.empty()) {
+    for (const RuntimeSymbol& s : symbols) std::memset(s.slot, 0, sizeof(void*));  // none kept
     dlclose(h);
     return std::string(soname) + " lacks " + missing +
            " (another version than microbrdf was built with?); install " + package;

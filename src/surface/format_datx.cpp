@@ -567,8 +567,10 @@ Surface read_datx(Bytes data, const std::string& name) {
   ByteReader r(data, name);
   // libhdf5 1.10 can leak, crash or ask for absurd allocations on corrupt files even after the
   // checks above (fuzz/repro/), so it decodes in a child process (surface/isolated_reader.hpp).
+  // libhdf5 is loaded here, before the fork, not in the child: dlopen in a child forked from a
+  // process whose other threads may hold the dynamic loader's lock could wait forever.
+  load_hdf5(name);
   return read_isolated(name, "libhdf5", [&] {
-    load_hdf5(name);  // here, in the child: the calling process never maps libhdf5
     std::lock_guard<std::mutex> lock(g_hdf5_mutex);
     return read_datx_locked(r);
   });

@@ -1,8 +1,8 @@
 #pragma once
 // libhdf5, loaded when a .datx is first read instead of at process start
 // (core/runtime_library.hpp says why and how). About 30 shared libraries come with it (libcurl,
-// its TLS and Kerberos stack, libsz); the .datx reader runs in a forked child
-// (surface/isolated_reader.hpp) and loads it there, so the calling process never maps them.
+// its TLS and Kerberos stack, libsz). The reader loads it before it forks the child that decodes
+// the file (surface/isolated_reader.hpp), so a process that reads no .datx never maps them.
 #include <hdf5.h>
 
 #include <string>
