@@ -58,9 +58,11 @@ class NdfAccumulator {
 
  private:
   NdfEstimateOptions opt_;
-  TabulatedNdf acc_;
+  TabulatedNdf acc_;  ///< 3 x 3 placeholder (with the meta) until the first share
+  void check_share(const NdfScanPartial& p) const;
+  void take_first(std::vector<double>&& values);
   void merge_meta(const NdfScanPartial& p);
-  bool merged_ = false;  ///< a share was folded in (acc_ is no longer all zeros)
+  bool merged_ = false;  ///< a share was folded in (acc_ holds the sum)
 };
 
 /// One scan's NDF (NdfAccumulator with a single add).

@@ -277,24 +277,19 @@ void KirchhoffAccumulator::merge_impl(Partial&& p) {
     for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
   };
   if (!acc_) {
-    if constexpr (movable) {
+    if constexpr (movable)
       acc_.emplace(std::move(p.table));
-      // A supersampled share's table keeps the capacity of its sub-node grid: not kept here.
-      acc_->values().shrink_to_fit();
-    } else {
+    else
       acc_.emplace(p.table);
-    }
   } else {
     add(*acc_, p.table);
   }
   const bool first_stack = stack_.empty();
   if (first_stack) {
-    if constexpr (movable) {
+    if constexpr (movable)
       stack_ = std::move(p.stack);
-      for (auto& t : stack_) t.values().shrink_to_fit();
-    } else {
+    else
       stack_ = p.stack;
-    }
     stack_aliased_.assign(stack_.size(), 0.0);
   }
   // Coherent sums add like the tables; a scan without them (too few tiles) leaves the layer
@@ -310,10 +305,9 @@ void KirchhoffAccumulator::merge_impl(Partial&& p) {
     if (coherent_[l].empty()) {
       // The first share's mean field becomes the sum (only |sum|^2 and its peak are used, so a
       // -0.0 kept instead of 0 + -0.0 changes nothing).
-      if constexpr (movable) {
+      if constexpr (movable)
         coherent_[l] = std::move(p.coherent[l]);
-        coherent_[l].shrink_to_fit();
-      } else
+      else
         coherent_[l] = p.coherent[l];
       continue;
     }

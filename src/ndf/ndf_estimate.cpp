@@ -9,6 +9,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,7 +21,9 @@
 namespace microbrdf {
 
 NdfAccumulator::NdfAccumulator(const NdfEstimateOptions& options)
-    : opt_(options), acc_(options.resolution, options.window) {
+    : opt_(options), acc_(3, options.window) {  // a placeholder until the first share
+  // (The table's own check, made here rather than at the first share.)
+  if (options.resolution < 3) throw std::invalid_argument("TabulatedNdf: resolution must be >= 3");
   acc_.meta.method = options.method == NdfMethod::Naive ? "naive" : "filtered";
   acc_.meta.sampling = "cell";
   acc_.meta.filter_sigma_m = options.method == NdfMethod::Filtered ? options.filter_sigma_m : 0.0;
@@ -145,22 +148,38 @@ NdfScanPartial NdfAccumulator::estimate(const Surface& s) const {
   return estimate_partial(s, opt_);
 }
 
-void NdfAccumulator::merge(const NdfScanPartial& p) {
+void NdfAccumulator::check_share(const NdfScanPartial& p) const {
   // (Shares unpacked from other ranks carry no window; they were estimated with this one.)
-  if (p.table.resolution() != acc_.resolution())
+  if (p.table.resolution() != opt_.resolution)
     throw InputError("NDF accumulator: a scan's table has resolution " +
                      std::to_string(p.table.resolution()) + ", expected " +
-                     std::to_string(acc_.resolution()));
-  auto& v = acc_.values();
-  const auto& w = p.table.values();
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
+                     std::to_string(opt_.resolution));
+}
+
+// The accumulator holds no table until the first share: 0 + x == x node by node, so that share's
+// table becomes the sum (no N^2 zeros made and thrown away).
+void NdfAccumulator::take_first(std::vector<double>&& values) {
+  TabulatedNdf t(opt_.resolution, std::move(values), opt_.window);
+  t.meta = std::move(acc_.meta);
+  acc_ = std::move(t);
+}
+
+void NdfAccumulator::merge(const NdfScanPartial& p) {
+  check_share(p);
+  if (!merged_) {
+    take_first(std::vector<double>(p.table.values()));
+  } else {
+    auto& v = acc_.values();
+    const auto& w = p.table.values();
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
+  }
   merge_meta(p);
 }
 
 void NdfAccumulator::merge(NdfScanPartial&& p) {
-  if (merged_ || p.table.resolution() != acc_.resolution()) return merge(std::as_const(p));
-  // 0 + x == x node by node: the first share's table becomes the sum.
-  acc_.values().swap(p.table.values());
+  if (merged_) return merge(std::as_const(p));
+  check_share(p);
+  take_first(std::move(p.table.values()));
   merge_meta(p);
 }
 
